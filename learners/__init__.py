@@ -1,0 +1,10 @@
+"""Thermal-error models and sensor-selection methods on the scikit-learn contract.
+
+Importing the package registers every learner and selector (see :mod:`learners.registry`).
+"""
+
+from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
+
+# Modules that register estimators (each helper/module adds its own import line below).
+
+__all__ = ["LEARNERS", "SELECTORS", "make_learner", "make_selector"]

@@ -1,0 +1,49 @@
+"""Name -> class registries for thermal-error learners and sensor selectors.
+
+Modules register their estimators with ``@register_learner("name")`` or
+``@register_selector("name")``; ``make_learner(name, **params)`` builds one by name.
+"""
+
+from __future__ import annotations
+
+from twin.errors import InputError
+
+LEARNERS: dict[str, type] = {}
+SELECTORS: dict[str, type] = {}
+
+
+def _register(table: dict[str, type], kind: str, name: str):
+    def decorate(cls: type) -> type:
+        if name in table:
+            raise RuntimeError(f"{kind} {name!r} registered twice")
+        table[name] = cls
+        cls.registry_name = name
+        return cls
+
+    return decorate
+
+
+def register_learner(name: str):
+    """Class decorator: register a scikit-learn regressor under ``name``."""
+    return _register(LEARNERS, "learner", name)
+
+
+def register_selector(name: str):
+    """Class decorator: register a sensor-selection transformer under ``name``."""
+    return _register(SELECTORS, "selector", name)
+
+
+def _make(table: dict[str, type], kind: str, name: str, params: dict):
+    if name not in table:
+        raise InputError("command line", kind, f"unknown {kind} {name!r}; known: {', '.join(sorted(table))}")
+    return table[name](**params)
+
+
+def make_learner(name: str, **params):
+    """Build the learner registered as ``name`` with hyper-parameters ``params``."""
+    return _make(LEARNERS, "learner", name, params)
+
+
+def make_selector(name: str, **params):
+    """Build the selector registered as ``name`` with hyper-parameters ``params``."""
+    return _make(SELECTORS, "selector", name, params)
