@@ -9,7 +9,12 @@ inertia weight after Shi & Eberhart 1998; constriction after Clerc & Kennedy 200
 
 with ``r1, r2 ~ U(0, 1)`` drawn per dimension, ``w_t`` decreasing linearly from ``w[0]`` (first
 iteration) to ``w[1]`` (last iteration), and ``chi = 2 / |2 - phi - sqrt(phi^2 - 4 phi)|`` with
-``phi = c1 + c2 > 4``. Velocities are clamped to ``+/- (upper - lower)`` per dimension.
+``phi = c1 + c2 > 4``. Velocities are clamped to ``+/- 0.2 (upper - lower)`` per dimension, and a
+particle that hits a bound stops there (that velocity component is zeroed: "absorbing walls").
+
+This is the thesis's Eqs. (3.15)-(3.16) / (A.7)-(A.8) (seed 000 L2551-2574, L7580-7657), which
+print one random factor ``R`` for both terms; independent ``r1, r2`` per dimension are the standard
+form and are used here.
 
 The optimiser is minimising, box-bounded and fully deterministic for a given ``random_state``
 (it draws from one :class:`numpy.random.Generator`).
@@ -107,7 +112,7 @@ def pso_minimize(
     rng = np.random.default_rng(random_state)
     d = lower.size
     span = upper - lower
-    v_max = span.copy()
+    v_max = 0.2 * span
     pos = lower + rng.random((n_particles, d)) * span
     if x0 is not None:
         pos[0] = np.clip(np.asarray(x0, dtype=float).ravel(), lower, upper)
@@ -132,7 +137,9 @@ def pso_minimize(
         else:
             vel = chi * (vel + pull)
         vel = np.clip(vel, -v_max, v_max)
-        pos = np.clip(pos + vel, lower, upper)
+        moved = pos + vel
+        pos = np.clip(moved, lower, upper)
+        vel[moved != pos] = 0.0  # absorbing walls: a particle that hits a bound stops there
         values = np.array([_evaluate(fun, p) for p in pos])
         n_eval += n_particles
         better = values < pbest_val
