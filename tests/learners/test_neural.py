@@ -1,0 +1,71 @@
+"""ann and pso-bpnn (seeds 000-002). Known answers: backprop gradient equals a finite-difference
+gradient of 1/2 MSE; both networks fit a smooth two-input law far better than its variance."""
+
+import numpy as np
+import pytest
+
+from learners.neural import ANN, PSOBPNN, _backprop, _layer_shapes, _mse, _n_weights, _unpack, parse_shape
+
+
+def _law(n=120, seed=0):
+    rng = np.random.default_rng(seed)
+    X = 20.0 + 10.0 * rng.random((n, 2))                     # degC
+    y = 8.0 * np.sin((X[:, 0] - 20.0) / 3.0) + 0.2 * (X[:, 1] - 25.0) ** 2   # um
+    return X, y
+
+
+def _rmse(a, b):
+    return float(np.sqrt(np.mean((a - b) ** 2)))
+
+
+def test_parse_shape_presets():
+    assert parse_shape("4-10-1") == (10,)
+    assert parse_shape("5-8-8-1") == (8, 8)
+    with pytest.raises(ValueError):
+        parse_shape("4-10-2")
+
+
+def test_ann_fits_smooth_law_with_presets():
+    X, y = _law()
+    for kwargs, hidden in (({}, (10,)), ({"shape": "5-8-8-1"}, (8, 8)), ({"hidden_layer_sizes": (6,)}, (6,))):
+        m = ANN(random_state=0, **kwargs).fit(X, y)
+        assert m.hidden_layer_sizes_ == hidden
+        assert _rmse(m.predict(X), y) < 0.1 * y.std()
+
+
+def test_backprop_gradient_matches_finite_differences():
+    # Known answer: one BP step with momentum 0 moves the weights by -lr * dE/dw, E = 1/2 MSE.
+    rng = np.random.default_rng(3)
+    X, t = rng.uniform(-1, 1, (15, 3)), rng.uniform(-1, 1, 15)
+    for kind in ("tanh", "sigmoid"):
+        shapes = _layer_shapes(3, (4, 3))
+        w = rng.normal(scale=0.5, size=_n_weights(shapes))
+        params = _unpack(w, shapes)
+        lr = 1e-3
+        new, _ = _backprop(params, X, t, kind, lr, epochs=1, goal=0.0, momentum=0.0)
+        analytic = -(np.concatenate([np.concatenate([W.ravel(), b]) for W, b in new]) - w) / lr
+        numeric = np.empty_like(w)
+        h = 1e-6
+        for i in range(len(w)):
+            wp, wm = w.copy(), w.copy()
+            wp[i] += h
+            wm[i] -= h
+            numeric[i] = (0.5 * _mse(_unpack(wp, shapes), X, t, kind) - 0.5 * _mse(_unpack(wm, shapes), X, t, kind)) / (2 * h)
+        assert np.allclose(analytic, numeric, rtol=1e-5, atol=1e-8)
+
+
+def test_pso_bpnn_fits_and_is_deterministic():
+    X, y = _law()
+    m = PSOBPNN(random_state=0).fit(X, y)
+    p = m.predict(X)
+    assert _rmse(p, y) < 0.35 * y.std()
+    assert m.hidden_layer_sizes_ == (8, 8) and len(m.coefs_) == 3
+    assert m.loss_curve_[-1] < m.loss_curve_[0] <= m.pso_fun_ + 1e-12   # BP starts at the swarm's best
+    assert np.array_equal(PSOBPNN(random_state=0).fit(X, y).predict(X), p)
+
+
+def test_pso_bpnn_hidden_search_stays_in_range():
+    X, y = _law(80)
+    m = PSOBPNN(hidden_layer_sizes=(8,), hidden_search=(3, 6), n_iterations=10, epochs=50, random_state=1).fit(X, y)
+    assert len(m.hidden_layer_sizes_) == 1 and 3 <= m.hidden_layer_sizes_[0] <= 6
+    assert m.coefs_[0].shape == (2, m.hidden_layer_sizes_[0])
