@@ -1,0 +1,146 @@
+"""Grey models against closed forms and data generated from their own equations."""
+
+import numpy as np
+import pytest
+
+from learners.gnnmci import GNNMCI, gnnmci_forward
+from learners.grey import GM11, GM1N, ago, background, gm0n_coefficients, gm11_fit, gm11_forecast, iago
+from learners.grey_gmc import GMC1N, GMC1NPSO, gmc_ls_fit, gmc_simulate
+from twin.errors import InputError
+
+N = 40
+T = np.arange(N)
+
+
+def drivers(seed=0, n=N):
+    """Two smooth temperature-rise series (°C), a heating curve and a slower wavy one."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n)
+    return np.column_stack([2.0 * (1 - np.exp(-t / 10)) + 0.05 * rng.standard_normal(n),
+                            1.5 * (1 - np.exp(-t / 25)) + 0.3 * np.sin(t / 5)])
+
+
+def test_ago_iago_roundtrip_and_background():
+    x = np.array([1.0, 2.0, 4.0, 3.0])
+    np.testing.assert_array_equal(ago(x), [1, 3, 7, 10])
+    np.testing.assert_array_equal(iago(ago(x)), x)
+    np.testing.assert_array_equal(background(ago(x)), [2.0, 5.0, 8.5])
+
+
+def test_gm0n_recovers_its_own_equation():
+    # Build y so that z_1^(1)(k) = sum_j theta_j x_j^(1)(k) holds exactly for k = 2..n.
+    rng = np.random.default_rng(1)
+    X = rng.uniform(0.5, 2.0, (30, 3))
+    theta = np.array([1.5, -0.7, 2.0])
+    z1 = ago(X)[1:] @ theta
+    Y = np.empty(30)
+    Y[0] = 0.8
+    for k in range(1, 30):
+        Y[k] = 2.0 * z1[k - 1] - Y[k - 1]  # z(k) = (Y(k-1) + Y(k)) / 2
+    np.testing.assert_allclose(gm0n_coefficients(X, iago(Y)), theta, rtol=1e-9)
+
+
+def test_gm11_exact_least_squares_on_geometric_series():
+    # x(k) = c r^(k-1) satisfies x(k) + a z(k) = b exactly with a = 2(1-r)/(1+r), b = 2c/(1+r).
+    c, r = 3.0, 1.08
+    x = c * r ** np.arange(12)
+    a, b = gm11_fit(x)
+    assert a == pytest.approx(2 * (1 - r) / (1 + r), rel=1e-10)
+    assert b == pytest.approx(2 * c / (1 + r), rel=1e-10)
+
+
+def test_gm11_forecasts_its_whitened_solution():
+    # Series from the whitened solution x1(k) = (x(1) - b/a) e^{-a(k-1)} + b/a, a = -0.05, b = 2.
+    # LS estimates 2 tanh(a/2) instead of a (relative bias a^2/12 ~ 2e-4), so: tolerance 1e-3.
+    a, b, first = -0.05, 2.0, 2.0
+    k = np.arange(1, 21)
+    x1 = (first - b / a) * np.exp(-a * (k - 1)) + b / a
+    x0 = iago(x1)
+    est_a, est_b = gm11_fit(x0[:15])
+    assert est_a == pytest.approx(2 * np.tanh(a / 2), rel=1e-9)  # closed form of the LS estimate
+    np.testing.assert_allclose(gm11_forecast(x0[:15], 5), x0[15:], rtol=1e-3)
+    model = GM11().fit(np.zeros((15, 1)), x0[:15])
+    np.testing.assert_allclose(model.forecast(5), x0[15:], rtol=1e-3)
+    np.testing.assert_allclose(model.predict(np.zeros((20, 1))), x0, rtol=1e-3)
+
+
+def gm1n_data(a, b, y0, X):
+    """Response solving x_1^(0)(k) + a z_1^(1)(k) = sum_j b_j x_j^(1)(k) exactly."""
+    drive = ago(X) @ b
+    x1 = np.empty(len(X))
+    x1[0] = y0
+    for k in range(1, len(X)):
+        x1[k] = ((1 - a / 2) * x1[k - 1] + drive[k]) / (1 + a / 2)
+    return iago(x1)
+
+
+def test_gm1n_recovers_coefficients_and_reproduces_data():
+    X = drivers()
+    y = gm1n_data(0.4, np.array([0.9, -0.3]), 0.1, X)
+    model = GM1N().fit(X, y)
+    assert model.a_ == pytest.approx(0.4, abs=1e-10)
+    np.testing.assert_allclose(model.b_, [0.9, -0.3], atol=1e-10)
+    np.testing.assert_allclose(model.predict(X), y, atol=1e-10)
+    whitened = GM1N(response="whitened").fit(X, y).predict(X)
+    assert whitened.shape == (N,) and whitened[0] == pytest.approx(0.1)
+
+
+def gmc_difference_data(b1, b, u, y0, X):
+    """Response solving the GMC least-squares equation exactly (trapezoidal drivers + u)."""
+    return gmc_simulate(b1, b, u, ago(X), y0, response="difference")
+
+
+def test_gmc1n_least_squares_recovers_coefficients():
+    X = drivers()
+    y = gmc_difference_data(0.3, np.array([0.8, -0.5]), 0.05, 0.2, X)
+    b1, b, u = gmc_ls_fit(X, y)
+    assert b1 == pytest.approx(0.3, abs=1e-10) and u == pytest.approx(0.05, abs=1e-10)
+    np.testing.assert_allclose(b, [0.8, -0.5], atol=1e-10)
+    model = GMC1N(response="difference").fit(X, y)
+    np.testing.assert_allclose(model.predict(X), y, atol=1e-10)
+
+
+def test_gmc1n_convolution_response_close_to_ls_equation():
+    # Tien's convolution response differs from the LS equation by O(b1^2): 0.3^2/8 ~ 1 % here.
+    X = drivers()
+    y = gmc_simulate(0.3, np.array([0.8, -0.5]), 0.05, ago(X), 0.2)
+    model = GMC1N().fit(X, y)
+    np.testing.assert_allclose(model.b_, [0.8, -0.5], rtol=0.03)
+    assert np.max(np.abs(model.predict(X) - y)) < 0.02 * np.max(np.abs(y))
+
+
+def test_gmc1n_pso_reaches_least_squares_solution():
+    # On data from the LS equation, PSO (constriction, 90 particles, 300 iterations) must land
+    # within 0.01 of the LS coefficients (which are exact here).
+    X = drivers()
+    y = gmc_difference_data(0.3, np.array([0.8, -0.5]), 0.05, 0.2, X)
+    ls = GMC1N(response="difference").fit(X, y)
+    pso = GMC1NPSO(response="difference", variant="constriction", n_iterations=300, random_state=0).fit(X, y)
+    np.testing.assert_allclose(np.r_[pso.b1_, pso.b_, pso.u_], np.r_[ls.b1_, ls.b_, ls.u_], atol=0.01)
+    assert np.max(np.abs(pso.predict(X) - y)) < 0.01 * np.max(np.abs(y))
+
+
+def test_gnnmci_network_identity_and_fit():
+    X = np.column_stack([drivers(), np.linspace(0, 1, N) ** 2])
+    w11, w2, w2u, y0 = 0.2, np.array([1.5, -0.8, 0.3]), 0.1, 0.5
+    out = gnnmci_forward(w11, w2, w2u, ago(X), y0)
+    # Layers A-D collapse to x1(1) e^{-w11 k} + sum_j w2j x_j^(1) + w2u (k >= 1); x1(1) at k = 0.
+    np.testing.assert_allclose(out[1:], (y0 * np.exp(-w11 * T) + ago(X) @ w2 + w2u)[1:], atol=1e-12)
+    assert out[0] == y0
+    y = iago(out)
+    model = GNNMCI(n_iterations=200, random_state=0).fit(X, y)
+    np.testing.assert_allclose(model.w2_, w2, atol=0.01)
+    assert np.max(np.abs(model.predict(X) - y)) < 1e-3 * np.max(np.abs(y))
+
+
+@pytest.mark.parametrize("cls", [GM11, GM1N, GMC1N, GMC1NPSO, GNNMCI])
+def test_too_few_rows_is_input_error(cls):
+    with pytest.raises(InputError, match="rows"):
+        cls().fit(np.ones((2, 1)), np.ones(2))
+
+
+def test_wrong_width_at_predict():
+    X = drivers()
+    model = GM1N().fit(X, gm1n_data(0.4, np.array([0.9, -0.3]), 0.1, X))
+    with pytest.raises(InputError):
+        model.predict(X[:, :1])
