@@ -1,0 +1,215 @@
+"""Load a measurement table (CSV or twin result NetCDF) into ``(time, X, y, input_names)``.
+
+CSV: a header row, a time column in seconds (``time_column``, default "time"), one column per
+signal; every column that is used must be numeric and finite. Inputs default to every column but
+time and the target. Columns that are not used are not checked (they may hold labels).
+
+NetCDF (a twin result, :mod:`xarray` Dataset): inputs are ``temperature(time, sensor)`` [degC],
+one column per ``sensor`` coordinate value, named by it. Targets (and extra inputs) are addressed as
+``"<variable>:<label>"``, selecting ``label`` along the variable's one non-time dimension, whatever
+its name, e.g. ``drift:Z`` -> ``drift.sel(axis="Z")`` [um], ``probe:Y1`` -> the probe reading
+``Y1`` [um], ``tilt:A`` -> ``tilt.sel(rotation="A")`` [urad], or as a bare variable name for a
+variable that depends on time only. Time is returned in seconds (datetime/timedelta coordinates are converted,
+numeric ones taken as seconds unless their ``units`` attribute says min or h).
+
+Every problem raises :class:`twin.errors.InputError` ``(path, column, message)``: missing file,
+missing column/variable/label, non-numeric value, NaN or infinite value, time not strictly
+increasing, fewer than ``min_rows`` rows.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from typing import NamedTuple
+
+import numpy as np
+
+from twin.errors import InputError
+
+__all__ = ["Table", "load_table", "MIN_ROWS"]
+
+MIN_ROWS = 3
+_NETCDF_EXT = (".nc", ".nc4", ".netcdf", ".cdf", ".h5", ".hdf5")
+_TIME_FACTORS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "min": 60.0, "minute": 60.0,
+                 "minutes": 60.0, "h": 3600.0, "hour": 3600.0, "hours": 3600.0}
+
+
+class Table(NamedTuple):
+    """A loaded table: ``time`` (n,) s, ``X`` (n, p), ``y`` (n,), ``input_names`` (p names)."""
+
+    time: np.ndarray
+    X: np.ndarray
+    y: np.ndarray
+    input_names: list
+
+
+def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_ROWS) -> Table:
+    """Read ``path`` (CSV or NetCDF) and return :class:`Table` for ``target``.
+
+    ``inputs``: None or "all" for every available input, else a list (or comma-separated string)
+    of input names.
+    """
+    path = str(path)
+    if not os.path.isfile(path):
+        raise InputError(path, "file", "no such file")
+    if isinstance(inputs, str):
+        inputs = None if inputs.strip() in ("", "all") else [s.strip() for s in inputs.split(",") if s.strip()]
+    if _is_netcdf(path):
+        time, X, y, names = _load_netcdf(path, target, inputs, time_column)
+    else:
+        time, X, y, names = _load_csv(path, target, inputs, time_column)
+    if len(time) < min_rows:
+        raise InputError(path, "rows", f"{len(time)} data rows; at least {min_rows} are needed")
+    bad = np.flatnonzero(np.diff(time) <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise InputError(path, time_column, f"time is not strictly increasing at row {i + 1} "
+                                            f"({time[i - 1]:g} s then {time[i]:g} s)")
+    if not names:
+        raise InputError(path, "inputs", "no input columns")
+    return Table(time, X, y, names)
+
+
+def _is_netcdf(path):
+    if path.lower().endswith(_NETCDF_EXT):
+        return True
+    with open(path, "rb") as fh:
+        head = fh.read(8)
+    return head.startswith(b"\x89HDF") or head.startswith(b"CDF")
+
+
+# ----------------------------------------------------------------------------------------------- CSV
+
+
+def _parse(path, column, line, text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(path, column, f"line {line}: non-numeric value {text.strip()!r}") from None
+    if math.isnan(value) or math.isinf(value):
+        raise InputError(path, column, f"line {line}: {'NaN' if math.isnan(value) else 'infinite'} value")
+    return value
+
+
+def _load_csv(path, target, inputs, time_column):
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            rows = list(csv.reader(fh))
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise InputError(path, "file", f"cannot read CSV: {exc}") from None
+    rows = [r for r in rows if any(cell.strip() for cell in r)]
+    if not rows:
+        raise InputError(path, "header", "empty file")
+    header = [h.strip() for h in rows[0]]
+    if len(set(header)) != len(header):
+        dup = sorted({h for h in header if header.count(h) > 1})
+        raise InputError(path, dup[0], "duplicate column name")
+    for name, what in ((time_column, "time column"), (target, "target column")):
+        if name not in header:
+            raise InputError(path, name, f"missing {what}; columns: {', '.join(header)}")
+    if inputs is None:
+        inputs = [h for h in header if h not in (time_column, target)]
+    for name in inputs:
+        if name not in header:
+            raise InputError(path, name, f"missing input column; columns: {', '.join(header)}")
+    used = [time_column, target, *inputs]
+    index = [header.index(c) for c in used]
+    data = np.empty((len(rows) - 1, len(used)))
+    for i, row in enumerate(rows[1:]):
+        line = i + 2
+        if len(row) != len(header):
+            raise InputError(path, f"line {line}", f"{len(row)} fields, header has {len(header)}")
+        for k, (name, j) in enumerate(zip(used, index)):
+            cell = row[j]
+            if not cell.strip():
+                raise InputError(path, name, f"line {line}: missing value (NaN)")
+            data[i, k] = _parse(path, name, line, cell)
+    return data[:, 0], data[:, 2:], data[:, 1], list(inputs)
+
+
+# ------------------------------------------------------------------------------------------- NetCDF
+
+
+def _open_dataset(path):
+    import xarray as xr
+
+    try:
+        return xr.load_dataset(path)
+    except Exception as exc:  # noqa: BLE001 - any reader failure is a bad input file
+        raise InputError(path, "file", f"cannot read NetCDF: {exc}") from None
+
+
+def _time_seconds(path, ds, time_column):
+    name = time_column if time_column in ds.coords or time_column in ds.variables else "time"
+    if name not in ds.variables:
+        raise InputError(path, time_column, "missing time coordinate")
+    t = ds[name].values
+    if np.issubdtype(t.dtype, np.datetime64):
+        return (t - t[0]) / np.timedelta64(1, "s"), name
+    if np.issubdtype(t.dtype, np.timedelta64):
+        return t / np.timedelta64(1, "s"), name
+    try:
+        t = np.asarray(t, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(path, name, "time is not numeric") from None
+    unit = str(ds[name].attrs.get("units", "s")).strip().lower()
+    return t * _TIME_FACTORS.get(unit, 1.0), name
+
+
+def _finite(path, column, values):
+    try:
+        values = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(path, column, "non-numeric values") from None
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise InputError(path, column, f"NaN or infinite value at time index {int(bad[0])}")
+    return values
+
+
+def _series(path, ds, address, tname):
+    """1-D values over time of ``var`` or ``var:label``."""
+    var, _, label = address.partition(":")
+    if var not in ds.variables or var == tname:
+        raise InputError(path, address, f"no variable {var!r}; variables: {', '.join(map(str, ds.data_vars))}")
+    da = ds[var]
+    if tname not in da.dims:
+        raise InputError(path, address, f"variable {var!r} does not depend on {tname!r}")
+    others = [d for d in da.dims if d != tname]
+    if not label:
+        if others:
+            raise InputError(path, address, f"variable {var!r} also depends on {', '.join(others)}; "
+                                            f"address one entry as {var}:<label>")
+        return _finite(path, address, da.values)
+    if len(others) != 1:
+        raise InputError(path, address, f"variable {var!r} must have exactly one dimension besides time")
+    dim = others[0]
+    labels = [str(v) for v in da[dim].values]
+    if label not in labels:
+        raise InputError(path, address, f"no {dim} {label!r}; available: {', '.join(labels)}")
+    return _finite(path, address, da.isel({dim: labels.index(label)}).transpose(tname).values)
+
+
+def _load_netcdf(path, target, inputs, time_column):
+    ds = _open_dataset(path)
+    time, tname = _time_seconds(path, ds, time_column)
+    sensors = []
+    if "temperature" in ds.data_vars and "sensor" in ds["temperature"].dims:
+        sensors = [str(v) for v in ds["temperature"]["sensor"].values]
+    if inputs is None:
+        if not sensors:
+            raise InputError(path, "temperature", "no temperature(time, sensor) variable to use as inputs")
+        inputs = sensors
+    columns = []
+    for name in inputs:
+        if name in sensors:
+            columns.append(_series(path, ds, f"temperature:{name}", tname))
+        elif ":" in name or name in ds.variables:
+            columns.append(_series(path, ds, name, tname))
+        else:
+            raise InputError(path, name, f"missing input; sensors: {', '.join(sensors) or 'none'}")
+    y = _series(path, ds, target, tname)
+    X = np.column_stack(columns) if columns else np.empty((len(time), 0))
+    return _finite(path, tname, time), X, y, list(inputs)

@@ -1,0 +1,149 @@
+"""Table loading (CSV and twin NetCDF) and ``twin learn`` end to end on small files in tmp_path."""
+
+import argparse
+import csv
+
+import numpy as np
+import pytest
+
+from learners.cli import COLUMNS, add_learn_parser, run_learn
+from learners.table import load_table
+from twin.errors import InputError
+
+
+def _series(n, seed):
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * 10.0
+    heat = 8.0 * (1.0 - np.exp(-t / 600.0))
+    T = np.column_stack([20 + heat + 0.05 * rng.normal(size=n), 20 + 0.5 * heat + 0.05 * rng.normal(size=n),
+                         20 + 0.2 * rng.normal(size=n), 20 + 0.3 * heat + 0.05 * rng.normal(size=n)])
+    drift = 3.0 * (T[:, 0] - 20) - 1.5 * (T[:, 1] - 20) + 0.1 * rng.normal(size=n)
+    return t, T, drift
+
+
+def _write_csv(path, n=60, seed=0, edit=None):
+    t, T, drift = _series(n, seed)
+    rows = [["time", "T1", "T2", "T3", "T4", "drift_z"]]
+    rows += [[f"{t[i]:g}", *(f"{v:.5f}" for v in T[i]), f"{drift[i]:.5f}"] for i in range(n)]
+    if edit:
+        edit(rows)
+    with open(path, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    return str(path)
+
+
+def _args(*argv):
+    parser = argparse.ArgumentParser(prog="twin")
+    add_learn_parser(parser.add_subparsers(dest="command"))
+    return parser.parse_args(["learn", *argv])
+
+
+def test_csv_loads_with_default_inputs(tmp_path):
+    time, X, y, names = load_table(_write_csv(tmp_path / "a.csv"), "drift_z")
+    assert names == ["T1", "T2", "T3", "T4"] and X.shape == (60, 4) and y.shape == (60,)
+    assert time[1] == 10.0
+    _, X2, _, names2 = load_table(str(tmp_path / "a.csv"), "drift_z", inputs="T3,T1")
+    assert names2 == ["T3", "T1"] and np.array_equal(X2, X[:, [2, 0]])
+
+
+def test_learn_end_to_end_csv(tmp_path, capsys):
+    train = _write_csv(tmp_path / "train.csv", seed=0)
+    test1 = _write_csv(tmp_path / "test1.csv", seed=1)
+    test2 = _write_csv(tmp_path / "test2.csv", n=40, seed=2)
+    out = tmp_path / "scores.csv"
+    args = _args("--train", train, "--test", test1, "--test", test2, "--target", "drift_z",
+                 "--learner", "mlr,pcr,lssvm", "--select", "correlation:2", "-o", str(out), "--seed", "3")
+    assert run_learn(args) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0].split()[:3] == ["learner", "test", "file"]
+    assert len(printed) == 2 + 6
+    with open(out, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == COLUMNS and len(rows) == 6
+    assert {r["learner"] for r in rows} == {"mlr", "pcr", "lssvm"}
+    mlr = [r for r in rows if r["learner"] == "mlr"]
+    assert all(float(r["nse"]) > 0.95 for r in mlr)                      # drift is linear in T1, T2
+    assert all(r["inputs"] == "T1;T2" for r in rows)                        # the informative pair
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".scores-")]   # no temp file left
+
+
+def _bad(tmp_path, edit, n=60):
+    return _write_csv(tmp_path / "bad.csv", n=n, edit=edit)
+
+
+@pytest.mark.parametrize("case, column", [
+    ("missing_file", "file"),
+    ("missing_target", "drift_z"),
+    ("non_numeric", "T2"),
+    ("nan", "T3"),
+    ("empty_cell", "T1"),
+    ("time_not_increasing", "time"),
+    ("too_few_rows", "rows"),
+])
+def test_bad_tables_raise_input_error_naming_file_and_column(tmp_path, case, column):
+    good = _write_csv(tmp_path / "good.csv")
+    edits = {
+        "missing_target": lambda r: [row.pop() for row in r],
+        "non_numeric": lambda r: r[5].__setitem__(2, "warm"),
+        "nan": lambda r: r[7].__setitem__(3, "nan"),
+        "empty_cell": lambda r: r[9].__setitem__(1, ""),
+        "time_not_increasing": lambda r: r[4].__setitem__(0, "5"),
+    }
+    if case == "missing_file":
+        path = str(tmp_path / "nope.csv")
+    elif case == "too_few_rows":
+        path = _bad(tmp_path, None, n=2)
+    else:
+        path = _bad(tmp_path, edits[case])
+    with pytest.raises(InputError) as err:
+        load_table(path, "drift_z")
+    assert err.value.source == path and err.value.field == column
+    # the CLI surfaces the same error, whichever side the bad table is on
+    with pytest.raises(InputError) as err2:
+        run_learn(_args("--train", good, "--test", path, "--target", "drift_z", "--learner", "mlr"))
+    assert err2.value.source == path and err2.value.field == column
+
+
+def test_unknown_names_and_missing_input(tmp_path):
+    good = _write_csv(tmp_path / "good.csv")
+    for argv in (["--learner", "mlr,nope"], ["--learner", "mlr", "--select", "nope:2"],
+                 ["--learner", "mlr", "--select", "correlation:x"], ["--learner", "mlr", "--select", "all:2"]):
+        with pytest.raises(InputError):
+            run_learn(_args("--train", good, "--test", good, "--target", "drift_z", *argv))
+    with pytest.raises(InputError) as err:
+        run_learn(_args("--train", good, "--test", good, "--target", "drift_z", "--learner", "mlr",
+                        "--inputs", "T1,T9"))
+    assert err.value.field == "T9"
+
+
+def _write_netcdf(path, n=50, seed=0):
+    xr = pytest.importorskip("xarray")
+    t, T, drift = _series(n, seed)
+    ds = xr.Dataset(
+        {"temperature": (("time", "sensor"), T, {"units": "degC"}),
+         "drift": (("time", "axis"), np.column_stack([0.1 * drift, 0.5 * drift, drift]), {"units": "um"}),
+         "probe": (("time", "probe_id"), np.column_stack([drift, drift + 1.0]), {"units": "um"}),
+         "tilt": (("time", "rotation"), np.column_stack([0.2 * drift, -0.2 * drift]), {"units": "urad"}),
+         "spindle_speed": (("time",), np.full(n, 8000.0))},
+        coords={"time": ("time", t, {"units": "s"}), "sensor": ["S1", "S2", "S3", "S4"],
+                "axis": ["X", "Y", "Z"], "probe_id": ["Y1", "Y2"], "rotation": ["A", "B"]})
+    ds.to_netcdf(path)
+    return str(path)
+
+
+def test_netcdf_targets_and_learn(tmp_path, capsys):
+    train = _write_netcdf(tmp_path / "train.nc", seed=0)
+    test = _write_netcdf(tmp_path / "test.nc", seed=1)
+    time, X, y, names = load_table(train, "drift:Z")
+    assert names == ["S1", "S2", "S3", "S4"] and X.shape == (50, 4)
+    assert np.allclose(load_table(train, "probe:Y2").y, y + 1.0)
+    assert np.allclose(load_table(train, "tilt:A").y, 0.2 * y)
+    assert np.allclose(load_table(train, "spindle_speed").y, 8000.0)
+    with pytest.raises(InputError) as err:
+        load_table(train, "drift:W")
+    assert err.value.source == train and err.value.field == "drift:W"
+    with pytest.raises(InputError):
+        load_table(train, "drift")                  # needs an axis label
+    assert run_learn(_args("--train", train, "--test", test, "--target", "drift:Z",
+                           "--learner", "mlr,ar-temp", "--select", "hier-corr:2")) == 0
+    assert "S1" in capsys.readouterr().out
