@@ -1,0 +1,72 @@
+"""Grey + FCM sensor selection: known scores by hand and the right sensors on synthetic data."""
+
+import numpy as np
+import pytest
+
+from learners.selection_grey import (GM0NFCMSelector, GRAFCMSelector, deng_grade, fcm_representatives,
+                                     similitude_degree)
+
+
+def eight_sensors(seed, noise=0.02, n=60):
+    """8 temperature series (°C): the error (µm) is 4 ΔT0 + 1.5 ΔT1; sensors 2-5 are other smooth
+    heating/wavy curves, 6 and 7 duplicate 2 and 3; every reading has independent noise."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n)
+    s0 = 5 * (1 - np.exp(-t / 15))
+    s1 = 3 * (1 - np.exp(-t / 40)) + 0.5 * np.sin(t / 6)
+    others = [2 * (1 - np.exp(-t / 4)), 3 * np.sin(t / 20) ** 2, 0.05 * t, 2 * (1 - np.exp(-t / 80)) + 0.3 * np.cos(t / 4)]
+    X = np.column_stack([s0, s1] + others + others[:2]) + 20.0 + rng.normal(0, noise, (n, 8))
+    return X, 4 * s0 + 1.5 * s1
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_gm0n_fcm_picks_the_influential_sensors(seed):
+    X, y = eight_sensors(seed)
+    two = GM0NFCMSelector(n_select=2).fit(X, y)
+    assert two.selected_.tolist() == [0, 1]
+    assert two.selected_names_ == ["x0", "x1"]
+    np.testing.assert_array_equal(two.transform(X), X[:, [0, 1]])
+    three = GM0NFCMSelector(n_select=3).fit(X, y)
+    assert {0, 1} <= set(three.selected_.tolist()) and len(three.selected_) == 3
+    assert np.argmax(three.scores_) == 0
+
+
+def test_similitude_degree_by_hand():
+    # reference zero-initial image (0, 1, 3), sensor (0, 2, 2): |(1-2) + 0.5 (3-2)| = 0.5 -> 1/1.5
+    ref = np.array([5.0, 6.0, 8.0])
+    X = np.array([[1.0, 7.0], [3.0, 8.0], [3.0, 10.0]])  # second column is the reference shifted
+    np.testing.assert_allclose(similitude_degree(ref, X), [1 / 1.5, 1.0])
+
+
+def test_deng_grade_by_hand():
+    # normalised ref (0, .5, 1); sensor A (0, 1, 1) -> Delta (0, .5, 0); sensor B = ref -> 0.
+    # Delta_min = 0, Delta_max = 0.5, rho = 0.5: xi = 0.25 / (Delta + 0.25) -> A: (1, 1/3, 1)
+    ref = np.array([0.0, 1.0, 2.0])
+    X = np.array([[0.0, 10.0], [4.0, 11.0], [4.0, 12.0]])
+    np.testing.assert_allclose(deng_grade(ref, X), [(1 + 1 / 3 + 1) / 3, 1.0])
+
+
+def test_gra_fcm_keeps_the_most_similar_sensor_per_group():
+    rng = np.random.default_rng(0)
+    t = np.arange(50.0)
+    y = 10 * (1 - np.exp(-t / 12))
+    X = np.column_stack([y + 20, 0.9 * y + 20, 0.2 * y + 20, 0.1 * y + 20, rng.normal(20, 0.05, 50)])
+    for measure in ("similitude", "deng"):
+        sel = GRAFCMSelector(n_select=2, measure=measure).fit(X, y)
+        assert 0 in sel.selected_ and len(sel.selected_) == 2
+        assert np.argmax(sel.scores_) == 0
+
+
+def test_representatives_fill_up_and_column_names():
+    # all scores equal: FCM cannot form 3 groups; the best (first) three are kept
+    sel, labels = fcm_representatives(np.ones(5), 3)
+    assert sel.tolist() == [0, 1, 2] and (labels == -1).all()
+
+    class Table(np.ndarray):
+        pass
+
+    X, y = eight_sensors(0)
+    tab = X.view(Table)
+    tab.columns = [f"T{j + 1:02d}" for j in range(8)]
+    assert GM0NFCMSelector(n_select=2).fit(tab, y).selected_names_ == ["T01", "T02"]
+    assert GM0NFCMSelector(n_select=20).fit(X, y).selected_.tolist() == list(range(8))
