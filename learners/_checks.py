@@ -27,7 +27,7 @@ def check_predict_data(estimator, X, fitted_attribute: str):
     X = check_array(X, dtype=float)
     if X.shape[1] != estimator.n_features_in_:
         raise ValueError(f"X has {X.shape[1]} features, but {type(estimator).__name__} "
-                         f"was fitted with {estimator.n_features_in_}")
+                         f"is expecting {estimator.n_features_in_} features as input")
     return X
 
 

@@ -114,6 +114,7 @@ class ANN(RegressorMixin, BaseEstimator):
             mlp.fit(_minmax(X, self.x_lo_, self.x_span_), _minmax(y, self.y_lo_, self.y_span_))
         self.converged_ = not any(issubclass(w.category, ConvergenceWarning) for w in caught)
         self.hidden_layer_sizes_ = hidden
+        self.n_iter_ = mlp.n_iter_
         self.mlp_ = mlp
         return self
 

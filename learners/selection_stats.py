@@ -186,14 +186,12 @@ class _Selector(TransformerMixin, BaseEstimator):
 
     def transform(self, X):
         check_is_fitted(self, "selected_")
-        if hasattr(X, "iloc"):
-            if X.shape[1] != self.n_features_in_:
-                raise ValueError(f"X has {X.shape[1]} columns, selector was fitted with {self.n_features_in_}")
-            return X.iloc[:, self.selected_]
+        frame = X if hasattr(X, "iloc") else None
         X = check_array(X, dtype=float)
         if X.shape[1] != self.n_features_in_:
-            raise ValueError(f"X has {X.shape[1]} columns, selector was fitted with {self.n_features_in_}")
-        return X[:, self.selected_]
+            raise ValueError(f"X has {X.shape[1]} features, but {type(self).__name__} "
+                             f"is expecting {self.n_features_in_} features as input")
+        return frame.iloc[:, self.selected_] if frame is not None else X[:, self.selected_]
 
     def get_support(self, indices=False):
         """Boolean mask (or the indices) of the kept columns, as in scikit-learn's selectors."""
