@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import check_is_fitted
 
 from learners.registry import register_learner
 from twin.errors import InputError
@@ -68,7 +69,8 @@ def check_series(X, y=None, *, model: str, min_rows: int = 4):
 
 
 def check_n_features(est, X):
-    """Raise :class:`InputError` if ``X`` has another column count than at fit time."""
+    """Raise ``NotFittedError`` before fit, :class:`InputError` if ``X`` has another column count."""
+    check_is_fitted(est, "n_features_in_")
     if X.shape[1] != est.n_features_in_:
         raise InputError("data", "X", f"{type(est).__name__} was fitted with {est.n_features_in_} inputs, "
                                       f"got {X.shape[1]}")
@@ -174,6 +176,7 @@ class GM11(BaseEstimator, RegressorMixin):
         return self
 
     def predict(self, X):
+        check_is_fitted(self, "a_")
         Xa = check_series(X, model="GM(1,1)", min_rows=1)
         return gm11_simulate(self.a_, self.b_, self.y0_, Xa.shape[0])
 
@@ -215,6 +218,9 @@ class GM1N(BaseEstimator, RegressorMixin):
 
     def fit(self, X, y):
         Xa, ya = check_series(X, y, model="GM(1,N)")
+        if self.response not in ("difference", "whitened"):
+            raise InputError("parameters", "response", f"unknown GM(1,N) response {self.response!r}; "
+                                                       "use 'difference' or 'whitened'")
         n, p = Xa.shape
         if n < p + 2:
             raise InputError("data", "rows", f"GM(1,N) with {p} inputs needs at least {p + 2} rows, got {n}")

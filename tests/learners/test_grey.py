@@ -144,3 +144,17 @@ def test_wrong_width_at_predict():
     model = GM1N().fit(X, gm1n_data(0.4, np.array([0.9, -0.3]), 0.1, X))
     with pytest.raises(InputError):
         model.predict(X[:, :1])
+
+
+def test_unfitted_and_bad_response():
+    from sklearn.exceptions import NotFittedError
+
+    with pytest.raises(NotFittedError):
+        GM1N().predict(drivers())
+    with pytest.raises(NotFittedError):
+        GM11().predict(np.zeros((3, 1)))
+    X = drivers()
+    with pytest.raises(InputError, match="response"):
+        GM1N(response="nope").fit(X, X[:, 0])
+    with pytest.raises(InputError, match="response"):
+        GMC1N(response="nope").fit(X, X[:, 0])
