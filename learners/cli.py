@@ -11,12 +11,14 @@ inputs and scored on every test table (which must carry the same input columns) 
 :func:`learners.metrics.score_all`. One row per learner and test set is printed as an aligned text
 table; ``-o`` writes the same rows as CSV (to a temporary file in the same folder, then renamed, so
 no half-written file is left). ``--seed`` is given to every learner and selector that has a
-``random_state``. Bad names and bad tables raise :class:`twin.errors.InputError`, which the
-``twin`` entry point turns into ``error: <msg>`` and exit status 2.
+``random_state``. Bad names and bad tables raise :class:`twin.errors.InputError`, as does a
+learner or selector that refuses the data with a ``ValueError`` (too few rows for it, too many
+grid rules, ...); the ``twin`` entry point turns it into ``error: <msg>`` and exit status 2.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import os
 import tempfile
@@ -93,6 +95,18 @@ def _make_selector(spec, seed):
     return _seeded(make_selector(method, **params), seed)
 
 
+@contextlib.contextmanager
+def _as_input_error(source, field):
+    """A learner or selector refusing the user's data (ValueError) becomes an InputError."""
+    try:
+        yield
+    except InputError:
+        raise
+    except ValueError as exc:
+        raise InputError(source, field, str(exc).strip().splitlines()[0] if str(exc).strip() else
+                         type(exc).__name__) from exc
+
+
 def _fmt(value, digits=4):
     if isinstance(value, float):
         return "nan" if np.isnan(value) else f"{value:.{digits}g}"
@@ -142,17 +156,21 @@ def run_learn(args) -> int:
     train = load_table(args.train, args.target, inputs=inputs, time_column=args.time_column)
     tests = [(path, load_table(path, args.target, inputs=train.input_names, time_column=args.time_column))
              for path in args.test]
-    selector.fit(train.X, train.y)
+    with _as_input_error(args.train, args.select):
+        selector.fit(train.X, train.y)
     cols = list(selector.selected_)
     used = [train.input_names[i] for i in cols]
 
     rows = []
     for name, est in learners.items():
         start = time.perf_counter()
-        est.fit(train.X[:, cols], train.y)
+        with _as_input_error(args.train, name):
+            est.fit(train.X[:, cols], train.y)
         fit_s = time.perf_counter() - start
         for path, tab in tests:
-            scores = score_all(tab.y, est.predict(tab.X[:, cols]))
+            with _as_input_error(path, name):
+                pred = est.predict(tab.X[:, cols])
+            scores = score_all(tab.y, pred)
             rows.append({"learner": name, "test": str(path), **{k: float(v) for k, v in scores.items()},
                          "inputs": ";".join(used), "fit_time_s": float(fit_s)})
     print(_text_table(rows))

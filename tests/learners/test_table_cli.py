@@ -116,6 +116,13 @@ def test_unknown_names_and_missing_input(tmp_path):
     assert err.value.field == "T9"
 
 
+def test_learner_refusing_the_data_is_an_input_error(tmp_path):
+    short = _write_csv(tmp_path / "short.csv", n=5)          # combination needs >= 7 rows
+    with pytest.raises(InputError) as err:
+        run_learn(_args("--train", short, "--test", short, "--target", "drift_z", "--learner", "combination"))
+    assert err.value.source == short and err.value.field == "combination"
+
+
 def _write_netcdf(path, n=50, seed=0):
     xr = pytest.importorskip("xarray")
     t, T, drift = _series(n, seed)
