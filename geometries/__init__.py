@@ -1,0 +1,18 @@
+"""Parametric machine builders, addressed by name (``twin list machines``)."""
+
+from __future__ import annotations
+
+from geometries import cframe_vmc
+from geometries.base import Box, Machine, Part, Point, Probe, Surface
+
+MACHINES = {cframe_vmc.NAME: cframe_vmc.build}
+
+
+def build_machine(name: str) -> Machine:
+    """Build the machine registered as ``name`` (KeyError when unknown)."""
+    if name not in MACHINES:
+        raise KeyError(name)
+    return MACHINES[name]()
+
+
+__all__ = ["MACHINES", "build_machine", "Box", "Machine", "Part", "Point", "Probe", "Surface"]

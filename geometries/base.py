@@ -1,0 +1,134 @@
+"""Machine description: parts made of axis-aligned boxes, named surfaces and named points.
+
+A machine is code (parametric); :meth:`Machine.mesh` turns it into a structured hexahedral mesh
+(see :mod:`twin.mesh`). Coordinates are metres: x along the table's X travel, y towards the
+column (rear), z up; the floor is z = 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from twin.materials import MATERIALS, Material
+
+Vec3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Box:
+    """Axis-aligned box [lo, hi] in metres."""
+
+    lo: Vec3
+    hi: Vec3
+
+    def __post_init__(self):
+        if not all(h > l for l, h in zip(self.lo, self.hi)):
+            raise ValueError(f"box {self.lo} -> {self.hi} has no volume")
+
+    def contains(self, points: np.ndarray, tol: float = 1e-9) -> np.ndarray:
+        """Boolean mask of points (n, 3) inside the closed box."""
+        lo, hi = np.asarray(self.lo) - tol, np.asarray(self.hi) + tol
+        return np.all((points >= lo) & (points <= hi), axis=1)
+
+    @property
+    def volume(self) -> float:
+        return float(np.prod(np.subtract(self.hi, self.lo)))
+
+
+@dataclass(frozen=True)
+class Part:
+    """A solid of the machine: a name, a material, a place in the kinematic chain, its boxes.
+
+    Parts listed later in a machine overwrite earlier ones where their boxes overlap (a spindle
+    cartridge inside a carrier casting, a bearing zone inside a spindle).
+    """
+
+    name: str
+    material: Material
+    boxes: tuple[Box, ...]
+    chain: str = ""  # "workpiece" side (bed, saddle, table) or "tool" side (column, carrier, ...)
+
+
+@dataclass(frozen=True)
+class Surface:
+    """A named surface: the exterior faces of ``parts`` (optionally inside ``within``), or, when
+    ``interface_with`` is given, the faces shared between ``parts`` and those parts."""
+
+    name: str
+    parts: tuple[str, ...]
+    within: Box | None = None
+    interface_with: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Point:
+    """A named point: a location [m] on a part."""
+
+    name: str
+    xyz: Vec3
+    part: str
+
+
+@dataclass(frozen=True)
+class Probe:
+    """An ISO 230-3 non-contact displacement probe: it is fixed to ``fixture`` and reads the
+    displacement of ``target`` along ``direction`` relative to the fixture (eddy-current, um)."""
+
+    name: str
+    target: str
+    direction: Vec3
+    fixture: str
+
+
+@dataclass
+class Machine:
+    """A parametric machine: parts, surfaces, points, probes and its mesh spacings."""
+
+    name: str
+    parts: list[Part]
+    surfaces: list[Surface]
+    points: list[Point]
+    probes: list[Probe]
+    tool_point: str
+    workpiece_point: str
+    sensor_sites: list[str]
+    resolutions: dict[str, float]
+    description: str = ""
+    parameters: dict[str, float] = field(default_factory=dict)
+
+    def part(self, name: str) -> Part:
+        for p in self.parts:
+            if p.name == name:
+                return p
+        raise KeyError(f"machine {self.name!r} has no part {name!r}")
+
+    def point(self, name: str) -> Point:
+        for p in self.points:
+            if p.name == name:
+                return p
+        raise KeyError(f"machine {self.name!r} has no point {name!r}")
+
+    def surface(self, name: str) -> Surface:
+        for s in self.surfaces:
+            if s.name == name:
+                return s
+        raise KeyError(f"machine {self.name!r} has no surface {name!r}")
+
+    def mesh(self, resolution: str = "default"):
+        """The structured hexahedral mesh of this machine (see :func:`twin.mesh.build_mesh`)."""
+        from twin.mesh import build_mesh
+
+        if resolution not in self.resolutions:
+            raise KeyError(f"unknown mesh resolution {resolution!r}; known: {', '.join(self.resolutions)}")
+        return build_mesh(self, self.resolutions[resolution])
+
+    def with_materials(self, materials: dict[str, Material]) -> "Machine":
+        """A copy whose parts use ``materials[old.name]`` in place of their material."""
+        parts = [Part(p.name, materials.get(p.material.name, p.material), p.boxes, p.chain) for p in self.parts]
+        return Machine(**{**self.__dict__, "parts": parts})
+
+
+def material(name: str) -> Material:
+    return MATERIALS[name]

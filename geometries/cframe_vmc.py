@@ -1,0 +1,106 @@
+"""``cframe-vmc``: a small three-axis C-frame vertical machining centre (seed 000, Machine A).
+
+Seed facts (thesis L4014-4038): table moving X 500 mm and Y 400 mm on a saddle over the bed, a
+column at the rear, a spindle carrier sliding 330 mm in Z on the column face, a DC spindle motor
+on top of the carrier, 9000 rpm maximum. The castings' dimensions are not given in the seeds:
+the proportions below are those of a typical small VMC (about 5 t), chosen so that the travels fit.
+Castings are modelled as solid grey cast iron blocks (ribbed castings' effective properties are
+not known); the spindle cartridge, its bearing zones and the test mandrel are steel.
+
+Axes: x along the X travel, y towards the column (rear), z up, floor at z = 0; the spindle axis
+is the line x = y = 0. The carrier is modelled at one Z position (the test position).
+"""
+
+from __future__ import annotations
+
+from geometries.base import Box, Machine, Part, Point, Probe, Surface, material
+
+NAME = "cframe-vmc"
+
+
+def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.35) -> Machine:
+    """Build the C-frame VMC.
+
+    bar_length [m]: test-bar overhang below the spindle nose; bar_width [m]: square mandrel side;
+    throat [m]: distance from the spindle axis to the column face.
+    """
+    iron, steel = material("grey_cast_iron"), material("steel")
+    nose = 0.95                    # spindle nose height [m]
+    tip = nose - bar_length        # tool reference point height [m]
+    col_y0, col_y1 = throat, throat + 0.45
+    hb = bar_width / 2
+
+    parts = [
+        Part("bed", iron, (Box((-0.60, -0.55, 0.0), (0.60, col_y1, 0.35)),), "workpiece"),
+        Part("saddle", iron, (Box((-0.35, -0.35, 0.35), (0.35, 0.25, 0.47)),), "workpiece"),
+        Part("table", iron, (Box((-0.50, -0.25, 0.47), (0.50, 0.15, 0.55)),), "workpiece"),
+        Part("column", iron, (Box((-0.25, col_y0, 0.35), (0.25, col_y1, 1.90)),), "tool"),
+        Part("carrier", iron, (Box((-0.18, -0.12, 1.10), (0.18, col_y0, 1.55)),), "tool"),
+        Part("spindle", steel, (Box((-0.075, -0.075, nose), (0.075, 0.075, 1.45)),), "tool"),
+        Part("front_bearing", steel, (Box((-0.075, -0.075, 0.99), (0.075, 0.075, 1.05)),), "tool"),
+        Part("rear_bearing", steel, (Box((-0.075, -0.075, 1.35), (0.075, 0.075, 1.41)),), "tool"),
+        Part("motor", steel, (Box((-0.11, -0.11, 1.55), (0.11, 0.11, 1.80)),), "tool"),
+        Part("test_bar", steel, (Box((-hb, -hb, tip), (hb, hb, nose)),), "tool"),
+    ]
+    everything = tuple(p.name for p in parts)
+    above_floor = Box((-10, -10, 1e-4), (10, 10, 10))
+    surfaces = [
+        Surface("skin", everything, within=above_floor),
+        Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
+        Surface("test_bar_skin", ("test_bar",)),
+        Surface("spindle_nose", ("spindle",), within=Box((-1, -1, nose - 1e-4), (1, 1, nose + 1e-4))),
+        Surface("motor_flange", ("motor",), interface_with=("carrier", "spindle")),
+        Surface("front_bearing_seat", ("front_bearing",), interface_with=("spindle",)),
+        Surface("rear_bearing_seat", ("rear_bearing",), interface_with=("spindle",)),
+        Surface("column_face", ("column",), within=Box((-1, col_y0 - 1e-4, 0), (1, col_y0 + 1e-4, 3))),
+        Surface("carrier_top", ("carrier",), within=Box((-1, -1, 1.55 - 1e-4), (1, 1, 1.55 + 1e-4))),
+    ]
+    e = 1e-3  # sensors sit 1 mm inside the surface they are glued to
+    sensors = [
+        Point("motor", (0.0, -0.11 + e, 1.70), "motor"),
+        Point("carrier_top", (0.12, 0.20, 1.55 - e), "carrier"),
+        Point("carrier_front", (0.0, -0.12 + e, 1.30), "carrier"),
+        Point("carrier_side", (-0.18 + e, 0.10, 1.30), "carrier"),
+        Point("carrier_rear", (0.0, col_y0 - 0.05, 1.55 - e), "carrier"),
+        Point("spindle_boss", (0.0, -0.075 + e, 1.02), "spindle"),
+        Point("test_bar", (hb - e, 0.0, nose - 0.05), "test_bar"),
+        Point("column_front_top", (0.20, col_y0 + e, 1.80), "column"),
+        Point("column_front_bottom", (0.20, col_y0 + e, 0.50), "column"),
+        Point("column_rear_top", (0.0, col_y1 - e, 1.80), "column"),
+        Point("column_rear_bottom", (0.0, col_y1 - e, 0.50), "column"),
+        Point("column_side", (-0.25 + e, col_y0 + 0.2, 1.20), "column"),
+        Point("bed_front", (0.0, -0.55 + e, 0.20), "bed"),
+        Point("bed_rear", (0.40, col_y1 - e, 0.20), "bed"),
+        Point("saddle", (0.35 - e, 0.0, 0.41), "saddle"),
+        Point("table", (0.30, -0.10, 0.55 - e), "table"),
+    ]
+    z1, z2 = tip + 0.03, tip + 0.13  # probe heights, 100 mm apart (ISO 230-3 five-probe nest)
+    points = sensors + [
+        Point("tool", (0.0, 0.0, tip), "test_bar"),
+        Point("workpiece", (0.0, 0.0, 0.55), "table"),
+        Point("X1", (-hb, 0.0, z1), "test_bar"),
+        Point("X2", (-hb, 0.0, z2), "test_bar"),
+        Point("Y1", (0.0, -hb, z1), "test_bar"),
+        Point("Y2", (0.0, -hb, z2), "test_bar"),
+        Point("Z", (0.0, 0.0, tip), "test_bar"),
+    ]
+    probes = [
+        Probe("X1", "X1", (1.0, 0.0, 0.0), "workpiece"),
+        Probe("X2", "X2", (1.0, 0.0, 0.0), "workpiece"),
+        Probe("Y1", "Y1", (0.0, 1.0, 0.0), "workpiece"),
+        Probe("Y2", "Y2", (0.0, 1.0, 0.0), "workpiece"),
+        Probe("Z", "Z", (0.0, 0.0, 1.0), "workpiece"),
+    ]
+    return Machine(
+        name=NAME,
+        parts=parts,
+        surfaces=surfaces,
+        points=points,
+        probes=probes,
+        tool_point="tool",
+        workpiece_point="workpiece",
+        sensor_sites=[p.name for p in sensors],
+        resolutions={"coarse": 0.10, "default": 0.06, "fine": 0.04},
+        description="small 3-axis C-frame vertical machining centre (seed Machine A): X 500, Y 400, Z 330 mm, 9000 rpm",
+        parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "probe_spacing": z2 - z1},
+    )

@@ -1,0 +1,77 @@
+"""Linear quasi-static thermoelasticity and adjoint drift operators.
+
+K u = C (T - T_ref): one-way coupled, thermal strain alpha (T - T_ref), small strains. The machine
+stands on levelling feet: a statically determinate 3-2-1 support at three corners of the bed's
+floor contact removes the six rigid-body motions and nothing else, so free thermal expansion is
+never blocked (the support reactions of a self-equilibrated thermal load are zero).
+
+Every drift output is a linear functional q = g^T u = g^T K^-1 C dT. With one adjoint solve
+K lam = g per output, the influence vector is w = C^T lam and q = w^T dT: a dot product per time
+step (the adjoint identity g^T K^-1 C = (C^T K^-T g)^T with K symmetric).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from twin.assembly import ElasticMatrices, assemble_elastic
+from twin.mesh import MachineMesh
+
+
+def support_dofs(mm: MachineMesh) -> np.ndarray:
+    """3-2-1 support: corner A fixes x, y, z; corner B (along x) fixes y, z; corner C (along y) z.
+
+    A, B, C are the floor-contact nodes nearest the corners of the floor footprint.
+    """
+    p = mm.mesh.p.T
+    floor = np.flatnonzero(p[:, 2] <= p[:, 2].min() + 1e-9)
+    lo, hi = p[floor].min(axis=0), p[floor].max(axis=0)
+
+    def nearest(x, y):
+        return floor[np.argmin((p[floor, 0] - x) ** 2 + (p[floor, 1] - y) ** 2)]
+
+    a, b, c = nearest(lo[0], lo[1]), nearest(hi[0], lo[1]), nearest(lo[0], hi[1])
+    return np.array([3 * a, 3 * a + 1, 3 * a + 2, 3 * b + 1, 3 * b + 2, 3 * c + 2])
+
+
+@dataclass
+class ElasticSolver:
+    """Factorised stiffness of a supported machine: solves K u = f for any load."""
+
+    matrices: ElasticMatrices
+    fixed: np.ndarray
+    free: np.ndarray
+    _lu: object
+
+    @classmethod
+    def build(cls, mm: MachineMesh, materials: dict | None = None) -> "ElasticSolver":
+        mats = assemble_elastic(mm, materials)
+        fixed = support_dofs(mm)
+        free = np.setdiff1d(np.arange(mats.K.shape[0]), fixed)
+        kff = mats.K[free][:, free].tocsc()
+        lu = spla.splu(kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        return cls(mats, fixed, free, lu)
+
+    def solve(self, load: np.ndarray) -> np.ndarray:
+        """Displacements u [m] (3 per node, interleaved) for nodal forces ``load`` [N] (columns ok)."""
+        load = np.asarray(load, dtype=float)
+        u = np.zeros(load.shape)
+        u[self.free] = self._lu.solve(np.ascontiguousarray(load[self.free]))
+        return u
+
+    def displacement(self, dT: np.ndarray) -> np.ndarray:
+        """Full displacement field (nnodes, 3) [m] of a nodal temperature rise dT [K]."""
+        return self.solve(self.matrices.C @ dT).reshape(-1, 3)
+
+    def influence(self, functionals: sp.spmatrix) -> np.ndarray:
+        """Adjoint influence matrix W (nnodes, nout): q = W^T dT for q = functionals @ u.
+
+        ``functionals`` (nout, 3 nnodes) maps displacements [m] to outputs.
+        """
+        g = np.asarray(functionals.todense() if sp.issparse(functionals) else functionals).T
+        lam = self.solve(g)
+        return np.asarray(self.matrices.C.T @ lam)

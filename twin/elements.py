@@ -1,0 +1,104 @@
+"""Element matrices of axis-aligned box ("brick") elements, vectorised over element shapes.
+
+Every cell of our rectilinear grid is a box of size (dx, dy, dz), so its Jacobian is the constant
+diag(dx, dy, dz)/2 and the element matrices depend only on the size and the material: they are
+computed once per distinct (size, material) pair, in closed form by 2x2x2 Gauss quadrature,
+which is exact for all the products below.
+
+Heat: trilinear hexahedron (Q1), conductivity ``K_e = k int grad N . grad N^T dV`` and capacity
+``M_e = rho c int N N^T dV``.
+
+Elasticity: trilinear hexahedron with Wilson-Taylor incompatible modes (Q1 + 1-xi^2, 1-eta^2,
+1-zeta^2 per displacement component, condensed statically per element). On box elements it
+passes the patch test and represents pure bending exactly, so it does not shear-lock; and the
+stress-free state of a linear temperature field (displacements quadratic in x, y, z) lies in its
+space, so thermal bending is exact (E. L. Wilson et al., 1973; R. L. Taylor et al., 1976).
+Thermal load: ``C_e = int B^T D m alpha N^T dV`` with m = (1, 1, 1, 0, 0, 0), so that the
+nodal forces of a temperature rise dT are ``C_e dT``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+# corners of the reference cube [-1, 1]^3 in scikit-fem's local node order (see twin.mesh)
+CORNER_SIGNS = 2.0 * np.array(
+    [[0, 0, 0], [0, 1, 0], [1, 0, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]], dtype=float
+) - 1.0
+_G = 1.0 / np.sqrt(3.0)
+GAUSS = np.array([[a, b, c] for a in (-_G, _G) for b in (-_G, _G) for c in (-_G, _G)])  # weights all 1
+
+
+def shape_q1(xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Trilinear shape functions N (n, 8) and their reference gradients dN (n, 8, 3) at xi (n, 3)."""
+    s = CORNER_SIGNS
+    f = 1.0 + xi[:, None, :] * s[None, :, :]  # (n, 8, 3)
+    n = 0.125 * f.prod(axis=2)
+    dn = np.empty(f.shape)
+    dn[..., 0] = 0.125 * s[:, 0] * f[..., 1] * f[..., 2]
+    dn[..., 1] = 0.125 * s[:, 1] * f[..., 0] * f[..., 2]
+    dn[..., 2] = 0.125 * s[:, 2] * f[..., 0] * f[..., 1]
+    return n, dn
+
+
+def heat_matrices(size: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit-property Q1 conduction and capacity matrices (m, 8, 8) for box sizes (m, 3) [m].
+
+    Multiply by k [W/(m K)] and rho c [J/(m3 K)] respectively.
+    """
+    n, dn = shape_q1(GAUSS)
+    half = 0.5 * size  # (m, 3): Jacobian diagonal
+    det = half.prod(axis=1)  # (m,)
+    grad = dn[None, :, :, :] / half[:, None, None, :]  # (m, q, 8, 3)
+    k = np.einsum("mqai,mqbi->mab", grad, grad) * det[:, None, None]
+    mass = np.einsum("qa,qb->ab", n, n)[None] * det[:, None, None]
+    return k, mass
+
+
+def _b_matrix(grad: np.ndarray) -> np.ndarray:
+    """Engineering-strain matrix B (m, q, 6, 3*nb) from shape gradients (m, q, nb, 3).
+
+    Strain order: xx, yy, zz, yz, xz, xy; displacement dofs interleaved (u0x, u0y, u0z, u1x, ...).
+    """
+    m, q, nb, _ = grad.shape
+    b = np.zeros((m, q, 6, nb, 3))
+    for i in range(3):
+        b[:, :, i, :, i] = grad[..., i]
+    b[:, :, 3, :, 1], b[:, :, 3, :, 2] = grad[..., 2], grad[..., 1]
+    b[:, :, 4, :, 0], b[:, :, 4, :, 2] = grad[..., 2], grad[..., 0]
+    b[:, :, 5, :, 0], b[:, :, 5, :, 1] = grad[..., 1], grad[..., 0]
+    return b.reshape(m, q, 6, 3 * nb)
+
+
+def elasticity_matrix(lam: np.ndarray, mu: np.ndarray) -> np.ndarray:
+    """Isotropic D (m, 6, 6) [Pa] from Lame constants (engineering shear strains)."""
+    d = np.zeros((len(lam), 6, 6))
+    d[:, :3, :3] = lam[:, None, None]
+    for i in range(3):
+        d[:, i, i] += 2 * mu
+        d[:, 3 + i, 3 + i] = mu
+    return d
+
+
+def elastic_matrices(size: np.ndarray, lam: np.ndarray, mu: np.ndarray, alpha: np.ndarray):
+    """Condensed stiffness (m, 24, 24) [N/m] and thermal coupling (m, 24, 8) [N/K] of box elements.
+
+    size (m, 3) [m], Lame constants lam, mu (m,) [Pa], expansion alpha (m,) [1/K].
+    """
+    n, dn = shape_q1(GAUSS)
+    half = 0.5 * size
+    det = half.prod(axis=1)
+    # incompatible modes P_i = 1 - xi_i^2: gradient along i only, -2 xi_i
+    dp = np.zeros((len(GAUSS), 3, 3))
+    for i in range(3):
+        dp[:, i, i] = -2.0 * GAUSS[:, i]
+    grads = np.concatenate([dn, dp], axis=1)[None] / half[:, None, None, :]  # (m, q, 11, 3)
+    b = _b_matrix(grads)  # (m, q, 6, 33)
+    d = elasticity_matrix(lam, mu)
+    k = np.einsum("mqia,mij,mqjb->mab", b, d, b) * det[:, None, None]
+    dm = d[:, :, :3].sum(axis=2) * alpha[:, None]  # D m alpha: (m, 6)
+    c = np.einsum("mqia,mi,qn->man", b, dm, n) * det[:, None, None]  # (m, 33, 8)
+    kcc, kci, kii = k[:, :24, :24], k[:, :24, 24:], k[:, 24:, 24:]
+    kii_inv_kic = np.linalg.solve(kii, np.transpose(kci, (0, 2, 1)))
+    kii_inv_ci = np.linalg.solve(kii, c[:, 24:, :])
+    return kcc - kci @ kii_inv_kic, c[:, :24, :] - kci @ kii_inv_ci
