@@ -18,7 +18,7 @@ from geometries.base import Box, Machine, Part, Point, Probe, Surface, material
 NAME = "cframe-vmc"
 
 
-def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.35) -> Machine:
+def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.45) -> Machine:
     """Build the C-frame VMC.
 
     bar_length [m]: test-bar overhang below the spindle nose; bar_width [m]: square mandrel side;

@@ -1,0 +1,119 @@
+"""Effects: physical mechanisms registered by name, each returning loads.
+
+An effect declares its parameters (name, dimension/unit, default, bounds, doc) and, for a meshed
+machine and a scenario, returns loads that are a *fixed spatial pattern times a time signal*:
+
+* :class:`HeatSource`: total power P(t) [W] spread uniformly over a set of cells;
+* :class:`SurfaceHeatFlux`: total power P(t) [W] spread uniformly over a set of facets;
+* :class:`Convection`: -k dT/dn = h(t) (T - T_air(t)) on a set of facets, h [W/(m2 K)], T_air [degC].
+
+Signals are functions of time arrays [s]. This structure makes every observable's response to
+each effect exactly computable (loads enter the heat equation linearly) and lets the solver
+assemble every pattern once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from twin.signals import lag_series
+from twin.units import CANONICAL, format_quantity
+
+Signal = Callable[[np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One effect parameter; ``default``, ``lower``, ``upper`` are SI values of ``dimension``."""
+
+    name: str
+    dimension: str
+    default: float
+    lower: float
+    upper: float
+    doc: str
+
+    @property
+    def unit(self) -> str:
+        return CANONICAL[self.dimension]
+
+    def describe(self, value: float | None = None) -> str:
+        v = self.default if value is None else value
+        return (f"{self.name} = {format_quantity(v, self.dimension)} "
+                f"[{format_quantity(self.lower, self.dimension)} .. {format_quantity(self.upper, self.dimension)}]: {self.doc}")
+
+
+@dataclass(frozen=True)
+class HeatSource:
+    label: str
+    cells: np.ndarray
+    power: Signal
+
+
+@dataclass(frozen=True)
+class SurfaceHeatFlux:
+    label: str
+    facets: np.ndarray
+    power: Signal
+
+
+@dataclass(frozen=True)
+class Convection:
+    label: str
+    facets: np.ndarray
+    h: Signal
+    air: Signal
+
+
+class Effect:
+    """Base class: subclasses set ``name``, ``summary``, ``reference``, ``parameters`` and
+    implement :meth:`loads`. The class docstring carries the equation."""
+
+    name: str = ""
+    summary: str = ""
+    reference: str = ""
+    parameters: tuple[Parameter, ...] = ()
+
+    def parameter(self, name: str) -> Parameter:
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    def defaults(self) -> dict[str, float]:
+        return {p.name: p.default for p in self.parameters}
+
+    def loads(self, mm, scenario, params: dict[str, float]) -> list:
+        raise NotImplementedError
+
+
+EFFECTS: dict[str, Effect] = {}
+
+
+def register_effect(cls: type[Effect]) -> type[Effect]:
+    """Class decorator: register one instance of ``cls`` under ``cls.name``."""
+    if cls.name in EFFECTS:
+        raise RuntimeError(f"effect {cls.name!r} registered twice")
+    EFFECTS[cls.name] = cls()
+    return cls
+
+
+def speed_power_law(scenario, reference_speed: float, exponent: float, scale: float) -> Signal:
+    """Signal scale * (n(t) / n_ref)^exponent for spindle speed n(t) [rpm] (0 when stopped)."""
+
+    def signal(t: np.ndarray) -> np.ndarray:
+        n = np.abs(scenario.spindle_speed(t))
+        return scale * np.power(n / reference_speed, exponent, where=n > 0, out=np.zeros_like(n, dtype=float))
+
+    return signal
+
+
+def first_order_lag(signal: Signal, tau: float, t_end: float, step: float = 60.0) -> Signal:
+    """Signal y with tau dy/dt = x(t) - y, y(0) = x(0), tau [s] (see :func:`twin.signals.lag_series`),
+    integrated once on a grid of ``step`` seconds up to ``t_end`` and interpolated linearly."""
+    grid = np.arange(0.0, t_end + 2 * step, step)
+    y = lag_series(signal(grid), step, tau)
+    return lambda t: np.interp(t, grid, y)

@@ -1,0 +1,220 @@
+"""Scenarios: what the machine and the room do, read from TOML with explicit units.
+
+A scenario file::
+
+    name = "spindle-heat-cool-9000"
+    description = "..."
+    sample_interval = "10 s"            # optional, default 10 s; also the time step
+    initial_temperature = "20 degC"     # optional, default: the room air at t = 0
+
+    [ambient]                           # one of three kinds
+    kind = "constant"                   # temperature = "20 degC"
+    # kind = "daily"                    # mean, amplitude, coldest_at (time of day), start_time_of_day
+    # kind = "table"                    # times = ["0 h", ...], temperatures = ["20 degC", ...] (linear)
+
+    [[spindle]]                         # piecewise-constant steps, in order
+    speed = "9000 rpm"
+    duration = "120 min"
+
+Unknown keys, missing keys, wrong units and non-positive durations raise
+:class:`twin.errors.InputError` naming the file and the key.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from twin.errors import InputError
+from twin.units import UnitError, parse_quantity
+
+SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
+
+
+@dataclass(frozen=True)
+class Ambient:
+    """Room air temperature T_air(t) [degC]: constant, a daily sine, or a linear table."""
+
+    kind: str
+    mean: float = 20.0
+    amplitude: float = 0.0
+    coldest_at: float = 6 * 3600.0
+    start_time_of_day: float = 0.0
+    times: tuple[float, ...] = ()
+    temperatures: tuple[float, ...] = ()
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        if self.kind == "constant":
+            return np.full(t.shape, self.mean)
+        if self.kind == "daily":
+            # T = mean - A cos(2 pi (tod - coldest) / 1 d): coldest at ``coldest_at``
+            tod = self.start_time_of_day + t
+            return self.mean - self.amplitude * np.cos(2 * np.pi * (tod - self.coldest_at) / 86400.0)
+        return np.interp(t, self.times, self.temperatures)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A schedule: spindle steps (duration [s], speed [rpm]), room air, sample interval [s]."""
+
+    name: str
+    steps: tuple[tuple[float, float], ...]
+    ambient: Ambient
+    sample_interval: float = 10.0
+    initial_temperature: float | None = None
+    description: str = ""
+    source: str = ""
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def duration(self) -> float:
+        return float(sum(d for d, _ in self.steps))
+
+    @property
+    def step_starts(self) -> np.ndarray:
+        return np.concatenate([[0.0], np.cumsum([d for d, _ in self.steps])])
+
+    def times(self) -> np.ndarray:
+        """Output (and time-step) instants 0, dt, 2 dt, ... up to the duration [s]."""
+        n = int(round(self.duration / self.sample_interval))
+        return np.arange(n + 1) * self.sample_interval
+
+    def spindle_speed(self, t: np.ndarray) -> np.ndarray:
+        """Spindle speed [rpm] at times t [s]: each step holds on [start, end); the last holds on."""
+        speeds = np.array([s for _, s in self.steps])
+        idx = np.searchsorted(self.step_starts[1:], np.asarray(t, dtype=float), side="right")
+        return speeds[np.minimum(idx, len(speeds) - 1)]
+
+    def ambient_temperature(self, t: np.ndarray) -> np.ndarray:
+        """Room air temperature [degC] at times t [s]."""
+        return self.ambient(t)
+
+    @property
+    def start_temperature(self) -> float:
+        """Uniform machine temperature at t = 0 [degC] (also the zero-strain reference)."""
+        if self.initial_temperature is not None:
+            return self.initial_temperature
+        return float(self.ambient_temperature(np.array([0.0]))[0])
+
+
+def available() -> list[str]:
+    """Names of the bundled scenarios."""
+    return sorted(p.stem for p in SCENARIO_DIR.glob("*.toml"))
+
+
+def load_scenario(name_or_path: str) -> Scenario:
+    """A bundled scenario by name, or a TOML file by path."""
+    path = Path(name_or_path)
+    if not (path.suffix == ".toml" or path.exists()):
+        path = SCENARIO_DIR / f"{name_or_path}.toml"
+        if not path.exists():
+            raise InputError("command line", "scenario",
+                             f"unknown scenario {name_or_path!r}; known: {', '.join(available())} (or a path to a .toml file)")
+    if not path.exists():
+        raise InputError(str(path), "file", "no such scenario file")
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(str(path), "toml", f"malformed TOML: {err}") from None
+    return scenario_from_dict(data, str(path), default_name=path.stem)
+
+
+class _Reader:
+    """Reads keys from one TOML table, converting units, remembering which keys were used."""
+
+    def __init__(self, table: dict, source: str, prefix: str):
+        if not isinstance(table, dict):
+            raise InputError(source, prefix.rstrip("."), "expected a table")
+        self.table, self.source, self.prefix, self.used = table, source, prefix, set()
+
+    def get(self, key: str, dimension: str | None = None, default=None, required=False):
+        self.used.add(key)
+        if key not in self.table:
+            if required:
+                raise InputError(self.source, self.prefix + key, "missing")
+            return default
+        value = self.table[key]
+        if dimension is None:
+            return value
+        try:
+            return parse_quantity(value, dimension)
+        except UnitError as err:
+            raise InputError(self.source, self.prefix + key, str(err)) from None
+
+    def positive(self, key: str, dimension: str, **kw) -> float:
+        value = self.get(key, dimension, **kw)
+        if value is not None and value <= 0:
+            raise InputError(self.source, self.prefix + key, f"must be positive, got {self.table[key]!r}")
+        return value
+
+    def finish(self):
+        unknown = sorted(set(self.table) - self.used)
+        if unknown:
+            raise InputError(self.source, self.prefix + unknown[0], f"unknown key (known: {', '.join(sorted(self.used))})")
+
+
+def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") -> Scenario:
+    """Build a :class:`Scenario` from parsed TOML ``data`` (errors name ``source``)."""
+    top = _Reader(data, source, "")
+    name = str(top.get("name", default=default_name))
+    description = str(top.get("description", default=""))
+    dt = top.positive("sample_interval", "time", default=10.0)
+    t0 = top.get("initial_temperature", "temperature")
+    ambient = _ambient(top.get("ambient", required=True), source)
+    raw_steps = top.get("spindle", required=True)
+    top.finish()
+    if not isinstance(raw_steps, list) or not raw_steps:
+        raise InputError(source, "spindle", "expected one or more [[spindle]] steps")
+    steps = []
+    for i, raw in enumerate(raw_steps):
+        r = _Reader(raw, source, f"spindle[{i}].")
+        speed = r.get("speed", "speed", required=True)
+        if speed < 0:
+            raise InputError(source, f"spindle[{i}].speed", "must not be negative")
+        duration = r.positive("duration", "time", required=True)
+        r.finish()
+        if abs(duration / dt - round(duration / dt)) > 1e-6:
+            raise InputError(source, f"spindle[{i}].duration", f"must be a multiple of the sample interval ({dt:g} s)")
+        steps.append((duration, speed))
+    return Scenario(name, tuple(steps), ambient, dt, t0, description, source)
+
+
+def _ambient(table, source: str) -> Ambient:
+    r = _Reader(table, source, "ambient.")
+    kind = r.get("kind", default="constant")
+    if kind == "constant":
+        a = Ambient("constant", mean=r.get("temperature", "temperature", required=True))
+    elif kind == "daily":
+        a = Ambient("daily", mean=r.get("mean", "temperature", required=True),
+                    amplitude=r.get("amplitude", "temperature_difference", required=True),
+                    coldest_at=r.get("coldest_at", "time", default=6 * 3600.0),
+                    start_time_of_day=r.get("start_time_of_day", "time", default=0.0))
+    elif kind == "table":
+        times = _list(r, "times", "time", source)
+        temps = _list(r, "temperatures", "temperature", source)
+        if len(times) != len(temps) or len(times) < 1:
+            raise InputError(source, "ambient.temperatures", "needs as many entries as ambient.times")
+        if np.any(np.diff(times) <= 0):
+            raise InputError(source, "ambient.times", "must increase strictly")
+        a = Ambient("table", times=tuple(times), temperatures=tuple(temps))
+    else:
+        raise InputError(source, "ambient.kind", f"unknown kind {kind!r}; known: constant, daily, table")
+    r.finish()
+    return a
+
+
+def _list(r: _Reader, key: str, dimension: str, source: str) -> list[float]:
+    values = r.get(key, required=True)
+    if not isinstance(values, list):
+        raise InputError(source, r.prefix + key, "expected a list of quantities")
+    out = []
+    for i, v in enumerate(values):
+        try:
+            out.append(parse_quantity(v, dimension))
+        except UnitError as err:
+            raise InputError(source, f"{r.prefix}{key}[{i}]", str(err)) from None
+    return out
