@@ -42,6 +42,7 @@ class RunResult:
     probe: np.ndarray              # (nt, nprobe) m
     hottest_time: float
     hottest_field: np.ndarray
+    sensors: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
 
     def heat_flows(self):
@@ -74,11 +75,13 @@ def drift_functionals(mm: MachineMesh) -> sp.csr_matrix:
 
 
 def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "default", theta: float = 0.5,
-        materials: dict | None = None, progress=None, mm: MachineMesh | None = None) -> RunResult:
+        materials: dict | None = None, progress=None, mm: MachineMesh | None = None,
+        sensors: list | None = None) -> RunResult:
     """Simulate ``scenario`` on ``machine`` with the effects of ``spec``.
 
     ``materials`` maps a material name to a replacement (e.g. perturbed properties);
-    ``progress(done, total)`` is called after every step.
+    ``progress(done, total)`` is called after every step; ``sensors`` (a list of
+    :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites.
     """
     spec = spec or ModelSpec()
     timings = {}
@@ -94,7 +97,7 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "def
     timings["elastic_factorisation"] = _time.perf_counter() - t1
     W = elastic.influence(drift_functionals(mm))  # (nnodes, 3 + nprobe)
 
-    sensors = [machine.point(name) for name in machine.sensor_sites]
+    sensors = sensors if sensors is not None else [machine.point(name) for name in machine.sensor_sites]
     S = interpolation_matrix(mm, [p.xyz for p in sensors], [p.name for p in sensors]).toarray()
     ones_M = np.asarray(heat.M.sum(axis=0)).ravel()
     outputs = np.vstack([S, ones_M[None, :], loads.system.r.T, W.T])
@@ -119,4 +122,4 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "def
     ns, ncv = len(sensors), loads.system.r.shape[1]
     disp = out[:, ns + 1 + ncv:] - out[0, ns + 1 + ncv:]
     return RunResult(mm, scenario, spec, loads, times, theta, out[:, :ns], out[:, ns], out[:, ns + 1:ns + 1 + ncv],
-                     disp[:, :3], disp[:, 3:], hottest["time"], hottest["field"], timings)
+                     disp[:, :3], disp[:, 3:], hottest["time"], hottest["field"], sensors, timings)
