@@ -80,7 +80,7 @@ def parse_quantity(text: str | int | float, dimension: str) -> float:
 def format_quantity(value: float, dimension: str) -> str:
     """Format an SI value with the canonical unit of ``dimension`` (``"8 W/m2K"``)."""
     unit = CANONICAL[dimension]
-    return f"{value:.6g} {unit}".rstrip() if unit else f"{value:.6g}"
+    return f"{value:.6g}" if dimension == "dimensionless" else f"{value:.6g} {unit}"
 
 
 def _spellings(dimension: str) -> str:

@@ -1,0 +1,33 @@
+"""Shared fixtures: small single-box bodies for physics checks against closed-form answers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geometries.base import Box, Machine, Part, Surface
+from twin.materials import MATERIALS
+
+
+def box_body(size, spacing, material="steel", surfaces=()):
+    """A one-part machine: a box [0, size] [m] meshed with cubes no wider than ``spacing`` [m].
+
+    ``surfaces``: (name, Box-within) pairs of exterior faces to name.
+    """
+    size = np.asarray(size, dtype=float)
+    part = Part("body", MATERIALS[material], (Box((0.0, 0.0, 0.0), tuple(size)),))
+    named = [Surface(name, ("body",), within=within) for name, within in surfaces]
+    m = Machine("box", [part], named, [], [], "", "", [], {"test": spacing})
+    return m.mesh("test")
+
+
+def face(axis: int, value: float) -> Box:
+    """A thin box selecting the exterior faces at coordinate ``value`` along ``axis``."""
+    lo, hi = [-10.0] * 3, [10.0] * 3
+    lo[axis], hi[axis] = value - 1e-6, value + 1e-6
+    return Box(tuple(lo), tuple(hi))
+
+
+@pytest.fixture
+def make_box():
+    return box_body

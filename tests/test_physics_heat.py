@@ -1,0 +1,97 @@
+"""Heat conduction against closed-form answers: slab series solution, fin equation, time order."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from tests.conftest import box_body, face
+from twin.assembly import assemble_facets, assemble_heat
+from twin.materials import MATERIALS
+from twin.transient import HeatSystem, integrate, steady_state
+
+STEEL = MATERIALS["steel"]
+
+
+def slab_series(x, t, L, h, k, diffusivity, terms=60):
+    """Plane wall, insulated at x = 0, convecting at x = L, initial excess 1:
+    theta/theta_0 = sum_n C_n exp(-zeta_n^2 Fo) cos(zeta_n x/L), zeta_n tan zeta_n = Bi,
+    C_n = 4 sin zeta_n / (2 zeta_n + sin 2 zeta_n), Fo = a t / L^2, Bi = h L / k (Incropera eq. 5.39)."""
+    bi = h * L / k
+    zetas = [brentq(lambda z: z * np.tan(z) - bi, n * np.pi + 1e-9, n * np.pi + np.pi / 2 - 1e-9) for n in range(terms)]
+    fo = diffusivity * t / L**2
+    return sum(4 * np.sin(z) / (2 * z + np.sin(2 * z)) * np.exp(-z * z * fo) * np.cos(z * x / L) for z in zetas)
+
+
+def _slab(h=450.0, L=0.1, spacing=0.0025):
+    mm = box_body((L, spacing, spacing), spacing, surfaces=[("cooled", face(0, L))])
+    heat = assemble_heat(mm)
+    fm = assemble_facets(mm, mm.facets["cooled"])
+    system = HeatSystem(heat.M, heat.K, [fm.H], fm.r[:, None], np.zeros((mm.nnodes, 0)))
+    return mm, system
+
+
+def _run_slab(system, n, dt, nsteps, h, theta, start=None):
+    x = np.ones(n) if start is None else start  # initial excess temperature over air at 0
+    on = np.full((nsteps, 1), h)
+    return integrate(system, x, dt, nsteps, on, np.zeros((nsteps, 1)), np.zeros((nsteps, 0)),
+                     np.eye(n), theta=theta)
+
+
+@pytest.mark.parametrize("theta", [0.5, 1.0])
+def test_slab_transient_matches_series_solution(theta):
+    """1-D transient conduction, convective face: within 1 % of the initial excess at Fo = 0.1, 0.3, 1."""
+    h, L = 450.0, 0.1
+    mm, system = _slab(h, L)
+    a = STEEL.conductivity / STEEL.volumetric_heat_capacity
+    dt = 1.0 if theta == 0.5 else 0.25
+    times = np.array([0.1, 0.3, 1.0]) * L**2 / a
+    nsteps = int(round(times[-1] / dt))
+    out = _run_slab(system, mm.nnodes, dt, nsteps, h, theta)
+    x = mm.mesh.p[0]
+    for t in times:
+        exact = slab_series(x, t, L, h, STEEL.conductivity, a)
+        got = out[int(round(t / dt))]
+        assert np.max(np.abs(got - exact)) < 0.01, (theta, t, np.max(np.abs(got - exact)))
+
+
+@pytest.mark.parametrize("theta,order", [(0.5, 2.0), (1.0, 1.0)])
+def test_theta_scheme_order_in_time(theta, order):
+    """Error against a very fine step falls by 2^order when dt halves (CN: 2, implicit Euler: 1).
+
+    Starts from a smooth state (the slab after 100 s, by fine implicit-Euler steps), as the
+    asymptotic order needs a smooth solution."""
+    h = 450.0
+    mm, system = _slab(h, spacing=0.005)
+    start = _run_slab(system, mm.nnodes, 0.1, 1000, h, 1.0)[-1]
+    t_end = 200.0
+    ref = _run_slab(system, mm.nnodes, 0.05, 4000, h, 0.5, start)[-1]
+    errors = []
+    for dt in (20.0, 10.0, 5.0):
+        got = _run_slab(system, mm.nnodes, dt, int(t_end / dt), h, theta, start)[-1]
+        errors.append(np.max(np.abs(got - ref)))
+    rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(np.abs(rates - order) < 0.15), rates
+
+
+def test_fin_with_end_flux_matches_fin_equation():
+    """Steady fin, heat P into the base, convection along the sides, adiabatic tip:
+    theta(x) = P cosh(m (L - x)) / (k A m sinh(m L)), m = sqrt(h p / (k A)) (Incropera Table 3.4 case B
+    with a prescribed base flux). Within 1 % of the base excess."""
+    L, w, h, P = 0.3, 0.02, 20.0, 5.0
+    mm = box_body((L, w, w), 0.005, surfaces=[("base", face(0, 0.0)), ("y0", face(1, 0.0)), ("y1", face(1, w)),
+                                                ("z0", face(2, 0.0)), ("z1", face(2, w))])
+    heat = assemble_heat(mm)
+    sides = np.unique(np.concatenate([mm.facets[n] for n in ("y0", "y1", "z0", "z1")]))
+    conv = assemble_facets(mm, sides)
+    base = assemble_facets(mm, mm.facets["base"])
+    system = HeatSystem(heat.M, heat.K, [conv.H], conv.r[:, None], (base.r / base.area)[:, None])
+    T = steady_state(system, np.array([h]), np.array([20.0]), np.array([P]))
+    k, A, perim = STEEL.conductivity, w * w, 4 * w
+    m = np.sqrt(h * perim / (k * A))
+    x = mm.mesh.p[0]
+    exact = P * np.cosh(m * (L - x)) / (k * A * m * np.sinh(m * L))
+    assert np.max(np.abs((T - 20.0) - exact)) < 0.01 * exact.max()
+    # and the energy balance of the steady state: all of P leaves through the sides
+    assert h * (conv.r @ T - 20.0 * conv.area) == pytest.approx(P, rel=1e-9)

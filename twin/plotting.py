@@ -1,0 +1,89 @@
+"""Figures: drift/tilt/temperature traces of a result, and a 3-D picture of a temperature field.
+
+matplotlib only (headless 'Agg' backend), so pictures work on machines without a display.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_result(ds, path) -> None:
+    """Three panels against time [min]: drift X, Y, Z [um]; tilts A, B [urad]; temperatures [degC]."""
+    plt = _pyplot()
+    t = ds.time.values / 60.0
+    fig, axes = plt.subplots(3, 1, figsize=(9, 10), sharex=True)
+    for axis in ds.axis.values:
+        line, = axes[0].plot(t, ds.drift.sel(axis=axis), label=f"{axis} (true, tool point)")
+        axes[0].plot(t, ds.probe_drift.sel(axis=axis), ls=":", color=line.get_color(), label=f"{axis} (probes)")
+    axes[0].set_ylabel("drift [um]")
+    for rot in ds.rotation.values:
+        axes[1].plot(t, ds.tilt.sel(rotation=rot), label=f"{rot} (probes)")
+    axes[1].set_ylabel("tilt [urad]")
+    rise = ds.temperature_true.max("time") - ds.temperature_true.isel(time=0)
+    for name in ds.sensor.values[np.argsort(-rise.values)][:8]:
+        axes[2].plot(t, ds.temperature.sel(sensor=name), label=str(name), lw=1)
+    axes[2].plot(t, ds.ambient_temperature, "k--", label="room air")
+    axes[2].set_ylabel("temperature [degC]")
+    axes[2].set_xlabel("time [min]")
+    speed = ds.spindle_speed.values
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, ncol=2, loc="best")
+        on = speed > 0
+        if on.any():
+            ax.fill_between(t, 0, 1, where=on, color="orange", alpha=0.08, transform=ax.get_xaxis_transform(), step="post")
+    axes[0].set_title(f"{ds.attrs.get('machine', '')} / {ds.attrs.get('scenario', '')} (shaded: spindle running)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_field_3d(mm, field: np.ndarray, path, title: str = "") -> None:
+    """Exterior faces of the mesh coloured by the nodal field (e.g. temperature [degC])."""
+    plt = _pyplot()
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    mesh = mm.mesh
+    facets = mesh.boundary_facets()
+    quads = mesh.facets[:, facets]
+    xyz = mesh.p.T[quads.T]  # (nf, 4, 3), corner order around the face
+    # order the four corners of each axis-aligned face around its perimeter
+    centre = xyz.mean(axis=1, keepdims=True)
+    rel = xyz - centre
+    normal_axis = np.argmin(np.ptp(xyz, axis=1), axis=1)
+    a = np.where(normal_axis == 0, 1, 0)
+    b = np.where(normal_axis == 2, 1, 2)
+    ang = np.arctan2(np.take_along_axis(rel, b[:, None, None].repeat(4, 1), 2)[..., 0],
+                     np.take_along_axis(rel, a[:, None, None].repeat(4, 1), 2)[..., 0])
+    xyz = np.take_along_axis(xyz, np.argsort(ang, axis=1)[..., None].repeat(3, 2), axis=1)
+    values = field[quads].mean(axis=0)
+    fig = plt.figure(figsize=(8, 8))
+    ax = fig.add_subplot(projection="3d")
+    norm = plt.Normalize(values.min(), values.max())
+    cmap = plt.get_cmap("inferno")
+    ax.add_collection3d(Poly3DCollection(xyz * 1e3, facecolors=cmap(norm(values)), edgecolors="none"))
+    lo, hi = mesh.p.min(axis=1) * 1e3, mesh.p.max(axis=1) * 1e3
+    span = (hi - lo).max() / 2
+    mid = (hi + lo) / 2
+    ax.set_xlim(mid[0] - span, mid[0] + span)
+    ax.set_ylim(mid[1] - span, mid[1] + span)
+    ax.set_zlim(mid[2] - span, mid[2] + span)
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_zlabel("z [mm]")
+    ax.view_init(elev=20, azim=-130)
+    sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
+    fig.colorbar(sm, ax=ax, shrink=0.6, label="temperature [degC]")
+    ax.set_title(title)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
