@@ -54,6 +54,9 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         Surface("rear_bearing_seat", ("rear_bearing",), interface_with=("spindle",)),
         Surface("column_face", ("column",), within=Box((-1, col_y0 - 1e-4, 0), (1, col_y0 + 1e-4, 3))),
         Surface("carrier_top", ("carrier",), within=Box((-1, -1, 1.55 - 1e-4), (1, 1, 1.55 + 1e-4))),
+        # added for the effect library (twin/effects/room.py, spindle_extra.py)
+        Surface("column_side_left", ("column",), within=Box((-0.25 - 1e-4, col_y0, 0.35), (-0.25 + 1e-4, col_y1, 1.90))),
+        Surface("spindle_jacket", ("spindle", "front_bearing", "rear_bearing"), interface_with=("carrier",)),
     ]
     e = 1e-3  # sensors sit 1 mm inside the surface they are glued to
     sensors = [

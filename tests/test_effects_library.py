@@ -1,0 +1,146 @@
+"""The effect library beyond the default five: each test names its closed-form answer or law."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geometries import build_machine
+from twin.api import simulate
+from twin.assembly import assemble_heat
+from twin.effects import DEFAULT_EFFECTS, EFFECTS
+from twin.effects.room import facet_areas, facet_centres, facing
+from twin.model import ModelSpec, build_loads
+from twin.scenario import Ambient, Scenario
+from twin.transient import steady_state
+
+NEW = ("electrical_cabinet", "ambient_stratification", "door_draft", "solar_load", "spindle_coolant",
+       "z_axis_holding", "floor_lag")
+H_AIR = 8.0
+
+
+@pytest.fixture(scope="module")
+def mm():
+    return build_machine("cframe-vmc").mesh("coarse")
+
+
+@pytest.fixture(scope="module")
+def heat(mm):
+    return assemble_heat(mm)
+
+
+def scenario(speed=9000.0, hours=24.0, ambient=None, tod=0.0):
+    amb = ambient or Ambient("constant", mean=20.0, start_time_of_day=tod)
+    return Scenario("test", ((hours * 3600.0, speed),), amb, 600.0)
+
+
+def steady(mm, heat, sc, effects, t, params=None):
+    """Steady field for the signals frozen at time t; returns (loads, T, heat in by sources, by convection)."""
+    ls = build_loads(mm, sc, ModelSpec(effects, params or {}), heat)
+    h, air, s = ls.signals(np.array([t]))
+    T = steady_state(ls.system, h[0], air[0], s[0])
+    conv = h[0] * (air[0] * ls.areas - ls.system.r.T @ T)
+    return ls, T, s[0].sum(), conv
+
+
+def test_registered_with_docs_and_bounds():
+    for name in NEW:
+        eff = EFFECTS[name]
+        assert name not in DEFAULT_EFFECTS
+        assert eff.__doc__ and eff.reference and eff.summary and eff.parameters
+        for p in eff.parameters:
+            assert p.lower <= p.default <= p.upper and p.doc and p.unit is not None
+
+
+@pytest.mark.parametrize("effect,expected", [("z_axis_holding", 25.0), ("electrical_cabinet", 40.0)])
+def test_constant_source_mean_skin_rise_is_P_over_hA(mm, heat, effect, expected):
+    """Steady energy balance of a uniformly convecting body: P = h int (T - T_air) dA, so the
+    area-mean skin excess temperature is exactly P / (h A_skin) (no floor path)."""
+    ls, T, p_in, conv = steady(mm, heat, scenario(0.0), ("ambient_convection", effect), 3600.0)
+    assert p_in == pytest.approx(expected)
+    assert p_in + conv.sum() == pytest.approx(0.0, abs=1e-8 * expected)
+    a = mm.facet_area(mm.facets["skin"])
+    mean_excess = ls.system.r[:, 0] @ T / a - 20.0
+    assert mean_excess == pytest.approx(expected / (H_AIR * a), rel=1e-9)
+
+
+def test_stratification_flux_integrates_to_h_g_moment(mm, heat):
+    """sum of band powers = h g sum_f A_f (z_f - z_ref) over the skin; steady balance closes."""
+    g, zref = 0.5, 1.0
+    facets = mm.facets["skin"]
+    moment = np.sum(facet_areas(mm, facets) * (facet_centres(mm, facets)[:, 2] - zref))
+    ls, T, p_in, conv = steady(mm, heat, scenario(0.0), ("ambient_convection", "ambient_stratification"), 0.0)
+    assert p_in == pytest.approx(H_AIR * g * moment, rel=1e-12)
+    assert p_in + conv.sum() == pytest.approx(0.0, abs=1e-8)
+    assert len(ls.sources) > 10  # height bands
+    # a higher face runs warmer: column top vs bed
+    z = mm.mesh.p[2]
+    assert T[z > 1.85].mean() > T[z < 0.1].mean()
+
+
+def test_door_draft_active_only_in_event_window(mm, heat):
+    sc = scenario(0.0)
+    params = {"door_draft": {"start": 3600.0, "duration": 1200.0, "period": 7200.0}}
+    ls = build_loads(mm, sc, ModelSpec(("door_draft",), params), heat)
+    t = np.array([0.0, 3599.0, 3600.0, 4799.0, 4800.0, 10800.0, 12000.0])
+    h, air, _ = ls.signals(t)
+    assert h[:, 0].tolist() == [0.0, 0.0, 15.0, 15.0, 0.0, 15.0, 0.0]
+    assert np.allclose(air[:, 0], 12.0)  # room 20 degC + dT -8 K
+    assert ls.areas[0] == pytest.approx(mm.facet_area(facing(mm, mm.facets["skin"], "-y")))
+
+
+def test_solar_load_only_in_day_hours_with_peak_qA(mm, heat):
+    sc = scenario(0.0, tod=6 * 3600.0)  # clock 06:00 at t = 0
+    ls = build_loads(mm, sc, ModelSpec(("solar_load",)), heat)
+    area = mm.facet_area(facing(mm, mm.facets["skin"], "+y"))
+    clock = np.array([3.0, 6.5, 7.0, 13.0, 19.0, 23.0, 31.0]) * 3600.0  # 31 h = 07:00 next day
+    _, _, s = ls.signals(clock - 6 * 3600.0)
+    assert s[:, 0] == pytest.approx([0, 0, 0, 40.0 * area, 0, 0, 0], abs=1e-9)
+    _, _, s10 = ls.signals(np.array([10.0 * 3600 - 6 * 3600]))  # sin(pi/4)
+    assert s10[0, 0] == pytest.approx(40.0 * area * np.sqrt(0.5))
+
+
+def test_spindle_coolant_conductance_and_balance(mm, heat):
+    """h A_jacket = G while running and 0 at rest; steady: bearing+motor heat = ambient + coolant losses."""
+    effects = ("spindle_bearings", "spindle_motor", "ambient_convection", "spindle_coolant")
+    ls, T, p_in, conv = steady(mm, heat, scenario(9000.0), effects, 100.0)
+    k = ls.convection_effect.index("spindle_coolant")
+    h, _, _ = ls.signals(np.array([0.0]))
+    assert h[0, k] * ls.areas[k] == pytest.approx(20.0)
+    assert p_in == pytest.approx(340.0)
+    assert p_in + conv.sum() == pytest.approx(0.0, abs=1e-6)
+    assert -conv[k] > 0.1 * p_in  # the jacket removes a real share
+    ls0 = build_loads(mm, scenario(0.0), ModelSpec(effects), heat)
+    assert ls0.signals(np.array([0.0]))[0][0, k] == 0.0
+
+
+def test_floor_lag_follows_a_step_with_its_time_constant(mm, heat):
+    """Air of the slow floor after a 1 K room step: 1 - exp(-t / tau)."""
+    amb = Ambient("table", times=(0.0, 60.0, 1e7), temperatures=(20.0, 21.0, 21.0))
+    sc = Scenario("step", ((5 * 86400.0, 0.0),), amb, 600.0)
+    ls = build_loads(mm, sc, ModelSpec(("floor_lag",)), heat)
+    tau = 2 * 86400.0
+    _, air, _ = ls.signals(np.array([tau, 2 * tau]))
+    assert air[:, 0] - 20.0 == pytest.approx(1 - np.exp(-np.array([tau, 2 * tau]) / tau), abs=2e-3)
+
+
+def test_run_heat_power_and_energy_with_all_new_effects():
+    """heat_power per effect has the documented magnitude; the theta-scheme's energy accounting closes."""
+    sc = Scenario("short", ((1800.0, 9000.0), (1800.0, 0.0)), Ambient("constant", mean=20.0), 60.0)
+    effects = "+" + ",+".join(NEW)
+    ds, run = simulate("cframe-vmc", sc, effects=effects, resolution="coarse",
+                       settings=["door_draft.start=10 min", "door_draft.duration=20 min"])
+    hp = ds.heat_power
+    assert np.allclose(hp.sel(effect="z_axis_holding"), 25.0)
+    assert np.allclose(hp.sel(effect="electrical_cabinet"), 40.0)
+    mm = run.mm
+    facets = mm.facets["skin"]
+    moment = np.sum(facet_areas(mm, facets) * (facet_centres(mm, facets)[:, 2] - 1.0))
+    assert np.allclose(hp.sel(effect="ambient_stratification"), 8.0 * 0.5 * moment)
+    assert np.allclose(hp.sel(effect="solar_load"), 0.0)  # the run ends before 07:00
+    door = hp.sel(effect="door_draft").values
+    inside = (ds.time.values > 600) & (ds.time.values < 1800)
+    assert np.all(door[~inside & (ds.time.values != 600) & (ds.time.values != 1800)] == 0.0)
+    assert np.all(door[inside] < 0)  # cold draft takes heat out
+    src, conv, stored = run.step_energy()
+    assert src + conv == pytest.approx(stored, rel=1e-9)

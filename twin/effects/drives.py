@@ -1,0 +1,65 @@
+"""Drive-side effects beyond the spindle heat: a coolant jacket and the Z-axis holding current."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from twin.effects.base import Convection, Effect, HeatSource, Parameter, register_effect
+
+
+@register_effect
+class SpindleCoolant(Effect):
+    """A cooling jacket round the spindle cartridge removing heat while the spindle turns.
+
+        Q = G (T_jacket - T_c),  T_c(t) = T_air(t) + offset,
+
+    modelled as a convection condition on the cartridge/carrier interface (``spindle_jacket``)
+    with h = G / A_jacket while n(t) > 0 (the chiller runs with the spindle), 0 otherwise.
+    G [W/K] is the jacket's overall conductance UA; room-tracking chillers hold T_c at the room
+    air plus an offset.
+    """
+
+    name = "spindle_coolant"
+    summary = "jacket conductance G to coolant at T_air + offset on the cartridge, while the spindle runs"
+    reference = "Bossmanns & Tu, Int. J. Mach. Tools Manuf. 39 (1999) 1345-1366 (spindle cooling)"
+    parameters = (
+        Parameter("conductance", "conductance", 20.0, 0.0, 500.0, "jacket conductance G = UA"),
+        Parameter("offset", "temperature_difference", 0.0, -10.0, 10.0, "coolant minus room air temperature"),
+    )
+
+    def loads(self, mm, scenario, p):
+        facets = mm.facets["spindle_jacket"]
+        h = p["conductance"] / mm.facet_area(facets)
+        off = p["offset"]
+        return [Convection(self.name, facets, lambda t: h * (np.abs(scenario.spindle_speed(t)) > 0),
+                           lambda t: scenario.ambient_temperature(t) + off)]
+
+
+def column_top_cells(mm, depth: float = 0.2) -> np.ndarray:
+    """Column cells whose centre lies within ``depth`` [m] of the column's top."""
+    cells = mm.cells_of("column")
+    zc = mm.mesh.p[2, mm.mesh.t[:, cells]].mean(axis=0)
+    ztop = mm.mesh.p[2, mm.mesh.t[:, cells]].max()
+    return cells[zc >= ztop - depth]
+
+
+@register_effect
+class ZAxisHolding(Effect):
+    """The Z servo motor and its brake holding the carrier against gravity at the column top.
+
+        P(t) = P_hold   (constant, also when no axis moves),
+
+    the holding current's copper losses I^2 R (torque = m g p / (2 pi)) plus brake coil heat,
+    spread uniformly over the column's top 0.2 m where the Z motor sits.
+    """
+
+    name = "z_axis_holding"
+    summary = "constant holding losses of the Z motor and brake in the column top"
+    reference = "Mayr et al., CIRP Annals 61/2 (2012) 771-791, sec. 3.2 (feed drives)"
+    parameters = (
+        Parameter("power", "power", 25.0, 0.0, 500.0, "holding losses into the column top P_hold"),
+    )
+
+    def loads(self, mm, scenario, p):
+        power = p["power"]
+        return [HeatSource(self.name, column_top_cells(mm), lambda t: np.full(np.shape(t), power))]

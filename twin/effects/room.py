@@ -1,0 +1,197 @@
+"""The room beyond uniform still air: a cabinet, stratified air, a door draft, the sun, a slow floor.
+
+Helpers here select skin facets by the direction they face and by height; every load is still a
+fixed spatial pattern times a time signal (see :mod:`twin.effects.base`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from twin.effects.base import Convection, Effect, Parameter, SurfaceHeatFlux, first_order_lag, register_effect
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def facet_centres(mm, facets: np.ndarray) -> np.ndarray:
+    """Centroids (nf, 3) [m] of the given facets."""
+    return mm.mesh.p[:, mm.mesh.facets[:, facets]].mean(axis=1).T
+
+
+def facet_areas(mm, facets: np.ndarray) -> np.ndarray:
+    """Areas (nf,) [m2] of the given axis-aligned rectangular facets."""
+    corners = mm.mesh.p[:, mm.mesh.facets[:, facets]]
+    extent = corners.max(axis=1) - corners.min(axis=1)
+    return np.prod(np.sort(extent, axis=0)[1:], axis=0)
+
+
+def facing(mm, facets: np.ndarray, direction: str) -> np.ndarray:
+    """Boundary facets among ``facets`` whose outward normal is ``direction`` ("+x", "-y", ...)."""
+    sign, axis = (1.0 if direction[0] == "+" else -1.0), _AXES[direction[1]]
+    corners = mm.mesh.p[:, mm.mesh.facets[:, facets]]
+    flat = np.ptp(corners[axis], axis=0) < 1e-12
+    owner = mm.mesh.f2t[0, facets]
+    cell_mid = mm.mesh.p[axis, mm.mesh.t[:, owner]].mean(axis=0)
+    outward = np.sign(corners[axis].mean(axis=0) - cell_mid)
+    return facets[flat & (outward == sign)]
+
+
+def constant(value: float):
+    return lambda t: np.full(np.shape(t), float(value))
+
+
+@register_effect
+class ElectricalCabinet(Effect):
+    """Heat of the electrical cabinet released beside the column's left (-x) side.
+
+    The cabinet's losses (drives, transformer, power supply) warm the air and radiate onto the
+    adjacent column face; the part that reaches the structure is a uniform surface flux
+
+        q = (P_standby + P_run [n(t) > 0]) / A_side   [W/m2]  on ``column_side_left``,
+
+    P_standby while the machine is powered, P_run more while the spindle turns.
+    """
+
+    name = "electrical_cabinet"
+    summary = "cabinet losses onto the column's left side face, P = P_standby + P_run [spindle on]"
+    reference = "Mayr et al., CIRP Annals 61/2 (2012) 771-791, sec. 3.2 (internal heat sources, cabinets)"
+    parameters = (
+        Parameter("power", "power", 40.0, 0.0, 1000.0, "heat reaching the column while the machine is powered"),
+        Parameter("running_power", "power", 0.0, 0.0, 1000.0, "additional heat while the spindle turns"),
+    )
+
+    def loads(self, mm, scenario, p):
+        base, run = p["power"], p["running_power"]
+        return [SurfaceHeatFlux(self.name, mm.facets["column_side_left"],
+                                lambda t: base + run * (np.abs(scenario.spindle_speed(t)) > 0))]
+
+
+@register_effect
+class AmbientStratification(Effect):
+    """Room air warmer with height: T_air(z, t) = T_air(t) + g (z - z_ref).
+
+    Convection is linear, so on every skin face h (T - T_air - g (z - z_ref)) = h (T - T_air)
+    - h g (z - z_ref): the stratification adds to the uniform ``ambient_convection`` a surface
+    flux q(z) = h g (z - z_ref) [W/m2] (a *difference* model, linear in g). The skin is cut into
+    height bands of 0.1 m, each carrying its exact share P_b = h g sum_(f in b) A_f (z_f - z_ref)
+    (z_f the facet centroid), so the total is h g sum A (z - z_ref). ``h`` should equal the
+    ``ambient_convection`` h (both default 8 W/m2K).
+    """
+
+    name = "ambient_stratification"
+    summary = "vertical air-temperature gradient g: extra flux h g (z - z_ref) on the skin"
+    reference = "ISO 230-3:2020 Annex (environmental temperature variation); VDI 2078 (room air stratification)"
+    parameters = (
+        Parameter("gradient", "temperature_gradient", 0.5, -5.0, 5.0, "air temperature rise per metre of height g"),
+        Parameter("reference_height", "length", 1.0, 0.0, 3.0, "height z_ref where the air is at the room temperature"),
+        Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)"),
+    )
+    band = 0.1  # m
+
+    def loads(self, mm, scenario, p):
+        facets = mm.facets["skin"]
+        z = facet_centres(mm, facets)[:, 2]
+        moment = facet_areas(mm, facets) * (z - p["reference_height"])  # A (z - z_ref) [m3]
+        k = np.floor(z / self.band).astype(int)
+        out = []
+        for b in np.unique(k):
+            sel = k == b
+            power = p["h"] * p["gradient"] * float(moment[sel].sum())
+            out.append(SurfaceHeatFlux(f"{self.name}.{b * self.band:.1f}m", facets[sel], constant(power)))
+        return out
+
+
+def event_window(t: np.ndarray, start: float, duration: float, period: float) -> np.ndarray:
+    """1 inside events [start + i period, start + i period + duration), 0 outside; period 0: one event."""
+    t = np.asarray(t, dtype=float)
+    rel = t - start
+    if period > 0:
+        rel = np.where(rel >= 0, np.mod(rel, period), rel)
+    return ((rel >= 0) & (rel < duration)).astype(float)
+
+
+@register_effect
+class DoorDraft(Effect):
+    """A cold (or warm) air stream from an opened hall door hitting the machine's front (-y) faces.
+
+        -k dT/dn = h_d w(t) (T - T_air(t) - dT),  w(t) = 1 during events, else 0,
+
+    added to the natural convection; events start at ``start`` and repeat every ``period``
+    (0: one event). h_d of a draft of 1-3 m/s on a plate is 10-25 W/(m2 K) (flat-plate forced
+    convection, Nu = 0.664 Re^0.5 Pr^(1/3)).
+    """
+
+    name = "door_draft"
+    summary = "air stream T_air + dT with h_d on the front faces during scheduled door openings"
+    reference = "VDI Heat Atlas G4 (flat plate in parallel flow); Bryan, CIRP Annals 39/2 (1990) 645-656"
+    parameters = (
+        Parameter("h", "heat_transfer_coefficient", 15.0, 0.0, 100.0, "draft heat-transfer coefficient h_d"),
+        Parameter("temperature_difference", "temperature_difference", -8.0, -30.0, 30.0, "draft air minus room air dT"),
+        Parameter("start", "time", 3600.0, 0.0, 30 * 86400.0, "time of the first opening"),
+        Parameter("duration", "time", 1200.0, 10.0, 86400.0, "duration of each opening"),
+        Parameter("period", "time", 0.0, 0.0, 7 * 86400.0, "repeat interval (0: a single event)"),
+    )
+
+    def loads(self, mm, scenario, p):
+        facets = facing(mm, mm.facets["skin"], "-y")
+        h, dT = p["h"], p["temperature_difference"]
+        return [Convection(self.name, facets,
+                           lambda t: h * event_window(t, p["start"], p["duration"], p["period"]),
+                           lambda t: scenario.ambient_temperature(t) + dT)]
+
+
+def daylight(t: np.ndarray, start_time_of_day: float, sunrise: float, sunset: float) -> np.ndarray:
+    """Shape of the sun on a window face: sin(pi (tod - sunrise)/(sunset - sunrise)) by day, 0 at night."""
+    tod = np.mod(start_time_of_day + np.asarray(t, dtype=float), 86400.0)
+    phase = (tod - sunrise) / max(sunset - sunrise, 1.0)
+    return np.where((phase > 0) & (phase < 1), np.sin(np.pi * np.clip(phase, 0, 1)), 0.0)
+
+
+@register_effect
+class SolarLoad(Effect):
+    """Sunlight through a window onto the machine's rear (+y) faces in day hours.
+
+        q(t) = q_peak sin(pi (tod - t_rise) / (t_set - t_rise))  for t_rise < tod < t_set, else 0,
+
+    absorbed flux [W/m2] spread uniformly on the rear faces (total P = q A_rear); the time of day
+    is tod = scenario.ambient.start_time_of_day + t.
+    """
+
+    name = "solar_load"
+    summary = "absorbed sunlight on the rear faces, half-sine between sunrise and sunset"
+    reference = "Duffie & Beckman, Solar Engineering of Thermal Processes, ch. 1-2"
+    parameters = (
+        Parameter("flux", "heat_flux", 40.0, 0.0, 800.0, "absorbed flux at solar noon q_peak"),
+        Parameter("sunrise", "time", 7 * 3600.0, 0.0, 86400.0, "time of day the sun reaches the faces"),
+        Parameter("sunset", "time", 19 * 3600.0, 0.0, 86400.0, "time of day the sun leaves the faces"),
+    )
+
+    def loads(self, mm, scenario, p):
+        facets = facing(mm, mm.facets["skin"], "+y")
+        peak = p["flux"] * float(facet_areas(mm, facets).sum())
+        t0 = getattr(scenario.ambient, "start_time_of_day", 0.0)
+        return [SurfaceHeatFlux(self.name, facets, lambda t: peak * daylight(t, t0, p["sunrise"], p["sunset"]))]
+
+
+@register_effect
+class FloorLag(Effect):
+    """A deep foundation following the room with a long time constant, in parallel with ``floor``.
+
+        -k dT/dn = h_s (T - T_slow(t)),  tau_s dT_slow/dt = T_air(t) - T_slow,
+
+    on the bed's foot (``floor_contact``). With ``floor`` also on, the two act in parallel: the
+    foot sees a conductance h_c + h_s to the weighted floor temperature
+    (h_c T_floor + h_s T_slow) / (h_c + h_s); without ``floor`` this is the only floor path.
+    """
+
+    name = "floor_lag"
+    summary = "foot coupled to a slow foundation temperature lagging the room by tau_s"
+    reference = "Bryan, CIRP Annals 39/2 (1990) 645-656 (foundation thermal inertia); ISO 230-3 Annex"
+    parameters = (
+        Parameter("conductance", "heat_transfer_coefficient", 20.0, 0.0, 1000.0, "foot conductance to the slow foundation h_s"),
+        Parameter("lag", "time", 2 * 86400.0, 3600.0, 30 * 86400.0, "time constant tau_s of the foundation"),
+    )
+
+    def loads(self, mm, scenario, p):
+        slow = first_order_lag(scenario.ambient_temperature, p["lag"], scenario.duration)
+        return [Convection(self.name, mm.facets["floor_contact"], constant(p["conductance"]), slow)]
