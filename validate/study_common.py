@@ -1,0 +1,88 @@
+"""Shared pieces of the learner studies: command line, learner presets, fit-and-score, output files."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+
+from learners import make_learner, make_selector
+from learners.metrics import score_all
+
+__all__ = ["parse_args", "preset", "fit_score", "select", "write_csv", "markdown_table", "fmt"]
+
+# Seed-like hyper-parameters (seed 001: ANFIS-FCM 6 rules for 1-5 inputs; ANN 4-10-1).
+PRESETS = {
+    "anfis-fcm": {"n_rules": 6, "epochs": 100},
+    "anfis-grid": {"n_mfs": 2, "epochs": 50},
+    "ann": {"shape": "4-10-1"},
+}
+
+
+def parse_args(name: str, doc: str, argv=None) -> argparse.Namespace:
+    """``[--quick] [-o DIR] [--seed N]``; the default folder is ``validate-out/<name>/``."""
+    p = argparse.ArgumentParser(prog=f"python -m validate.{name}", description=doc.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="coarse mesh (smoke run); default: the default mesh")
+    p.add_argument("-o", "--output", default=f"validate-out/{name}", help="output folder (default %(default)s)")
+    p.add_argument("--seed", type=int, default=0, help="noise seed and random_state (default 0)")
+    return p.parse_args(argv)
+
+
+def preset(name: str, seed: int = 0, **override):
+    """A registered learner with the studies' seed-like presets and ``random_state=seed``."""
+    est = make_learner(name, **{**PRESETS.get(name, {}), **override})
+    if "random_state" in est.get_params(deep=False):
+        est.set_params(random_state=seed)
+    return est
+
+
+def select(X, y, k: int, names: list[str], method: str = "gm0n-fcm", seed: int = 0) -> list[int]:
+    """Indices (into ``names``/columns of ``X``) of the ``k`` inputs a selector picks on (X, y)."""
+    sel = make_selector(method, n_select=k)
+    if "random_state" in sel.get_params(deep=False):
+        sel.set_params(random_state=seed)
+    sel.fit(X, y)
+    return [int(i) for i in sel.selected_]
+
+
+def fit_score(est, X_train, y_train, X_test, y_test) -> tuple[dict, np.ndarray]:
+    """Fit on train, predict both; returns (row of train_/test_ metrics + fit_time_s, test prediction)."""
+    start = time.perf_counter()
+    est.fit(X_train, y_train)
+    fit_s = time.perf_counter() - start
+    tr = score_all(y_train, est.predict(X_train))
+    pred = np.asarray(est.predict(X_test), dtype=float)
+    te = score_all(y_test, pred)
+    row = {**{f"train_{k}": float(v) for k, v in tr.items()}, **{f"test_{k}": float(v) for k, v in te.items()},
+           "fit_time_s": fit_s}
+    return row, pred
+
+
+def write_csv(path: Path, rows: list[dict]) -> Path:
+    """Write dict rows (union of keys, in first-seen order) to ``path``."""
+    keys: list[str] = []
+    for r in rows:
+        keys += [k for k in r if k not in keys]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
+    return path
+
+
+def fmt(v, digits: int = 3) -> str:
+    if isinstance(v, float):
+        return "" if np.isnan(v) else f"{v:.{digits}f}"
+    return "" if v is None else str(v)
+
+
+def markdown_table(rows: list[dict], columns: list[str], headers: list[str] | None = None) -> str:
+    """A GitHub Markdown table of ``columns`` of ``rows``."""
+    headers = headers or columns
+    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
+    lines += ["| " + " | ".join(fmt(r.get(c)) for c in columns) + " |" for r in rows]
+    return "\n".join(lines)
