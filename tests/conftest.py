@@ -31,3 +31,13 @@ def face(axis: int, value: float) -> Box:
 @pytest.fixture
 def make_box():
     return box_body
+
+
+@pytest.fixture(scope="session")
+def machine_coarse_run():
+    """The C-frame VMC, default effects, duty-cycle scenario, coarse mesh (shared by tests)."""
+    from geometries import build_machine
+    from twin.scenario import load_scenario
+    from twin.simulate import run
+
+    return run(build_machine("cframe-vmc"), load_scenario("spindle-duty-cycle"), resolution="coarse")

@@ -60,7 +60,7 @@ def cmd_list(args) -> int:
 
 
 def _add_model_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--effects", help="+name,-name to change the default set, or a,b,c for an exact set")
+    p.add_argument("--effects", help="+name,-name to change the default set (write --effects=-name when it starts with -), or a,b,c for an exact set")
     p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE",
                    help="set a parameter with its unit, e.g. spindle_motor.power=120W (repeatable)")
     p.add_argument("--mesh", default="default", help="mesh resolution: coarse, default or fine")
@@ -186,12 +186,6 @@ def build_parser() -> argparse.ArgumentParser:
     from learners.cli import add_learn_parser
 
     add_learn_parser(sub)
-    for module, adder in (("validate.compare", "add_compare_parser"), ("validate.diagnose", "add_diagnose_parser")):
-        try:
-            mod = __import__(module, fromlist=[adder])
-        except ImportError:
-            continue
-        getattr(mod, adder)(sub)
     return parser
 
 

@@ -1,0 +1,111 @@
+"""Command line: listing, bad input (one line, exit 2, no partial output), end to end on a short run."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from twin.cli import main
+from twin.scenario import load_scenario
+from twin.units import UnitError, parse_quantity
+
+SHORT = """
+name = "short"
+sample_interval = "30 s"
+[ambient]
+temperature = "20 degC"
+[[spindle]]
+speed = "6000 rpm"
+duration = "10 min"
+[[spindle]]
+speed = "0 rpm"
+duration = "5 min"
+"""
+
+
+def _error(capsys, argv):
+    code = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1 and err.startswith("error: ") and "Traceback" not in err
+    return err
+
+
+@pytest.mark.parametrize("what", ["machines", "scenarios", "effects", "instruments"])
+def test_list(capsys, what):
+    assert main(["list", what]) == 0
+    assert capsys.readouterr().out.strip()
+
+
+def test_units_parse_and_reject():
+    assert parse_quantity("2 h", "time") == 7200 and parse_quantity("8000 rpm", "speed") == 8000
+    for bad in ("20", "20 K", "x s", "inf s"):
+        with pytest.raises(UnitError):
+            parse_quantity(bad, "time")
+
+
+def test_daily_ambient_is_coldest_in_the_morning():
+    sc = load_scenario("etve-day-night")
+    t = np.arange(0, 86400, 60.0)
+    temp = sc.ambient_temperature(t)
+    assert t[np.argmin(temp)] == 6 * 3600 and temp.max() - temp.min() == pytest.approx(5.0)
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["simulate", "no-such-machine", "spindle-duty-cycle"], "machine"),
+    (["simulate", "cframe-vmc", "no-such-scenario"], "scenario"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--effects", "+warp_drive"], "warp_drive"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.colour=3 W"], "colour"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.power=3"], "no unit"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.power=3 K"], "wrong unit"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.power=-3 W"], "bounds"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--mesh", "huge"], "--mesh"),
+])
+def test_bad_names_and_values(capsys, tmp_path, argv, needle):
+    out = tmp_path / "r.nc"
+    err = _error(capsys, argv + ["-o", str(out)])
+    assert needle in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("text,field", [
+    ("name = 'x'\n[ambient\n", "toml"),
+    (SHORT.replace('duration = "10 min"', 'duration = "-10 min"'), "spindle[0].duration"),
+    (SHORT.replace('duration = "10 min"', 'duration = "10"'), "spindle[0].duration"),
+    (SHORT.replace('speed = "6000 rpm"', 'speed = "6000 W"'), "spindle[0].speed"),
+    (SHORT.replace('sample_interval', 'sampel_interval'), "sampel_interval"),
+    (SHORT.replace('[ambient]', '[ambient]\ncolour = "red"'), "ambient.colour"),
+])
+def test_bad_scenario_files(capsys, tmp_path, text, field):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    out = tmp_path / "r.nc"
+    err = _error(capsys, ["simulate", "cframe-vmc", str(path), "-o", str(out)])
+    assert str(path) in err and field in err
+    assert not out.exists()
+
+
+def test_unwritable_output(capsys, tmp_path):
+    err = _error(capsys, ["simulate", "cframe-vmc", "spindle-duty-cycle", "-o", str(tmp_path / "nope" / "r.nc")])
+    assert "output" in err
+
+
+def test_simulate_and_plot_end_to_end(capsys, tmp_path):
+    scenario = tmp_path / "short.toml"
+    scenario.write_text(SHORT)
+    out = tmp_path / "r.nc"
+    assert main(["simulate", "cframe-vmc", str(scenario), "-o", str(out), "--mesh", "coarse",
+                 "--effects=-floor", "--set", "spindle_motor.power=100 W", "--seed", "7"]) == 0
+    ds = xr.load_dataset(out)
+    assert ds.attrs["effects"].split(",") == ["spindle_bearings", "spindle_motor", "ambient_convection",
+                                              "spindle_forced_convection"]
+    assert '"power": "100 W"' in ds.attrs["parameters"] and ds.attrs["seed"] == 7
+    for name in ("time", "temperature", "probe", "drift", "tilt", "heat_power"):
+        assert "units" in ds[name].attrs
+    assert ds.heat_power.sel(effect="spindle_motor").values[0] == pytest.approx(100 * 6000 / 9000)
+    png = tmp_path / "r.png"
+    assert main(["plot", str(out), "-o", str(png)]) == 0 and png.stat().st_size > 10000
+    assert [f for f in os.listdir(tmp_path) if f.startswith(".twin-")] == []

@@ -1,0 +1,66 @@
+"""Whole-machine runs: energy conservation, calibration to the seeds, mesh convergence, determinism."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from twin.api import simulate
+
+
+def test_energy_balance_over_a_full_machine_run(machine_coarse_run):
+    """First law over the run: heat in by sources = change of stored heat + heat convected out
+    (within 0.5 % of the heat in)."""
+    heat_in, convected_in, stored = machine_coarse_run.step_energy()
+    assert heat_in > 1e6
+    assert abs(heat_in + convected_in - stored) < 0.005 * heat_in
+
+
+def test_heat_power_reports_the_documented_source_powers(machine_coarse_run):
+    """Bearing heat at 8000 rpm = (P_front + P_rear) (8000/9000)^(5/3) (Palmgren law)."""
+    from twin.results import to_dataset
+
+    ds = to_dataset(machine_coarse_run, seed=0)
+    p = ds.heat_power.sel(effect="spindle_bearings").values
+    assert p[10] == pytest.approx((150 + 130) * (8000 / 9000) ** (5 / 3), rel=1e-9)
+    assert p[ds.spindle_speed.values == 0].max() == 0.0
+
+
+@pytest.fixture(scope="module")
+def default_and_fine():
+    out = {}
+    for res in ("default", "fine"):
+        ds, _ = simulate("cframe-vmc", "spindle-heat-cool-9000", resolution=res)
+        out[res] = ds
+    return out
+
+
+def test_defaults_are_calibrated_to_the_seed_spindle_test(default_and_fine):
+    """Seed 000 Machine A at 9000 rpm, 120 min: Z 35 um, Y 20/23 um, X negligible by symmetry.
+    Required band: |Z| 25-45 um, |Y| 15-30 um, |X| < 5 um; drift grows to 120 min, recovers after."""
+    d = default_and_fine["default"].drift
+    z, y, x = (abs(d.sel(axis=a)).values for a in "ZYX")
+    assert 25 <= z.max() <= 45 and 15 <= y.max() <= 30 and x.max() < 5
+    t = d.time.values
+    assert z[t == 7200][0] > z[t == 3600][0] > z[t == 1800][0]
+    assert z[-1] < 0.7 * z.max()  # recovering after the stop
+
+
+def test_mesh_convergence_of_peak_z_drift(default_and_fine):
+    """Peak Z drift differs by less than 3 % between the default and the fine mesh."""
+    peak = {k: abs(ds.drift.sel(axis="Z")).max().item() for k, ds in default_and_fine.items()}
+    assert abs(peak["default"] - peak["fine"]) < 0.03 * peak["fine"]
+
+
+def test_same_seed_same_output_and_noise_free_truth_kept(tmp_path):
+    from twin.scenario import Ambient, Scenario
+
+    sc = Scenario("short", ((600.0, 9000.0), (300.0, 0.0)), Ambient("constant", 20.0))
+    a, _ = simulate("cframe-vmc", sc, resolution="coarse", seed=3)
+    b, _ = simulate("cframe-vmc", sc, resolution="coarse", seed=3)
+    c, _ = simulate("cframe-vmc", sc, resolution="coarse", seed=4)
+    assert a.identical(b)
+    assert not np.array_equal(a.temperature.values, c.temperature.values)
+    assert np.array_equal(a.temperature_true.values, c.temperature_true.values)
+    q = a.temperature.values / 0.0625
+    assert np.allclose(q, np.round(q))  # DS18S20 quantisation

@@ -1,0 +1,74 @@
+"""Thermoelasticity against closed-form answers, and the adjoint drift identity."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.conftest import box_body
+from twin.elastic import ElasticSolver
+from twin.materials import MATERIALS
+from twin.points import displacement_functional, interpolation_matrix
+
+
+def _node(mm, xyz):
+    return int(np.argmin(np.sum((mm.mesh.p.T - np.asarray(xyz)) ** 2, axis=1)))
+
+
+def test_free_expansion_of_a_steel_bar():
+    """Uniform rise dT of a free bar: dL = alpha L dT (within 0.5 %), and no constraint blocks it."""
+    L, w, dT = 0.5, 0.05, 10.0
+    mm = box_body((L, w, w), 0.025)
+    solver = ElasticSolver.build(mm)
+    u = solver.displacement(np.full(mm.nnodes, dT))
+    exact = MATERIALS["steel"].expansion * L * dT
+    end0, end1 = _node(mm, (0, w / 2, w / 2)), _node(mm, (L, w / 2, w / 2))
+    assert u[end1, 0] - u[end0, 0] == pytest.approx(exact, rel=5e-3)
+    # lateral growth too: alpha w dT
+    assert u[_node(mm, (L / 2, w, w / 2)), 1] - u[_node(mm, (L / 2, 0, w / 2)), 1] == pytest.approx(
+        MATERIALS["steel"].expansion * w * dT, rel=5e-3)
+
+
+def test_free_beam_with_linear_gradient_bends_with_curvature_alpha_dT_over_h():
+    """T linear through the depth h (dT from bottom to top): curvature kappa = alpha dT / h, so the
+    mid-span rises kappa L^2 / 8 against the ends (within 2 %)."""
+    L, b, h, dT = 1.0, 0.05, 0.1, 10.0
+    mm = box_body((L, b, h), 0.025, material="grey_cast_iron")
+    solver = ElasticSolver.build(mm)
+    z = mm.mesh.p[2]
+    u = solver.displacement(dT * (z / h - 0.5))
+    kappa = MATERIALS["grey_cast_iron"].expansion * dT / h
+    axis = [_node(mm, (x, b / 2, h / 2)) for x in (0.0, L / 2, L)]
+    sag = u[axis[1], 2] - 0.5 * (u[axis[0], 2] + u[axis[2], 2])
+    assert sag == pytest.approx(kappa * L**2 / 8, rel=0.02)  # hot top is longer: convex upwards
+
+
+def test_adjoint_drift_equals_full_displacement_solve(machine_coarse_run):
+    """q = g^T K^-1 C dT computed as (C^T K^-1 g)^T dT equals g^T u of a full solve (1e-8 rel)."""
+    from twin.simulate import drift_functionals
+
+    r = machine_coarse_run
+    solver = ElasticSolver.build(r.mm)
+    g = drift_functionals(r.mm)
+    dT = r.hottest_field - r.scenario.start_temperature
+    full = g @ solver.solve(solver.matrices.C @ dT)
+    adjoint = solver.influence(g).T @ dT
+    assert np.max(np.abs(adjoint - full)) <= 1e-8 * np.max(np.abs(full))
+    # and the run's own drift at the hottest instant is the same number
+    i = int(np.argmin(np.abs(r.times - r.hottest_time)))
+    assert np.allclose(r.drift[i], full[:3], rtol=1e-8, atol=1e-8 * np.max(np.abs(full)))
+
+
+def test_point_interpolation_is_exact_for_trilinear_fields():
+    """Trilinear interpolation reproduces any field a + b x + c y + d z + e xyz exactly."""
+    mm = box_body((0.3, 0.2, 0.1), 0.05)
+    x, y, z = mm.mesh.p
+    field = 1 + 2 * x - 3 * y + 4 * z + 5 * x * y * z
+    pts = np.array([[0.013, 0.17, 0.05], [0.29, 0.01, 0.099]])
+    P = interpolation_matrix(mm, pts)
+    exact = 1 + 2 * pts[:, 0] - 3 * pts[:, 1] + 4 * pts[:, 2] + 5 * pts.prod(axis=1)
+    assert np.allclose(P @ field, exact, rtol=1e-12)
+    D = displacement_functional(P, [0, 0, 1])
+    u = np.zeros(3 * mm.nnodes)
+    u[2::3] = field
+    assert np.allclose(D @ u, exact, rtol=1e-12)
