@@ -1,0 +1,180 @@
+"""Measurements (NetCDF, CSV + TOML mapping), scenarios from measured inputs, and compare."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from twin.api import simulate
+from twin.errors import InputError
+from twin.results import write_netcdf
+from twin.scenario import Ambient, Scenario
+from validate.compare import compare, detect_phases, format_compare, stats
+from validate.measurement import read_measurement, scenario_from_measurement, speed_steps
+
+SITES = ("motor", "column_side", "bed_front")
+PROBES = ("X1", "X2", "Y1", "Y2", "Z")
+
+
+@pytest.fixture(scope="module")
+def sim():
+    sc = Scenario("mc", ((3600.0, 9000.0), (1800.0, 6000.0), (3600.0, 0.0)), Ambient("daily", mean=20.0, amplitude=2.0), 60.0)
+    ds, _ = simulate("cframe-vmc", sc, resolution="coarse")
+    return ds
+
+
+def write_csv(tmp_path, ds, *, extra_col=False, mutate=None, unit_T="degC", time_unit="min"):
+    """CSV (time in minutes, probes in mm) + mapping from a simulation; returns the CSV path."""
+    t = ds.time.values / 60.0
+    cols = {"t": t, "n": ds.spindle_speed.values, "room": ds.ambient_temperature.values}
+    cols.update({f"T_{s}": ds.temperature_true.sel(sensor=s).values for s in SITES})
+    cols.update({f"p{p}": ds.probe_true.sel(probe_id=p).values * 1e-3 for p in PROBES})
+    if extra_col:
+        cols["junk"] = np.zeros_like(t)
+    data = np.column_stack(list(cols.values()))
+    if mutate:
+        mutate(data)
+    lines = [",".join(cols)] + [",".join(repr(float(v)) for v in row) for row in data]
+    (tmp_path / "m.csv").write_text("\n".join(lines) + "\n")
+    toml = ['machine = "cframe-vmc"', f'[columns.t]\nrole = "time"\nunit = "{time_unit}"',
+            '[columns.n]\nrole = "spindle_speed"\nunit = "rpm"', '[columns.room]\nrole = "ambient_temperature"\nunit = "degC"']
+    toml += [f'[columns.T_{s}]\nrole = "temperature"\nsite = "{s}"\nunit = "{unit_T}"' for s in SITES]
+    toml += [f'[columns.p{p}]\nrole = "probe"\nprobe = "{p}"\nunit = "mm"' for p in PROBES]
+    (tmp_path / "m.toml").write_text("\n".join(toml) + "\n")
+    return tmp_path / "m.csv"
+
+
+def test_csv_measurement_has_the_result_schema(tmp_path, sim):
+    meas = read_measurement(write_csv(tmp_path, sim))
+    for var in ("spindle_speed", "ambient_temperature", "temperature", "probe", "probe_drift", "tilt"):
+        assert var in meas and meas[var].dims == sim[var].dims
+    assert list(meas.sensor.values) == list(SITES)
+    assert np.allclose(meas.time, sim.time)
+    assert np.allclose(meas.z.sel(sensor="motor"), sim.z.sel(sensor="motor"))
+    assert np.allclose(meas.temperature, sim.temperature_true.sel(sensor=list(SITES)), atol=1e-9)
+    assert np.allclose(meas.tilt, sim.tilt_true, atol=1e-6)
+    assert np.allclose(meas.probe_drift, sim.drift * 0 + meas.probe_drift)  # derived, same shape
+
+
+def test_netcdf_read_as_is(tmp_path, sim):
+    path = write_netcdf(sim, tmp_path / "r.nc")
+    meas = read_measurement(path)
+    assert set(sim.data_vars) == set(meas.data_vars)
+    assert np.allclose(meas.temperature, sim.temperature)
+
+
+def test_scenario_from_measured_inputs(tmp_path, sim):
+    sc = scenario_from_measurement(read_measurement(write_csv(tmp_path, sim)))
+    assert sc.steps == ((3600.0, 9000.0), (1800.0, 6000.0), (3600.0, 0.0))
+    assert sc.sample_interval == pytest.approx(60.0)
+    t = np.linspace(0, 9000, 37)
+    assert np.allclose(sc.ambient_temperature(t), np.interp(t, sim.time, sim.ambient_temperature))
+
+
+def test_speed_steps_and_phase_detection_on_synthetic_trace():
+    t = np.arange(0, 8 * 3600 + 1, 60.0)
+    n = np.select([t < 3600, t < 7200, t < 10800], [0.0, 8000.0, 4000.0], 0.0) + np.where(t >= 3600, 5.0, 0) * (t < 10800)
+    amb = 20 + np.where(t < 4 * 3600, t / 3600 * 0.5, 2.0 - (t - 4 * 3600) / 3600 * 0.5)
+    assert [s[2] for s in speed_steps(t, n)] == [0.0, 8005.0, 4005.0, 0.0]
+    ph = detect_phases(t, n, amb)
+    spindle = [(p.label, p.start, p.end) for p in ph if p.kind == "spindle"]
+    assert spindle == [("spindle off", 0.0, 3600.0), ("spindle on 8005 rpm", 3600.0, 7200.0),
+                       ("speed change to 4005 rpm", 7200.0, 10800.0), ("spindle off", 10800.0, 8 * 3600 + 60.0)]
+    ambient = [p.label for p in ph if p.kind == "ambient"]
+    assert ambient == ["ambient rising", "ambient falling"]
+    turn = next(p for p in ph if p.label == "ambient falling").start
+    assert abs(turn - 4 * 3600) <= 1800
+
+
+def test_compare_with_itself_is_perfect(sim):
+    r = compare(sim, sim, model_true=False)
+    assert float(np.abs(r.residuals.residual).max()) == 0.0
+    for c in r.channels:
+        assert c.stats.rmse == 0.0 and c.stats.max_abs == 0.0 and c.stats.nse == 1.0
+    assert len(r.channels) == 16 + 5 + 2
+    assert "T:motor" in format_compare(r)
+
+
+def test_known_offset_gives_rmse_equal_offset(sim):
+    shifted = sim.copy(deep=True)
+    shifted["temperature"] = shifted.temperature_true + 0.3
+    shifted["probe"] = shifted.probe_true - 2.0
+    r = compare(shifted, sim)
+    for c in r.channels:
+        if c.name.startswith("T:"):
+            assert c.stats.rmse == pytest.approx(0.3) and c.stats.max_abs == pytest.approx(0.3)
+        elif c.name.startswith("probe:"):
+            assert c.stats.rmse == pytest.approx(2.0)
+    ph = r.channel("T:motor").phases
+    assert all(s.rmse == pytest.approx(0.3) for s in ph if s.n)
+    # NSE = 1 - n c^2 / sum (m - mean)^2 for a constant offset c
+    m = shifted.temperature.sel(sensor="motor").values
+    assert r.channel("T:motor").stats.nse == pytest.approx(1 - len(m) * 0.09 / np.sum((m - m.mean()) ** 2))
+    assert r.ranking()[0].name.startswith("T:")  # a 0.3 K offset hurts the flat sensors most
+
+
+def test_stats_closed_form():
+    s = stats(np.array([1.0, 2.0, 3.0]), np.array([0.0, 1.0, -1.0]))
+    assert s.rmse == pytest.approx(np.sqrt(2 / 3)) and s.max_abs == 1.0 and s.nse == pytest.approx(0.0)
+
+
+def _bad(tmp_path, sim, match, **kw):
+    with pytest.raises(InputError, match=match) as err:
+        read_measurement(write_csv(tmp_path, sim, **kw))
+    return err.value
+
+
+def test_errors_name_file_and_column(tmp_path, sim):
+    e = _bad(tmp_path, sim, "not mapped", extra_col=True)
+    assert e.source.endswith("m.csv") and e.field == "junk"
+    e = _bad(tmp_path, sim, "does not fit", unit_T="rpm")
+    assert e.source.endswith("m.toml") and e.field == "columns.T_motor.unit"
+
+    def nan(d):
+        d[5, 3] = np.nan
+    e = _bad(tmp_path, sim, "NaN", mutate=nan)
+    assert e.field == "T_motor"
+
+    def backwards(d):
+        d[10, 0] = d[8, 0]
+    assert _bad(tmp_path, sim, "not increasing", mutate=backwards).field == "t"
+
+    def gap(d):
+        d[20:, 0] += 10.0  # 10 min jump with 1 min logging
+    assert _bad(tmp_path, sim, "gap", mutate=gap).field == "t"
+
+
+def test_mapping_errors(tmp_path, sim):
+    csv = write_csv(tmp_path, sim)
+    toml = (tmp_path / "m.toml").read_text()
+    (tmp_path / "m.toml").write_text(toml + '[columns.ghost]\nrole = "temperature"\nsite = "motor"\nunit = "degC"\n')
+    with pytest.raises(InputError, match="no such column") as err:
+        read_measurement(csv)
+    assert err.value.field == "columns.ghost"
+    (tmp_path / "m.toml").write_text(toml.replace('site = "motor"', 'site = "nowhere"'))
+    with pytest.raises(InputError, match="no site"):
+        read_measurement(csv)
+    (tmp_path / "m.toml").write_text(toml.replace('role = "spindle_speed"', 'role = "speeed"'))
+    with pytest.raises(InputError, match="unknown role"):
+        read_measurement(csv)
+    (tmp_path / "m.toml").unlink()
+    with pytest.raises(InputError, match="no column mapping"):
+        read_measurement(csv)
+
+
+def test_compare_command_on_csv(tmp_path, sim, capsys):
+    """The ``twin compare`` subcommand as the CLI wires it (add_compare_parser -> run_compare)."""
+    import argparse
+
+    from validate.compare import add_compare_parser
+
+    parser = argparse.ArgumentParser(prog="twin")
+    add_compare_parser(parser.add_subparsers(dest="command", required=True))
+    csv = write_csv(tmp_path, sim)
+    args = parser.parse_args(["compare", str(csv), "--machine", "cframe-vmc", "--mesh", "coarse"])
+    assert args.func(args) == 0
+    out = capsys.readouterr().out
+    assert "T:motor" in out and "worst channels" in out and "spindle on 9000 rpm" in out
+    args = parser.parse_args(["compare", str(tmp_path / "missing.csv")])
+    with pytest.raises(InputError, match="no such measurement file"):
+        args.func(args)
