@@ -1,0 +1,270 @@
+"""Diagnose: which missing physical effect explains the residual between measurement and twin.
+
+Channels: every temperature sensor [K] and every ISO 230-3 probe [um]. Residual r = measured -
+model (model through the sensor lag and bias, no noise), on the measurement's time grid.
+
+Weighting (so both kinds count): each channel group g (temperatures, probes) gets one weight
+
+    w_g = 1 / (s_g sqrt(m_g)),   s_g = max(RMS of the baseline residual over the group, sigma_g),
+
+m_g the number of channels in the group and sigma_g the group's noise level (median over its
+channels of sqrt(mean(diff(y)^2) / 2), floored by half a quantisation step). Each group then
+carries the same share of the weighted sum of squares SSE = sum (w r)^2, and a group already
+at its noise level is not inflated.
+
+Scores of a candidate with k fitted parameters and weighted sum of squares SSE_k:
+
+* explained = 1 - SSE_k / SSE_0 (SSE_0: the baseline model);
+* BIC_k = n_eff ln(SSE_k / N) + k ln(n_eff), N samples; residuals of a thermal model are strongly
+  autocorrelated, so n_eff = N (1 - rho) / (1 + rho) with rho the pooled lag-1 autocorrelation of
+  the best candidate's residual (an AR(1) effective sample size). All candidates share n_eff;
+* confidence = Schwarz weight exp(-BIC_k/2) / sum_j exp(-BIC_j/2) over the candidates *and* the
+  baseline ("nothing missing"); candidates within 6 BIC units of each other, or with weighted
+  signatures correlated |corr| > 0.95, are reported as not distinguishable.
+
+Significance: the top candidate is reported as missing only if it beats the baseline by at least
+``bic_margin`` (default 10, "very strong" evidence) *and* explains at least ``min_explained``
+(default 50 %) of the weighted residual; otherwise the diagnosis says nothing significant is
+missing. Pairs are tried among the best singles when none explains ``pair_threshold`` (80 %).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from twin.effects import EFFECTS
+from twin.model import ModelSpec
+from twin.units import format_quantity
+from validate.signatures import Engine, Fit, SignatureFitter
+
+GROUPS = ("temperature", "probe")
+UNITS = {"temperature": "K", "probe": "um"}
+
+
+@dataclass
+class Diagnosis:
+    """Result of :func:`diagnose`. Arrays are (nt, nch) on the measurement's time grid."""
+
+    times: np.ndarray
+    channels: list[str]          # "temperature:<sensor>" / "probe:<id>"
+    groups: list[str]
+    measured: np.ndarray
+    model: np.ndarray
+    weights: np.ndarray
+    baseline_rmse: np.ndarray    # per channel, native units
+    candidates: list[dict] = field(default_factory=list)
+    fits: list[Fit] = field(default_factory=list)
+    significant: bool = False
+    message: str = ""
+    n_eff: float = 0.0
+    spec: ModelSpec | None = None
+    runs: int = 0
+
+    @property
+    def residual(self) -> np.ndarray:
+        return self.measured - self.model
+
+
+def measured_channels(ds) -> tuple[np.ndarray, list[str], list[str]]:
+    """Stack the Dataset's ``temperature`` [degC] and ``probe`` [um] into (nt, nch) with names."""
+    cols, names, groups = [], [], []
+    if "temperature" in ds:
+        cols.append(np.asarray(ds["temperature"].transpose("time", "sensor").values, float))
+        names += [f"temperature:{s}" for s in ds["sensor"].values]
+        groups += ["temperature"] * ds.sizes["sensor"]
+    if "probe" in ds:
+        cols.append(np.asarray(ds["probe"].transpose("time", "probe_id").values, float))
+        names += [f"probe:{s}" for s in ds["probe_id"].values]
+        groups += ["probe"] * ds.sizes["probe_id"]
+    return np.hstack(cols), names, groups
+
+
+def sensor_points(ds, machine) -> list:
+    """Sensor sites of the measurement: the machine's named points, or the Dataset's x, y, z."""
+    from geometries.base import Point
+    names = {p.name for p in machine.points}
+    out = []
+    for i, s in enumerate(ds["sensor"].values):
+        s = str(s)
+        if s in names and "x" not in ds.coords:
+            out.append(machine.point(s))
+        else:
+            part = str(ds["part"].values[i]) if "part" in ds.coords else ""
+            out.append(Point(s, (float(ds["x"].values[i]), float(ds["y"].values[i]), float(ds["z"].values[i])), part))
+    return out
+
+
+def noise_levels(y: np.ndarray, groups: list[str], spec: ModelSpec) -> dict[str, float]:
+    """Group noise sigma_g: median over channels of sqrt(mean(diff(y)^2)/2), floored at half the
+    instrument's quantisation step (K or um)."""
+    floors = {"temperature": 0.5 * spec.params["temperature_sensor"]["quantisation"],
+              "probe": 0.5 * spec.params["probe"]["resolution"] * 1e6}
+    d = np.sqrt(np.mean(np.diff(y, axis=0) ** 2, axis=0) / 2)
+    g = np.array(groups)
+    return {k: max(float(np.median(d[g == k])), floors[k], 1e-12) for k in GROUPS if np.any(g == k)}
+
+
+def channel_weights(residual: np.ndarray, groups: list[str], sigma: dict[str, float]) -> np.ndarray:
+    """w_g = 1 / (max(group residual RMS, sigma_g) sqrt(m_g)) for each channel (see module doc)."""
+    g = np.array(groups)
+    w = np.zeros(len(groups))
+    for k, s in sigma.items():
+        m = g == k
+        rms = float(np.sqrt(np.mean(residual[:, m] ** 2)))
+        w[m] = 1.0 / (max(rms, s) * np.sqrt(m.sum()))
+    return w
+
+
+def effective_samples(res: np.ndarray) -> float:
+    """AR(1) effective sample size N (1 - rho) / (1 + rho), rho pooled lag-1 autocorrelation."""
+    x = res - res.mean(axis=0)
+    num = float(np.sum(x[1:] * x[:-1]))
+    den = float(np.sum(x * x)) or 1.0
+    rho = min(max(num / den, 0.0), 0.999)
+    return max(res.size * (1 - rho) / (1 + rho), 2.0)
+
+
+def format_values(values: dict[str, dict[str, float]]) -> dict[str, dict[str, str]]:
+    """SI values -> strings with units ("120 W")."""
+    return {e: {p: format_quantity(v, EFFECTS[e].parameter(p).dimension) for p, v in vals.items()}
+            for e, vals in values.items()}
+
+
+def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: str = "coarse", mm=None,
+             candidates: list[str] | None = None, min_explained: float = 0.5, bic_margin: float = 10.0,
+             pair_threshold: float = 0.8, pair_pool: int = 4) -> Diagnosis:
+    """Rank the effects missing from ``spec`` by how much of the residual of ``ds`` they explain.
+
+    ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
+    ``machine``: a built machine; ``scenario``: the Scenario that drove it (its grid must cover
+    ``ds.time``); ``mm``: a prebuilt mesh of ``machine`` (else ``machine.mesh(resolution)``).
+    ``candidates`` defaults to every registered effect not in ``spec``.
+    """
+    spec = spec or ModelSpec()
+    meas, names, groups = measured_channels(ds)
+    t_meas = np.asarray(ds["time"].values, float)
+    sensors = sensor_points(ds, machine) if "temperature" in ds else []
+    engine = Engine(machine, scenario, resolution, mm=mm, sensors=sensors)
+    interp = _interpolator(engine.times, t_meas)
+    base = interp(engine.observe(spec))
+    r = meas - base
+    sigma = noise_levels(meas, groups, spec)
+    w = channel_weights(r, groups, sigma)
+    d = Diagnosis(t_meas, names, groups, meas, base, w, np.sqrt(np.mean(r ** 2, axis=0)), spec=spec)
+    fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w)
+    pool = candidates if candidates is not None else [e for e in EFFECTS if e not in spec.effects]
+    fits = [f for f in (fitter.fit_single(e) for e in pool) if f is not None]
+    fits.sort(key=lambda f: f.sse)
+    sse0 = fitter.sse(np.zeros_like(r))
+    if fits and 1 - fits[0].sse / sse0 < pair_threshold:
+        top = fits[:pair_pool]
+        fits += [fitter.fit_pair(a, b) for i, a in enumerate(top) for b in top[i + 1:]]
+        fits.sort(key=lambda f: f.sse)
+    d.fits, d.runs = fits, engine.runs
+    _score(d, fits, r, sse0, min_explained, bic_margin)
+    return d
+
+
+def _score(d: Diagnosis, fits: list[Fit], r, sse0, min_explained, bic_margin):
+    N = r.size
+    d.n_eff = n = effective_samples(r - fits[0].response) if fits else float(N)
+    bic0 = n * np.log(max(sse0, 1e-300) / N)
+    bics = np.array([n * np.log(max(f.sse, 1e-300) / N) + f.nparams * np.log(n) for f in fits])
+    all_b = np.concatenate([[bic0], bics])
+    weights = np.exp(-(all_b - all_b.min()) / 2)
+    weights /= weights.sum()
+    sig = {f.effects: (f.response * d.weights).ravel() for f in fits}
+    for i, f in enumerate(fits):
+        after = r - f.response
+        twins = []
+        for j, o in enumerate(fits):
+            if j == i:
+                continue
+            a, b = sig[f.effects], sig[o.effects]
+            corr = float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b) or 1.0))
+            if abs(bics[i] - bics[j]) < 6 or abs(corr) > 0.95:
+                twins.append("+".join(o.effects))
+        rms_before = np.sqrt(np.mean(r ** 2, axis=0))
+        rms_after = np.sqrt(np.mean(after ** 2, axis=0))
+        per_ch = 1 - (rms_after / np.where(rms_before > 0, rms_before, 1)) ** 2
+        best_ch = [d.channels[k] for k in np.argsort(-per_ch)[:3]]
+        d.candidates.append({
+            "effect": "+".join(f.effects),
+            "parameters": format_values(f.values),
+            "values_si": f.values,
+            "explained": float(1 - f.sse / sse0),
+            "rmse_after": {c: float(v) for c, v in zip(d.channels, rms_after)},
+            "delta_bic": float(bic0 - bics[i]),
+            "confidence": float(weights[i + 1]),
+            "indistinguishable_from": twins[:5],
+            "explains_most": best_ch,
+            "fitted_parameters": f.nparams,
+        })
+    top = d.candidates[0] if d.candidates else None
+    d.significant = bool(top and top["delta_bic"] >= bic_margin and top["explained"] >= min_explained)
+    if d.significant:
+        d.message = (f"missing effect: {top['effect']} ({_params_text(top)}), explains {top['explained']:.0%} "
+                     f"of the weighted residual, confidence {top['confidence']:.2f}")
+    else:
+        why = (f"best candidate {top['effect']} explains {top['explained']:.0%} (dBIC {top['delta_bic']:.1f})"
+               if top else "no candidate effects")
+        d.message = f"nothing significant is missing: {why}; the residual is model error and noise"
+
+
+def _params_text(c: dict) -> str:
+    return ", ".join(f"{e}.{p}={v}" for e, vals in c["parameters"].items() for p, v in vals.items())
+
+
+class _Resampled:
+    """Engine wrapper returning observables on the measurement's time grid."""
+
+    def __init__(self, engine, interp):
+        self._e, self._i = engine, interp
+        self.mm, self.scenario = engine.mm, engine.scenario
+
+    def observe(self, spec):
+        return self._i(self._e.observe(spec))
+
+
+def _interpolator(t_model: np.ndarray, t_meas: np.ndarray):
+    if len(t_model) == len(t_meas) and np.allclose(t_model, t_meas):
+        return lambda y: y
+    if t_meas.min() < t_model[0] - 1e-9 or t_meas.max() > t_model[-1] + 1e-9:
+        raise ValueError("measurement times lie outside the scenario's duration")
+    return lambda y: np.column_stack([np.interp(t_meas, t_model, y[:, k]) for k in range(y.shape[1])])
+
+
+def format_diagnosis(d: Diagnosis, top: int = 8) -> str:
+    """A readable ranking table plus the verdict."""
+    lines = [f"Baseline RMSE per channel ({len(d.channels)} channels, effective samples {d.n_eff:.0f}):"]
+    for g in GROUPS:
+        idx = [i for i, k in enumerate(d.groups) if k == g]
+        if idx:
+            vals = ", ".join(f"{d.channels[i].split(':', 1)[1]} {d.baseline_rmse[i]:.3g}" for i in idx)
+            lines.append(f"  {g} [{UNITS[g]}]: {vals}")
+    lines.append("")
+    head = f"{'rank':>4}  {'effect':<44} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
+    lines += [head, "-" * len(head)]
+    for i, c in enumerate(d.candidates[:top], 1):
+        lines.append(f"{i:>4}  {c['effect']:<44} {c['explained']:>8.1%} {c['delta_bic']:>8.1f} "
+                     f"{c['confidence']:>5.2f}  {_params_text(c)}")
+        if i <= 3:
+            lines.append(f"{'':>6}explains most on: {', '.join(c['explains_most'])}"
+                         + (f"; cannot be told apart from: {', '.join(c['indistinguishable_from'])}"
+                            if c["indistinguishable_from"] else ""))
+    lines += ["", d.message]
+    return "\n".join(lines)
+
+
+def diagnosis_json(d: Diagnosis) -> dict:
+    """The ``--json`` document: baseline per-channel RMSE and the ordered candidates."""
+    return {
+        "baseline": {"rmse": {c: float(v) for c, v in zip(d.channels, d.baseline_rmse)},
+                     "units": {c: UNITS[g] for c, g in zip(d.channels, d.groups)}},
+        "significant": d.significant,
+        "message": d.message,
+        "effective_samples": d.n_eff,
+        "candidates": [{k: v for k, v in c.items() if k != "values_si"} for c in d.candidates],
+    }

@@ -1,0 +1,230 @@
+"""Signatures of candidate effects: how every observable responds to one effect's strength.
+
+An *observable vector* stacks, over time, every temperature sensor [degC] (through the sensor's
+first-order lag and bias, without noise) and every ISO 230-3 probe reading [um]. For a model
+``spec`` and a candidate effect E with strength parameter p, the signature is
+
+    g_E(p) = y(spec + E(p)) - y(spec),
+
+computed by two twin runs on one prebuilt mesh (:class:`Engine` assembles the heat matrices and
+the adjoint drift influence vectors once and re-runs only the time stepping). Loads enter the
+heat equation linearly (ARCHITECTURE: loads = fixed pattern x time signal), so when E contributes
+only heat sources whose powers scale with p, g_E(p) = (p / p_ref) g_E(p_ref) exactly: one run.
+Otherwise (a conductance h changes the operator, a time constant changes a signal shape) g is
+nonlinear in p and the fit runs Gauss-Newton with finite-difference sensitivities dg/dp.
+
+Fitting: with residual r = measurement - model and channel weights w,
+
+    p_hat = argmin_{lower <= p <= upper} || w * (r - g_E(p)) ||^2
+
+(``scipy.optimize.lsq_linear`` for the linear case).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import lsq_linear
+
+from twin.assembly import assemble_heat
+from twin.effects import EFFECTS, HeatSource, SurfaceHeatFlux
+from twin.elastic import ElasticSolver
+from twin.model import ModelSpec, build_loads
+from twin.points import interpolation_matrix
+from twin.signals import lag_series
+from twin.simulate import drift_functionals
+from twin.transient import integrate
+
+# Dimensions of parameters that set an effect's *strength* (what the diagnosis fits), in the order
+# preferred when an effect has several; time constants, speeds, exponents and lengths are shape.
+STRENGTH_DIMENSIONS = ("power", "heat_flux", "conductance", "temperature_gradient",
+                       "heat_transfer_coefficient", "temperature_difference")
+
+
+def strength_parameter(effect) -> str | None:
+    """Name of the parameter the diagnosis fits for ``effect``: ``effect.strength`` if the effect
+    declares one, else its first parameter whose dimension is a strength (W, W/m2, W/K, K/m,
+    W/(m2 K), K), else None (the effect has nothing to fit)."""
+    declared = getattr(effect, "strength", None)
+    if declared:
+        return declared
+    for dim in STRENGTH_DIMENSIONS:
+        for p in effect.parameters:
+            if p.dimension == dim:
+                return p.name
+    return None
+
+
+def reference_value(param) -> float:
+    """Reference strength p_ref for a signature: the default, or 10 % of the widest bound if the
+    default is zero (a zero-strength run has no signature)."""
+    if param.default != 0:
+        return float(param.default)
+    return 0.1 * (param.upper if abs(param.upper) >= abs(param.lower) else param.lower)
+
+
+class Engine:
+    """A twin prepared once for many runs of one scenario on one mesh.
+
+    Assembles M, K (heat), the adjoint influence vectors of the probe readings and the sensor
+    interpolation once; :meth:`observe` then costs one transient integration. Equivalent to
+    :func:`twin.simulate.run` (tested) restricted to sensors and probes.
+    """
+
+    def __init__(self, machine, scenario, resolution: str = "coarse", mm=None, materials: dict | None = None,
+                 sensors: list | None = None):
+        self.machine, self.scenario = machine, scenario
+        self.mm = mm if mm is not None else machine.mesh(resolution)
+        mats = {p.name: materials[p.material.name] for p in machine.parts if materials and p.material.name in materials}
+        self.heat = assemble_heat(self.mm, mats)
+        W = ElasticSolver.build(self.mm, mats).influence(drift_functionals(self.mm))
+        self.sensors = sensors if sensors is not None else [machine.point(n) for n in machine.sensor_sites]
+        S = interpolation_matrix(self.mm, [p.xyz for p in self.sensors], [p.name for p in self.sensors]).toarray()
+        self.outputs = sp.csr_matrix(np.vstack([S, np.asarray(W).T[3:]]))
+        self.nsensor = len(self.sensors)
+        self.probe_names = [p.name for p in machine.probes]
+        self.times = scenario.times()
+        self.runs = 0
+
+    def true_outputs(self, spec: ModelSpec) -> np.ndarray:
+        """(nt, nsensor + nprobe): true sensor temperatures [degC], then probe readings [um]."""
+        loads = build_loads(self.mm, self.scenario, spec, self.heat)
+        dt = self.scenario.sample_interval
+        h, air, s = loads.signals(self.times[:-1] + 0.5 * dt)
+        T0 = np.full(self.mm.nnodes, self.scenario.start_temperature)
+        out = integrate(loads.system, T0, dt, len(self.times) - 1, h, air, s, self.outputs, 0.5)
+        self.runs += 1
+        out[:, self.nsensor:] = (out[:, self.nsensor:] - out[0, self.nsensor:]) * 1e6
+        return out
+
+    def observe(self, spec: ModelSpec) -> np.ndarray:
+        """Like :meth:`true_outputs` with the temperature-sensor lag and bias applied (no noise)."""
+        out = self.true_outputs(spec)
+        p = spec.params["temperature_sensor"]
+        out[:, :self.nsensor] = lag_series(out[:, :self.nsensor], self.scenario.sample_interval, p["lag"]) + p["bias"]
+        return out
+
+
+def with_effect(spec: ModelSpec, effect: str, values: dict[str, float]) -> ModelSpec:
+    """A copy of ``spec`` with ``effect`` switched on and its parameters ``values`` (SI) set."""
+    params = {g: dict(v) for g, v in spec.params.items()}
+    params[effect] = {**EFFECTS[effect].defaults(), **values}
+    return ModelSpec(tuple(spec.effects) + (effect,), params)
+
+
+def is_linear_source(effect: str, spec: ModelSpec, mm, scenario, pname: str, pref: float) -> bool:
+    """True if E contributes only heat sources whose powers at 2 p_ref are exactly twice those at
+    p_ref on the scenario grid (then the response is linear in p with g(0) = 0)."""
+    eff = EFFECTS[effect]
+    base = eff.defaults()
+    t = scenario.times()
+    try:
+        a = eff.loads(mm, scenario, {**base, pname: pref})
+        b = eff.loads(mm, scenario, {**base, pname: 2 * pref})
+    except Exception:  # noqa: BLE001 - an effect that cannot be evaluated is treated as nonlinear
+        return False
+    if not a or len(a) != len(b) or not all(isinstance(x, (HeatSource, SurfaceHeatFlux)) for x in a + b):
+        return False
+    return all(np.allclose(y.power(t), 2 * x.power(t), rtol=1e-9, atol=1e-12) for x, y in zip(a, b))
+
+
+@dataclass
+class Fit:
+    """A fitted candidate: effect name(s), fitted SI values, response, weighted SSE after."""
+
+    effects: tuple[str, ...]
+    values: dict[str, dict[str, float]]     # effect -> {param: SI value}
+    response: np.ndarray                     # (nt, nch) fitted g
+    sse: float                               # weighted sum of squares after
+    nparams: int
+    linear: dict[str, bool] = field(default_factory=dict)
+    signature: dict[str, np.ndarray] = field(default_factory=dict)  # effect -> g at p_ref (per unit p)
+
+
+class SignatureFitter:
+    """Fits candidate effects to a weighted residual ``r`` (nt, nch) with weights ``w`` (nch,)."""
+
+    def __init__(self, engine: Engine, spec: ModelSpec, base_obs: np.ndarray, residual: np.ndarray,
+                 weights: np.ndarray, gn_iterations: int = 6):
+        self.engine, self.spec, self.base = engine, spec, base_obs
+        self.r, self.w, self.gn_iterations = residual, weights, gn_iterations
+
+    def sse(self, g: np.ndarray) -> float:
+        return float(np.sum(((self.r - g) * self.w) ** 2))
+
+    def response(self, effect: str, pname: str, value: float) -> np.ndarray:
+        return self.engine.observe(with_effect(self.spec, effect, {pname: value})) - self.base
+
+    def fit_single(self, effect: str) -> Fit | None:
+        """Bounded least-squares fit of ``effect``'s strength; None if it has nothing to fit."""
+        eff = EFFECTS[effect]
+        pname = strength_parameter(eff)
+        if pname is None:
+            return None
+        par = eff.parameter(pname)
+        pref = reference_value(par)
+        g_ref = self.response(effect, pname, pref)
+        linear = is_linear_source(effect, self.spec, self.engine.mm, self.engine.scenario, pname, pref)
+        unit = g_ref / pref
+        A = (unit * self.w).reshape(-1, 1)
+        b = (self.r * self.w).ravel()
+        lo, hi = par.lower, par.upper
+        p = float(lsq_linear(A, b, bounds=([lo], [hi])).x[0]) if np.any(A) else pref
+        if linear:
+            g = unit * p
+        else:
+            p, g = self._gauss_newton(effect, pname, par, p if p != 0 else pref)
+        return Fit((effect,), {effect: {pname: p}}, g, self.sse(g), 1, {effect: linear}, {effect: unit})
+
+    def _gauss_newton(self, effect, pname, par, p0):
+        """Bounded scalar Gauss-Newton: p <- clip(p + J.(r - g) / J.J), J = dg/dp by forward
+        differences (step 2 % of |p|), keeping the best point seen."""
+        p = float(np.clip(p0, par.lower, par.upper))
+        g = self.response(effect, pname, p)
+        best = (self.sse(g), p, g)
+        span = par.upper - par.lower
+        for _ in range(self.gn_iterations):
+            dp = 0.02 * max(abs(p), 1e-3 * span)
+            if p + dp > par.upper:
+                dp = -dp
+            J = (self.response(effect, pname, p + dp) - g) / dp
+            Jw, rw = J * self.w, (self.r - g) * self.w
+            denom = float(np.sum(Jw * Jw))
+            if denom == 0:
+                break
+            p_new = float(np.clip(p + np.sum(Jw * rw) / denom, par.lower, par.upper))
+            g_new = self.response(effect, pname, p_new)
+            s_new = self.sse(g_new)
+            if s_new < best[0]:
+                best = (s_new, p_new, g_new)
+            if abs(p_new - p) <= 1e-3 * max(abs(p), 1e-6 * span):
+                break
+            p, g = p_new, g_new
+        return best[1], best[2]
+
+    def fit_pair(self, a: Fit, b: Fit) -> Fit:
+        """Joint bounded fit of two candidates. Each member's response is linearised about its
+        single fit, g_i(p) ~ (p / p_i) g_i(p_i) (exact for linear sources), and the two
+        amplitudes are fitted together by ``lsq_linear`` within the members' bounds."""
+        cols, lo, hi, names = [], [], [], []
+        for f in (a, b):
+            (eff, vals), = f.values.items()
+            (pname, p), = vals.items()
+            par = EFFECTS[eff].parameter(pname)
+            if p == 0:
+                p = reference_value(par)
+                shape = f.signature[eff] * p
+            else:
+                shape = f.response
+            cols.append((shape * self.w).ravel())
+            lo.append(par.lower / p if p > 0 else par.upper / p)
+            hi.append(par.upper / p if p > 0 else par.lower / p)
+            names.append((eff, pname, p, shape))
+        A = np.column_stack(cols)
+        sol = lsq_linear(A, (self.r * self.w).ravel(), bounds=(lo, hi)).x
+        g = sum(c * n[3] for c, n in zip(sol, names))
+        values = {n[0]: {n[1]: float(c * n[2])} for c, n in zip(sol, names)}
+        return Fit(a.effects + b.effects, values, g, self.sse(g), 2, {**a.linear, **b.linear},
+                   {**a.signature, **b.signature})
