@@ -141,7 +141,8 @@ class DoorDraft(Effect):
 
 
 def daylight(t: np.ndarray, start_time_of_day: float, sunrise: float, sunset: float) -> np.ndarray:
-    """Shape of the sun on a window face: sin(pi (tod - sunrise)/(sunset - sunrise)) by day, 0 at night."""
+    """Shape of the sun on a window face: sin(pi (tod - sunrise)/(sunset - sunrise)) by day, 0 at night
+    (times of day [s]; sunset <= sunrise means no sun)."""
     tod = np.mod(start_time_of_day + np.asarray(t, dtype=float), 86400.0)
     phase = (tod - sunrise) / max(sunset - sunrise, 1.0)
     return np.where((phase > 0) & (phase < 1), np.sin(np.pi * np.clip(phase, 0, 1)), 0.0)
