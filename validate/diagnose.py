@@ -61,6 +61,8 @@ class Diagnosis:
     n_eff: float = 0.0
     spec: ModelSpec | None = None
     runs: int = 0
+    sensor_points: list = field(default_factory=list)
+    scenario: object = None
 
     @property
     def residual(self) -> np.ndarray:
@@ -145,6 +147,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     spec = spec or ModelSpec()
     meas, names, groups = measured_channels(ds)
     t_meas = np.asarray(ds["time"].values, float)
+    t_meas = t_meas - t_meas[0]
     sensors = sensor_points(ds, machine) if "temperature" in ds else []
     engine = Engine(machine, scenario, resolution, mm=mm, sensors=sensors)
     interp = _interpolator(engine.times, t_meas)
@@ -153,6 +156,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     sigma = noise_levels(meas, groups, spec)
     w = channel_weights(r, groups, sigma)
     d = Diagnosis(t_meas, names, groups, meas, base, w, np.sqrt(np.mean(r ** 2, axis=0)), spec=spec)
+    d.sensor_points, d.scenario = engine.sensors, scenario
     fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w)
     pool = candidates if candidates is not None else [e for e in EFFECTS if e not in spec.effects]
     fits = [f for f in (fitter.fit_single(e) for e in pool) if f is not None]
