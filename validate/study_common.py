@@ -76,7 +76,9 @@ def write_csv(path: Path, rows: list[dict]) -> Path:
 
 def fmt(v, digits: int = 3) -> str:
     if isinstance(v, float):
-        return "" if np.isnan(v) else f"{v:.{digits}f}"
+        if np.isnan(v):
+            return ""
+        return f"{v:.3g}" if abs(v) >= 1e5 else f"{v:.{digits}f}"
     return "" if v is None else str(v)
 
 
