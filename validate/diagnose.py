@@ -25,7 +25,8 @@ Scores of a candidate with k fitted parameters and weighted sum of squares SSE_k
 Significance: the top candidate is reported as missing only if it beats the baseline by at least
 ``bic_margin`` (default 10, "very strong" evidence) *and* explains at least ``min_explained``
 (default 50 %) of the weighted residual; otherwise the diagnosis says nothing significant is
-missing. Pairs are tried among the best singles when none explains ``pair_threshold`` (80 %).
+missing. Pairs are tried among the best singles when none explains ``pair_threshold`` (80 %), and
+kept only if they explain ``pair_gain`` (10 %) more of it than their better member alone.
 """
 
 from __future__ import annotations
@@ -136,7 +137,8 @@ def format_values(values: dict[str, dict[str, float]]) -> dict[str, dict[str, st
 
 def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: str = "coarse", mm=None,
              candidates: list[str] | None = None, min_explained: float = 0.5, bic_margin: float = 10.0,
-             pair_threshold: float = 0.8, pair_pool: int = 4) -> Diagnosis:
+             pair_threshold: float = 0.8, pair_pool: int = 4,
+             pair_gain: float = 0.1) -> Diagnosis:
     """Rank the effects missing from ``spec`` by how much of the residual of ``ds`` they explain.
 
     ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
@@ -164,7 +166,9 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     sse0 = fitter.sse(np.zeros_like(r))
     if fits and 1 - fits[0].sse / sse0 < pair_threshold:
         top = fits[:pair_pool]
-        fits += [fitter.fit_pair(a, b) for i, a in enumerate(top) for b in top[i + 1:]]
+        pairs = [fitter.fit_pair(a, b) for i, a in enumerate(top) for b in top[i + 1:]]
+        # a pair is kept only if it explains pair_gain (10 %) more than its better member
+        fits += [p for p in pairs if (min(a.sse for a in top if a.effects[0] in p.effects) - p.sse) >= pair_gain * sse0]
         fits.sort(key=lambda f: f.sse)
     d.fits, d.runs = fits, engine.runs
     _score(d, fits, r, sse0, min_explained, bic_margin)
