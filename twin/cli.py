@@ -186,6 +186,11 @@ def build_parser() -> argparse.ArgumentParser:
     from learners.cli import add_learn_parser
 
     add_learn_parser(sub)
+    from validate.compare import add_compare_parser
+    from validate.diagnose_cli import add_diagnose_parser
+
+    add_compare_parser(sub)
+    add_diagnose_parser(sub)
     return parser
 
 
