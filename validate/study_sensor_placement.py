@@ -122,6 +122,18 @@ def plot(path: Path, rows):
     plt.close(fig)
 
 
+def reading(rows) -> str:
+    """One sentence per learner comparing the sets' test RMSE [um]."""
+    out = []
+    for name in dict.fromkeys(r["learner"] for r in rows):
+        r = {x["set"]: x for x in rows if x["learner"] == name}
+        out.append(f"- `{name}`: gm0n-fcm {r['gm0n-fcm']['test_rmse']:.2f} um, intuitive "
+                   f"{r['intuitive']['test_rmse']:.2f}, one sensor moved {r['seed-move']['test_rmse']:.2f}, random "
+                   f"{r['random']['test_rmse']:.2f} (best draw {r['random'].get('test_rmse_min', np.nan):.2f}), "
+                   f"truth-greedy bound {r['greedy-oracle']['test_rmse']:.2f} um.")
+    return "\n".join(out)
+
+
 COLUMNS = ["set", "learner", "n_sets", "test_rmse", "test_rmse_min", "test_rmse_max", "test_nse",
            "test_max_abs_residual", "test_max_abs_residual_max", "inputs"]
 HEADERS = ["sensor set", "learner", "sets", "test RMSE um (mean)", "min", "max", "test NSE (mean)",
@@ -142,7 +154,7 @@ def main(argv=None) -> int:
     i = data.info
     text = (f"# Sensor placement on `{i['machine']}` (mesh `{i['mesh']}`), Z drift\n\n"
             f"Train `{i['train']}`, test `{i['test']}`; {i['n_grid']} grid candidates. The greedy oracle "
-            "uses the test run's truth and is a lower bound, not a method.\n\n" + table + "\n")
+            "uses the test run's truth and is a lower bound, not a method.\n\n" + table + "\n\n" + reading(rows) + "\n")
     (out / "placement.md").write_text(text)
     plot(out / "placement.png", rows)
     print(table)
