@@ -48,6 +48,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         Surface("skin", everything, within=above_floor),
         Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
         Surface("test_bar_skin", ("test_bar",)),
+        Surface("test_bar_seat", ("test_bar",), interface_with=("spindle",)),
         Surface("spindle_nose", ("spindle",), within=Box((-1, -1, nose - 1e-4), (1, 1, nose + 1e-4))),
         Surface("motor_flange", ("motor",), interface_with=("carrier", "spindle")),
         Surface("front_bearing_seat", ("front_bearing",), interface_with=("spindle",)),

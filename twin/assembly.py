@@ -1,8 +1,10 @@
 """Global sparse matrices of a machine mesh, assembled once.
 
 Element matrices come from :mod:`twin.elements`, computed once per distinct (cell size,
-material) pair and scattered with one COO -> CSR conversion. Facet (convection) matrices use
-scikit-fem's FacetBasis on the same trilinear element, so that node i is dof i everywhere.
+material) pair and scattered with one COO -> CSR conversion. Temperatures live on the
+temperature dofs ``mm.heat_t`` (the mesh nodes, plus copies where a contact interface splits
+the field, see :meth:`twin.mesh.MachineMesh.split_heat`); displacements on the mesh nodes.
+Facet matrices of the axis-aligned rectangular faces are in closed form.
 """
 
 from __future__ import annotations
@@ -11,8 +13,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import BilinearForm, ElementHex1, FacetBasis, LinearForm, asm
-
 from twin import elements
 from twin.mesh import MachineMesh
 
@@ -52,8 +52,8 @@ def assemble_heat(mm: MachineMesh, materials: dict | None = None) -> HeatMatrice
     part = uniq[:, 3].astype(int)
     k_val = np.array([mats[p].conductivity for p in part])
     c_val = np.array([mats[p].volumetric_heat_capacity for p in part])
-    t = mm.mesh.t.T
-    n = mm.nnodes
+    t = mm.heat_t.T
+    n = mm.nheat
     K = _scatter(t, t, (k_ref * k_val[:, None, None])[inverse], (n, n))
     M = _scatter(t, t, (m_ref * c_val[:, None, None])[inverse], (n, n))
     return HeatMatrices(K, M)
@@ -80,7 +80,7 @@ def assemble_elastic(mm: MachineMesh, materials: dict | None = None) -> ElasticM
     dofs = (3 * t[:, :, None] + np.arange(3)[None, None, :]).reshape(len(t), 24)
     n = mm.nnodes
     K = _scatter(dofs, dofs, k_e[inverse], (3 * n, 3 * n))
-    C = _scatter(dofs, t, c_e[inverse], (3 * n, n))
+    C = _scatter(dofs, mm.heat_t.T, c_e[inverse], (3 * n, mm.nheat))
     return ElasticMatrices(K, C)
 
 
@@ -93,26 +93,55 @@ class FacetMatrices:
     area: float
 
 
-@BilinearForm
-def _surface_mass(u, v, w):
-    return u * v
+def _facet_dofs(mm: MachineMesh, facets: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """Temperature dofs (nf, 4) of each facet's corners, as seen from the adjacent ``cells``."""
+    corners = mm.mesh.facets[:, facets]                       # (4, nf) mesh nodes
+    cell_nodes = mm.mesh.t[:, cells]                          # (8, nf)
+    pos = np.argmax(cell_nodes[None, :, :] == corners[:, None, :], axis=1)  # (4, nf)
+    return mm.heat_t[pos, cells[None, :]].T
 
 
-@LinearForm
-def _surface_unit(v, w):
-    return v
+def _facet_mass(mm: MachineMesh, facets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Closed-form bilinear mass of rectangles: (nf, 4, 4) [m2] and areas (nf,) [m2].
+
+    int N_a N_b dA = A/36 * (4, 2, 1) for corners a, b that differ in (0, 1, 2) in-plane coordinates.
+    """
+    xyz = mm.mesh.p.T[mm.mesh.facets[:, facets].T]            # (nf, 4, 3)
+    extent = np.sort(np.ptp(xyz, axis=1), axis=1)[:, 1:]
+    area = extent.prod(axis=1)
+    differ = np.sum(np.abs(xyz[:, :, None, :] - xyz[:, None, :, :]) > 1e-12, axis=3)
+    weight = np.choose(np.minimum(differ, 2), [4.0, 2.0, 1.0])
+    return weight * (area / 36.0)[:, None, None], area
 
 
 def assemble_facets(mm: MachineMesh, facets: np.ndarray) -> FacetMatrices:
-    """Boundary mass matrix and load vector of the given facets (convection, surface flux)."""
-    fb = FacetBasis(mm.mesh, ElementHex1(), facets=facets, intorder=2)
-    r = asm(_surface_unit, fb)
-    return FacetMatrices(asm(_surface_mass, fb).tocsr(), r, float(r.sum()))
+    """Boundary mass matrix and load vector of the given facets (convection, surface flux),
+    on the temperature dofs of the cell on each facet's first side."""
+    facets = np.asarray(facets)
+    mass, area = _facet_mass(mm, facets)
+    dofs = _facet_dofs(mm, facets, mm.mesh.f2t[0, facets])
+    n = mm.nheat
+    r = np.zeros(n)
+    np.add.at(r, dofs.ravel(), np.repeat(area / 4.0, 4))
+    return FacetMatrices(_scatter(dofs, dofs, mass, (n, n)), r, float(area.sum()))
+
+
+def assemble_interface(mm: MachineMesh, facets: np.ndarray) -> sp.csr_matrix:
+    """Contact matrix of interior facets: int (N_a - N_b)(N_a - N_b) dA [m2] over the facets,
+    a the dofs of the first adjacent cell, b of the second; times h_c [W/(m2 K)] it gives the
+    heat h_c (T_a - T_b) exchanged across a (split) contact interface."""
+    facets = np.asarray(facets)
+    mass, _ = _facet_mass(mm, facets)
+    a = _facet_dofs(mm, facets, mm.mesh.f2t[0, facets])
+    b = _facet_dofs(mm, facets, mm.mesh.f2t[1, facets])
+    shape = (mm.nheat, mm.nheat)
+    return (_scatter(a, a, mass, shape) + _scatter(b, b, mass, shape)
+            - _scatter(a, b, mass, shape) - _scatter(b, a, mass, shape)).tocsr()
 
 
 def volume_vector(mm: MachineMesh, cells: np.ndarray) -> np.ndarray:
     """b_i = int_V N_i dV over ``cells`` [m3]; a trilinear function integrates to V/8 per corner."""
-    b = np.zeros(mm.nnodes)
+    b = np.zeros(mm.nheat)
     vol = np.prod(mm.cell_size[cells], axis=1)
-    np.add.at(b, mm.mesh.t[:, cells].ravel(), np.repeat(vol[None, :] / 8.0, 8, axis=0).ravel())
+    np.add.at(b, mm.heat_t[:, cells].ravel(), np.repeat(vol[None, :] / 8.0, 8, axis=0).ravel())
     return b

@@ -56,6 +56,11 @@ class ElasticSolver:
         lu = spla.splu(kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         return cls(mats, fixed, free, lu)
 
+    @staticmethod
+    def coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:
+        """Thermal coupling C [N/K] on the temperature dofs of ``mm`` (see :mod:`twin.assembly`)."""
+        return assemble_elastic(mm, materials).C
+
     def solve(self, load: np.ndarray) -> np.ndarray:
         """Displacements u [m] (3 per node, interleaved) for nodal forces ``load`` [N] (columns ok)."""
         load = np.asarray(load, dtype=float)

@@ -35,10 +35,39 @@ class MachineMesh:
     cell_size: np.ndarray
     facets: dict[str, np.ndarray]
     spacing: float
+    heat_t: np.ndarray | None = None  # (8, ncells) temperature dofs of each cell's corners
+    nheat: int = 0                    # number of temperature dofs (>= nnodes when split)
+
+    def __post_init__(self):
+        if self.heat_t is None:
+            self.heat_t, self.nheat = self.mesh.t, self.mesh.nvertices
 
     @property
     def nnodes(self) -> int:
         return self.mesh.nvertices
+
+    @property
+    def heat_node(self) -> np.ndarray:
+        """Mesh node of every temperature dof (nheat,): a split dof maps to the node it copies."""
+        node = np.empty(self.nheat, dtype=int)
+        node[self.heat_t.ravel()] = self.mesh.t.ravel()
+        return node
+
+    def split_heat(self, parts: tuple[str, ...], facets: np.ndarray) -> "MachineMesh":
+        """A copy whose temperature field is discontinuous across the interior ``facets``: the
+        cells of ``parts`` get their own copies of the nodes on those facets (appended after the
+        mesh nodes), so that a contact conductance can couple the two sides. The displacement
+        field (``mesh.t``) stays continuous: the joint is bonded mechanically."""
+        cells = self.cells_of(*parts)
+        nodes = np.unique(self.mesh.facets[:, facets])
+        heat_t = self.heat_t.copy()
+        sub = heat_t[:, cells]
+        on = np.isin(sub, nodes)
+        copies = {n: self.nheat + i for i, n in enumerate(np.unique(sub[on]))}
+        sub[on] = [copies[n] for n in sub[on]]
+        heat_t[:, cells] = sub
+        return MachineMesh(self.machine, self.mesh, self.part_names, self.cell_part, self.cell_size, self.facets,
+                           self.spacing, heat_t, self.nheat + len(copies))
 
     @property
     def ncells(self) -> int:

@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from twin.assembly import assemble_facets, volume_vector
-from twin.effects import DEFAULT_EFFECTS, EFFECTS, Convection, HeatSource, SurfaceHeatFlux
+from twin.assembly import assemble_facets, assemble_heat, assemble_interface, volume_vector
+from twin.effects import DEFAULT_EFFECTS, EFFECTS, ContactConductance, Convection, HeatSource, SurfaceHeatFlux
 from twin.errors import InputError
 from twin.instruments import INSTRUMENTS
 from twin.transient import HeatSystem
@@ -99,30 +99,43 @@ def parse_settings(items: list[str] | None, effects: tuple[str, ...]) -> dict[st
 
 @dataclass
 class LoadSet:
-    """A heat system plus the signals that drive it and the effect each load belongs to."""
+    """A heat system plus the signals that drive it and the effect each load belongs to.
+
+    ``mm`` is the mesh the temperatures live on (split at contact interfaces when an effect asks
+    for it) and ``heat`` its conduction and capacity matrices.
+    """
 
     system: HeatSystem
     sources: list          # HeatSource / SurfaceHeatFlux, columns of F
-    convections: list      # Convection, columns of r / entries of H
+    convections: list      # Convection / ContactConductance, columns of r / entries of H
     source_effect: list[str]
     convection_effect: list[str]
-    areas: np.ndarray      # (ncv,) [m2]
+    areas: np.ndarray      # (ncv,) [m2]; 0 for contacts, which exchange heat inside the structure
+    mm: object = None
+    heat: object = None
 
     def signals(self, t: np.ndarray):
         """(h, air, s) arrays of shape (len(t), ncv|ncv|nsrc) at times t [s]."""
         t = np.asarray(t, dtype=float)
+        zero = np.zeros(len(t))
         h = np.column_stack([c.h(t) for c in self.convections]) if self.convections else np.zeros((len(t), 0))
-        air = np.column_stack([c.air(t) for c in self.convections]) if self.convections else np.zeros((len(t), 0))
+        air = (np.column_stack([c.air(t) if isinstance(c, Convection) else zero for c in self.convections])
+               if self.convections else np.zeros((len(t), 0)))
         s = np.column_stack([src.power(t) for src in self.sources]) if self.sources else np.zeros((len(t), 0))
         return h, air, s
 
 
-def build_loads(mm, scenario, spec: ModelSpec, heat) -> LoadSet:
-    """Collect every effect's loads and assemble their patterns once."""
+def build_loads(mm, scenario, spec: ModelSpec, heat=None, materials: dict | None = None) -> LoadSet:
+    """Collect every effect's loads and assemble their patterns once.
+
+    When an effect returns a :class:`ContactConductance`, the temperature field is split at its
+    facets first (``mm.split_heat``) and ``heat`` is assembled on the split mesh; otherwise
+    ``heat`` (assembled with ``materials`` when None) is used as given.
+    """
     sources, convs, s_eff, c_eff = [], [], [], []
     for name in spec.effects:
         for load in EFFECTS[name].loads(mm, scenario, spec.params[name]):
-            if isinstance(load, Convection):
+            if isinstance(load, (Convection, ContactConductance)):
                 convs.append(load)
                 c_eff.append(name)
             elif isinstance(load, (HeatSource, SurfaceHeatFlux)):
@@ -130,7 +143,12 @@ def build_loads(mm, scenario, spec: ModelSpec, heat) -> LoadSet:
                 s_eff.append(name)
             else:
                 raise TypeError(f"effect {name} returned an unknown load {load!r}")
-    n = mm.nnodes
+    for c in convs:
+        if isinstance(c, ContactConductance):
+            mm = mm.split_heat(c.parts, c.facets)
+    if heat is None or heat.M.shape[0] != mm.nheat:
+        heat = assemble_heat(mm, materials)
+    n = mm.nheat
     F = np.zeros((n, len(sources)))
     for j, src in enumerate(sources):
         if isinstance(src, HeatSource):
@@ -138,7 +156,13 @@ def build_loads(mm, scenario, spec: ModelSpec, heat) -> LoadSet:
         else:
             b = assemble_facets(mm, src.facets).r
         F[:, j] = b / b.sum()
-    facet = [assemble_facets(mm, c.facets) for c in convs]
-    r = np.column_stack([f.r for f in facet]) if facet else np.zeros((n, 0))
-    system = HeatSystem(heat.M, heat.K, [f.H for f in facet], r, F)
-    return LoadSet(system, sources, convs, s_eff, c_eff, np.array([f.area for f in facet]))
+    H, r, areas = [], np.zeros((n, len(convs))), np.zeros(len(convs))
+    for j, c in enumerate(convs):
+        if isinstance(c, ContactConductance):
+            H.append(assemble_interface(mm, c.facets))
+        else:
+            f = assemble_facets(mm, c.facets)
+            H.append(f.H)
+            r[:, j], areas[j] = f.r, f.area
+    system = HeatSystem(heat.M, heat.K, H, r, F)
+    return LoadSet(system, sources, convs, s_eff, c_eff, areas, mm, heat)

@@ -28,12 +28,15 @@ def locate(mm: MachineMesh, xyz: np.ndarray, names: list[str] | None = None) -> 
     return cells, xi
 
 
-def interpolation_matrix(mm: MachineMesh, xyz: np.ndarray, names: list[str] | None = None) -> sp.csr_matrix:
-    """Sparse (npoints, nnodes) operator: (P @ T)[i] = T at point i (trilinear)."""
+def interpolation_matrix(mm: MachineMesh, xyz: np.ndarray, names: list[str] | None = None,
+                         field: str = "temperature") -> sp.csr_matrix:
+    """Sparse operator (P @ v)[i] = v at point i (trilinear), for ``field`` "temperature"
+    (columns: temperature dofs, ``mm.nheat``) or "mesh" (columns: mesh nodes, for displacements)."""
     cells, xi = locate(mm, xyz, names)
     n, _ = shape_q1(xi)
     rows = np.repeat(np.arange(len(cells)), 8)
-    return sp.csr_matrix((n.ravel(), (rows, mm.mesh.t[:, cells].T.ravel())), shape=(len(cells), mm.nnodes))
+    t, ncol = (mm.heat_t, mm.nheat) if field == "temperature" else (mm.mesh.t, mm.nnodes)
+    return sp.csr_matrix((n.ravel(), (rows, t[:, cells].T.ravel())), shape=(len(cells), ncol))
 
 
 def displacement_functional(P: sp.csr_matrix, direction: np.ndarray) -> sp.csr_matrix:

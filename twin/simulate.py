@@ -12,17 +12,12 @@ import time as _time
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
-from twin.assembly import assemble_heat
-from twin.elastic import ElasticSolver
 from twin.mesh import MachineMesh
-from twin.model import LoadSet, ModelSpec, build_loads
-from twin.points import displacement_functional, interpolation_matrix
-from twin.transient import integrate
+from twin.model import LoadSet, ModelSpec
+from twin.prepared import PreparedTwin, drift_functionals  # noqa: F401  (drift_functionals re-exported)
 
 AXES = ("X", "Y", "Z")
-_UNIT = np.eye(3)
 
 
 @dataclass
@@ -41,7 +36,7 @@ class RunResult:
     drift: np.ndarray              # (nt, 3) m, tool relative to workpiece
     probe: np.ndarray              # (nt, nprobe) m
     hottest_time: float
-    hottest_field: np.ndarray
+    hottest_field: np.ndarray      # (nheat,) degC on the temperature dofs (mm.heat_node maps them to nodes)
     sensors: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
 
@@ -61,52 +56,22 @@ class RunResult:
                 self.stored_heat[-1] - self.stored_heat[0])
 
 
-def drift_functionals(mm: MachineMesh) -> sp.csr_matrix:
-    """Rows: tool-minus-workpiece displacement X, Y, Z, then each probe's reading [m per m]."""
-    machine = mm.machine
-    pts = {name: interpolation_matrix(mm, [machine.point(name).xyz], [name])
-           for name in {machine.tool_point, machine.workpiece_point}
-           | {p.target for p in machine.probes} | {p.fixture for p in machine.probes}}
-    rows = [displacement_functional(pts[machine.tool_point], _UNIT[d])
-            - displacement_functional(pts[machine.workpiece_point], _UNIT[d]) for d in range(3)]
-    rows += [displacement_functional(pts[p.target], p.direction) - displacement_functional(pts[p.fixture], p.direction)
-             for p in machine.probes]
-    return sp.vstack(rows).tocsr()
-
-
 def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "default", theta: float = 0.5,
         materials: dict | None = None, progress=None, mm: MachineMesh | None = None,
-        sensors: list | None = None) -> RunResult:
+        sensors: list | None = None, prepared: PreparedTwin | None = None) -> RunResult:
     """Simulate ``scenario`` on ``machine`` with the effects of ``spec``.
 
     ``materials`` maps a material name to a replacement (e.g. perturbed properties);
     ``progress(done, total)`` is called after every step; ``sensors`` (a list of
-    :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites.
+    :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites;
+    ``prepared`` reuses a :class:`twin.prepared.PreparedTwin` of the same machine and scenario.
     """
     spec = spec or ModelSpec()
-    timings = {}
     t0 = _time.perf_counter()
-    mm = mm or machine.mesh(resolution)
-    mats = {p.name: materials[p.material.name] for p in machine.parts if materials and p.material.name in materials}
-    heat = assemble_heat(mm, mats)
-    loads = build_loads(mm, scenario, spec, heat)
-    timings["heat_assembly"] = _time.perf_counter() - t0
-
-    t1 = _time.perf_counter()
-    elastic = ElasticSolver.build(mm, mats)
-    timings["elastic_factorisation"] = _time.perf_counter() - t1
-    W = elastic.influence(drift_functionals(mm))  # (nnodes, 3 + nprobe)
-
-    sensors = sensors if sensors is not None else [machine.point(name) for name in machine.sensor_sites]
-    S = interpolation_matrix(mm, [p.xyz for p in sensors], [p.name for p in sensors]).toarray()
-    ones_M = np.asarray(heat.M.sum(axis=0)).ravel()
-    outputs = np.vstack([S, ones_M[None, :], loads.system.r.T, W.T])
-
+    twin = prepared or PreparedTwin(machine, scenario, mm, resolution, materials, sensors)
+    prep = _time.perf_counter() - t0
     times = scenario.times()
-    dt = scenario.sample_interval
-    h, air, s = loads.signals(times[:-1] + theta * dt)
-    T0 = np.full(mm.nnodes, scenario.start_temperature)
-    hottest = {"max": -np.inf, "time": 0.0, "field": T0}
+    hottest = {"max": -np.inf, "time": 0.0, "field": None}
 
     def on_step(n, T):
         tmax = T.max()
@@ -115,11 +80,12 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "def
         if progress is not None:
             progress(n, len(times) - 1)
 
-    t2 = _time.perf_counter()
-    out = integrate(loads.system, T0, dt, len(times) - 1, h, air, s, sp.csr_matrix(outputs), theta, on_step)
-    timings["time_stepping"] = _time.perf_counter() - t2
-    timings["steps"] = len(times) - 1
-    ns, ncv = len(sensors), loads.system.r.shape[1]
+    t1 = _time.perf_counter()
+    loads, out = twin.run(spec, theta, on_step)
+    timings = {"preparation": prep, "time_stepping": _time.perf_counter() - t1, "steps": len(times) - 1}
+    if hottest["field"] is None:
+        hottest["field"] = np.full(loads.mm.nheat, scenario.start_temperature)
+    ns, ncv = len(twin.sensors), loads.system.r.shape[1]
     disp = out[:, ns + 1 + ncv:] - out[0, ns + 1 + ncv:]
-    return RunResult(mm, scenario, spec, loads, times, theta, out[:, :ns], out[:, ns], out[:, ns + 1:ns + 1 + ncv],
-                     disp[:, :3], disp[:, 3:], hottest["time"], hottest["field"], sensors, timings)
+    return RunResult(loads.mm, scenario, spec, loads, times, theta, out[:, :ns], out[:, ns], out[:, ns + 1:ns + 1 + ncv],
+                     disp[:, :3], disp[:, 3:], hottest["time"], hottest["field"], twin.sensors, timings)

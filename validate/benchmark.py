@@ -26,8 +26,8 @@ def main(argv=None) -> int:
     peak_mib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"machine {args.machine}, scenario {args.scenario}, mesh {args.mesh}")
     print(f"  nodes                      {r.mm.nnodes} ({r.mm.ncells} cells, {3 * r.mm.nnodes} elastic dofs)")
-    print(f"  heat assembly + loads      {t['heat_assembly']:.2f} s")
-    print(f"  elastic factorisation      {t['elastic_factorisation']:.2f} s")
+    print(f"  preparation                {t['preparation']:.2f} s (heat assembly, elastic assembly and "
+          f"factorisation, adjoint drift solves, sensor operators)")
     print(f"  time stepping              {t['time_stepping']:.2f} s for {t['steps']} steps "
           f"({1e3 * t['time_stepping'] / t['steps']:.2f} ms per step, incl. factorisations of the heat operators)")
     print(f"  total wall time            {wall:.2f} s")

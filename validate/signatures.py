@@ -25,17 +25,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.optimize import lsq_linear
 
-from twin.assembly import assemble_heat
 from twin.effects import EFFECTS, HeatSource, SurfaceHeatFlux
-from twin.elastic import ElasticSolver
-from twin.model import ModelSpec, build_loads
-from twin.points import interpolation_matrix
+from twin.model import ModelSpec
+from twin.prepared import PreparedTwin
 from twin.signals import lag_series
-from twin.simulate import drift_functionals
-from twin.transient import integrate
 
 # Dimensions of parameters that set an effect's *strength* (what the diagnosis fits), in the order
 # preferred when an effect has several; time constants, speeds, exponents and lengths are shape.
@@ -66,23 +61,17 @@ def reference_value(param) -> float:
 
 
 class Engine:
-    """A twin prepared once for many runs of one scenario on one mesh.
-
-    Assembles M, K (heat), the adjoint influence vectors of the probe readings and the sensor
-    interpolation once; :meth:`observe` then costs one transient integration. Equivalent to
+    """A twin prepared once for many runs of one scenario on one mesh
+    (:class:`twin.prepared.PreparedTwin`), observed at the sensors and probes;
+    :meth:`observe` then costs one transient integration. Equivalent to
     :func:`twin.simulate.run` (tested) restricted to sensors and probes.
     """
 
     def __init__(self, machine, scenario, resolution: str = "coarse", mm=None, materials: dict | None = None,
                  sensors: list | None = None):
         self.machine, self.scenario = machine, scenario
-        self.mm = mm if mm is not None else machine.mesh(resolution)
-        mats = {p.name: materials[p.material.name] for p in machine.parts if materials and p.material.name in materials}
-        self.heat = assemble_heat(self.mm, mats)
-        W = ElasticSolver.build(self.mm, mats).influence(drift_functionals(self.mm))
-        self.sensors = sensors if sensors is not None else [machine.point(n) for n in machine.sensor_sites]
-        S = interpolation_matrix(self.mm, [p.xyz for p in self.sensors], [p.name for p in self.sensors]).toarray()
-        self.outputs = sp.csr_matrix(np.vstack([S, np.asarray(W).T[3:]]))
+        self.twin = PreparedTwin(machine, scenario, mm, resolution, materials, sensors)
+        self.mm, self.sensors = self.twin.mm, self.twin.sensors
         self.nsensor = len(self.sensors)
         self.probe_names = [p.name for p in machine.probes]
         self.times = scenario.times()
@@ -90,14 +79,10 @@ class Engine:
 
     def true_outputs(self, spec: ModelSpec) -> np.ndarray:
         """(nt, nsensor + nprobe): true sensor temperatures [degC], then probe readings [um]."""
-        loads = build_loads(self.mm, self.scenario, spec, self.heat)
-        dt = self.scenario.sample_interval
-        h, air, s = loads.signals(self.times[:-1] + 0.5 * dt)
-        T0 = np.full(self.mm.nnodes, self.scenario.start_temperature)
-        out = integrate(loads.system, T0, dt, len(self.times) - 1, h, air, s, self.outputs, 0.5)
+        loads, out = self.twin.run(spec)
         self.runs += 1
-        out[:, self.nsensor:] = (out[:, self.nsensor:] - out[0, self.nsensor:]) * 1e6
-        return out
+        probes = out[:, -len(self.probe_names):]
+        return np.hstack([out[:, :self.nsensor], (probes - probes[0]) * 1e6])
 
     def observe(self, spec: ModelSpec) -> np.ndarray:
         """Like :meth:`true_outputs` with the temperature-sensor lag and bias applied (no noise)."""

@@ -1,10 +1,10 @@
 """Registered effects (``twin list effects``) and the default set."""
 
 from twin.effects import environment, spindle, drives, room  # noqa: F401  (registration)
-from twin.effects.base import (EFFECTS, Convection, Effect, HeatSource, Parameter, SurfaceHeatFlux,
+from twin.effects.base import (EFFECTS, ContactConductance, Convection, Effect, HeatSource, Parameter, SurfaceHeatFlux,
                                first_order_lag, register_effect, speed_power_law)
 
 DEFAULT_EFFECTS = ("spindle_bearings", "spindle_motor", "ambient_convection", "spindle_forced_convection", "floor")
 
-__all__ = ["EFFECTS", "DEFAULT_EFFECTS", "Convection", "Effect", "HeatSource", "Parameter", "SurfaceHeatFlux",
+__all__ = ["EFFECTS", "DEFAULT_EFFECTS", "ContactConductance", "Convection", "Effect", "HeatSource", "Parameter", "SurfaceHeatFlux",
            "first_order_lag", "register_effect", "speed_power_law"]

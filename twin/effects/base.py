@@ -5,7 +5,9 @@ machine and a scenario, returns loads that are a *fixed spatial pattern times a 
 
 * :class:`HeatSource`: total power P(t) [W] spread uniformly over a set of cells;
 * :class:`SurfaceHeatFlux`: total power P(t) [W] spread uniformly over a set of facets;
-* :class:`Convection`: -k dT/dn = h(t) (T - T_air(t)) on a set of facets, h [W/(m2 K)], T_air [degC].
+* :class:`Convection`: -k dT/dn = h(t) (T - T_air(t)) on a set of facets, h [W/(m2 K)], T_air [degC];
+* :class:`ContactConductance`: q = h_c(t) (T_a - T_b) across interior facets between two parts,
+  whose temperature field is split there (the joint stays bonded mechanically), h_c [W/(m2 K)].
 
 Signals are functions of time arrays [s]. This structure makes every observable's response to
 each effect exactly computable (loads enter the heat equation linearly) and lets the solver
@@ -66,6 +68,17 @@ class Convection:
     facets: np.ndarray
     h: Signal
     air: Signal
+
+
+@dataclass(frozen=True)
+class ContactConductance:
+    """Finite thermal contact across interior ``facets``; ``parts`` is the side that gets its own
+    interface temperatures (see :meth:`twin.mesh.MachineMesh.split_heat`)."""
+
+    label: str
+    facets: np.ndarray
+    parts: tuple[str, ...]
+    h: Signal
 
 
 class Effect:

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import Convection, Effect, HeatSource, Parameter, register_effect, speed_power_law
+from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, register_effect,
+                               speed_power_law)
 
 _REF = Parameter("reference_speed", "speed", 9000.0, 100.0, 60000.0, "speed at which the reference value holds")
 
@@ -92,3 +93,28 @@ class SpindleForcedConvection(Effect):
         return [Convection(self.name, facets,
                            speed_power_law(scenario, p["reference_speed"], p["exponent"], p["h_reference"]),
                            scenario.ambient_temperature)]
+
+
+@register_effect
+class TestBarContact(Effect):
+    """Finite thermal conductance between the spindle nose and the test bar (taper contact).
+
+        Q = G (T_spindle - T_bar)   across the seat,   h_c = G / A_seat,
+
+    instead of the default perfect (bonded) contact: the temperature field is split at the seat
+    and the two sides exchange h_c (T_a - T_b) per unit area; the joint stays bonded
+    mechanically. Taper contacts have h_c of a few 1000 to a few 10 000 W/(m2 K) depending on
+    clamping force and surface finish, i.e. G of some 10 W/K for a 40 mm shank.
+    """
+
+    name = "test_bar_contact"
+    summary = "finite conductance G between spindle and test bar (default model: perfect contact)"
+    reference = "M. M. Yovanovich, thermal contact resistance (Handbook of Heat Transfer, ch. 4); Bossmanns & Tu 1999"
+    parameters = (
+        Parameter("conductance", "conductance", 20.0, 0.1, 1000.0, "conductance G of the bar's seat in the spindle"),
+    )
+
+    def loads(self, mm, scenario, p):
+        facets = mm.facets["test_bar_seat"]
+        hc = p["conductance"] / mm.facet_area(facets)
+        return [ContactConductance(self.name, facets, ("test_bar",), lambda t: np.full(np.shape(t), hc))]

@@ -1,0 +1,84 @@
+"""A machine and a scenario prepared once for many runs (simulation, diagnosis, sweeps).
+
+Prepared once: the mesh, the conduction and capacity matrices, the factorised stiffness and the
+adjoint solutions lam_i = K^-1 g_i of every drift output g_i (tool-point drift X, Y, Z and each
+probe), and the sensor interpolation. A run with a given set of effects then costs its load
+assembly and one transient integration: drift outputs are q_i = (C^T lam_i)^T (T - T_0), where
+the coupling C depends on the temperature layout (split at contact interfaces or not), so the
+influence vectors C^T lam_i are cached per layout.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from twin.assembly import assemble_heat
+from twin.elastic import ElasticSolver
+from twin.model import LoadSet, ModelSpec, build_loads
+from twin.points import displacement_functional, interpolation_matrix
+from twin.transient import integrate
+
+_UNIT = np.eye(3)
+
+
+def drift_functionals(mm) -> sp.csr_matrix:
+    """Rows: tool-minus-workpiece displacement X, Y, Z, then each probe's reading [m per m]."""
+    machine = mm.machine
+    names = {machine.tool_point, machine.workpiece_point} | {p.target for p in machine.probes} | {
+        p.fixture for p in machine.probes}
+    pts = {n: interpolation_matrix(mm, [machine.point(n).xyz], [n], field="mesh") for n in names}
+    rows = [displacement_functional(pts[machine.tool_point], _UNIT[d])
+            - displacement_functional(pts[machine.workpiece_point], _UNIT[d]) for d in range(3)]
+    rows += [displacement_functional(pts[p.target], p.direction) - displacement_functional(pts[p.fixture], p.direction)
+             for p in machine.probes]
+    return sp.vstack(rows).tocsr()
+
+
+class PreparedTwin:
+    """Machine + mesh + scenario + sensors, with everything that does not depend on the effects
+    assembled and factorised once. ``materials`` maps material names to replacements."""
+
+    def __init__(self, machine, scenario, mm=None, resolution: str = "default", materials: dict | None = None,
+                 sensors: list | None = None):
+        self.machine, self.scenario = machine, scenario
+        self.mm = mm if mm is not None else machine.mesh(resolution)
+        self.materials = {p.name: materials[p.material.name] for p in machine.parts
+                          if materials and p.material.name in materials}
+        self.heat = assemble_heat(self.mm, self.materials)
+        self.elastic = ElasticSolver.build(self.mm, self.materials)
+        self.adjoint = self.elastic.solve(np.asarray(drift_functionals(self.mm).todense()).T)  # (3 nnodes, nout)
+        self.sensors = sensors if sensors is not None else [machine.point(n) for n in machine.sensor_sites]
+        self._layouts: dict[int, tuple] = {}
+
+    def _layout(self, mm_heat):
+        """(sensor interpolation S, influence W) on the temperature dofs of ``mm_heat``."""
+        if mm_heat.nheat not in self._layouts:
+            if mm_heat.nheat == self.mm.nheat:
+                C = self.elastic.matrices.C
+            else:
+                C = ElasticSolver.coupling(mm_heat, self.materials)
+            S = interpolation_matrix(mm_heat, [p.xyz for p in self.sensors], [p.name for p in self.sensors])
+            self._layouts[mm_heat.nheat] = (S.toarray(), np.asarray(C.T @ self.adjoint))
+        return self._layouts[mm_heat.nheat]
+
+    def loads(self, spec: ModelSpec) -> LoadSet:
+        return build_loads(self.mm, self.scenario, spec, self.heat, self.materials)
+
+    def run(self, spec: ModelSpec, theta: float = 0.5, on_step=None):
+        """Integrate the scenario with the effects of ``spec``.
+
+        Returns (loads, out) with out (nt, nsensor + 1 + nconv + nout): sensor temperatures
+        [degC], stored heat 1^T M T [J], int T dA per convection load [K m2], and the drift
+        outputs q_i = W_i^T T [m] (subtract the first row for the change from the start).
+        """
+        loads = self.loads(spec)
+        S, W = self._layout(loads.mm)
+        ones_M = np.asarray(loads.heat.M.sum(axis=0)).ravel()
+        outputs = sp.csr_matrix(np.vstack([S, ones_M[None, :], loads.system.r.T, W.T]))
+        times = self.scenario.times()
+        dt = self.scenario.sample_interval
+        h, air, s = loads.signals(times[:-1] + theta * dt)
+        T0 = np.full(loads.mm.nheat, self.scenario.start_temperature)
+        out = integrate(loads.system, T0, dt, len(times) - 1, h, air, s, outputs, theta, on_step)
+        return loads, out
