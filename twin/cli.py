@@ -155,6 +155,10 @@ def cmd_demo(args) -> int:
     rise = (ds.temperature_true.max("time") - ds.temperature_true.isel(time=0)).to_series().sort_values(ascending=False)
     print("  hottest sensors: " + ", ".join(f"{k} +{v:.1f} K" for k, v in rise.head(4).items()))
     print(f"wrote {out}/spindle-heat-cool-9000.nc, {out}/drift.png, {out}/temperature-3d.png")
+    if not getattr(args, "no_story", False):
+        from validate.demo_story import run_story
+
+        run_story(out, args.mesh, args.seed, print)
     return 0
 
 
@@ -180,6 +184,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("demo", help="the seeds' spindle test on the C-frame VMC, written to demo-out/")
     p.add_argument("-o", "--output", default="demo-out", help="output folder (default demo-out)")
+    p.add_argument("--no-story", action="store_true",
+                   help="only the spindle test: skip the measurement / compare / diagnose / report story "
+                        "(which always uses the default effects)")
     _add_model_options(p)
     p.set_defaults(func=cmd_demo)
 

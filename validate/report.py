@@ -80,8 +80,12 @@ def figures(d, machine, after: np.ndarray | None = None) -> dict[str, str]:
     return out
 
 
-def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None = None) -> Path:
-    """Write ``folder/index.html`` atomically (figures embedded); returns its path."""
+def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None = None,
+                 sections: list[tuple[str, str]] | None = None) -> Path:
+    """Write ``folder/index.html`` atomically (figures embedded); returns its path.
+
+    ``sections``: extra (title, preformatted text) blocks shown after the verdict, e.g. the
+    comparison table of :func:`validate.compare.format_compare`."""
     from validate.diagnose import format_diagnosis
     from validate.diagnose_cli import format_before_after
 
@@ -90,6 +94,8 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
     parts = ["<html><head><meta charset='utf-8'><title>twin diagnose</title></head><body>",
              "<h1>Diagnosis: missing physical effects</h1>",
              f"<p><b>{html.escape(d.message)}</b></p><pre>{html.escape(format_diagnosis(d))}</pre>"]
+    for title, text in sections or []:
+        parts.append(f"<h2>{html.escape(title)}</h2><pre>{html.escape(text)}</pre>")
     if after is not None:
         parts.append(f"<h2>RMSE before and after adding the top candidate</h2><pre>"
                      f"{html.escape(format_before_after(d, after))}</pre>")
