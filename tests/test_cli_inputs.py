@@ -98,7 +98,8 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
     scenario.write_text(SHORT)
     out = tmp_path / "r.nc"
     assert main(["simulate", "cframe-vmc", str(scenario), "-o", str(out), "--mesh", "coarse",
-                 "--effects=-floor", "--set", "spindle_motor.power=100 W", "--seed", "7"]) == 0
+                 "--effects=-floor", "--set", "spindle_motor.power=100 W", "--seed", "7",
+                 "--field", str(tmp_path / "hot.vtu")]) == 0
     ds = xr.load_dataset(out)
     assert ds.attrs["effects"].split(",") == ["spindle_bearings", "spindle_motor", "ambient_convection",
                                               "spindle_forced_convection"]
@@ -106,6 +107,11 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
     for name in ("time", "temperature", "probe", "drift", "tilt", "heat_power"):
         assert "units" in ds[name].attrs
     assert ds.heat_power.sel(effect="spindle_motor").values[0] == pytest.approx(100 * 6000 / 9000)
+    import meshio
+
+    field = meshio.read(tmp_path / "hot.vtu")
+    assert len(field.cells_dict["hexahedron"]) == ds.attrs["mesh_cells"]
+    assert field.point_data["temperature_degC"].max() > 20.5
     png = tmp_path / "r.png"
     assert main(["plot", str(out), "-o", str(png)]) == 0 and png.stat().st_size > 10000
     assert [f for f in os.listdir(tmp_path) if f.startswith(".twin-")] == []

@@ -89,8 +89,20 @@ def cmd_simulate(args) -> int:
 
     out = Path(args.output)
     _check_writable(out)
+    if args.field:
+        from twin.fields import SUFFIXES
+
+        _check_writable(Path(args.field))
+        if Path(args.field).suffix not in SUFFIXES:
+            raise InputError(args.field, "--field", f"unknown field format; use {' or '.join(SUFFIXES)}")
     ds, result = _simulate(args.machine, args.scenario, args)
     write_netcdf(ds, out)
+    if args.field:
+        from twin.fields import write_temperature_field
+
+        field_path = Path(args.field)
+        _atomic(field_path, lambda tmp: write_temperature_field(result.mm, result.hottest_field, tmp, result.hottest_time))
+        print(f"wrote {field_path}: temperature field at the hottest moment, t = {result.hottest_time / 60:.0f} min")
     peak = abs(ds.drift).max("time")
     print(f"wrote {out}: {len(ds.time)} samples, {result.mm.nnodes} nodes; peak |drift| "
           + ", ".join(f"{a} {float(peak.sel(axis=a)):.1f} um" for a in ds.axis.values))
@@ -174,6 +186,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("machine")
     p.add_argument("scenario", help="a bundled scenario name or a path to a TOML file")
     p.add_argument("-o", "--output", required=True, help="result file (.nc)")
+    p.add_argument("--field", metavar="FILE", help="also write the temperature field at the hottest moment (.vtu or .xdmf)")
     _add_model_options(p)
     p.set_defaults(func=cmd_simulate)
 
