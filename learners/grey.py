@@ -13,18 +13,39 @@ response at the start of that run is the hyper-parameter ``y0`` (``None``: the f
 which makes ``predict(X_train)`` the in-sample simulation).
 
 The convolution model GMC(1,N) and its PSO calibration live in :mod:`learners.grey_gmc`.
+
+**Long, densely sampled records.** The classical least-squares fit of GM(1,N)/GMC(1,N)
+(``fit_method="equation"``) minimises the residual of the grey *equation* one step at a time,
+with the accumulated (AGO) series as regressors. Their magnitude grows with the record length, so on
+a long record (e.g. 1141 samples at 10 s) any development coefficient of order one leaves residuals
+of accumulated size and the fit drives ``a`` towards 0, where its sign is set by noise; a negative
+``a`` of -0.05 per sample then grows the simulated response by ``e^{0.05 * 1140} ~ 1e24``. The
+seeds fit grey models on a handful of samples (the thesis's GNNMCI: the first 5 readings; its
+LS-based GMC(1,N) has b_1 = 1.75 per sample, Table 6-3), where this does not arise. The default
+``fit_method="response"`` therefore fits what ``predict`` computes: least squares of the simulated
+response against the data (the fitness (3.17) that the thesis's PSO minimises), solved exactly by
+variable projection: for a fixed development coefficient the response is linear in the driving
+coefficients (and ``u``), so those come from linear least squares, and a bounded 1-D search over
+``a >= 0`` (a stable, dissipative response) picks the development coefficient. The equation fit is
+still available; it refuses (``InputError``) a fitted model whose response would grow by more than
+a factor ``1e3`` over the record, instead of returning numbers of order 1e26.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
 from learners.registry import register_learner
 from twin.errors import InputError
 
-__all__ = ["ago", "iago", "background", "gm0n_coefficients", "gm11_fit", "gm11_forecast", "GM11", "GM1N"]
+__all__ = ["ago", "iago", "background", "gm0n_coefficients", "gm11_fit", "gm11_forecast", "response_ls_fit",
+           "check_growth", "gm1n_simulate", "GM11", "GM1N"]
+
+FIT_METHODS = ("response", "equation")
+MAX_GROWTH = 1e3  # largest growth of a fitted grey response over a record before fit/predict refuse it
 
 
 def ago(x, axis=0) -> np.ndarray:
@@ -96,6 +117,62 @@ def gm0n_coefficients(X, y, alpha=0.0) -> np.ndarray:
         return np.linalg.solve(gram + lam * np.eye(gram.shape[0]), B.T @ z1)
     theta, *_ = np.linalg.lstsq(B, z1, rcond=None)
     return theta
+
+
+def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = 1e-6, n_grid: int = 49):
+    """Least squares of a simulated grey response, by variable projection over the development coefficient.
+
+    ``simulate(a, coef, y0)`` returns the predicted raw series (length n) and must be affine in
+    ``(coef, y0)`` for fixed ``a`` (true of every grey response here). For each ``a`` the
+    coefficients solve the linear least-squares problem ``min ||r0 + A coef - y||`` with
+    ``r0 = simulate(a, 0, y[0])`` and ``A[:, j] = simulate(a, e_j, 0)``; the SSE is then minimised
+    over ``log a`` in ``[log a_min, log a_max]``: a log-spaced grid of ``n_grid`` values, refined by
+    bounded Brent between the neighbours of the best grid point. Returns ``(a, coef, sse)``.
+    """
+    from scipy.optimize import minimize_scalar
+
+    y = np.asarray(y, dtype=float)
+    eye = np.eye(n_coef)
+
+    def solve(log_a):
+        a = float(np.exp(log_a))
+        with np.errstate(over="ignore", invalid="ignore"):
+            r0 = simulate(a, np.zeros(n_coef), y[0])
+            A = np.column_stack([simulate(a, e, 0.0) for e in eye])
+        if not (np.all(np.isfinite(A)) and np.all(np.isfinite(r0))):
+            return a, np.zeros(n_coef), np.inf
+        coef, *_ = np.linalg.lstsq(A, y - r0, rcond=None)
+        return a, coef, float(np.sum((r0 + A @ coef - y) ** 2))
+
+    grid = np.linspace(np.log(a_min), np.log(a_max), int(n_grid))
+    sse = np.array([solve(g)[2] for g in grid])
+    i = int(np.argmin(sse))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+    best = solve(grid[i])
+    if hi > lo:
+        res = minimize_scalar(lambda g: solve(g)[2], bounds=(lo, hi), method="bounded",
+                              options={"xatol": 1e-10})
+        cand = solve(res.x)
+        if cand[2] <= best[2]:
+            best = cand
+    return best
+
+
+def check_growth(retention: float, n: int, *, model: str, coef_name: str, coef: float, fit_method: str) -> None:
+    """Raise :class:`InputError` if a response with per-sample retention factor ``retention`` grows by more
+    than :data:`MAX_GROWTH` over ``n`` samples (``|retention| > 1``: an unstable development coefficient)."""
+    r = abs(float(retention))
+    if not np.isfinite(r) or r <= 1.0:
+        return
+    log10_growth = (n - 1) * np.log10(r)
+    if log10_growth > np.log10(MAX_GROWTH):
+        raise InputError(
+            "model", coef_name,
+            f"{model} {fit_method}-fit development coefficient {coef_name} = {coef:.4g} per sample is unstable: "
+            f"its response grows by a factor 1e{log10_growth:.0f} over {n} samples. The least-squares fit of "
+            "the grey equation on accumulated series is poorly conditioned on long, densely sampled records; "
+            "use fit_method='response' (least squares of the simulated response, a >= 0) or a few samples "
+            "(the seeds fit grey models on 5-40 readings)")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -191,44 +268,97 @@ class GM11(BaseEstimator, RegressorMixin):
 # ----------------------------------------------------------------------------------------------
 
 
+def gm1n_simulate(a: float, b, X_ago: np.ndarray, y0: float, response: str = "difference") -> np.ndarray:
+    """Raw response ``x_1^(0)(1..n)`` of GM(1,N) for AGO drivers ``X_ago`` (n, N-1), starting at ``y0``."""
+    drive = X_ago @ np.asarray(b, dtype=float)
+    if response == "whitened":
+        if abs(a) < 1e-12:
+            raise InputError("model", "a", "GM(1,N) whitened response needs a != 0")
+        k = np.arange(X_ago.shape[0], dtype=float)
+        x1 = (y0 - drive / a) * np.exp(-a * k) + drive / a  # equals y0 at k = 0
+    elif response == "difference":
+        lead = 1.0 + 0.5 * a
+        if lead == 0.0:
+            return np.full(X_ago.shape[0], np.inf)
+        retention = (1.0 - 0.5 * a) / lead
+        x1 = np.empty(X_ago.shape[0])
+        x1[0] = y0
+        if x1.size > 1:
+            # x1(k) = retention * x1(k-1) + drive(k) / lead, started at y0.
+            x1[1:], _ = lfilter([1.0 / lead], [1.0, -retention], drive[1:], zi=[retention * y0])
+    else:
+        raise InputError("parameters", "response", f"unknown GM(1,N) response {response!r}; "
+                                                   "use 'difference' or 'whitened'")
+    return iago(x1)
+
+
+def gm1n_retention(a: float, response: str) -> float:
+    """Per-sample factor of the homogeneous GM(1,N) response (|.| > 1: grows without bound)."""
+    if response == "whitened":
+        return float(np.exp(-a))
+    lead = 1.0 + 0.5 * a
+    return np.inf if lead == 0.0 else (1.0 - 0.5 * a) / lead
+
+
 @register_learner("gm1n")
 class GM1N(BaseEstimator, RegressorMixin):
     """GM(1,N): ``x_1^(0)(k) + a z_1^(1)(k) = sum_{j=2..N} b_j x_j^(1)(k)`` (thesis (3.27)-(3.30)).
 
-    Least squares ``[a, b_2..b_N] = (B^T B)^-1 B^T Y`` with ``Y = [x_1^(0)(2) .. x_1^(0)(n)]`` and
-    B rows ``[-z_1^(1)(k), x_2^(1)(k), .., x_N^(1)(k)]``. The thesis prints ``+z_1^(1)`` in B (only
-    the sign of ``a`` flips) and ``x_1^(1)`` in the second column (a typo for ``x_2^(1)``); the
-    standard Deng/Liu form is used here.
-
     ``X``: (n, N-1) driver series (ΔT, °C), rows time-ordered; ``y``: response x_1^(0) (µm).
+
+    Calibration (``fit_method``):
+      - ``"response"`` (default): least squares of the simulated response (what ``predict``
+        returns) against ``y``, over ``a >= 0`` (a stable response) by variable projection
+        (:func:`response_ls_fit`). Use this on long, densely sampled records (module docstring).
+      - ``"equation"``: the classical least squares of the grey equation,
+        ``[a, b_2..b_N] = (B^T B)^-1 B^T Y`` with ``Y = [x_1^(0)(2) .. x_1^(0)(n)]`` and B rows
+        ``[-z_1^(1)(k), x_2^(1)(k), .., x_N^(1)(k)]``. The thesis prints ``+z_1^(1)`` in B (only the
+        sign of ``a`` flips) and ``x_1^(1)`` in the second column (a typo for ``x_2^(1)``); the
+        standard Deng/Liu form is used here. Raises :class:`InputError` when the fitted response
+        would grow by more than ``1e3`` over the training record (or, at predict, over ``X``).
 
     Prediction (``response``):
       - ``"difference"`` (default): solve the grey equation itself step by step,
         ``x_1^(1)(k) = [(1 - a/2) x_1^(1)(k-1) + sum_j b_j x_j^(1)(k)] / (1 + a/2)``, then IAGO. This
-        reproduces data generated by the model's own equation exactly.
+        reproduces data generated by the model's own equation exactly. ``fit_method="response"``
+        searches ``0 < a <= 2`` here (``a = 2``: the static limit; larger ``a`` alternates in sign).
       - ``"whitened"``: the classical approximate time response
-        ``x_1^(1)(k) = (x_1^(0)(1) - S(k)/a) e^{-a(k-1)} + S(k)/a``, ``S(k) = sum_j b_j x_j^(1)(k)``.
+        ``x_1^(1)(k) = (x_1^(0)(1) - S(k)/a) e^{-a(k-1)} + S(k)/a``, ``S(k) = sum_j b_j x_j^(1)(k)``
+        (``fit_method="response"`` searches ``0 < a <= 20``).
 
     Fitted: ``a_``, ``b_`` (N-1,), ``coef_`` = ``b_`` (influence ranking, thesis L3400), ``y0_``.
     """
 
-    def __init__(self, response="difference", y0=None):
+    def __init__(self, response="difference", y0=None, fit_method="response"):
         self.response = response
         self.y0 = y0
+        self.fit_method = fit_method
 
     def fit(self, X, y):
         Xa, ya = check_series(X, y, model="GM(1,N)")
         if self.response not in ("difference", "whitened"):
             raise InputError("parameters", "response", f"unknown GM(1,N) response {self.response!r}; "
                                                        "use 'difference' or 'whitened'")
+        if self.fit_method not in FIT_METHODS:
+            raise InputError("parameters", "fit_method", f"unknown GM(1,N) fit_method {self.fit_method!r}; "
+                                                         f"use one of {FIT_METHODS}")
         n, p = Xa.shape
         if n < p + 2:
             raise InputError("data", "rows", f"GM(1,N) with {p} inputs needs at least {p + 2} rows, got {n}")
-        z1 = background(ago(ya))
-        B = np.column_stack([-z1, ago(Xa)[1:]])
-        theta, *_ = np.linalg.lstsq(B, ya[1:], rcond=None)
-        self.a_ = float(theta[0])
-        self.b_ = theta[1:].copy()
+        X_ago = ago(Xa)
+        if self.fit_method == "equation":
+            z1 = background(ago(ya))
+            B = np.column_stack([-z1, X_ago[1:]])
+            theta, *_ = np.linalg.lstsq(B, ya[1:], rcond=None)
+            a, b = float(theta[0]), theta[1:].copy()
+            check_growth(gm1n_retention(a, self.response), n, model="GM(1,N)", coef_name="a", coef=a,
+                         fit_method="equation")
+        else:
+            a_max = 2.0 if self.response == "difference" else 20.0
+            a, b, _ = response_ls_fit(lambda a_, b_, y0: gm1n_simulate(a_, b_, X_ago, y0, self.response),
+                                      ya, p, a_max=a_max)
+        self.a_ = float(a)
+        self.b_ = np.asarray(b, dtype=float)
         self.coef_ = self.b_
         self.y0_ = float(ya[0]) if self.y0 is None else float(self.y0)
         self.n_features_in_ = p
@@ -237,20 +367,6 @@ class GM1N(BaseEstimator, RegressorMixin):
     def predict(self, X):
         Xa = check_series(X, model="GM(1,N)", min_rows=1)
         check_n_features(self, Xa)
-        drive = ago(Xa) @ self.b_
-        a = self.a_
-        if self.response == "whitened":
-            k = np.arange(Xa.shape[0], dtype=float)
-            if abs(a) < 1e-12:
-                raise InputError("model", "a", "GM(1,N) whitened response needs a != 0")
-            x1 = (self.y0_ - drive / a) * np.exp(-a * k) + drive / a  # equals y0 at k = 0
-        elif self.response == "difference":
-            x1 = np.empty(Xa.shape[0])
-            x1[0] = self.y0_
-            lead, lag = 1.0 + 0.5 * a, 1.0 - 0.5 * a
-            for k in range(1, x1.size):
-                x1[k] = (lag * x1[k - 1] + drive[k]) / lead
-        else:
-            raise InputError("parameters", "response", f"unknown GM(1,N) response {self.response!r}; "
-                                                       "use 'difference' or 'whitened'")
-        return iago(x1)
+        check_growth(gm1n_retention(self.a_, self.response), Xa.shape[0], model="GM(1,N)", coef_name="a",
+                     coef=self.a_, fit_method=self.fit_method)
+        return gm1n_simulate(self.a_, self.b_, ago(Xa), self.y0_, self.response)

@@ -19,8 +19,16 @@ trapezoidal form (3.14) is a different quadrature of the same integral; its last
 ``1/2 f(tau)`` and is read as ``1/2 f(t)`` (notes §3.6). Then IAGO (3.18):
 ``x_1^(0)(k) = x_1^(1)(k) - x_1^(1)(k-1)``.
 
-Least squares (Tien; thesis Table 6-3 "LS-based Grey model"): for k = 2..n,
-``x_1^(0)(k) = -b_1 z_1^(1)(k) + sum_j b_j z_j^(1)(k) + u`` with background values ``z``.
+Least squares, two ways (``fit_method`` of :class:`GMC1N`; see :mod:`learners.grey` on long records):
+
+- ``"equation"``: Tien's least squares of the grey equation (thesis Table 6-3 "LS-based Grey model"):
+  for k = 2..n, ``x_1^(0)(k) = -b_1 z_1^(1)(k) + sum_j b_j z_j^(1)(k) + u`` with background values
+  ``z``. On a long densely sampled record ``b_1`` comes out near 0 with a noise-set sign; a
+  negative one makes the response grow as ``e^{-b_1 k}`` (1e14 to 1e16 on the seed-001 twin
+  run), so a fitted response that would grow more than 1e3-fold over the record is refused.
+- ``"response"`` (default): least squares of the simulated response itself, the fitness (3.17),
+  solved exactly by variable projection: for fixed ``b_1`` the response is linear in ``(b_j, u)``;
+  ``b_1`` in ``(0, 20]`` by a bounded 1-D search. This is the optimum the PSO variant approximates.
 
 PSO (thesis §3.6 steps 1-6, §6.3.2: 90 particles, c1 = c2 = 2, inertia 0.9 -> 0.4, 100 epochs)
 minimises the fitness (3.17) ``sum_k (x_hat_1^(0)(k) - x_1^(0)(k))^2`` over (b_1, b_j, u).
@@ -38,7 +46,8 @@ import numpy as np
 from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners.grey import ago, background, check_n_features, check_series, iago
+from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_series, iago, \
+    response_ls_fit
 from learners.pso import pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
@@ -78,6 +87,14 @@ def gmc_ls_fit(X, y):
     return float(theta[0]), theta[1:-1].copy(), float(theta[-1])
 
 
+def gmc_retention(b1: float, response: str) -> float:
+    """Per-sample factor of the homogeneous GMC(1,N) response (|.| > 1: grows without bound)."""
+    if response == "convolution":
+        return float(np.exp(-b1))
+    lead = 1.0 + 0.5 * b1
+    return np.inf if lead == 0.0 else (1.0 - 0.5 * b1) / lead
+
+
 class _GMCBase(BaseEstimator, RegressorMixin):
     """Shared validation and prediction of the GMC(1,N) estimators."""
 
@@ -103,6 +120,8 @@ class _GMCBase(BaseEstimator, RegressorMixin):
     def predict(self, X):
         Xa = check_series(X, model=self._name, min_rows=1)
         check_n_features(self, Xa)
+        check_growth(gmc_retention(self.b1_, self.response), Xa.shape[0], model=self._name, coef_name="b1",
+                     coef=self.b1_, fit_method=getattr(self, "fit_method", "PSO"))
         return gmc_simulate(self.b1_, self.b_, self.u_, ago(Xa), self.y0_, self.response)
 
 
@@ -112,19 +131,36 @@ class GMC1N(_GMCBase):
 
     Parameters: ``response`` ("convolution": Tien's time response (A.2), as in the thesis;
     "difference": exact solution of the LS grey equation); ``y0``: response at the start of a
-    predicted run (``None``: first training target).
+    predicted run (``None``: first training target); ``fit_method`` ("response", default: least
+    squares of the simulated response with ``0 < b_1 <= 20``; "equation": Tien's least squares of the
+    grey equation, refused with :class:`InputError` when its response would grow more than 1e3-fold
+    over the record).
 
     Fitted: ``b1_``, ``b_`` (N-1,), ``u_``, ``coef_`` (= ``b_``), ``y0_``, ``n_features_in_``.
     """
 
-    def __init__(self, response="convolution", y0=None):
+    def __init__(self, response="convolution", y0=None, fit_method="response"):
         self.response = response
         self.y0 = y0
+        self.fit_method = fit_method
 
     def fit(self, X, y):
         Xa, ya = self._check_fit(X, y)
-        b1, b, u = gmc_ls_fit(Xa, ya)
-        self._store(b1, b, u, ya, Xa.shape[1])
+        if self.fit_method not in FIT_METHODS:
+            raise InputError("parameters", "fit_method", f"unknown GMC(1,N) fit_method {self.fit_method!r}; "
+                                                         f"use one of {FIT_METHODS}")
+        n, p = Xa.shape
+        if self.fit_method == "equation":
+            b1, b, u = gmc_ls_fit(Xa, ya)
+            check_growth(gmc_retention(b1, self.response), n, model=self._name, coef_name="b1", coef=b1,
+                         fit_method="equation")
+        else:
+            X_ago = ago(Xa)
+            b1, theta, _ = response_ls_fit(
+                lambda b1_, th, y0: gmc_simulate(b1_, th[:-1], th[-1], X_ago, y0, self.response), ya, p + 1,
+                a_max=20.0)
+            b, u = theta[:-1], theta[-1]
+        self._store(b1, b, u, ya, p)
         return self
 
 

@@ -77,10 +77,14 @@ def gm1n_data(a, b, y0, X):
 def test_gm1n_recovers_coefficients_and_reproduces_data():
     X = drivers()
     y = gm1n_data(0.4, np.array([0.9, -0.3]), 0.1, X)
-    model = GM1N().fit(X, y)
+    model = GM1N(fit_method="equation").fit(X, y)
     assert model.a_ == pytest.approx(0.4, abs=1e-10)
     np.testing.assert_allclose(model.b_, [0.9, -0.3], atol=1e-10)
     np.testing.assert_allclose(model.predict(X), y, atol=1e-10)
+    response = GM1N().fit(X, y)  # default: least squares of the simulated response
+    assert response.a_ == pytest.approx(0.4, abs=1e-6)
+    np.testing.assert_allclose(response.b_, [0.9, -0.3], atol=1e-6)
+    np.testing.assert_allclose(response.predict(X), y, atol=1e-6)
     whitened = GM1N(response="whitened").fit(X, y).predict(X)
     assert whitened.shape == (N,) and whitened[0] == pytest.approx(0.1)
 
@@ -96,8 +100,11 @@ def test_gmc1n_least_squares_recovers_coefficients():
     b1, b, u = gmc_ls_fit(X, y)
     assert b1 == pytest.approx(0.3, abs=1e-10) and u == pytest.approx(0.05, abs=1e-10)
     np.testing.assert_allclose(b, [0.8, -0.5], atol=1e-10)
-    model = GMC1N(response="difference").fit(X, y)
+    model = GMC1N(response="difference", fit_method="equation").fit(X, y)
     np.testing.assert_allclose(model.predict(X), y, atol=1e-10)
+    response = GMC1N(response="difference").fit(X, y)
+    np.testing.assert_allclose(np.r_[response.b1_, response.b_, response.u_], [0.3, 0.8, -0.5, 0.05], atol=1e-6)
+    np.testing.assert_allclose(response.predict(X), y, atol=1e-6)
 
 
 def test_gmc1n_convolution_response_close_to_ls_equation():
@@ -158,3 +165,54 @@ def test_unfitted_and_bad_response():
         GM1N(response="nope").fit(X, X[:, 0])
     with pytest.raises(InputError, match="response"):
         GMC1N(response="nope").fit(X, X[:, 0])
+
+
+def _lag(x, tau):
+    from scipy.signal import lfilter
+
+    return lfilter([1 / tau], [1, -(1 - 1 / tau)], x)
+
+
+def long_record(n=1141, seed=0):
+    """A seed-001-like record: 1141 samples of a 63 % heating / cooling run, three measured temperature
+    rises (lags 40-400 samples, noisy, 1/16 degC quantised) and a drift that also depends on an
+    unmeasured fast temperature (lag 15), so no grey model fits it exactly."""
+    t = np.arange(n, dtype=float)
+    p = (t < 0.63 * n).astype(float)
+    T1, T2, T3 = 6 * _lag(p, 120), 3 * _lag(_lag(p, 200), 200), 9 * _lag(p, 40)
+    y = -2.0 * T1 + 1.5 * T2 - 1.2 * T3 - 12.0 * _lag(p, 15)
+    rng = np.random.default_rng(seed)
+    X = np.round((np.column_stack([T1, T2, T3]) + 0.03 * rng.standard_normal((n, 3))) * 16) / 16
+    return X, y
+
+
+def test_long_record_equation_fit_diverges_and_is_refused():
+    """The divergence of the study (1e14-1e26 um): the equation LS picks a < 0 on a long smooth record."""
+    from learners.grey import gm1n_simulate
+
+    X, y = long_record()
+    z1 = background(ago(y))
+    theta, *_ = np.linalg.lstsq(np.column_stack([-z1, ago(X)[1:]]), y[1:], rcond=None)
+    assert theta[0] < -0.05  # unstable development coefficient
+    with np.errstate(over="ignore", invalid="ignore"):
+        raw = gm1n_simulate(theta[0], theta[1:], ago(X), y[0])
+    assert not np.all(np.abs(raw) < 1e6)  # what the old estimator returned
+    b1, *_ = gmc_ls_fit(X, y)
+    assert b1 < 0 and np.exp(-b1 * (len(y) - 1)) > 1e20
+    with pytest.raises(InputError, match="unstable"):
+        GM1N(fit_method="equation").fit(X, y)
+    with pytest.raises(InputError, match="unstable"):
+        GMC1N(fit_method="equation").fit(X, y)
+
+
+@pytest.mark.parametrize("model", [GM1N(), GM1N(response="whitened"), GMC1N(), GMC1N(response="difference")],
+                         ids=["gm1n", "gm1n-whitened", "gmc1n", "gmc1n-difference"])
+def test_long_record_response_fit_is_stable_and_close(model):
+    X, y = long_record()
+    model.fit(X, y)
+    a = getattr(model, "a_", getattr(model, "b1_", None))
+    assert a >= 0.0
+    for Xp, yp in ((X, y), long_record(seed=1)):
+        pred = model.predict(Xp)
+        assert np.all(np.isfinite(pred))
+        assert np.sqrt(np.mean((pred - yp) ** 2)) < 0.05 * np.ptp(yp)  # ~0.7 um of a 33 um range
