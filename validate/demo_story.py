@@ -83,6 +83,18 @@ def _short(value: float, dimension: str) -> str:
     return format_quantity(float(f"{value:.3g}"), dimension)
 
 
+def _settings(cand: dict) -> list[str]:
+    """``effect.param=value unit`` for each fitted parameter of a diagnosis candidate."""
+    from twin.effects import EFFECTS
+
+    return [f"{e}.{k}={_short(x, EFFECTS[e].parameter(k).dimension)}"
+            for e, ps in cand["values_si"].items() for k, x in ps.items()]
+
+
+def _candidate_args(cand: dict) -> str:
+    return ", ".join(_settings(cand))
+
+
 def _rmse_table(before, after=None, names: list[str] | None = None) -> list[str]:
     """Lines ``channel unit RMSE-before [RMSE-after change]`` from CompareResults."""
     rows = [c for c in before.channels if names is None or c.name in names]
@@ -169,8 +181,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     say(f"diagnose (twin diagnose {csv_path}): every library effect not in the model, fitted on the "
         f"{DIAGNOSE_MESH} mesh ({d.runs} twin runs)")
     for i, cand in enumerate(d.candidates[:3], 1):
-        vals = ", ".join(f"{e}.{k}={_short(x, EFFECTS[e].parameter(k).dimension)}"
-                         for e, ps in cand["values_si"].items() for k, x in ps.items())
+        vals = _candidate_args(cand)
         say(f"  {i}. {cand['effect']:<24} explains {cand['explained']:5.1%}  confidence {cand['confidence']:.2f}  {vals}")
     say(f"  verdict: {d.message}")
     lap("diagnose")
@@ -180,26 +191,30 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     if d.significant and top:
         after_coarse, _ = apply_top(d, machine, sc_meas, mm)
         effects = ",".join(f"+{e}" for e in top["values_si"])
-        settings = [f"{e}.{k}={_short(x, EFFECTS[e].parameter(k).dimension).replace(' ', '')}"
-                    for e, ps in top["values_si"].items() for k, x in ps.items()]
+        settings = [x.replace(" ", "") for x in _settings(top)]
         cmp1 = compare(meas, model_for(meas, MACHINE, effects=effects, settings=settings, resolution=mesh, seed=seed)[0])
-        say(f"apply: twin compare {csv_path.name} --mesh {mesh} --effects {effects} "
+        say(f"apply: twin compare {csv_path} --mesh {mesh} --effects {effects} "
             + " ".join(f"--set {x}" for x in settings))
         worst = [c.name for c in cmp0.ranking()[:6]]
         say("\n".join(_rmse_table(cmp0, cmp1, worst)))
         say("  all channels: " + ", ".join(
             f"{g} RMSE {_group_rmse(cmp0, g):.3g} -> {_group_rmse(cmp1, g):.3g} {u}" for g, u in _UNITS.items()))
+        if top["effect"] == HIDDEN:
+            fit = top["values_si"][HIDDEN][HIDDEN_PARAMETER]
+            say(f"  the hidden truth was {HIDDEN}.{HIDDEN_PARAMETER} = {true_text}; fitted {_short(fit, par.dimension)} "
+                f"({fit / hidden_value - 1:+.0%}: the diagnosing model is coarser than the 'real' machine)")
     else:
         say("apply: nothing significant to add")
     lap("apply")
 
     rep = out_dir / "report"
     rep.mkdir(parents=True, exist_ok=True)
-    sections = [("Compare: the default twin vs the measurement (" + mesh + " mesh)", _compare_text(cmp0))]
+    sections = [(f"Compare: the default twin ({mesh} mesh) vs the measurement {csv_path.name}", _compare_text(cmp0))]
+    closing = []
     if cmp1 is not None:
-        sections.append((f"After adding {top['effect']}: RMSE per channel on the {mesh} mesh",
-                         "\n".join(_rmse_table(cmp0, cmp1))))
-    report = write_report(d, machine, rep, after_coarse, sections=sections)
+        closing.append((f"After adding {_candidate_args(top)}: RMSE per channel, twin on the {mesh} mesh",
+                        "\n".join(_rmse_table(cmp0, cmp1))))
+    report = write_report(d, machine, rep, after_coarse, sections=sections, closing=closing)
     doc = diagnosis_json(d)
     json_path = write_atomic(rep / "diagnosis.json", json.dumps(doc, indent=2))
     lap("report")

@@ -21,86 +21,195 @@ def _png(fig) -> str:
     return base64.b64encode(buf.getvalue()).decode()
 
 
-def _shade_phases(ax, d):
-    """Shade spans where the model's spindle ran (from the scenario the diagnosis used)."""
+def _phases(d) -> list:
+    """Phases of the diagnosis' inputs by :func:`validate.compare.detect_phases` (spindle from the
+    scenario's speed [rpm], ambient from its room air [degC]) on the measurement's time grid."""
+    from validate.compare import detect_phases
+
     sc = getattr(d, "scenario", None)
     if sc is None:
-        return
-    for (t0, t1), (_, n) in zip(zip(sc.step_starts[:-1], sc.step_starts[1:]), sc.steps):
-        if n > 0:
-            ax.axvspan(t0 / 3600, t1 / 3600, color="orange", alpha=0.12, lw=0)
+        return []
+    t = np.asarray(d.times, float)
+    return detect_phases(t, sc.spindle_speed(t), sc.ambient_temperature(t))
+
+
+_SPINDLE_COLOURS = {"spindle on": "orange", "speed change": "gold", "spindle off": None}
+_AMBIENT_COLOURS = {"ambient rising": "C3", "ambient falling": "C0", "ambient steady": None}
+
+
+def _shade_phases(ax, phases, label: bool = False) -> list:
+    """Shade spindle phases (on: orange, speed change: gold, off: clear) over the whole height and
+    ambient rising (red) / falling (blue) as a strip along the bottom; with ``label``, write each
+    spindle phase's name at the top. Returns legend handles."""
+    from matplotlib.patches import Patch
+
+    seen = {}
+    for p in phases:
+        th = (p.start / 3600, p.end / 3600)
+        if p.kind == "spindle":
+            key = next(k for k in _SPINDLE_COLOURS if p.label.startswith(k))
+            colour = _SPINDLE_COLOURS[key]
+            if colour:
+                ax.axvspan(*th, color=colour, alpha=0.15, lw=0)
+                seen.setdefault(key, Patch(color=colour, alpha=0.3, label=key))
+            if label:
+                ax.text(0.5 * sum(th), 1.2, p.label, transform=ax.get_xaxis_transform(), ha="center",
+                        va="bottom", fontsize=7, color="0.3")
+        else:
+            colour = _AMBIENT_COLOURS.get(p.label)
+            if colour:
+                ax.axvspan(*th, ymin=0, ymax=0.04, color=colour, alpha=0.5, lw=0)
+                seen.setdefault(p.label, Patch(color=colour, alpha=0.5, label=p.label + " (bottom strip)"))
+    return list(seen.values())
+
+
+def _candidate_text(c: dict, names: bool = True) -> str:
+    """``effect param = value unit`` (3 significant digits; values below 1e-9 of the parameter's
+    range shown as 0) from the candidate's SI values; ``names=False`` drops the effect name."""
+    from twin.effects import EFFECTS
+    from twin.units import format_quantity
+
+    out = []
+    for e, vals in c["values_si"].items():
+        for k, v in vals.items():
+            par = EFFECTS[e].parameter(k)
+            v = 0.0 if abs(v) < 1e-9 * (par.upper - par.lower) else float(f"{v:.3g}")
+            out.append(f"{e + ' ' if names or len(c['values_si']) > 1 else ''}{k} = {format_quantity(v, par.dimension)}")
+    return "; ".join(out)
+
+
+def _machine_outline(ax, machine, a: int, b: int) -> None:
+    import matplotlib.pyplot as plt
+
+    for part in machine.parts:
+        for box in part.boxes:
+            ax.add_patch(plt.Rectangle((box.lo[a], box.lo[b]), box.hi[a] - box.lo[a], box.hi[b] - box.lo[b],
+                                       fill=False, lw=0.5, color="grey"))
 
 
 def figures(d, machine, after: np.ndarray | None = None) -> dict[str, str]:
-    """Base64 PNGs keyed by title."""
+    """Base64 PNGs keyed by title: worst channels measured vs model (phases shaded), the machine
+    with sensors coloured by residual RMSE [K] (before and, with ``after``, after adding the top
+    candidate), and the candidate ranking with fitted strengths and confidence."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from validate.diagnose import UNITS
+    from matplotlib.colors import Normalize
+    from matplotlib.lines import Line2D
 
     out = {}
     th = d.times / 3600
+    phases = _phases(d)
+    top = _candidate_text(d.candidates[0]) if d.candidates else ""
     order = np.argsort(-d.baseline_rmse * d.weights)[:6]
-    fig, axes = plt.subplots(len(order), 1, figsize=(8, 2.0 * len(order)), sharex=True, squeeze=False)
-    for ax, k in zip(axes[:, 0], order):
-        _shade_phases(ax, d)
-        ax.plot(th, d.measured[:, k], "k.", ms=2, label="measured")
-        ax.plot(th, d.model[:, k], "C0-", label="model")
+    fig, axes = plt.subplots(len(order), 1, figsize=(8, 1.9 * len(order) + 0.6), sharex=True, squeeze=False)
+    handles = []
+    for i, (ax, k) in enumerate(zip(axes[:, 0], order)):
+        handles = _shade_phases(ax, phases, label=i == 0) or handles
+        ax.plot(th, d.measured[:, k], "k.", ms=2)
+        ax.plot(th, d.model[:, k], "C0-")
         if after is not None:
-            ax.plot(th, after[:, k], "C3--", label="model + top candidate")
-        ax.set_ylabel(f"{d.channels[k]}\n[{'degC' if d.groups[k] == 'temperature' else 'um'}]", fontsize=7)
-    axes[0, 0].legend(fontsize=7)
-    axes[-1, 0].set_xlabel("time [h] (shaded: spindle on)")
-    out["Measured vs model, worst channels (before/after overlay dashed)"] = _png(fig)
+            ax.plot(th, after[:, k], "C3--")
+        unit = "degC" if d.groups[k] == "temperature" else "um"
+        ax.set_ylabel(f"[{unit}]", fontsize=8)
+        ax.set_title(f"{d.channels[k]}: RMSE {d.baseline_rmse[k]:.3g}"
+                     + (f" -> {np.sqrt(np.mean((d.measured[:, k] - after[:, k]) ** 2)):.3g}" if after is not None else "")
+                     + f" {'K' if unit == 'degC' else unit}", fontsize=8, loc="left")
+    lines = [Line2D([], [], color="k", marker=".", ls="", label="measured"),
+             Line2D([], [], color="C0", label="model")]
+    if after is not None:
+        lines.append(Line2D([], [], color="C3", ls="--", label=f"model + {top}"))
+    axes[-1, 0].set_xlabel("time since start [h]")
+    entries = lines + handles
+    fig.tight_layout(rect=(0, 0.015 + 0.014 * -(-len(entries) // 3), 1, 1))
+    fig.legend(handles=entries, loc="lower center", ncol=3, fontsize=7, bbox_to_anchor=(0.5, 0.0))
+    out["Measured vs model, the worst channels (diagnosis mesh; dashed: after adding the top candidate)"] = _png(fig)
 
     temps = [i for i, g in enumerate(d.groups) if g == "temperature"]
     if temps and d.sensor_points:
-        fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+        rows = [("before", d.baseline_rmse[temps])]
+        if after is not None:
+            rows.append(("after", np.sqrt(np.mean((d.measured - after) ** 2, axis=0))[temps]))
+        norm = Normalize(0, max(float(rows[0][1].max()), 1e-9))
+        fig, axes = plt.subplots(len(rows), 2, figsize=(10, 4.6 * len(rows)), squeeze=False, layout="constrained")
         xyz = np.array([p.xyz for p in d.sensor_points])
-        for ax, (a, b, la) in zip(axes, ((0, 2, "x-z"), (1, 2, "y-z"))):
-            for part in machine.parts:
-                for box in part.boxes:
-                    ax.add_patch(plt.Rectangle((box.lo[a], box.lo[b]), box.hi[a] - box.lo[a], box.hi[b] - box.lo[b],
-                                               fill=False, lw=0.5, color="grey"))
-            sc = ax.scatter(xyz[:, a], xyz[:, b], c=d.baseline_rmse[temps], cmap="inferno_r", s=40, edgecolor="k")
-            ax.set_xlabel(f"{'xy'[a]} [m]")
-            ax.set_ylabel("z [m]")
-            ax.set_title(la)
-            ax.set_aspect("equal")
-            ax.autoscale()
-        fig.colorbar(sc, ax=axes, label=f"baseline residual RMSE [{UNITS['temperature']}]")
-        out["Machine with sensors coloured by residual"] = _png(fig)
+        for (what, rms), axrow in zip(rows, axes):
+            for ax, (a, b, view) in zip(axrow, ((0, 2, "front view (x-z)"), (1, 2, "side view (y-z, machine front on the left)"))):
+                _machine_outline(ax, machine, a, b)
+                sc = ax.scatter(xyz[:, a], xyz[:, b], c=rms, cmap="inferno_r", norm=norm, s=60, edgecolor="k", zorder=3)
+                for n, (x, z) in enumerate(zip(xyz[:, a], xyz[:, b]), 1):
+                    ax.annotate(str(n), (x, z), xytext=(5, 2), textcoords="offset points", fontsize=7, color="0.2")
+                ax.set_xlabel(f"{'xy'[a]} [m]")
+                ax.set_ylabel("z [m]")
+                ax.set_title(f"{what}: {view}", fontsize=9)
+                ax.set_aspect("equal")
+                ax.autoscale()
+        fig.colorbar(sc, ax=axes, label="residual RMSE of each temperature sensor [K]", shrink=0.7)
+        key = ", ".join(f"{n} {p.name}" for n, p in enumerate(d.sensor_points, 1))
+        fig.text(0.0, -0.01, "sensors: " + key + (f"\nafter: with {top}" if after is not None else ""), fontsize=7,
+                 va="top", wrap=True)
+        out["The machine with its temperature sensors coloured by residual RMSE"] = _png(fig)
 
     if d.candidates:
         c = d.candidates[:10][::-1]
-        fig, ax = plt.subplots(figsize=(8, 0.4 * len(c) + 1))
-        ax.barh([x["effect"] for x in c], [100 * x["explained"] for x in c], color="C2")
-        ax.set_xlabel("explained weighted residual [%]")
+        fig, ax = plt.subplots(figsize=(8, 0.45 * len(c) + 1.2))
+        colours = ["C2" if (x is d.candidates[0] and d.significant) else "0.6" for x in c]
+        ax.barh([x["effect"] for x in c], [100 * x["explained"] for x in c], color=colours)
+        for y, x in enumerate(c):
+            ax.text(max(100 * x["explained"], 0) + 1, y, f"{_candidate_text(x, names=False)}, confidence {x['confidence']:.2f}",
+                    va="center", fontsize=7)
+        ax.set_xlim(0, 160)
+        ax.set_xticks(range(0, 101, 20))
+        ax.set_xlabel("share of the weighted residual the candidate explains at its fitted strength [%]")
+        ax.set_title("green: reported as missing (significant); grey: not significant", fontsize=8)
         out["Candidate ranking"] = _png(fig)
     return out
 
 
+_CSS = ("body{font-family:sans-serif;max-width:1100px;margin:1em auto;padding:0 1em}"
+        "pre{white-space:pre-wrap;font-size:12px;background:#f6f6f6;padding:.5em}"
+        "img{max-width:100%}p.caption{color:#444;font-size:13px}")
+_CAPTIONS = {
+    "Measured": "Black dots: the measurement; blue: the model as it is; red dashed: the model with the top "
+                "candidate at its fitted strength. Shading: the phases found from the inputs (spindle on, "
+                "speed changes; a red/blue strip at the bottom: room air rising/falling). Each panel's title "
+                "gives the channel's RMSE before -> after (temperatures in K, probes in um).",
+    "The machine": "Each dot is a temperature sensor at its place on the machine (grey: the part outlines), "
+                   "coloured by the RMSE of measured minus model; the numbers are keyed below the picture.",
+    "Candidate": "Each effect the model lacks, fitted to the residual; the bar is the share of the weighted "
+                 "residual it explains, the label its fitted strength and its confidence (the Schwarz "
+                 "weight of the candidate among all candidates and 'nothing missing').",
+}
+
+
 def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None = None,
-                 sections: list[tuple[str, str]] | None = None) -> Path:
+                 sections: list[tuple[str, str]] | None = None,
+                 closing: list[tuple[str, str]] | None = None) -> Path:
     """Write ``folder/index.html`` atomically (figures embedded); returns its path.
 
-    ``sections``: extra (title, preformatted text) blocks shown after the verdict, e.g. the
-    comparison table of :func:`validate.compare.format_compare`."""
+    Order: the verdict; ``sections`` (title, preformatted text), e.g. the comparison table of
+    :func:`validate.compare.format_compare`; the candidate ranking; RMSE before/after on the
+    diagnosing model (with ``after``); ``closing`` sections; the figures with captions."""
     from validate.diagnose import format_diagnosis
     from validate.diagnose_cli import format_before_after
 
+    def block(title: str, text: str) -> str:
+        return f"<h2>{html.escape(title)}</h2><pre>{html.escape(text)}</pre>"
+
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    parts = ["<html><head><meta charset='utf-8'><title>twin diagnose</title></head><body>",
-             "<h1>Diagnosis: missing physical effects</h1>",
-             f"<p><b>{html.escape(d.message)}</b></p><pre>{html.escape(format_diagnosis(d))}</pre>"]
-    for title, text in sections or []:
-        parts.append(f"<h2>{html.escape(title)}</h2><pre>{html.escape(text)}</pre>")
+    parts = [f"<html><head><meta charset='utf-8'><title>twin diagnose</title><style>{_CSS}</style></head><body>",
+             "<h1>Diagnosis: missing physical effects</h1>", f"<p><b>{html.escape(d.message)}</b></p>"]
+    parts += [block(t, x) for t, x in sections or []]
+    parts.append(block("Ranking of the candidate effects", format_diagnosis(d)))
     if after is not None:
-        parts.append(f"<h2>RMSE before and after adding the top candidate</h2><pre>"
-                     f"{html.escape(format_before_after(d, after))}</pre>")
+        parts.append(block("RMSE before and after adding the top candidate (diagnosing model)",
+                           format_before_after(d, after)))
+    parts += [block(t, x) for t, x in closing or []]
     for title, png in figures(d, machine, after).items():
-        parts.append(f"<h2>{html.escape(title)}</h2><img src='data:image/png;base64,{png}'/>")
+        caption = next((c for k, c in _CAPTIONS.items() if title.startswith(k)), "")
+        parts.append(f"<h2>{html.escape(title)}</h2><p class='caption'>{html.escape(caption)}</p>"
+                     f"<img src='data:image/png;base64,{png}'/>")
     parts.append("</body></html>")
     path = folder / "index.html"
     fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=".html", dir=folder)
