@@ -29,7 +29,16 @@ squared error E::
 with Jang's normalised step (the step moves the premise vector a distance ``learning_rate``) and his
 step-size heuristics: x1.1 after four consecutive decreases of E, x0.9 after two up-down
 alternations. The parameters of the epoch with the lowest training error are kept (as MATLAB's
-``anfis`` returns). Internally inputs and target are z-scored, so ``learning_rate`` is in standard
+``anfis`` returns).
+
+Checking data (``validation_fraction``, default ``None``: off). Seed 001 trains on its heating and
+cooling test "split into training and validation" (ratio and method not stated), with MATLAB's
+``anfis`` and checking data, which returns the epoch of least *checking* error (hence the seed's
+2-200 "iterations" per model). With ``validation_fraction = f`` the rows are cut into blocks of
+``validation_block`` consecutive samples and every ``round(1/f)``-th block is held out as checking
+data (blocks, not single rows: neighbouring 10 s samples are nearly equal, so single held-out rows
+would check nothing); rules, consequents and premises are trained on the other rows, and the epoch
+with the least checking error is kept (``best_epoch_``, ``checking_curve_``). Internally inputs and target are z-scored, so ``learning_rate`` is in standard
 deviations; :meth:`rules_text` and the ``rule_*_`` attributes are in raw units (degC in, um out).
 """
 
@@ -79,6 +88,36 @@ def _consequents(Z, wbar, t):
     return p.reshape(R, -1)
 
 
+def _premise_gradient(Z, t, wbar, F, out, C, S):
+    """Gradient of the mean squared error over the rule-level centres and widths (R, d), consequents fixed."""
+    G = (2.0 / len(t)) * (out - t)[:, None] * wbar * (F - out[:, None])       # dE/dlog w  (n, R)
+    g_sum = G.sum(axis=0)[:, None]
+    GZ, GZ2 = G.T @ Z, G.T @ (Z * Z)
+    gC = (GZ - C * g_sum) / S ** 2
+    gS = (GZ2 - 2.0 * C * GZ + C * C * g_sum) / S ** 3
+    return gC, gS
+
+
+def _checking_rows(n: int, fraction, block) -> np.ndarray | None:
+    """Boolean mask of the checking rows: every ``round(1/fraction)``-th block of ``block`` consecutive rows
+    (the last block of each period), or ``None`` when ``fraction`` is ``None``/0. A record too short for two
+    checking blocks gets shorter blocks (``n // (2 round(1/fraction))`` rows)."""
+    if not fraction:
+        return None
+    if not 0.0 < float(fraction) <= 0.5:
+        raise ValueError(f"validation_fraction must be in (0, 0.5], got {fraction}")
+    block = int(block)
+    if block < 1:
+        raise ValueError(f"validation_block must be >= 1, got {block}")
+    period = max(2, int(round(1.0 / float(fraction))))
+    block = max(1, min(block, n // (2 * period)))  # short records: smaller blocks, at least two checking blocks
+    check = (np.arange(n) // block) % period == period - 1
+    if check.sum() < 1 or (~check).sum() < 3:
+        raise InputError("data", "rows", f"ANFIS checking split (fraction {fraction}, blocks of {block} rows) "
+                                         f"leaves no checking or too few training rows out of {n}")
+    return check
+
+
 def _output(Z, wbar, P):
     F = Z @ P[:, 1:].T + P[:, 0]
     return (wbar * F).sum(axis=1), F
@@ -114,22 +153,25 @@ class _ANFISBase(RegressorMixin, BaseEstimator):
             raise ValueError("epochs must be >= 0 and learning_rate > 0")
         Z, self.x_mean_, self.x_scale_ = standardise(X)
         t, self.y_mean_, self.y_scale_ = standardise(y)
+        check = _checking_rows(len(t), self.validation_fraction, self.validation_block)
+        if check is not None:
+            Zc, tc, Z, t = Z[check], t[check], Z[~check], t[~check]
         self.mf_centers_, self.mf_sigmas_, self.rule_mf_ = self._initial_premises(Z, t)
-        n = len(t)
         step = float(self.learning_rate)
-        history, best = [], None
+        history, checking, best = [], [], None
         for epoch in range(int(self.epochs) + 1):
             err, P, wbar, F, out, C, S = self._evaluate(Z, t)
             history.append(err)
-            if best is None or err < best[0]:
-                best = (err, [c.copy() for c in self.mf_centers_], [s.copy() for s in self.mf_sigmas_], P)
+            score = err
+            if check is not None:  # MATLAB anfis with checking data: keep the epoch of least checking error
+                out_c, _ = _output(Zc, _normalise(_premise_terms(Zc, C, S)), P)
+                score = float(np.mean((out_c - tc) ** 2))
+                checking.append(score)
+            if best is None or score < best[0]:
+                best = (score, [c.copy() for c in self.mf_centers_], [s.copy() for s in self.mf_sigmas_], P, epoch)
             if epoch == int(self.epochs) or err <= 1e-14:
                 break
-            G = (2.0 / n) * (out - t)[:, None] * wbar * (F - out[:, None])       # dE/dlog w  (n, R)
-            g_sum = G.sum(axis=0)[:, None]
-            GZ, GZ2 = G.T @ Z, G.T @ (Z * Z)
-            gC = (GZ - C * g_sum) / S ** 2
-            gS = (GZ2 - 2.0 * C * GZ + C * C * g_sum) / S ** 3
+            gC, gS = _premise_gradient(Z, t, wbar, F, out, C, S)
             gc, gs = self._scatter(gC), self._scatter(gS)
             norm = np.sqrt(sum(float(a @ a) + float(b @ b) for a, b in zip(gc, gs)))
             if norm <= 0 or not np.isfinite(norm):
@@ -138,8 +180,9 @@ class _ANFISBase(RegressorMixin, BaseEstimator):
                 self.mf_centers_[j] = self.mf_centers_[j] - step * gc[j] / norm
                 self.mf_sigmas_[j] = np.maximum(self.mf_sigmas_[j] - step * gs[j] / norm, _MIN_SIGMA)
             step = self._adapt_step(step, history)
-        _, self.mf_centers_, self.mf_sigmas_, self.consequents_ = best
+        _, self.mf_centers_, self.mf_sigmas_, self.consequents_, self.best_epoch_ = best
         self.loss_curve_ = np.sqrt(np.array(history)) * self.y_scale_   # training RMSE per epoch, y units
+        self.checking_curve_ = np.sqrt(np.array(checking)) * self.y_scale_ if check is not None else None
         self.n_rules_ = self.rule_mf_.shape[0]
         self._raw_rules()
         return self
@@ -207,19 +250,26 @@ class ANFISGrid(_ANFISBase):
     epochs : int, default 50          hybrid-learning epochs
     learning_rate : float, default 0.01   initial normalised step (standard deviations; MATLAB's 0.01)
     max_rules : int, default 1024     refuse larger grids (they grow as n_mfs ** n_inputs)
+    validation_fraction : float or None, default None   share of rows held out as checking data
+                                      (module docstring); the epoch of least checking error is kept
+    validation_block : int, default 30   consecutive rows per checking block (30 = 5 min at 10 s)
     random_state : int or None        accepted for a uniform interface; grid training is deterministic
 
     Attributes: ``n_rules_``, ``mf_centers_``/``mf_sigmas_`` (per input, standardised units),
     ``rule_mf_`` (R, d) MF index of each rule, ``consequents_`` (R, d+1, standardised),
     ``rule_centers_``, ``rule_sigmas_``, ``rule_coefs_``, ``rule_intercepts_`` (raw units),
-    ``loss_curve_`` (training RMSE per epoch, units of y).
+    ``loss_curve_`` (training RMSE per epoch, units of y), ``checking_curve_`` (checking RMSE per
+    epoch, or ``None``), ``best_epoch_`` (the epoch whose parameters are kept).
     """
 
-    def __init__(self, n_mfs=3, epochs=50, learning_rate=0.01, max_rules=1024, random_state=None):
+    def __init__(self, n_mfs=3, epochs=50, learning_rate=0.01, max_rules=1024, validation_fraction=None,
+                 validation_block=30, random_state=None):
         self.n_mfs = n_mfs
         self.epochs = epochs
         self.learning_rate = learning_rate
         self.max_rules = max_rules
+        self.validation_fraction = validation_fraction
+        self.validation_block = validation_block
         self.random_state = random_state
 
     def _initial_premises(self, Z, t):
@@ -254,16 +304,20 @@ class ANFISFCM(_ANFISBase):
     epochs : int, default 50
     learning_rate : float, default 0.01
     fcm_m : float, default 2.0        FCM fuzzifier (not stated in the seeds; MATLAB default)
+    validation_fraction, validation_block   checking data, as :class:`ANFISGrid`
     random_state : int or None        seeds the FCM initial centres
 
     Attributes as :class:`ANFISGrid`; ``mf_centers_[j]`` has one entry per rule.
     """
 
-    def __init__(self, n_rules=3, epochs=50, learning_rate=0.01, fcm_m=2.0, random_state=None):
+    def __init__(self, n_rules=3, epochs=50, learning_rate=0.01, fcm_m=2.0, validation_fraction=None,
+                 validation_block=30, random_state=None):
         self.n_rules = n_rules
         self.epochs = epochs
         self.learning_rate = learning_rate
         self.fcm_m = fcm_m
+        self.validation_fraction = validation_fraction
+        self.validation_block = validation_block
         self.random_state = random_state
 
     def _initial_premises(self, Z, t):

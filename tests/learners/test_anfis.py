@@ -59,3 +59,55 @@ def test_grid_refuses_rule_explosion():
     X = np.random.default_rng(0).random((50, 8))
     with pytest.raises(InputError):
         ANFISGrid(n_mfs=3).fit(X, X.sum(axis=1))
+
+
+def test_premise_gradient_matches_finite_differences():
+    """Jang's backward pass: the analytic premise gradient (consequents fixed) equals central differences."""
+    from learners.anfis import _consequents, _normalise, _output, _premise_gradient, _premise_terms
+
+    rng = np.random.default_rng(3)
+    Z, t = rng.standard_normal((80, 2)), rng.standard_normal(80)
+    C, S = rng.standard_normal((3, 2)), 0.5 + rng.random((3, 2))
+    P = _consequents(Z, _normalise(_premise_terms(Z, C, S)), t)
+
+    def mse(C_, S_):
+        out, _ = _output(Z, _normalise(_premise_terms(Z, C_, S_)), P)
+        return float(np.mean((out - t) ** 2))
+
+    wbar = _normalise(_premise_terms(Z, C, S))
+    out, F = _output(Z, wbar, P)
+    gC, gS = _premise_gradient(Z, t, wbar, F, out, C, S)
+    h = 1e-6
+    for g, which in ((gC, 0), (gS, 1)):
+        num = np.zeros_like(g)
+        for idx in np.ndindex(g.shape):
+            d = np.zeros_like(g)
+            d[idx] = h
+            args_p = (C + d, S) if which == 0 else (C, S + d)
+            args_m = (C - d, S) if which == 0 else (C, S - d)
+            num[idx] = (mse(*args_p) - mse(*args_m)) / (2 * h)
+        np.testing.assert_allclose(g, num, rtol=1e-5, atol=1e-9)
+
+
+def test_checking_data_keeps_the_epoch_of_least_checking_error():
+    """validation_fraction holds out blocks of consecutive rows and keeps the best checking epoch (MATLAB anfis)."""
+    from learners.anfis import _checking_rows
+
+    mask = _checking_rows(100, 0.2, 10)
+    assert mask.sum() == 20 and np.array_equal(np.flatnonzero(mask)[:10], np.arange(40, 50))
+    X, y = _grid_law()
+    y = y + 0.05 * np.random.default_rng(0).standard_normal(y.size)
+    m = ANFISFCM(n_rules=9, epochs=40, validation_fraction=0.2, validation_block=21, random_state=0).fit(X, y)
+    assert m.checking_curve_.shape == m.loss_curve_.shape
+    assert m.best_epoch_ == int(np.argmin(m.checking_curve_))
+    off = ANFISFCM(n_rules=9, epochs=40, random_state=0).fit(X, y)
+    assert off.checking_curve_ is None and off.best_epoch_ == int(np.argmin(off.loss_curve_))
+    with pytest.raises(ValueError):
+        ANFISFCM(validation_fraction=0.9).fit(X, y)
+
+
+def test_checking_blocks_shrink_on_short_records():
+    from learners.anfis import _checking_rows
+
+    mask = _checking_rows(51, 0.2, 30)  # 51 rows: blocks of 5, two checking blocks
+    assert mask.sum() == 10 and np.array_equal(np.flatnonzero(mask), np.r_[20:25, 45:50])
