@@ -202,7 +202,8 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
         if top["effect"] == HIDDEN:
             fit = top["values_si"][HIDDEN][HIDDEN_PARAMETER]
             say(f"  the hidden truth was {HIDDEN}.{HIDDEN_PARAMETER} = {true_text}; fitted {_short(fit, par.dimension)} "
-                f"({fit / hidden_value - 1:+.0%}: the diagnosing model is coarser than the 'real' machine)")
+                f"({fit / hidden_value - 1:+.0%}; the model differs from the 'real' machine in materials, time step "
+                f"and mesh, and absorbs some of that)")
     else:
         say("apply: nothing significant to add")
     lap("apply")
