@@ -16,6 +16,9 @@ between rules, so their gradients are summed). ``anfis-fcm`` (seed 001 L93, L124
 MATLAB ``genfis3`` + ``anfis``): fuzzy c-means on the joined input-output training data with
 ``n_rules`` clusters; rule r takes the input part of centre r as its MF centres and the
 membership-weighted spread as widths, sigma_rj^2 = sum_n u_nr^m (x_nj - c_rj)^2 / sum_n u_nr^m.
+Deviation from ``genfis3``: FCM runs on z-scored inputs and output (``genfis3`` clusters raw units,
+where the output in um would dominate the distances); on the seed-001 twin data clustering in raw
+units does not test better (checked, not adopted).
 
 Training, Jang's hybrid rule (seed 000 L2248-L2268; seed 001 L126): each epoch a forward pass
 solves the consequents p by linear least squares (y is linear in p for fixed premises; normal

@@ -58,3 +58,20 @@ def test_placement_main_quick_writes_outputs(tmp_path):
     for name in ("placement.md", "placement.csv", "placement_draws.csv", "placement.png"):
         assert (tmp_path / name).stat().st_size > 0
     assert "greedy-oracle" in (tmp_path / "placement.md").read_text()
+
+
+def test_seed001_learner_notes_are_computed_from_the_models():
+    from learners.anfis import ANFISGrid
+    from learners.grey import GM11
+
+    t = np.arange(120.0)
+    X = np.column_stack([1 - np.exp(-t / 30), 1 - np.exp(-t / 50)]) * 5
+    y = -3.0 * X[:, 0] + X[:, 1]
+    Xt = X[::-1].copy()
+    bad = {"train_nse": 0.9, "test_nse": -2.0}
+    assert study_seed001.learner_note("gm11", {"train_nse": 0.9, "test_nse": 0.5}, GM11().fit(X, y), X, y, Xt) is None
+    assert "ignores the temperatures" in study_seed001.learner_note("gm11", bad, GM11().fit(X, y), X, y, Xt)
+    note = study_seed001.learner_note("anfis-grid", bad, ANFISGrid(n_mfs=2, epochs=2).fit(X, y), X, y, Xt)
+    assert "4 rules with 12 least-squares consequent parameters" in note
+    assert "refused" in study_seed001.learner_note("gm1n", {"error": "unstable"}, None, X, y, Xt)
+    assert "grows 1e" in study_seed001.grey_equation_note(X, y) or "(stable)" in study_seed001.grey_equation_note(X, y)
