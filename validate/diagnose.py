@@ -26,7 +26,13 @@ Significance: the top candidate is reported as missing only if it beats the base
 ``bic_margin`` (default 10, "very strong" evidence) *and* explains at least ``min_explained``
 (default 50 %) of the weighted residual; otherwise the diagnosis says nothing significant is
 missing. Pairs are tried among the best singles when none explains ``pair_threshold`` (80 %), and
-kept only if they explain ``pair_gain`` (10 %) more of it than their better member alone.
+kept only if the second member passes the same test against the residual the better member
+leaves (BIC gain >= ``bic_margin``, >= ``min_explained`` of that residual explained).
+
+Reasoning: for every candidate, the fraction of the weighted residual it removes per channel and
+per phase of the inputs (:func:`validate.compare.detect_phases`: spindle on / off / speed change,
+ambient rising / falling / steady), next to the share of the residual each cell holds
+(:func:`reasoning`).
 """
 
 from __future__ import annotations
@@ -64,6 +70,7 @@ class Diagnosis:
     runs: int = 0
     sensor_points: list = field(default_factory=list)
     scenario: object = None
+    phases: list = field(default_factory=list)   # validate.compare.Phase, from the inputs
 
     @property
     def residual(self) -> np.ndarray:
@@ -137,8 +144,7 @@ def format_values(values: dict[str, dict[str, float]]) -> dict[str, dict[str, st
 
 def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: str = "coarse", mm=None,
              candidates: list[str] | None = None, min_explained: float = 0.5, bic_margin: float = 10.0,
-             pair_threshold: float = 0.8, pair_pool: int = 4,
-             pair_gain: float = 0.1) -> Diagnosis:
+             pair_threshold: float = 0.8, pair_pool: int = 4) -> Diagnosis:
     """Rank the effects missing from ``spec`` by how much of the residual of ``ds`` they explain.
 
     ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
@@ -159,6 +165,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     w = channel_weights(r, groups, sigma)
     d = Diagnosis(t_meas, names, groups, meas, base, w, np.sqrt(np.mean(r ** 2, axis=0)), spec=spec)
     d.sensor_points, d.scenario = engine.sensors, scenario
+    d.phases = input_phases(ds, scenario, t_meas)
     fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w)
     pool = candidates if candidates is not None else [e for e in EFFECTS if e not in spec.effects]
     fits = [f for f in (fitter.fit_single(e) for e in pool) if f is not None]
@@ -167,12 +174,69 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     if fits and 1 - fits[0].sse / sse0 < pair_threshold:
         top = fits[:pair_pool]
         pairs = [fitter.fit_pair(a, b) for i, a in enumerate(top) for b in top[i + 1:]]
-        # a pair is kept only if it explains pair_gain (10 %) more than its better member
-        fits += [p for p in pairs if (min(a.sse for a in top if a.effects[0] in p.effects) - p.sse) >= pair_gain * sse0]
+        n_eff = effective_samples(r - fits[0].response)
+        fits += [p for p in pairs if _pair_significant(p, top, n_eff, min_explained, bic_margin)]
         fits.sort(key=lambda f: f.sse)
     d.fits, d.runs = fits, engine.runs
     _score(d, fits, r, sse0, min_explained, bic_margin)
     return d
+
+
+def _pair_significant(pair: Fit, singles: list[Fit], n_eff: float, min_explained: float, bic_margin: float) -> bool:
+    """The second member of a pair must pass the same test as a single against the baseline, taken
+    against the residual its better member leaves: BIC gain >= ``bic_margin`` for the extra
+    parameter and at least ``min_explained`` of that residual explained. (A fixed gain in the
+    fraction of the *baseline* residual lets a second effect in on weaker evidence than the first:
+    with structured model error left over, some candidate always soaks up 10 % of it.)"""
+    better = min((f for f in singles if f.effects[0] in pair.effects), key=lambda f: f.sse)
+    if better.sse <= 0:
+        return False
+    gain = n_eff * np.log(better.sse / max(pair.sse, 1e-300)) - (pair.nparams - better.nparams) * np.log(n_eff)
+    return bool(gain >= bic_margin and 1 - pair.sse / better.sse >= min_explained)
+
+
+def input_phases(ds, scenario, t: np.ndarray) -> list:
+    """Phases of the inputs (:func:`validate.compare.detect_phases`): the measured spindle speed
+    and room air where the Dataset has them, else the scenario's, on the measurement's grid."""
+    from validate.compare import detect_phases
+    speed = (np.asarray(ds["spindle_speed"].values, float) if "spindle_speed" in ds
+             else np.asarray(scenario.spindle_speed(t), float))
+    ambient = (np.asarray(ds["ambient_temperature"].values, float) if "ambient_temperature" in ds
+               else np.asarray(scenario.ambient_temperature(t), float))
+    return detect_phases(t, speed, ambient)
+
+
+def reasoning(d: Diagnosis, response: np.ndarray, top_channels: int = 4) -> dict:
+    """Where a candidate's response g explains the residual r: per channel and per input phase.
+
+    With weighted squares e = (w r)^2 before and (w (r - g))^2 after, for a set S of samples
+    (a channel's column, or a phase's rows over every channel):
+
+    * ``share``: sum_S e_before / SSE_0, the part of the baseline residual lying in S;
+    * ``explained``: 1 - sum_S e_after / sum_S e_before, the fraction of it removed (negative:
+      the candidate makes S worse).
+
+    ``channels``: the ``top_channels`` channels carrying the largest explained share
+    (share x explained), i.e. the evidence for the candidate; ``phases``: every phase.
+    """
+    r = d.residual
+    before = (r * d.weights) ** 2
+    after = ((r - response) * d.weights) ** 2
+    total = float(before.sum()) or 1.0
+
+    def cell(b, a):
+        sb = float(b.sum())
+        return {"share": sb / total, "explained": (1 - float(a.sum()) / sb) if sb > 0 else 0.0}
+
+    chans = [{"channel": c, **cell(before[:, k], after[:, k])} for k, c in enumerate(d.channels)]
+    chans.sort(key=lambda x: -x["share"] * x["explained"])
+    phases = []
+    for p in d.phases:
+        sel = (d.times >= p.start) & (d.times < p.end)
+        if sel.any():
+            phases.append({"kind": p.kind, "phase": p.label, "start_h": p.start / 3600, "end_h": p.end / 3600,
+                           **cell(before[sel], after[sel])})
+    return {"channels": chans[:top_channels], "phases": phases}
 
 
 def _score(d: Diagnosis, fits: list[Fit], r, sse0, min_explained, bic_margin):
@@ -209,6 +273,7 @@ def _score(d: Diagnosis, fits: list[Fit], r, sse0, min_explained, bic_margin):
             "indistinguishable_from": twins[:5],
             "explains_most": best_ch,
             "fitted_parameters": f.nparams,
+            "reasoning": reasoning(d, f.response),
         })
     top = d.candidates[0] if d.candidates else None
     d.significant = bool(top and top["delta_bic"] >= bic_margin and top["explained"] >= min_explained)
@@ -259,11 +324,27 @@ def format_diagnosis(d: Diagnosis, top: int = 8) -> str:
         lines.append(f"{i:>4}  {c['effect']:<44} {c['explained']:>8.1%} {c['delta_bic']:>8.1f} "
                      f"{c['confidence']:>5.2f}  {_params_text(c)}")
         if i <= 3:
-            lines.append(f"{'':>6}explains most on: {', '.join(c['explains_most'])}"
-                         + (f"; cannot be told apart from: {', '.join(c['indistinguishable_from'])}"
-                            if c["indistinguishable_from"] else ""))
+            lines += _reasoning_lines(c)
     lines += ["", d.message]
     return "\n".join(lines)
+
+
+def _reasoning_lines(c: dict, pad: str = " " * 6) -> list[str]:
+    """The why of one candidate: channels and phases it explains (share of residual, explained)."""
+    why = c.get("reasoning", {})
+    out = []
+    if why.get("channels"):
+        out.append(pad + "channels (explained/share of residual): " + ", ".join(
+            f"{x['channel']} {x['explained']:.0%}/{x['share']:.0%}" for x in why["channels"]))
+    for kind in ("spindle", "ambient"):
+        cells = [x for x in why.get("phases", []) if x["kind"] == kind]
+        if cells:
+            out.append(pad + f"{kind} phases: " + ", ".join(
+                f"{x['phase']} ({x['start_h']:.1f}-{x['end_h']:.1f} h) {x['explained']:.0%}/{x['share']:.0%}"
+                for x in cells))
+    if c.get("indistinguishable_from"):
+        out.append(pad + "cannot be told apart from: " + ", ".join(c["indistinguishable_from"]))
+    return out
 
 
 def diagnosis_json(d: Diagnosis) -> dict:
@@ -274,5 +355,6 @@ def diagnosis_json(d: Diagnosis) -> dict:
         "significant": d.significant,
         "message": d.message,
         "effective_samples": d.n_eff,
+        "phases": [{"kind": p.kind, "phase": p.label, "start_s": p.start, "end_s": p.end} for p in d.phases],
         "candidates": [{k: v for k, v in c.items() if k != "values_si"} for c in d.candidates],
     }
