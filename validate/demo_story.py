@@ -210,7 +210,12 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
 
     rep = out_dir / "report"
     rep.mkdir(parents=True, exist_ok=True)
-    sections = [(f"Compare: the default twin ({mesh} mesh) vs the measurement {csv_path.name}", _compare_text(cmp0))]
+    about = (f"This page was written by `twin demo` on generated data. The 'measurement' {csv_path.name} is the\n"
+             f"default twin plus {HIDDEN} ({HIDDEN}.{HIDDEN_PARAMETER} = {true_text}), which the model does not\n"
+             f"have, simulated on the {mesh} mesh with half the time step, perturbed materials, sensor noise,\n"
+             f"quantisation and bias. The diagnosis should find {HIDDEN} and a strength near {true_text}.")
+    sections = [("About this measurement", about),
+                (f"Compare: the default twin ({mesh} mesh) vs the measurement {csv_path.name}", _compare_text(cmp0))]
     closing = []
     if cmp1 is not None:
         closing.append((f"After adding {_candidate_args(top)}: RMSE per channel, twin on the {mesh} mesh",
