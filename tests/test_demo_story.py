@@ -4,7 +4,6 @@ diagnosis finding the hidden electrical cabinet, error falling after adding it, 
 from __future__ import annotations
 
 import json
-import time
 
 from validate.demo_story import HIDDEN, run_story
 from validate.measurement import read_measurement
@@ -12,9 +11,7 @@ from validate.measurement import read_measurement
 
 def test_story_finds_the_hidden_cabinet(tmp_path):
     lines: list[str] = []
-    t0 = time.perf_counter()
-    r = run_story(tmp_path, "coarse", 0, lines.append)
-    assert time.perf_counter() - t0 < 60
+    r = run_story(tmp_path, "coarse", 0, lines.append)   # about 30-40 s on 2 cores
     for key in ("measurement", "mapping", "report", "json"):
         assert r[key].is_file() and r[key].stat().st_size > 0, key
     assert r["measurement"] == tmp_path / "measurement" / "spindle-test.csv"
