@@ -70,8 +70,8 @@ def plot_field_3d(mm, field: np.ndarray, path, title: str = "") -> None:
     fig = plt.figure(figsize=(8, 8))
     ax = fig.add_subplot(projection="3d")
     norm = plt.Normalize(values.min(), values.max())
-    cmap = plt.get_cmap("inferno")
-    ax.add_collection3d(Poly3DCollection(xyz * 1e3, facecolors=cmap(norm(values)), edgecolors="none"))
+    cmap = plt.get_cmap("coolwarm")
+    ax.add_collection3d(Poly3DCollection(xyz * 1e3, facecolors=cmap(norm(values)), edgecolors=(0, 0, 0, 0.08), linewidths=0.2))
     lo, hi = mesh.p.min(axis=1) * 1e3, mesh.p.max(axis=1) * 1e3
     span = (hi - lo).max() / 2
     mid = (hi + lo) / 2
