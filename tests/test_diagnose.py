@@ -106,3 +106,19 @@ def test_nothing_hidden_without_the_bar_seat(case):
     d = diagnose(ds, machine, sc, spec, mm=mm, candidates=pool)
     assert not d.significant, format_diagnosis(d)
     assert "nothing significant" in format_diagnosis(d)
+
+
+def test_model_error_weights_and_finer_mesh():
+    """w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)): a channel with a model-error estimate e_c weighs
+    less, the others keep the group weight; finer_resolution walks coarse -> default -> fine."""
+    from validate.diagnose import channel_weights, finer_resolution
+    r = np.ones((10, 3)) * [0.3, 0.4, 0.0]
+    groups = ["temperature", "temperature", "probe"]
+    sigma = {"temperature": 0.05, "probe": 0.1}
+    plain = channel_weights(r, groups, sigma)
+    s = np.sqrt((0.09 + 0.16) / 2)
+    np.testing.assert_allclose(plain, [1 / (s * np.sqrt(2))] * 2 + [1 / 0.1])
+    w = channel_weights(r, groups, sigma, np.array([0.0, 2 * s, 0.0]))
+    np.testing.assert_allclose(w, [plain[0], plain[1] / np.sqrt(5), plain[2]])
+    machine = build_machine("cframe-vmc")
+    assert [finer_resolution(machine, r) for r in ("coarse", "default", "fine")] == ["default", "fine", None]

@@ -12,6 +12,12 @@ channels of sqrt(mean(diff(y)^2) / 2), floored by half a quantisation step). Eac
 carries the same share of the weighted sum of squares SSE = sum (w r)^2, and a group already
 at its noise level is not inflated.
 
+Model error: with ``error_resolution`` the baseline is also run on a finer mesh; e_c, the RMS over
+time of the difference on channel c, estimates the diagnosing model's discretisation error there,
+and the channel's weight becomes w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)) (generalised least
+squares with a model-error variance): a channel the coarse model cannot reproduce anyway (a thin
+test bar, a sensor beside a bearing) is weak evidence for any candidate.
+
 Scores of a candidate with k fitted parameters and weighted sum of squares SSE_k:
 
 * explained = 1 - SSE_k / SSE_0 (SSE_0: the baseline model);
@@ -71,6 +77,8 @@ class Diagnosis:
     sensor_points: list = field(default_factory=list)
     scenario: object = None
     phases: list = field(default_factory=list)   # validate.compare.Phase, from the inputs
+    model_error_rms: np.ndarray | None = None      # per channel, estimated discretisation error
+    error_resolution: str | None = None
 
     @property
     def residual(self) -> np.ndarray:
@@ -116,15 +124,38 @@ def noise_levels(y: np.ndarray, groups: list[str], spec: ModelSpec) -> dict[str,
     return {k: max(float(np.median(d[g == k])), floors[k], 1e-12) for k in GROUPS if np.any(g == k)}
 
 
-def channel_weights(residual: np.ndarray, groups: list[str], sigma: dict[str, float]) -> np.ndarray:
-    """w_g = 1 / (max(group residual RMS, sigma_g) sqrt(m_g)) for each channel (see module doc)."""
+def channel_weights(residual: np.ndarray, groups: list[str], sigma: dict[str, float],
+                    model_error: np.ndarray | None = None) -> np.ndarray:
+    """w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)), s_g = max(group residual RMS, sigma_g), e_c the
+    RMS of the estimated model (discretisation) error of channel c (0 without an estimate); see
+    the module doc."""
     g = np.array(groups)
     w = np.zeros(len(groups))
+    e = np.zeros(len(groups)) if model_error is None else np.asarray(model_error, float)
     for k, s in sigma.items():
         m = g == k
-        rms = float(np.sqrt(np.mean(residual[:, m] ** 2)))
-        w[m] = 1.0 / (max(rms, s) * np.sqrt(m.sum()))
+        rms = max(float(np.sqrt(np.mean(residual[:, m] ** 2))), s)
+        w[m] = 1.0 / (np.sqrt(rms ** 2 + e[m] ** 2) * np.sqrt(m.sum()))
     return w
+
+
+def mesh_error(ds, machine, scenario, spec: ModelSpec, mm, resolution: str) -> np.ndarray:
+    """Per-channel RMS of (model on ``resolution``) - (model on ``mm``) on the measurement's grid
+    and channels: the estimate of the diagnosing model's discretisation error ``diagnose`` uses."""
+    t = np.asarray(ds["time"].values, float)
+    t = t - t[0]
+    sensors = sensor_points(ds, machine) if "temperature" in ds else []
+    coarse = Engine(machine, scenario, mm=mm, sensors=sensors)
+    finer = Engine(machine, scenario, resolution, sensors=sensors)
+    interp = _interpolator(coarse.times, t)
+    return np.sqrt(np.mean((interp(finer.observe(spec)) - interp(coarse.observe(spec))) ** 2, axis=0))
+
+
+def finer_resolution(machine, resolution: str) -> str | None:
+    """The machine's next finer mesh resolution than ``resolution`` (None if it is the finest)."""
+    sizes = machine.resolutions
+    finer = [r for r in sizes if sizes[r] < sizes[resolution]]
+    return max(finer, key=lambda r: sizes[r]) if finer else None
 
 
 def effective_samples(res: np.ndarray) -> float:
@@ -144,13 +175,18 @@ def format_values(values: dict[str, dict[str, float]]) -> dict[str, dict[str, st
 
 def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: str = "coarse", mm=None,
              candidates: list[str] | None = None, min_explained: float = 0.5, bic_margin: float = 10.0,
-             pair_threshold: float = 0.8, pair_pool: int = 4) -> Diagnosis:
+             pair_threshold: float = 0.8, pair_pool: int = 4, error_resolution: str | None = None,
+             model_error: np.ndarray | None = None) -> Diagnosis:
     """Rank the effects missing from ``spec`` by how much of the residual of ``ds`` they explain.
 
     ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
     ``machine``: a built machine; ``scenario``: the Scenario that drove it (its grid must cover
     ``ds.time``); ``mm``: a prebuilt mesh of ``machine`` (else ``machine.mesh(resolution)``).
-    ``candidates`` defaults to every registered effect not in ``spec``.
+    ``candidates`` defaults to every registered effect not in ``spec``. ``error_resolution``: a
+    finer mesh on which the baseline is run once more; the difference per channel estimates the
+    diagnosing model's discretisation error, and channels where it is large weigh less;
+    ``model_error`` gives that per-channel RMS directly (e.g. from :func:`mesh_error`, reused
+    for several measurements of one scenario and model).
     """
     spec = spec or ModelSpec()
     meas, names, groups = measured_channels(ds)
@@ -162,8 +198,13 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     base = interp(engine.observe(spec))
     r = meas - base
     sigma = noise_levels(meas, groups, spec)
-    w = channel_weights(r, groups, sigma)
+    err = model_error
+    if err is None and error_resolution:
+        finer = Engine(machine, scenario, error_resolution, sensors=sensors)
+        err = np.sqrt(np.mean((interp(finer.observe(spec)) - base) ** 2, axis=0))
+    w = channel_weights(r, groups, sigma, err)
     d = Diagnosis(t_meas, names, groups, meas, base, w, np.sqrt(np.mean(r ** 2, axis=0)), spec=spec)
+    d.model_error_rms, d.error_resolution = err, error_resolution
     d.sensor_points, d.scenario = engine.sensors, scenario
     d.phases = input_phases(ds, scenario, t_meas)
     fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w)
@@ -317,6 +358,9 @@ def format_diagnosis(d: Diagnosis, top: int = 8) -> str:
         if idx:
             vals = ", ".join(f"{d.channels[i].split(':', 1)[1]} {d.baseline_rmse[i]:.3g}" for i in idx)
             lines.append(f"  {g} [{UNITS[g]}]: {vals}")
+            if d.model_error_rms is not None:
+                vals = ", ".join(f"{d.channels[i].split(':', 1)[1]} {d.model_error_rms[i]:.3g}" for i in idx)
+                lines.append(f"    mesh error estimate ({d.error_resolution} vs the diagnosing mesh): {vals}")
     lines.append("")
     head = f"{'rank':>4}  {'effect':<44} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
     lines += [head, "-" * len(head)]
@@ -355,6 +399,9 @@ def diagnosis_json(d: Diagnosis) -> dict:
         "significant": d.significant,
         "message": d.message,
         "effective_samples": d.n_eff,
+        "model_error_rms": (None if d.model_error_rms is None else
+                            {"resolution": d.error_resolution,
+                             "rmse": {c: float(v) for c, v in zip(d.channels, d.model_error_rms)}}),
         "phases": [{"kind": p.kind, "phase": p.label, "start_s": p.start, "end_s": p.end} for p in d.phases],
         "candidates": [{k: v for k, v in c.items() if k != "values_si"} for c in d.candidates],
     }

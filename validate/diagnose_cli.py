@@ -27,6 +27,9 @@ def add_diagnose_parser(subparsers) -> None:
     p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE", help="set a parameter (repeatable)")
     p.add_argument("--mesh", default="coarse", choices=["coarse", "default", "fine"],
                    help="mesh of the diagnosing model (default coarse: many runs)")
+    p.add_argument("--error-mesh", default="auto", choices=["auto", "none", "coarse", "default", "fine"],
+                   help="mesh on which the baseline is rerun once to estimate the diagnosing model's discretisation "
+                        "error per channel (default auto: the next finer than --mesh; none: no estimate)")
     p.add_argument("--json", metavar="FILE", help="write baseline and ranked candidates as JSON")
     p.add_argument("--apply", action="store_true", help="rerun with the top candidate at its fitted strength")
     p.add_argument("--report", metavar="DIR", help="write an HTML report with figures into DIR")
@@ -93,6 +96,19 @@ def format_before_after(d, after: np.ndarray) -> str:
     return "\n".join(lines)
 
 
+def error_resolution(args, machine) -> str | None:
+    """The ``--error-mesh`` choice resolved against the machine (None: no estimate)."""
+    from validate.diagnose import finer_resolution
+    choice = getattr(args, "error_mesh", "auto")
+    if choice == "none":
+        return None
+    if choice == "auto":
+        return finer_resolution(machine, args.mesh)
+    if choice not in machine.resolutions or machine.resolutions[choice] >= machine.resolutions[args.mesh]:
+        raise InputError("command line", "--error-mesh", f"{choice!r} is not finer than --mesh {args.mesh!r}")
+    return choice
+
+
 def run_diagnose(args) -> int:
     """CLI body of ``twin diagnose``: prints the ranking (and before/after with --apply)."""
     from validate.diagnose import diagnose, diagnosis_json, format_diagnosis
@@ -100,7 +116,7 @@ def run_diagnose(args) -> int:
     meas, machine, sc, spec = load_inputs(args)
     mm = machine.mesh(args.mesh)
     try:
-        d = diagnose(meas, machine, sc, spec, mm=mm)
+        d = diagnose(meas, machine, sc, spec, mm=mm, error_resolution=error_resolution(args, machine))
     except ValueError as err:
         if isinstance(err, InputError):
             raise
