@@ -33,7 +33,7 @@ from twin.api import model_spec
 from twin.effects import DEFAULT_EFFECTS, EFFECTS
 from twin.scenario import load_scenario
 from twin.units import format_quantity, parse_quantity
-from validate.diagnose import diagnose
+from validate.diagnose import diagnose, mesh_error
 from validate.diagnose_cli import write_atomic
 from validate.signatures import reference_value, strength_parameter
 from validate.synthetic import short_scenario, truth_measurement
@@ -72,7 +72,7 @@ CASES = {c.effect: c for c in (
          "the gradient's flux h g (z - z_ref) acts all day; 0.5 K/m is a typical hall (VDI 2078)."),
     Case("door_draft", "etve-day-night", "25 W/m2K",
          "a draft only acts during door openings (the effect's schedule: one 20 min opening at 1 h); "
-         "25 W/(m2 K) is a 3 m/s draft on a plate (flat-plate Nusselt), at the upper end of the 10-25 range. "
+         "25 W/(m2 K) is the upper end of the 10-25 W/(m2 K) the effect gives for a 1-3 m/s draft. "
          "At 15 W/(m2 K) the event's probe signal (0.2 um) is barely above the model error over 24 h."),
     Case("solar_load", "etve-day-night", None,
          "the sun acts in day hours only: the day-night record; 40 W/m2 absorbed at noon is diffuse light "
@@ -102,6 +102,10 @@ def load_case_scenario(name: str, quick: bool):
 
 
 _WORKER = {}
+_MESH_ERROR: dict = {}
+# the diagnosis estimates its discretisation error against this mesh; not the truth's (``default``),
+# so the estimate is no copy of the truth-model gap
+ERROR_RESOLUTION = "fine"
 
 
 def _run_planned(args) -> dict:
@@ -136,7 +140,11 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
         truth_eff = diag_eff = None
         settings = []
     ds = truth_measurement("cframe-vmc", sc, truth_eff, settings, resolution="default")
-    d = diagnose(ds, machine, sc, model_spec(diag_eff), mm=mm)
+    spec = model_spec(diag_eff)
+    key = (sc.name, spec.effects)
+    if key not in _MESH_ERROR:   # the diagnosing model's own estimate: never the truth's
+        _MESH_ERROR[key] = mesh_error(ds, machine, sc, spec, mm, ERROR_RESOLUTION)
+    d = diagnose(ds, machine, sc, spec, mm=mm, model_error=_MESH_ERROR[key])
     rank = next((i + 1 for i, c in enumerate(d.candidates) if c["effect"] == hidden), None) if hidden else None
     fit = next((f for f in d.fits if f.effects == (hidden,)), None) if hidden else None
     fitted = fit.values[hidden][pname] if fit else float("nan")
@@ -181,7 +189,12 @@ def markdown(rows: list[dict], quick: bool, command: str) -> str:
           f"Command: `{command}`. Truth: default effects + one hidden effect on the `default` mesh, half the "
           "time step, materials perturbed by up to 5 %, sensor noise 0.05 K / probe noise 0.05 um, "
           "quantisation, 0.03 K sensor bias (`validate.synthetic`). Diagnosing model: default effects on "
-          "`coarse`; every registered effect missing from it is a candidate.", "",
+          "`coarse`; every registered effect missing from it is a candidate. (The issue asks for truth on "
+          "`fine` and the diagnosing model on `default`; both are one step coarser here to keep the study within "
+          "tens of minutes on 2 cores. The probe model-error floor this leaves is measured by the nothing-hidden "
+          "runs.) The diagnosis estimates its own discretisation error by running its baseline once on `fine` "
+          "(not the truth's mesh) and weighs each channel by 1 / sqrt(s_g^2 + e_c^2) "
+          "(`validate.diagnose.channel_weights`).", "",
           "## Against the bar", "",
           "| criterion | result | bar | |", "|---|---|---|---|",
           f"| hidden effect ranked first | {first:.0%} of {len(cases)} | >= 90 % | {verdict(first >= BAR['first'])} |",
@@ -229,13 +242,60 @@ def _report_each(results) -> list[dict]:
     return rows
 
 
+def failure_analysis(rows: list[dict]) -> str:
+    """Why each failing case fails, from the numbers alone: the nothing-hidden run on the same
+    scenario gives the model-error floor of the probes (coarse vs default mesh, perturbed
+    materials, noise), the hidden signal is sqrt(before^2 - floor^2), and even a perfect fit leaves
+    the floor, so the reachable reduction is about 1 - floor / before (70 % needs signal / floor
+    of about 3.2 or more)."""
+    num = lambda v: float(v) if v not in ("", None) else float("nan")
+    floor = {r["scenario"]: num(r["probe_rmse_before_um"]) for r in rows if r["hidden"] == "(none)"}
+    out = ["## Failure analysis", "",
+           "Probe model-error floor = probe RMSE of the nothing-hidden run on the same scenario; signal = "
+           "sqrt(before^2 - floor^2); reachable reduction ~ 1 - floor / before (the fit cannot remove the floor).", ""]
+    for r in rows:
+        ok = r["pass"] in (True, "True")
+        if ok:
+            continue
+        if r["hidden"] == "(none)":
+            out.append(f"- nothing hidden on `{r['scenario']}`: {r['top']} reported as missing "
+                       f"(explains {num(r['explained']):.0%}, dBIC {num(r['delta_bic']):.0f}).")
+            continue
+        before, fl = num(r["probe_rmse_before_um"]), floor.get(r["scenario"], float("nan"))
+        sig = np.sqrt(max(before ** 2 - fl ** 2, 0.0)) if np.isfinite(fl) else float("nan")
+        failed = []
+        if str(r["rank"]) != "1":
+            failed.append(f"ranked {r['rank']} behind {r['top']}")
+        if str(r["significant"]) != "True":
+            failed.append("not significant")
+        if not num(r["strength_error"]) <= BAR["strength"]:
+            failed.append(f"strength off by {num(r['strength_error']):.0%}")
+        if not num(r["probe_reduction"]) >= BAR["probe_reduction"]:
+            failed.append(f"probe RMSE reduced {num(r['probe_reduction']):.0%}")
+        out.append(f"- **{r['hidden']}** on `{r['scenario']}`: {'; '.join(failed)}. Probe signal {sig:.3g} um vs "
+                   f"floor {fl:.3g} um (ratio {sig / fl:.1f}); reachable reduction ~ {1 - fl / before:.0%}.")
+    if len(out) == 4:
+        out.append("- none: every case passes.")
+    return "\n".join(out) + "\n"
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="shortened spindle scenarios (minutes, not tens of minutes)")
     ap.add_argument("--out", default="validate-out/study_hidden_effect", help="folder for hidden_effect.md/.csv")
     ap.add_argument("--effects", help="comma-separated hidden effects (default: spindle_motor and every library effect)")
     ap.add_argument("--jobs", type=int, default=1, help="cases run in parallel processes (default 1)")
+    ap.add_argument("--analyse", action="store_true",
+                    help="only (re)write the failure analysis of an existing hidden_effect.csv into hidden_effect.md")
     a = ap.parse_args(argv)
+    if a.analyse:
+        out = Path(a.out)
+        with open(out / "hidden_effect.csv", newline="") as fh:
+            rows = list(csv.DictReader(fh))
+        md = (out / "hidden_effect.md").read_text().split("## Failure analysis")[0].rstrip("\n")
+        write_atomic(out / "hidden_effect.md", md + "\n\n" + failure_analysis(rows))
+        print(failure_analysis(rows))
+        return 0
     hidden = a.effects.split(",") if a.effects else ["spindle_motor"] + [e for e in EFFECTS if e not in DEFAULT_EFFECTS]
     unknown = [h for h in hidden if h not in EFFECTS]
     if unknown:
@@ -259,7 +319,7 @@ def main(argv=None) -> int:
     write_atomic(out / "hidden_effect.csv", buf.getvalue())
     cmd = "python -m validate.study_hidden_effect" + (" --quick" if a.quick else "") + (
         f" --effects {a.effects}" if a.effects else "") + (f" --jobs {a.jobs}" if a.jobs > 1 else "")
-    text = markdown(rows, a.quick, cmd)
+    text = markdown(rows, a.quick, cmd) + "\n" + failure_analysis(rows)
     write_atomic(out / "hidden_effect.md", text)
     print(text.split("## Cases")[0])
     return 0
