@@ -9,7 +9,7 @@ from geometries import build_machine
 from twin.api import simulate
 from twin.assembly import assemble_heat
 from twin.effects import DEFAULT_EFFECTS, EFFECTS
-from twin.effects.room import facet_areas, facet_centres, facing
+from twin.effects.room import facet_centres, facing
 from twin.model import ModelSpec, build_loads
 from twin.scenario import Ambient, Scenario
 from twin.transient import steady_state
@@ -68,7 +68,7 @@ def test_stratification_flux_integrates_to_h_g_moment(mm, heat):
     """sum of band powers = h g sum_f A_f (z_f - z_ref) over the skin; steady balance closes."""
     g, zref = 0.5, 1.0
     facets = mm.facets["skin"]
-    moment = np.sum(facet_areas(mm, facets) * (facet_centres(mm, facets)[:, 2] - zref))
+    moment = np.sum(mm.facet_areas(facets) * (facet_centres(mm, facets)[:, 2] - zref))
     ls, T, p_in, conv = steady(mm, heat, scenario(0.0), ("ambient_convection", "ambient_stratification"), 0.0)
     assert p_in == pytest.approx(H_AIR * g * moment, rel=1e-12)
     assert p_in + conv.sum() == pytest.approx(0.0, abs=1e-8)
@@ -135,7 +135,7 @@ def test_run_heat_power_and_energy_with_all_new_effects():
     assert np.allclose(hp.sel(effect="electrical_cabinet"), 40.0)
     mm = run.mm
     facets = mm.facets["skin"]
-    moment = np.sum(facet_areas(mm, facets) * (facet_centres(mm, facets)[:, 2] - 1.0))
+    moment = np.sum(mm.facet_areas(facets) * (facet_centres(mm, facets)[:, 2] - 1.0))
     assert np.allclose(hp.sel(effect="ambient_stratification"), 8.0 * 0.5 * moment)
     assert np.allclose(hp.sel(effect="solar_load"), 0.0)  # the run ends before 07:00
     door = hp.sel(effect="door_draft").values

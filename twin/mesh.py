@@ -81,11 +81,15 @@ class MachineMesh:
         ids = [self.part_names.index(p) for p in parts]
         return np.flatnonzero(np.isin(self.cell_part, ids))
 
-    def facet_area(self, facets: np.ndarray) -> float:
-        """Total area [m2] of the given (axis-aligned, rectangular) facets."""
+    def facet_areas(self, facets: np.ndarray) -> np.ndarray:
+        """Area (nf,) [m2] of each of the given (axis-aligned, rectangular) facets."""
         corners = self.mesh.p[:, self.mesh.facets[:, facets]]  # (3, 4, nf)
         extent = corners.max(axis=1) - corners.min(axis=1)
-        return float(np.sum(np.prod(np.sort(extent, axis=0)[1:], axis=0)))
+        return np.prod(np.sort(extent, axis=0)[1:], axis=0)
+
+    def facet_area(self, facets: np.ndarray) -> float:
+        """Total area [m2] of the given facets."""
+        return float(np.sum(self.facet_areas(facets)))
 
     def volume_of(self, cells: np.ndarray) -> float:
         """Total volume [m3] of the given cells."""

@@ -18,13 +18,6 @@ def facet_centres(mm, facets: np.ndarray) -> np.ndarray:
     return mm.mesh.p[:, mm.mesh.facets[:, facets]].mean(axis=1).T
 
 
-def facet_areas(mm, facets: np.ndarray) -> np.ndarray:
-    """Areas (nf,) [m2] of the given axis-aligned rectangular facets."""
-    corners = mm.mesh.p[:, mm.mesh.facets[:, facets]]
-    extent = corners.max(axis=1) - corners.min(axis=1)
-    return np.prod(np.sort(extent, axis=0)[1:], axis=0)
-
-
 def facing(mm, facets: np.ndarray, direction: str) -> np.ndarray:
     """Boundary facets among ``facets`` whose outward normal is ``direction`` ("+x", "-y", ...)."""
     sign, axis = (1.0 if direction[0] == "+" else -1.0), _AXES[direction[1]]
@@ -91,7 +84,7 @@ class AmbientStratification(Effect):
     def loads(self, mm, scenario, p):
         facets = mm.facets["skin"]
         z = facet_centres(mm, facets)[:, 2]
-        moment = facet_areas(mm, facets) * (z - p["reference_height"])  # A (z - z_ref) [m3]
+        moment = mm.facet_areas(facets) * (z - p["reference_height"])  # A (z - z_ref) [m3]
         k = np.floor(z / self.band).astype(int)
         out = []
         for b in np.unique(k):
@@ -169,7 +162,7 @@ class SolarLoad(Effect):
 
     def loads(self, mm, scenario, p):
         facets = facing(mm, mm.facets["skin"], "+y")
-        peak = p["flux"] * float(facet_areas(mm, facets).sum())
+        peak = p["flux"] * mm.facet_area(facets)
         t0 = getattr(scenario.ambient, "start_time_of_day", 0.0)
         return [SurfaceHeatFlux(self.name, facets, lambda t: peak * daylight(t, t0, p["sunrise"], p["sunset"]))]
 
