@@ -20,8 +20,6 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import os
-import tempfile
 import time
 
 import numpy as np
@@ -29,6 +27,7 @@ import numpy as np
 from learners.metrics import score_all
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.table import load_table
+from twin.atomic import atomic_write
 from twin.errors import InputError
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
@@ -128,21 +127,14 @@ def _text_table(rows):
 
 
 def _write_csv(path, rows):
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InputError(path, "-o", "output folder does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=".scores-", suffix=".csv.tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
+    def write(tmp):
+        with open(tmp, "w", newline="", encoding="utf-8") as fh:
             writer = csv.writer(fh)
             writer.writerow(COLUMNS)
             for r in rows:
                 writer.writerow([f"{r[c]:.10g}" if isinstance(r[c], float) else r[c] for c in COLUMNS])
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+
+    atomic_write(path, write, field="-o")
 
 
 def run_learn(args) -> int:

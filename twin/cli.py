@@ -10,6 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from twin.atomic import atomic_write, check_writable
 from twin.errors import InputError
 
 
@@ -74,25 +75,15 @@ def _simulate(machine: str, scenario: str, args):
                     progress=_progress_bar(f"{machine} / {Path(scenario).stem}"))
 
 
-def _check_writable(path: Path) -> None:
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(str(path), "output", f"folder {str(folder)!r} does not exist")
-    import os
-
-    if not os.access(folder, os.W_OK):
-        raise InputError(str(path), "output", f"folder {str(folder)!r} is not writable")
-
-
 def cmd_simulate(args) -> int:
     from twin.results import write_netcdf
 
     out = Path(args.output)
-    _check_writable(out)
+    check_writable(out)
     if args.field:
         from twin.fields import SUFFIXES
 
-        _check_writable(Path(args.field))
+        check_writable(Path(args.field))
         if Path(args.field).suffix not in SUFFIXES:
             raise InputError(args.field, "--field", f"unknown field format; use {' or '.join(SUFFIXES)}")
     ds, result = _simulate(args.machine, args.scenario, args)
@@ -101,7 +92,7 @@ def cmd_simulate(args) -> int:
         from twin.fields import write_temperature_field
 
         field_path = Path(args.field)
-        _atomic(field_path, lambda tmp: write_temperature_field(result.mm, result.hottest_field, tmp, result.hottest_time))
+        atomic_write(field_path, lambda tmp: write_temperature_field(result.mm, result.hottest_field, tmp, result.hottest_time))
         print(f"wrote {field_path}: temperature field at the hottest moment, t = {result.hottest_time / 60:.0f} min")
     peak = abs(ds.drift).max("time")
     print(f"wrote {out}: {len(ds.time)} samples, {result.mm.nnodes} nodes; peak |drift| "
@@ -117,7 +108,7 @@ def cmd_plot(args) -> int:
     src, out = Path(args.result), Path(args.output)
     if not src.exists():
         raise InputError(str(src), "file", "no such result file")
-    _check_writable(out)
+    check_writable(out)
     try:
         ds = xr.load_dataset(src)
     except Exception as err:  # noqa: BLE001 - any reader failure is a bad file for the user
@@ -125,23 +116,9 @@ def cmd_plot(args) -> int:
     missing = [v for v in ("drift", "tilt", "temperature", "probe_drift", "spindle_speed") if v not in ds]
     if missing:
         raise InputError(str(src), missing[0], "missing variable; is this a twin result?")
-    _atomic(out, lambda tmp: plot_result(ds, tmp))
+    atomic_write(out, lambda tmp: plot_result(ds, tmp))
     print(f"wrote {out}")
     return 0
-
-
-def _atomic(path: Path, write) -> None:
-    import os
-    import tempfile
-
-    fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent if str(path.parent) else ".")
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def cmd_demo(args) -> int:
@@ -154,9 +131,9 @@ def cmd_demo(args) -> int:
     print(f"demo: {machine} runs {scenario} (9000 rpm for 120 min, then 70 min stopped), mesh {args.mesh}")
     ds, result = _simulate(machine, scenario, args)
     write_netcdf(ds, out / "spindle-heat-cool-9000.nc")
-    _atomic(out / "drift.png", lambda tmp: plot_result(ds, tmp))
+    atomic_write(out / "drift.png", lambda tmp: plot_result(ds, tmp))
     hot = result.hottest_time / 60
-    _atomic(out / "temperature-3d.png",
+    atomic_write(out / "temperature-3d.png",
             lambda tmp: plot_field_3d(result.mm, result.hottest_field, tmp, f"temperature at the hottest moment, t = {hot:.0f} min"))
     d = ds.drift
     for axis in ("X", "Y", "Z"):

@@ -13,14 +13,13 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from twin.errors import InputError
+from twin.atomic import atomic_write
 from twin.instruments import probe_reading, temperature_reading
 from twin.simulate import AXES, RunResult
 
@@ -130,19 +129,5 @@ def to_dataset(r: RunResult, seed: int = 0, resolution: str = "", scenario_label
 
 
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike) -> Path:
-    """Write ``ds`` to ``path`` atomically (temporary file in the same folder, then rename)."""
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(str(path), "output", f"folder {str(folder)!r} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise InputError(str(path), "output", f"folder {str(folder)!r} is not writable")
-    fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=".nc", dir=folder)
-    os.close(fd)
-    try:
-        ds.to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Write ``ds`` to ``path`` atomically (see :mod:`twin.atomic`)."""
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))

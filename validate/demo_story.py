@@ -53,7 +53,7 @@ def write_measurement(ds, folder: Path, stem: str = "spindle-test", machine: str
     temperature sensor (placed at the machine's named site), one ``probe_<id>_um`` [um] per
     ISO 230-3 probe. Both files are written atomically. Returns (csv path, toml path).
     """
-    from validate.diagnose_cli import write_atomic
+    from twin.atomic import atomic_write_text
 
     folder.mkdir(parents=True, exist_ok=True)
     cols: list[tuple[str, np.ndarray, str]] = [
@@ -73,8 +73,8 @@ def write_measurement(ds, folder: Path, stem: str = "spindle-test", machine: str
         toml += ["", f"[columns.probe_{p}_um]", 'role = "probe"', f'probe = "{p}"', 'unit = "um"']
     lines = [",".join(c[0] for c in cols)]
     lines += [",".join(fmt % float(v[k]) for _, v, fmt in cols) for k in range(len(ds.time))]
-    csv_path = write_atomic(folder / f"{stem}.csv", "\n".join(lines) + "\n")
-    toml_path = write_atomic(folder / f"{stem}.toml", "\n".join(toml) + "\n")
+    csv_path = atomic_write_text(folder / f"{stem}.csv", "\n".join(lines) + "\n")
+    toml_path = atomic_write_text(folder / f"{stem}.toml", "\n".join(toml) + "\n")
     return csv_path, toml_path
 
 
@@ -133,7 +133,8 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     from twin.scenario import load_scenario
     from validate.compare import compare, model_for
     from validate.diagnose import diagnose, diagnosis_json
-    from validate.diagnose_cli import apply_top, format_before_after, write_atomic
+    from twin.atomic import atomic_write_text
+    from validate.diagnose_cli import apply_top, format_before_after
     from validate.measurement import read_measurement, scenario_from_measurement
     from validate.report import write_report
     from validate.synthetic import truth_measurement
@@ -222,7 +223,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
                         "\n".join(_rmse_table(cmp0, cmp1))))
     report = write_report(d, machine, rep, after_coarse, sections=sections, closing=closing)
     doc = diagnosis_json(d)
-    json_path = write_atomic(rep / "diagnosis.json", json.dumps(doc, indent=2))
+    json_path = atomic_write_text(rep / "diagnosis.json", json.dumps(doc, indent=2))
     lap("report")
     say(f"wrote {report} and {json_path.name}")
     return {

@@ -6,12 +6,10 @@ The lead wires :func:`add_diagnose_parser` / :func:`run_diagnose` into ``twin/cl
 from __future__ import annotations
 
 import json
-import os
-import tempfile
-from pathlib import Path
 
 import numpy as np
 
+from twin.atomic import atomic_write_text
 from twin.errors import InputError
 
 
@@ -34,24 +32,6 @@ def add_diagnose_parser(subparsers) -> None:
     p.add_argument("--apply", action="store_true", help="rerun with the top candidate at its fitted strength")
     p.add_argument("--report", metavar="DIR", help="write an HTML report with figures into DIR")
     p.set_defaults(func=run_diagnose)
-
-
-def write_atomic(path: str | os.PathLike, text: str) -> Path:
-    """Write ``text`` to ``path`` via a temporary file in the same folder and a rename."""
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(str(path), "output", f"folder {str(folder)!r} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=folder)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
 
 
 def load_inputs(args):
@@ -132,7 +112,7 @@ def run_diagnose(args) -> int:
                 print(f"\nApplied {d.candidates[0]['effect']} ({' '.join(extra)}):")
                 print(format_before_after(d, after))
     if args.json:
-        write_atomic(args.json, json.dumps(diagnosis_json(d), indent=2))
+        atomic_write_text(args.json, json.dumps(diagnosis_json(d), indent=2))
     if args.report:
         from validate.report import write_report
         print(f"report: {write_report(d, machine, args.report, after)}")

@@ -7,11 +7,11 @@ import base64
 import html
 import io
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from twin.atomic import atomic_write_text
 
 def _png(fig) -> str:
     buf = io.BytesIO()
@@ -212,13 +212,4 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
                      f"<img src='data:image/png;base64,{png}'/>")
     parts.append("</body></html>")
     path = folder / "index.html"
-    fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=".html", dir=folder)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write("\n".join(parts))
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return atomic_write_text(path, "\n".join(parts))

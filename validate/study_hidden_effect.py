@@ -34,7 +34,7 @@ from twin.effects import DEFAULT_EFFECTS, EFFECTS
 from twin.scenario import load_scenario
 from twin.units import format_quantity, parse_quantity
 from validate.diagnose import diagnose, mesh_error
-from validate.diagnose_cli import write_atomic
+from twin.atomic import atomic_write_text
 from validate.signatures import reference_value, strength_parameter
 from validate.synthetic import short_scenario, truth_measurement
 
@@ -293,7 +293,7 @@ def main(argv=None) -> int:
         with open(out / "hidden_effect.csv", newline="") as fh:
             rows = list(csv.DictReader(fh))
         md = (out / "hidden_effect.md").read_text().split("## Failure analysis")[0].rstrip("\n")
-        write_atomic(out / "hidden_effect.md", md + "\n\n" + failure_analysis(rows))
+        atomic_write_text(out / "hidden_effect.md", md + "\n\n" + failure_analysis(rows))
         print(failure_analysis(rows))
         return 0
     hidden = a.effects.split(",") if a.effects else ["spindle_motor"] + [e for e in EFFECTS if e not in DEFAULT_EFFECTS]
@@ -316,11 +316,11 @@ def main(argv=None) -> int:
     w = csv.DictWriter(buf, fieldnames=cols, extrasaction="ignore")
     w.writeheader()
     w.writerows(rows)
-    write_atomic(out / "hidden_effect.csv", buf.getvalue())
+    atomic_write_text(out / "hidden_effect.csv", buf.getvalue())
     cmd = "python -m validate.study_hidden_effect" + (" --quick" if a.quick else "") + (
         f" --effects {a.effects}" if a.effects else "") + (f" --jobs {a.jobs}" if a.jobs > 1 else "")
     text = markdown(rows, a.quick, cmd) + "\n" + failure_analysis(rows)
-    write_atomic(out / "hidden_effect.md", text)
+    atomic_write_text(out / "hidden_effect.md", text)
     print(text.split("## Cases")[0])
     return 0
 
