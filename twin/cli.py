@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from twin.atomic import atomic_write, check_writable
+from twin.cli_options import add_model_options
 from twin.errors import InputError
 
 
@@ -58,14 +59,6 @@ def cmd_list(args) -> int:
             for p in params:
                 print(f"    {p.describe()}")
     return 0
-
-
-def _add_model_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--effects", help="+name,-name to change the default set (write --effects=-name when it starts with -), or a,b,c for an exact set")
-    p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE",
-                   help="set a parameter with its unit, e.g. spindle_motor.power=120W (repeatable)")
-    p.add_argument("--mesh", default="default", help="mesh resolution: coarse, default or fine")
-    p.add_argument("--seed", type=int, default=0, help="seed of the instrument noise")
 
 
 def _simulate(machine: str, scenario: str, args):
@@ -151,8 +144,15 @@ def cmd_demo(args) -> int:
     return 0
 
 
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line ``error: command line: ...`` and exit code 2, like bad input."""
+
+    def error(self, message):
+        self.exit(2, f"error: command line: {self.prog}: {message}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="twin", description="thermal-twin: digital twin of CNC machine-tool thermal errors")
+    parser = _Parser(prog="twin", description="thermal-twin: digital twin of CNC machine-tool thermal errors")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("list", help="list machines, scenarios, effects or instruments")
@@ -164,7 +164,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenario", help="a bundled scenario name or a path to a TOML file")
     p.add_argument("-o", "--output", required=True, help="result file (.nc)")
     p.add_argument("--field", metavar="FILE", help="also write the temperature field at the hottest moment (.vtu or .xdmf)")
-    _add_model_options(p)
+    add_model_options(p)
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("plot", help="plot drift, tilts and temperatures of a result")
@@ -177,7 +177,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-story", action="store_true",
                    help="only the spindle test: skip the measurement / compare / diagnose / report story "
                         "(which always uses the default effects)")
-    _add_model_options(p)
+    add_model_options(p)
     p.set_defaults(func=cmd_demo)
 
     from learners.cli import add_learn_parser
@@ -193,7 +193,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exit_:
+        return int(exit_.code or 0)
     try:
         return int(args.func(args) or 0)
     except InputError as err:

@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from twin.cli_options import add_measurement_options, add_model_options
+
 _GROUPS = (("temperature", "sensor", "T", "K"), ("probe", "probe_id", "probe", "um"),
            ("tilt", "rotation", "tilt", "urad"))
 
@@ -222,14 +224,8 @@ def model_for(measured: xr.Dataset, machine: str, scenario: str | None = None, e
 def add_compare_parser(subparsers) -> None:
     """``twin compare MEAS --machine NAME [--mapping TOML] [--scenario S] [--effects ..] [--set ..] [--mesh R]``."""
     p = subparsers.add_parser("compare", help="compare the twin with a measurement: residuals per channel and phase")
-    p.add_argument("measurement", help="a twin NetCDF result, or a CSV file with a TOML column mapping")
-    p.add_argument("--mapping", help="TOML column mapping of a CSV (default: the CSV's name with .toml)")
-    p.add_argument("--machine", default="cframe-vmc", help="machine (default cframe-vmc)")
-    p.add_argument("--scenario", help="drive the twin by this scenario instead of the measured inputs")
-    p.add_argument("--effects", help="effects: '+a,-b' edits the default set, 'a,b' replaces it")
-    p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE", help="set a parameter (repeatable)")
-    p.add_argument("--mesh", default="default", choices=["coarse", "default", "fine"], help="mesh resolution")
-    p.add_argument("--seed", type=int, default=0, help="seed of the model's instrument noise")
+    add_measurement_options(p)
+    add_model_options(p)
     p.set_defaults(func=run_compare)
 
 

@@ -10,6 +10,7 @@ import json
 import numpy as np
 
 from twin.atomic import atomic_write_text
+from twin.cli_options import add_measurement_options, add_model_options
 from twin.errors import InputError
 
 
@@ -17,14 +18,9 @@ def add_diagnose_parser(subparsers) -> None:
     """``twin diagnose MEAS --machine NAME [--scenario S] [--effects ..] [--set ..] [--mesh R]
     [--json FILE] [--apply] [--report DIR]``."""
     p = subparsers.add_parser("diagnose", help="rank the physical effects the model lacks by how much residual each explains")
-    p.add_argument("measurement", help="a twin NetCDF result, or a CSV file with a TOML column mapping")
-    p.add_argument("--mapping", help="TOML column mapping of a CSV (default: the CSV's name with .toml)")
-    p.add_argument("--machine", default="cframe-vmc", help="machine (default cframe-vmc)")
-    p.add_argument("--scenario", help="drive the twin by this scenario instead of the measured inputs")
-    p.add_argument("--effects", help="the diagnosing model's effects: '+a,-b' edits the default set, 'a,b' replaces it")
-    p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE", help="set a parameter (repeatable)")
-    p.add_argument("--mesh", default="coarse", choices=["coarse", "default", "fine"],
-                   help="mesh of the diagnosing model (default coarse: many runs)")
+    add_measurement_options(p)
+    add_model_options(p, mesh_default="coarse", mesh_help="mesh of the diagnosing model (coarse: it makes many runs)",
+                      effects_help="the diagnosing model's effects: '+a,-b' edits the default set, 'a,b' replaces it")
     p.add_argument("--error-mesh", default="auto", choices=["auto", "none", "coarse", "default", "fine"],
                    help="mesh on which the baseline is rerun once to estimate the diagnosing model's discretisation "
                         "error per channel (default auto: the next finer than --mesh; none: no estimate)")
