@@ -18,6 +18,12 @@ and the channel's weight becomes w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)) (gene
 squares with a model-error variance): a channel the coarse model cannot reproduce anyway (a thin
 test bar, a sensor beside a bearing) is weak evidence for any candidate.
 
+Nuisance: material data are uncertain by a few %. With ``calibrate_expansion`` (default) the
+thermal expansion coefficient of each material of the machine is a free parameter fitted with the
+baseline and with every candidate (its response is linear: one extra run per material, profiled
+out by projection, :class:`validate.signatures.SignatureFitter`). SSE_0, explained fractions,
+RMSE after and the reasoning all refer to residuals with the nuisance fitted.
+
 Scores of a candidate with k fitted parameters and weighted sum of squares SSE_k:
 
 * explained = 1 - SSE_k / SSE_0 (SSE_0: the baseline model);
@@ -53,6 +59,7 @@ from twin.units import format_quantity
 from validate.signatures import Engine, Fit, SignatureFitter
 
 GROUPS = ("temperature", "probe")
+EXPANSION_STEP = 0.01   # relative change of a material's expansion coefficient for its sensitivity
 UNITS = {"temperature": "K", "probe": "um"}
 
 
@@ -78,6 +85,9 @@ class Diagnosis:
     scenario: object = None
     phases: list = field(default_factory=list)   # validate.compare.Phase, from the inputs
     model_error_rms: np.ndarray | None = None      # per channel, estimated discretisation error
+    expansion: dict = field(default_factory=dict)   # material -> fitted relative change of alpha (baseline)
+    calibrated_rmse: np.ndarray | None = None      # per channel, baseline with the nuisance fitted
+    residual_after: object = None                  # g -> r - g - nuisance fitted to r - g
     error_resolution: str | None = None
 
     @property
@@ -176,7 +186,7 @@ def format_values(values: dict[str, dict[str, float]]) -> dict[str, dict[str, st
 def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: str = "coarse", mm=None,
              candidates: list[str] | None = None, min_explained: float = 0.5, bic_margin: float = 10.0,
              pair_threshold: float = 0.8, pair_pool: int = 4, error_resolution: str | None = None,
-             model_error: np.ndarray | None = None) -> Diagnosis:
+             model_error: np.ndarray | None = None, calibrate_expansion: bool = True) -> Diagnosis:
     """Rank the effects missing from ``spec`` by how much of the residual of ``ds`` they explain.
 
     ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
@@ -186,7 +196,10 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     finer mesh on which the baseline is run once more; the difference per channel estimates the
     diagnosing model's discretisation error, and channels where it is large weigh less;
     ``model_error`` gives that per-channel RMS directly (e.g. from :func:`mesh_error`, reused
-    for several measurements of one scenario and model).
+    for several measurements of one scenario and model). ``calibrate_expansion``: fit the thermal
+    expansion coefficient of every material of the machine as a free nuisance parameter with the
+    baseline and with every candidate (material data are uncertain by a few %, and a missing
+    effect must explain what they cannot).
     """
     spec = spec or ModelSpec()
     meas, names, groups = measured_channels(ds)
@@ -207,7 +220,22 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     d.model_error_rms, d.error_resolution = err, error_resolution
     d.sensor_points, d.scenario = engine.sensors, scenario
     d.phases = input_phases(ds, scenario, t_meas)
-    fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w)
+    nuisance, materials = [], []
+    if calibrate_expansion:
+        for name, mat in sorted({p.material.name: p.material for p in machine.parts}.items()):
+            e = Engine(machine, scenario, mm=engine.mm, sensors=engine.sensors,
+                       materials={name: mat.scaled(expansion=1 + EXPANSION_STEP)})
+            nuisance.append((interp(e.observe(spec)) - base) / EXPANSION_STEP)
+            materials.append(name)
+    fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w,
+                             nuisance=np.array(nuisance) if nuisance else None)
+    d.residual_after = fitter.residual_after
+    calibrated = fitter.residual_after(np.zeros_like(r))
+    d.calibrated_rmse = np.sqrt(np.mean(calibrated ** 2, axis=0))
+    if nuisance:
+        cols = np.column_stack([(n * w).ravel() for n in nuisance])
+        coef = np.linalg.lstsq(cols, (r * w).ravel(), rcond=None)[0]
+        d.expansion = {m: float(c) for m, c in zip(materials, coef)}
     pool = candidates if candidates is not None else [e for e in EFFECTS if e not in spec.effects]
     fits = [f for f in (fitter.fit_single(e) for e in pool) if f is not None]
     fits.sort(key=lambda f: f.sse)
@@ -215,7 +243,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     if fits and 1 - fits[0].sse / sse0 < pair_threshold:
         top = fits[:pair_pool]
         pairs = [fitter.fit_pair(a, b) for i, a in enumerate(top) for b in top[i + 1:]]
-        n_eff = effective_samples(r - fits[0].response)
+        n_eff = effective_samples(fitter.residual_after(fits[0].response))
         fits += [p for p in pairs if _pair_significant(p, top, n_eff, min_explained, bic_margin)]
         fits.sort(key=lambda f: f.sse)
     d.fits, d.runs = fits, engine.runs
@@ -260,9 +288,9 @@ def reasoning(d: Diagnosis, response: np.ndarray, top_channels: int = 4) -> dict
     ``channels``: the ``top_channels`` channels carrying the largest explained share
     (share x explained), i.e. the evidence for the candidate; ``phases``: every phase.
     """
-    r = d.residual
-    before = (r * d.weights) ** 2
-    after = ((r - response) * d.weights) ** 2
+    after_of = d.residual_after or (lambda g: d.residual - g)
+    before = (after_of(np.zeros_like(response)) * d.weights) ** 2
+    after = (after_of(response) * d.weights) ** 2
     total = float(before.sum()) or 1.0
 
     def cell(b, a):
@@ -282,7 +310,8 @@ def reasoning(d: Diagnosis, response: np.ndarray, top_channels: int = 4) -> dict
 
 def _score(d: Diagnosis, fits: list[Fit], r, sse0, min_explained, bic_margin):
     N = r.size
-    d.n_eff = n = effective_samples(r - fits[0].response) if fits else float(N)
+    after_of = d.residual_after or (lambda g: r - g)
+    d.n_eff = n = effective_samples(after_of(fits[0].response)) if fits else float(N)
     bic0 = n * np.log(max(sse0, 1e-300) / N)
     bics = np.array([n * np.log(max(f.sse, 1e-300) / N) + f.nparams * np.log(n) for f in fits])
     all_b = np.concatenate([[bic0], bics])
@@ -290,7 +319,7 @@ def _score(d: Diagnosis, fits: list[Fit], r, sse0, min_explained, bic_margin):
     weights /= weights.sum()
     sig = {f.effects: (f.response * d.weights).ravel() for f in fits}
     for i, f in enumerate(fits):
-        after = r - f.response
+        after = after_of(f.response)
         twins = []
         for j, o in enumerate(fits):
             if j == i:
@@ -299,7 +328,7 @@ def _score(d: Diagnosis, fits: list[Fit], r, sse0, min_explained, bic_margin):
             corr = float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b) or 1.0))
             if abs(bics[i] - bics[j]) < 6 or abs(corr) > 0.95:
                 twins.append("+".join(o.effects))
-        rms_before = np.sqrt(np.mean(r ** 2, axis=0))
+        rms_before = np.sqrt(np.mean(after_of(np.zeros_like(r)) ** 2, axis=0))
         rms_after = np.sqrt(np.mean(after ** 2, axis=0))
         per_ch = 1 - (rms_after / np.where(rms_before > 0, rms_before, 1)) ** 2
         best_ch = [d.channels[k] for k in np.argsort(-per_ch)[:3]]
@@ -361,6 +390,12 @@ def format_diagnosis(d: Diagnosis, top: int = 8) -> str:
             if d.model_error_rms is not None:
                 vals = ", ".join(f"{d.channels[i].split(':', 1)[1]} {d.model_error_rms[i]:.3g}" for i in idx)
                 lines.append(f"    mesh error estimate ({d.error_resolution} vs the diagnosing mesh): {vals}")
+    if d.expansion:
+        exp = ", ".join(f"{m} {v:+.1%}" for m, v in d.expansion.items())
+        probes = [i for i, g in enumerate(d.groups) if g == "probe"]
+        lines.append(f"Nuisance fitted with the baseline and every candidate: thermal expansion {exp}"
+                     + (f"; probe RMSE {np.sqrt(np.mean(d.baseline_rmse[probes] ** 2)):.3g} -> "
+                        f"{np.sqrt(np.mean(d.calibrated_rmse[probes] ** 2)):.3g} um" if probes else ""))
     lines.append("")
     head = f"{'rank':>4}  {'effect':<44} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
     lines += [head, "-" * len(head)]
@@ -399,6 +434,9 @@ def diagnosis_json(d: Diagnosis) -> dict:
         "significant": d.significant,
         "message": d.message,
         "effective_samples": d.n_eff,
+        "calibration": {"expansion": d.expansion,
+                        "rmse": (None if d.calibrated_rmse is None else
+                                 {c: float(v) for c, v in zip(d.channels, d.calibrated_rmse)})},
         "model_error_rms": (None if d.model_error_rms is None else
                             {"resolution": d.error_resolution,
                              "rmse": {c: float(v) for c, v in zip(d.channels, d.model_error_rms)}}),

@@ -17,7 +17,9 @@ Fitting: with residual r = measurement - model and channel weights w,
 
     p_hat = argmin_{lower <= p <= upper} || w * (r - g_E(p)) ||^2
 
-(``scipy.optimize.lsq_linear`` for the linear case).
+(``scipy.optimize.lsq_linear`` for the linear case). Nuisance responses (the model's own uncertain
+parameters, e.g. the thermal expansion of each material) are fitted freely with every candidate:
+they are profiled out by projecting r, g and dg/dp onto the complement of their weighted span.
 """
 
 from __future__ import annotations
@@ -132,12 +134,31 @@ class SignatureFitter:
     """Fits candidate effects to a weighted residual ``r`` (nt, nch) with weights ``w`` (nch,)."""
 
     def __init__(self, engine: Engine, spec: ModelSpec, base_obs: np.ndarray, residual: np.ndarray,
-                 weights: np.ndarray, gn_iterations: int = 6):
+                 weights: np.ndarray, gn_iterations: int = 6, nuisance: np.ndarray | None = None):
         self.engine, self.spec, self.base = engine, spec, base_obs
         self.r, self.w, self.gn_iterations = residual, weights, gn_iterations
+        # nuisance responses (k, nt, nch), fitted freely alongside every candidate: profiled out
+        # by projecting every weighted vector onto the complement of their span (Q orthonormal)
+        self.Q = None
+        if nuisance is not None and len(nuisance):
+            cols = np.column_stack([(n * weights).ravel() for n in nuisance])
+            q, rr = np.linalg.qr(cols)
+            keep = np.abs(np.diag(rr)) > 1e-10 * max(np.abs(np.diag(rr)).max(), 1e-300)
+            self.Q = q[:, keep] if keep.any() else None
+
+    def project(self, x: np.ndarray) -> np.ndarray:
+        """A weighted, flattened vector with its nuisance component removed."""
+        return x if self.Q is None else x - self.Q @ (self.Q.T @ x)
+
+    def weighted(self, x: np.ndarray) -> np.ndarray:
+        return self.project((x * self.w).ravel())
+
+    def residual_after(self, g: np.ndarray) -> np.ndarray:
+        """r - g - (the nuisance fitted to r - g), native units, shape of r."""
+        return self.weighted(self.r - g).reshape(self.r.shape) / np.where(self.w > 0, self.w, 1.0)
 
     def sse(self, g: np.ndarray) -> float:
-        return float(np.sum(((self.r - g) * self.w) ** 2))
+        return float(np.sum(self.weighted(self.r - g) ** 2))
 
     def response(self, effect: str, pname: str, value: float) -> np.ndarray:
         return self.engine.observe(with_effect(self.spec, effect, {pname: value})) - self.base
@@ -153,8 +174,8 @@ class SignatureFitter:
         g_ref = self.response(effect, pname, pref)
         linear = is_linear_source(effect, self.spec, self.engine.mm, self.engine.scenario, pname, pref)
         unit = g_ref / pref
-        A = (unit * self.w).reshape(-1, 1)
-        b = (self.r * self.w).ravel()
+        A = self.weighted(unit).reshape(-1, 1)
+        b = self.weighted(self.r)
         lo, hi = par.lower, par.upper
         p = float(lsq_linear(A, b, bounds=([lo], [hi])).x[0]) if np.any(A) else pref
         if linear:
@@ -175,7 +196,7 @@ class SignatureFitter:
             if p + dp > par.upper:
                 dp = -dp
             J = (self.response(effect, pname, p + dp) - g) / dp
-            Jw, rw = J * self.w, (self.r - g) * self.w
+            Jw, rw = self.weighted(J), self.weighted(self.r - g)
             denom = float(np.sum(Jw * Jw))
             if denom == 0:
                 break
@@ -203,12 +224,12 @@ class SignatureFitter:
                 shape = f.signature[eff] * p
             else:
                 shape = f.response
-            cols.append((shape * self.w).ravel())
+            cols.append(self.weighted(shape))
             lo.append(par.lower / p if p > 0 else par.upper / p)
             hi.append(par.upper / p if p > 0 else par.lower / p)
             names.append((eff, pname, p, shape))
         A = np.column_stack(cols)
-        sol = lsq_linear(A, (self.r * self.w).ravel(), bounds=(lo, hi)).x
+        sol = lsq_linear(A, self.weighted(self.r), bounds=(lo, hi)).x
         g = sum(c * n[3] for c, n in zip(sol, names))
         values = {n[0]: {n[1]: float(c * n[2])} for c, n in zip(sol, names)}
         return Fit(a.effects + b.effects, values, g, self.sse(g), 2, {**a.linear, **b.linear},

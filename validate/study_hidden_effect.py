@@ -149,8 +149,11 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
     fit = next((f for f in d.fits if f.effects == (hidden,)), None) if hidden else None
     fitted = fit.values[hidden][pname] if fit else float("nan")
     probes = [i for i, g in enumerate(d.groups) if g == "probe"]
-    before = float(np.sqrt(np.mean(d.residual[:, probes] ** 2)))
-    after = float(np.sqrt(np.mean((d.residual - fit.response)[:, probes] ** 2))) if fit else float("nan")
+    # before: the diagnosing model with its nuisance (material expansion) fitted; after: the same
+    # plus the hidden effect at its fitted strength, nuisance refitted (validate.diagnose)
+    raw = float(np.sqrt(np.mean(d.residual[:, probes] ** 2)))
+    before = float(np.sqrt(np.mean(d.residual_after(np.zeros_like(d.residual))[:, probes] ** 2)))
+    after = float(np.sqrt(np.mean(d.residual_after(fit.response)[:, probes] ** 2))) if fit else float("nan")
     top = d.candidates[0] if d.candidates else {}
     err = abs(fitted / true_v - 1) if hidden else float("nan")
     red = 1 - after / before if hidden and before > 0 else float("nan")
@@ -161,7 +164,7 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
     mine = next((c for c in d.candidates if c["effect"] == hidden), top) if hidden else top
     return {"hidden": hidden or "(none)", "scenario": sc.name, "rank": rank, "top": top.get("effect", ""),
             "significant": d.significant, "parameter": pname, "unit": unit, "true": true_v, "fitted": fitted,
-            "strength_error": err, "probe_rmse_before_um": before, "probe_rmse_after_um": after,
+            "strength_error": err, "probe_rmse_uncalibrated_um": raw, "probe_rmse_before_um": before, "probe_rmse_after_um": after,
             "probe_reduction": red, "explained": top.get("explained", float("nan")),
             "delta_bic": top.get("delta_bic", float("nan")), "confidence": top.get("confidence", float("nan")),
             "pass": ok, "seconds": time.perf_counter() - t0, "message": d.message,
