@@ -62,29 +62,36 @@ CASES = {c.effect: c for c in (
     Case("z_axis_holding", "etve-day-night", "60 W",
          "a constant source needs a long record: in an ETVE test the machine is powered for 24 h with the axes "
          "in position control, so the Z motor holds the carrier all day. 60 W = about 30 W copper losses of the "
-         "holding current (m g p / 2 pi ~ 8 N m on a 10 mm screw) plus about 30 W of brake-release coil. At 25 W "
-         "on a 1.75 h duty cycle the column top barely warms (0.13 um probe signal, the size of the model error)."),
+         "holding current (m g p / 2 pi ~ 8 N m on a 10 mm screw) plus about 30 W of brake-release coil. (The "
+         "default 25 W on a 1.75 h duty cycle gave a 0.13 um probe signal, the size of the model error then.)"),
     Case("electrical_cabinet", "etve-day-night", "80 W",
          "standby losses of the cabinet are constant while the machine is powered, so the 24 h ETVE record "
-         "excites them; 80 W reaching the column is a few % of a 2-3 kW cabinet bolted to its side. On a "
-         "spindle run the model error of the spindle heat (mesh, materials) leaks into its fit."),
+         "excites them; 80 W reaching the column is a few % of a 2-3 kW cabinet bolted to its side. (At 40 W "
+         "on the shortened heat-cool run the fit was 29 % high: the spindle run's model error leaked into it.)"),
     Case("ambient_stratification", "etve-day-night", None,
          "the gradient's flux h g (z - z_ref) acts all day; 0.5 K/m is a typical hall (VDI 2078)."),
     Case("door_draft", "etve-day-night", "25 W/m2K",
          "a draft only acts during door openings (the effect's schedule: one 20 min opening at 1 h); "
          "25 W/(m2 K) is the upper end of the 10-25 W/(m2 K) the effect gives for a 1-3 m/s draft. "
-         "At 15 W/(m2 K) the event's probe signal (0.2 um) is barely above the model error over 24 h."),
+         "(At 15 W/(m2 K) the event's probe signal, 0.2 um, was barely above the model error before the "
+         "diagnosis fitted the material expansion.)"),
     Case("solar_load", "etve-day-night", None,
          "the sun acts in day hours only: the day-night record; 40 W/m2 absorbed at noon is diffuse light "
          "through a window."),
     Case("floor_lag", "etve-day-night", "50 W/m2K",
          "the slow foundation acts through the room's daily swing; 50 W/(m2 K) is a bed grouted onto its "
-         "foundation (full contact; 20 W/(m2 K), levelling feet, left 0.26 um of probe signal against 0.12 um "
-         "of model error on this record in the quick run, a 60 % reduction)."),
+         "foundation (full contact; 20 W/(m2 K), levelling feet, gave 0.26 um of probe signal against 0.12 um "
+         "of model error before the diagnosis fitted the material expansion, a 60 % reduction)."),
     Case("test_bar_contact", "spindle-duty-cycle", None,
          "the test bar heats with the spindle: the duty cycle switches it on and off; 20 W/K (the default) is a "
          "40 mm taper shank at a few 1000 W/(m2 K)."),
 )}
+
+
+def reference_case(effect: str) -> Case:
+    """``effect``'s case with the effect's own default (reference) strength: the sensitivity run."""
+    c = case_for(effect)
+    return Case(effect, c.scenario, None, "reference strength (the effect's default) on the same scenario.")
 
 
 def case_for(effect: str) -> Case:
@@ -103,6 +110,7 @@ def load_case_scenario(name: str, quick: bool):
 
 _WORKER = {}
 _MESH_ERROR: dict = {}
+_REFERENCE = False   # --reference: every hidden effect at its default strength
 # the diagnosis estimates its discretisation error against this mesh; not the truth's (``default``),
 # so the estimate is no copy of the truth-model gap
 ERROR_RESOLUTION = "fine"
@@ -110,7 +118,9 @@ ERROR_RESOLUTION = "fine"
 
 def _run_planned(args) -> dict:
     """Pool worker: one case, with the machine and coarse mesh built once per process."""
-    hidden, scenario_name, quick = args
+    hidden, scenario_name, quick, reference = args
+    global _REFERENCE
+    _REFERENCE = reference
     if not _WORKER:
         _WORKER["machine"] = build_machine("cframe-vmc")
         _WORKER["mm"] = _WORKER["machine"].mesh("coarse")
@@ -127,7 +137,7 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
         pname = strength_parameter(eff)
         par = eff.parameter(pname)
         unit = par.unit
-        strength = case_for(hidden).strength
+        strength = None if _REFERENCE else case_for(hidden).strength
         true_v = parse_quantity(strength, par.dimension) if strength else (
             par.default if hidden in DEFAULT_EFFECTS else reference_value(par))
     if hidden in DEFAULT_EFFECTS:
@@ -188,7 +198,7 @@ def markdown(rows: list[dict], quick: bool, command: str) -> str:
     reduced = rate(lambda r: r["probe_reduction"] >= BAR["probe_reduction"])
     quiet = float(np.mean([not r["significant"] for r in none])) if none else float("nan")
     verdict = lambda ok: "**pass**" if ok else "**FAIL**"
-    md = ["# Hidden-effect study" + (" (quick)" if quick else ""), "",
+    md = ["# Hidden-effect study" + (" (quick)" if quick else "") + (" at reference strengths" if _REFERENCE else ""), "",
           f"Command: `{command}`. Truth: default effects + one hidden effect on the `default` mesh, half the "
           "time step, materials perturbed by up to 5 %, sensor noise 0.05 K / probe noise 0.05 um, "
           "quantisation, 0.03 K sensor bias (`validate.synthetic`). Diagnosing model: default effects on "
@@ -222,7 +232,7 @@ def markdown(rows: list[dict], quick: bool, command: str) -> str:
                   f"{verdict(r['pass'])} |")
     md += ["", "## Why these scenarios and strengths", ""]
     md += [f"- **{r['hidden']}** on `{r['scenario']}`, {r['parameter']} = {_q(r['true'], r['unit'])}: "
-           f"{case_for(r['hidden']).why}" for r in cases]
+           f"{(reference_case if _REFERENCE else case_for)(r['hidden']).why}" for r in cases]
     md += ["", "## The diagnosis's reasoning for the hidden effect", "",
            "Fraction of the weighted residual the hidden effect's fit removes per channel and per input "
            "phase (`validate.compare.detect_phases`), as explained / share of the residual in that cell.", ""]
@@ -288,6 +298,8 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default="validate-out/study_hidden_effect", help="folder for hidden_effect.md/.csv")
     ap.add_argument("--effects", help="comma-separated hidden effects (default: spindle_motor and every library effect)")
     ap.add_argument("--jobs", type=int, default=1, help="cases run in parallel processes (default 1)")
+    ap.add_argument("--reference", action="store_true",
+                    help="sensitivity run: every hidden effect at its default strength instead of the table's")
     ap.add_argument("--analyse", action="store_true",
                     help="only (re)write the failure analysis of an existing hidden_effect.csv into hidden_effect.md")
     a = ap.parse_args(argv)
@@ -305,7 +317,9 @@ def main(argv=None) -> int:
         ap.error(f"unknown effects: {', '.join(unknown)}")
     plan = [(h, case_for(h).scenario) for h in hidden]
     plan += [(None, s) for s in dict.fromkeys(s for _, s in plan)]
-    work = [(h, s, a.quick) for h, s in plan]
+    global _REFERENCE
+    _REFERENCE = a.reference
+    work = [(h, s, a.quick, a.reference) for h, s in plan]
     if a.jobs > 1:
         from multiprocessing import Pool
         with Pool(a.jobs) as pool:
@@ -321,6 +335,7 @@ def main(argv=None) -> int:
     w.writerows(rows)
     atomic_write_text(out / "hidden_effect.csv", buf.getvalue())
     cmd = "python -m validate.study_hidden_effect" + (" --quick" if a.quick else "") + (
+        " --reference" if a.reference else "") + (
         f" --effects {a.effects}" if a.effects else "") + (f" --jobs {a.jobs}" if a.jobs > 1 else "")
     text = markdown(rows, a.quick, cmd) + "\n" + failure_analysis(rows)
     atomic_write_text(out / "hidden_effect.md", text)
