@@ -20,8 +20,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from validate.learner_data import build_data
-from validate.study_common import fit_score, markdown_table, parse_args, preset, select, write_csv
+from validate.study_common import fit_score, markdown_table, preset, select, start, write_csv
 
 NAME = "study_anfis_sweep"
 # thesis Table 5-2 (test RMSE, test NSE) and Table 5-1 (validation RMSE, test RMSE), um
@@ -111,11 +110,7 @@ MF_HEAD = ["MFs", "epochs", "epoch kept", "train RMSE um", "checking RMSE um", "
 
 
 def main(argv=None) -> int:
-    args = parse_args(NAME, __doc__, argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    print(f"simulating (or reading cached runs) in {out} ...", flush=True)
-    data = build_data(out, resolution="coarse" if args.quick else "default", seed=args.seed)
+    args, out, data = start(NAME, __doc__, argv)
     print("input sweep 1..8 ...", flush=True)
     inputs = input_sweep(data, args.seed)
     print("MF sweep 2..9 ...", flush=True)

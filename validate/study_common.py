@@ -34,6 +34,18 @@ def parse_args(name: str, doc: str, argv=None) -> argparse.Namespace:
     return p.parse_args(argv)
 
 
+def start(name: str, doc: str, argv=None):
+    """Common start of a study's ``main``: parse the options, create the output folder and build
+    (or read cached) training and test data. Returns (args, output folder, StudyData)."""
+    from validate.learner_data import build_data
+
+    args = parse_args(name, doc, argv)
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"simulating (or reading cached runs) in {out} ...", flush=True)
+    return args, out, build_data(out, resolution="coarse" if args.quick else "default", seed=args.seed)
+
+
 def preset(name: str, seed: int = 0, **override):
     """A registered learner with the studies' seed-like presets and ``random_state=seed``."""
     est = make_learner(name, **{**PRESETS.get(name, {}), **override})

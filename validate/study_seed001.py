@@ -15,8 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import learners
-from validate.learner_data import build_data
-from validate.study_common import fit_score, markdown_table, parse_args, preset, select, write_csv
+from validate.study_common import fit_score, markdown_table, preset, select, start, write_csv
 
 NAME = "study_seed001"
 SEED_ROWS = [  # seed 001 Table 5 (FCM-ANFIS 4) and Table 6, Z axis, test set; um
@@ -211,11 +210,7 @@ def markdown(rows, extra, data) -> str:
 
 
 def main(argv=None) -> int:
-    args = parse_args(NAME, __doc__, argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    print(f"simulating (or reading cached runs) in {out} ...", flush=True)
-    data = build_data(out, resolution="coarse" if args.quick else "default", seed=args.seed)
+    args, out, data = start(NAME, __doc__, argv)
     print(f"{len(data.candidates)} candidate sensors; fitting {len(learners.LEARNERS)} learners per axis ...",
           flush=True)
     rows, extra = run_study(data, seed=args.seed)

@@ -24,8 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from validate.learner_data import build_data
-from validate.study_common import fit_score, markdown_table, parse_args, preset, select, write_csv
+from validate.study_common import fit_score, markdown_table, preset, select, start, write_csv
 
 NAME = "study_sensor_placement"
 INTUITIVE = ("motor", "spindle_boss", "column_front_top", "test_bar")
@@ -141,11 +140,7 @@ HEADERS = ["sensor set", "learner", "sets", "test RMSE um (mean)", "min", "max",
 
 
 def main(argv=None) -> int:
-    args = parse_args(NAME, __doc__, argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    print(f"simulating (or reading cached runs) in {out} ...", flush=True)
-    data = build_data(out, resolution="coarse" if args.quick else "default", seed=args.seed)
+    args, out, data = start(NAME, __doc__, argv)
     print("scoring sensor sets (greedy oracle searches the whole grid) ...", flush=True)
     rows, raw = run_study(data, seed=args.seed)
     write_csv(out / "placement.csv", rows)
