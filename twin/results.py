@@ -77,8 +77,7 @@ def to_dataset(r: RunResult, seed: int = 0, resolution: str = "", scenario_label
     for j, e in enumerate(r.loads.convection_effect):
         power[:, effects.index(e)] += conv[:, j]
 
-    params = {g: {p.name: f"{v:.6g} {spec.parameter_table(g)[i].unit}".strip()
-                  for i, (p, v) in enumerate(zip(spec.parameter_table(g), vals.values()))}
+    params = {g: {p.name: f"{vals[p.name]:.6g} {p.unit}".strip() for p in spec.parameter_table(g)}
               for g, vals in spec.params.items()}
     ds = xr.Dataset(
         data_vars={

@@ -114,6 +114,12 @@ def register_effect(cls: type[Effect]) -> type[Effect]:
     return cls
 
 
+def constant(value: float) -> Signal:
+    """The signal that is ``value`` at every time."""
+    value = float(value)
+    return lambda t: np.full(np.shape(t), value)
+
+
 def speed_power_law(scenario, reference_speed: float, exponent: float, scale: float) -> Signal:
     """Signal scale * (n(t) / n_ref)^exponent for spindle speed n(t) [rpm] (0 when stopped)."""
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import Convection, Effect, HeatSource, Parameter, register_effect
+from twin.effects.base import Convection, Effect, HeatSource, Parameter, constant, register_effect
 
 
 @register_effect
@@ -62,4 +62,4 @@ class ZAxisHolding(Effect):
 
     def loads(self, mm, scenario, p):
         power = p["power"]
-        return [HeatSource(self.name, column_top_cells(mm), lambda t: np.full(np.shape(t), power))]
+        return [HeatSource(self.name, column_top_cells(mm), constant(power))]

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from twin.effects.base import Convection, Effect, Parameter, first_order_lag, register_effect
+from twin.effects.base import Convection, Effect, Parameter, constant, first_order_lag, register_effect
 
 
 @register_effect
@@ -26,7 +24,7 @@ class AmbientConvection(Effect):
 
     def loads(self, mm, scenario, p):
         h = p["h"]
-        return [Convection(self.name, mm.facets["skin"], lambda t: np.full(np.shape(t), h), scenario.ambient_temperature)]
+        return [Convection(self.name, mm.facets["skin"], constant(h), scenario.ambient_temperature)]
 
 
 @register_effect
@@ -51,5 +49,5 @@ class Floor(Effect):
     def loads(self, mm, scenario, p):
         lagged = first_order_lag(scenario.ambient_temperature, p["lag"], scenario.duration)
         offset, hc = p["offset"], p["conductance"]
-        return [Convection(self.name, mm.facets["floor_contact"], lambda t: np.full(np.shape(t), hc),
+        return [Convection(self.name, mm.facets["floor_contact"], constant(hc),
                            lambda t: lagged(t) + offset)]

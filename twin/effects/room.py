@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import Convection, Effect, Parameter, SurfaceHeatFlux, first_order_lag, register_effect
+from twin.effects.base import (Convection, Effect, Parameter, SurfaceHeatFlux, constant, first_order_lag,
+                               register_effect)
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -27,10 +28,6 @@ def facing(mm, facets: np.ndarray, direction: str) -> np.ndarray:
     cell_mid = mm.mesh.p[axis, mm.mesh.t[:, owner]].mean(axis=0)
     outward = np.sign(corners[axis].mean(axis=0) - cell_mid)
     return facets[flat & (outward == sign)]
-
-
-def constant(value: float):
-    return lambda t: np.full(np.shape(t), float(value))
 
 
 @register_effect

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, register_effect,
-                               speed_power_law)
+from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, constant,
+                               register_effect, speed_power_law)
 
 _REF = Parameter("reference_speed", "speed", 9000.0, 100.0, 60000.0, "speed at which the reference value holds")
 
@@ -117,4 +117,4 @@ class TestBarContact(Effect):
     def loads(self, mm, scenario, p):
         facets = mm.facets["test_bar_seat"]
         hc = p["conductance"] / mm.facet_area(facets)
-        return [ContactConductance(self.name, facets, ("test_bar",), lambda t: np.full(np.shape(t), hc))]
+        return [ContactConductance(self.name, facets, ("test_bar",), constant(hc))]
