@@ -49,6 +49,8 @@ class Part:
     material: Material
     boxes: tuple[Box, ...]
     chain: str = ""  # "workpiece" side (bed, saddle, table) or "tool" side (column, carrier, ...)
+    refine: float | tuple[float, float, float] = 1.0  # cells across the part's extent are at most
+    # refine x the mesh spacing (one factor, or one per axis x, y, z)
 
 
 @dataclass(frozen=True)
@@ -126,7 +128,7 @@ class Machine:
 
     def with_materials(self, materials: dict[str, Material]) -> "Machine":
         """A copy whose parts use ``materials[old.name]`` in place of their material."""
-        parts = [Part(p.name, materials.get(p.material.name, p.material), p.boxes, p.chain) for p in self.parts]
+        parts = [Part(p.name, materials.get(p.material.name, p.material), p.boxes, p.chain, p.refine) for p in self.parts]
         return Machine(**{**self.__dict__, "parts": parts})
 
 

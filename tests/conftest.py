@@ -9,13 +9,14 @@ from geometries.base import Box, Machine, Part, Surface
 from twin.materials import MATERIALS
 
 
-def box_body(size, spacing, material="steel", surfaces=()):
-    """A one-part machine: a box [0, size] [m] meshed with cubes no wider than ``spacing`` [m].
+def box_body(size, spacing, material="steel", surfaces=(), refine=1.0):
+    """A one-part machine: a box [0, size] [m] meshed with cubes no wider than ``spacing`` [m]
+    (times the part's ``refine``).
 
     ``surfaces``: (name, Box-within) pairs of exterior faces to name.
     """
     size = np.asarray(size, dtype=float)
-    part = Part("body", MATERIALS[material], (Box((0.0, 0.0, 0.0), tuple(size)),))
+    part = Part("body", MATERIALS[material], (Box((0.0, 0.0, 0.0), tuple(size)),), refine=refine)
     named = [Surface(name, ("body",), within=within) for name, within in surfaces]
     m = Machine("box", [part], named, [], [], "", "", [], {"test": spacing})
     return m.mesh("test")

@@ -1,11 +1,13 @@
 """Structured hexahedral meshing of box-built machines.
 
 The grid is rectilinear: its lines fall on every box face of every part, and each interval
-between two such planes is split evenly so that no cell is wider than the spacing ``h``. A cell
-belongs to the last part whose box holds its centre; cells outside every part are dropped, and
-parts that touch share nodes (perfectly bonded joints). No external mesher, deterministic.
-This is the grid of the finite-difference-element method used for real-time thermal models of
-machine tools, here with trilinear (heat) and 20-node serendipity (elasticity) elements.
+between two such planes is split evenly so that no cell is wider than the spacing ``h`` (or
+``part.refine * h`` across the extent of a part that asks for finer cells; the refinement runs
+through the whole slab, a tensor grid has no local refinement). A cell belongs to the last part
+whose box holds its centre; cells outside every part are dropped, and parts that touch share
+nodes (perfectly bonded joints). No external mesher, deterministic. This is the grid of the
+finite-difference-element method used for real-time thermal models of machine tools, here with
+trilinear (heat) and incompatible-mode Wilson-Taylor (elasticity) bricks (:mod:`twin.elements`).
 """
 
 from __future__ import annotations
@@ -96,22 +98,35 @@ class MachineMesh:
         return float(np.sum(np.prod(self.cell_size[cells], axis=1)))
 
 
-def grid_lines(bounds: list[float], spacing: float) -> np.ndarray:
-    """Sorted grid coordinates through every bound, no interval wider than ``spacing`` [m]."""
+def grid_lines(bounds: list[float], spacing: float, local: list[tuple[float, float, float]] = ()) -> np.ndarray:
+    """Sorted grid coordinates through every bound, no interval wider than ``spacing`` [m], nor
+    wider than s inside any ``local`` span (a, b, s) (a part's extent with its finer spacing)."""
     planes = np.unique(np.round(np.asarray(bounds, dtype=float), 9))
     lines = [planes[:1]]
     for a, b in zip(planes[:-1], planes[1:]):
-        n = max(1, int(np.ceil((b - a) / spacing - 1e-9)))
+        h = min([spacing] + [s for lo, hi, s in local if lo <= a + 1e-9 and b <= hi + 1e-9])
+        n = max(1, int(np.ceil((b - a) / h - 1e-9)))
         lines.append(np.linspace(a, b, n + 1)[1:])
     return np.concatenate(lines)
 
 
+def refine_factors(part) -> tuple[float, float, float]:
+    """The part's cell-size factors along x, y, z (``part.refine``: one number or three)."""
+    r = part.refine
+    return tuple(float(v) for v in r) if isinstance(r, (tuple, list)) else (float(r),) * 3
+
+
 def build_mesh(machine, spacing: float) -> MachineMesh:
-    """Mesh ``machine`` with cells no wider than ``spacing`` [m] (see module docstring)."""
+    """Mesh ``machine`` with cells no wider than ``spacing`` [m], and no wider than
+    ``part.refine * spacing`` across a part with ``refine < 1`` (per axis if ``refine`` is three
+    numbers): a thin test bar whose fin length sqrt(k A / h P) is a few cm, a bearing zone whose
+    heat peaks inside it (see module docstring)."""
     axes = []
     for d in range(3):
         bounds = [c for part in machine.parts for box in part.boxes for c in (box.lo[d], box.hi[d])]
-        axes.append(grid_lines(bounds, spacing))
+        local = [(box.lo[d], box.hi[d], refine_factors(part)[d] * spacing)
+                 for part in machine.parts if refine_factors(part)[d] < 1 for box in part.boxes]
+        axes.append(grid_lines(bounds, spacing, local))
     centres = [0.5 * (a[1:] + a[:-1]) for a in axes]
     shape = tuple(len(c) for c in centres)
     ci, cj, ck = np.meshgrid(*[np.arange(n) for n in shape], indexing="ij")
