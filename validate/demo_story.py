@@ -187,10 +187,10 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     say(f"  verdict: {d.message}")
     lap("diagnose")
 
-    after_coarse = cmp1 = None
+    after_coarse = calibrated = cmp1 = None
     top = d.candidates[0] if d.candidates else None
     if d.significant and top:
-        after_coarse, _ = apply_top(d, machine, sc_meas, mm)
+        after_coarse, calibrated, _ = apply_top(d, machine, sc_meas, mm)
         effects = ",".join(f"+{e}" for e in top["values_si"])
         settings = [x.replace(" ", "") for x in _settings(top)]
         cmp1 = compare(meas, model_for(meas, MACHINE, effects=effects, settings=settings, resolution=mesh, seed=seed)[0])
@@ -221,7 +221,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     if cmp1 is not None:
         closing.append((f"After adding {_candidate_args(top)}: RMSE per channel, twin on the {mesh} mesh",
                         "\n".join(_rmse_table(cmp0, cmp1))))
-    report = write_report(d, machine, rep, after_coarse, sections=sections, closing=closing)
+    report = write_report(d, machine, rep, after_coarse, sections=sections, closing=closing, calibrated=calibrated)
     doc = diagnosis_json(d)
     json_path = atomic_write_text(rep / "diagnosis.json", json.dumps(doc, indent=2))
     lap("report")
@@ -233,7 +233,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
         "explained": top["explained"] if top else 0.0, "confidence": top["confidence"] if top else 0.0,
         "rmse_before": {c.name: c.stats.rmse for c in cmp0.channels},
         "rmse_after": {c.name: c.stats.rmse for c in cmp1.channels} if cmp1 else {},
-        "before_after_coarse": format_before_after(d, after_coarse) if after_coarse is not None else "",
+        "before_after_coarse": format_before_after(d, after_coarse, calibrated) if after_coarse is not None else "",
         "seconds": seconds,
     }
 

@@ -88,6 +88,7 @@ class Diagnosis:
     expansion: dict = field(default_factory=dict)   # material -> fitted relative change of alpha (baseline)
     calibrated_rmse: np.ndarray | None = None      # per channel, baseline with the nuisance fitted
     residual_after: object = None                  # g -> r - g - nuisance fitted to r - g
+    expansion_fit: object = None                   # g -> {material: relative change of alpha} fitted to r - g
     error_resolution: str | None = None
 
     @property
@@ -168,6 +169,13 @@ def finer_resolution(machine, resolution: str) -> str | None:
     return max(finer, key=lambda r: sizes[r]) if finer else None
 
 
+def coarser_resolution(machine, resolution: str) -> str | None:
+    """The machine's next coarser mesh resolution than ``resolution`` (None if it is the coarsest)."""
+    sizes = machine.resolutions
+    coarser = [r for r in sizes if sizes[r] > sizes[resolution]]
+    return min(coarser, key=lambda r: sizes[r]) if coarser else None
+
+
 def effective_samples(res: np.ndarray) -> float:
     """AR(1) effective sample size N (1 - rho) / (1 + rho), rho pooled lag-1 autocorrelation."""
     x = res - res.mean(axis=0)
@@ -232,10 +240,9 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     d.residual_after = fitter.residual_after
     calibrated = fitter.residual_after(np.zeros_like(r))
     d.calibrated_rmse = np.sqrt(np.mean(calibrated ** 2, axis=0))
-    if nuisance:
-        cols = np.column_stack([(n * w).ravel() for n in nuisance])
-        coef = np.linalg.lstsq(cols, (r * w).ravel(), rcond=None)[0]
-        d.expansion = {m: float(c) for m, c in zip(materials, coef)}
+    d.expansion_fit = lambda g: {m: float(c)
+                                 for m, c in zip(materials, fitter.nuisance_coefficients(g))}
+    d.expansion = d.expansion_fit(np.zeros_like(r))
     pool = candidates if candidates is not None else [e for e in EFFECTS if e not in spec.effects]
     fits = [f for f in (fitter.fit_single(e) for e in pool) if f is not None]
     fits.sort(key=lambda f: f.sse)

@@ -23,7 +23,9 @@ def add_diagnose_parser(subparsers) -> None:
                       effects_help="the diagnosing model's effects: '+a,-b' edits the default set, 'a,b' replaces it")
     p.add_argument("--error-mesh", default="auto", choices=["auto", "none", "coarse", "default", "fine"],
                    help="mesh on which the baseline is rerun once to estimate the diagnosing model's discretisation "
-                        "error per channel (default auto: the next finer than --mesh; none: no estimate)")
+                        "error per channel: a finer one estimates it, a coarser one bounds it (the difference to the "
+                        "next coarser level) (default auto: the next finer than --mesh, else the next coarser; "
+                        "none: no estimate)")
     p.add_argument("--json", metavar="FILE", help="write baseline and ranked candidates as JSON")
     p.add_argument("--apply", action="store_true", help="rerun with the top candidate at its fitted strength")
     p.add_argument("--report", metavar="DIR", help="write an HTML report with figures into DIR")
@@ -45,8 +47,13 @@ def load_inputs(args):
 
 
 def apply_top(d, machine, scenario, mm=None):
-    """Rerun with the top candidate(s) at the fitted strength: returns (model after (nt, nch),
-    the equivalent ``--effects``/``--set`` arguments)."""
+    """Rerun the twin with the top candidate(s) at the fitted strength.
+
+    Returns (model after, model after with the material expansion fitted, the equivalent
+    ``--effects``/``--set`` arguments); model arrays are (nt, nch) on the measurement's grid. The
+    second rerun scales each material's expansion coefficient by the nuisance the diagnosis fitted
+    together with the candidate (None when it fitted none), so its RMSE is the candidate's
+    ``rmse_after``; the first is what the printed arguments reproduce."""
     from validate.diagnose import _interpolator
     from validate.signatures import Engine, with_effect
 
@@ -54,34 +61,56 @@ def apply_top(d, machine, scenario, mm=None):
     spec = d.spec
     for eff, vals in top["values_si"].items():
         spec = with_effect(spec, eff, vals)
-    engine = Engine(machine, scenario, mm=mm, sensors=d.sensor_points)
-    after = _interpolator(engine.times, d.times)(engine.observe(spec))
+    interp = lambda engine: _interpolator(engine.times, d.times)(engine.observe(spec))
+    after = interp(Engine(machine, scenario, mm=mm, sensors=d.sensor_points))
+    calibrated = None
+    fit = next((f for f in d.fits if set(f.effects) == set(top["values_si"])), None)
+    if d.expansion_fit is not None and fit is not None and d.expansion:
+        mats = {p.material.name: p.material for p in machine.parts}
+        scaled = {m: mats[m].scaled(expansion=1 + c) for m, c in d.expansion_fit(fit.response).items()}
+        calibrated = interp(Engine(machine, scenario, mm=mm, sensors=d.sensor_points, materials=scaled))
     args = ["--effects", ",".join(f"+{e}" for e in top["values_si"])]
     for eff, vals in top["parameters"].items():
         args += [f"--set {eff}.{p}={v.replace(' ', '')}" for p, v in vals.items()]
-    return after, args
+    return after, calibrated, args
 
 
-def format_before_after(d, after: np.ndarray) -> str:
-    """Per-channel RMSE before and after applying the top candidate."""
+def format_before_after(d, after: np.ndarray, calibrated: np.ndarray | None = None) -> str:
+    """Per-channel RMSE before and after applying the top candidate; with ``calibrated`` (the
+    rerun with the fitted material expansion) two more columns: the baseline and the rerun, each
+    with the expansion the diagnosis fitted."""
     from validate.diagnose import UNITS
-    rms_after = np.sqrt(np.mean((d.measured - after) ** 2, axis=0))
-    lines = [f"{'channel':<32} {'unit':>4} {'before':>9} {'after':>9} {'change':>8}"]
-    for c, g, b, a in zip(d.channels, d.groups, d.baseline_rmse, rms_after):
-        lines.append(f"{c:<32} {UNITS[g]:>4} {b:>9.4g} {a:>9.4g} {(a / b - 1) if b else 0:>+8.0%}")
+    rms = lambda model: np.sqrt(np.mean((d.measured - model) ** 2, axis=0))
+    rms_after = rms(after)
+    head = f"{'channel':<32} {'unit':>4} {'before':>9} {'after':>9} {'change':>8}"
+    extra = calibrated is not None and d.calibrated_rmse is not None
+    if extra:
+        head += f" {'before+a':>9} {'after+a':>9} {'change':>8}"
+        rms_cal = rms(calibrated)
+    lines = [head]
+    for i, (c, g, b, a) in enumerate(zip(d.channels, d.groups, d.baseline_rmse, rms_after)):
+        line = f"{c:<32} {UNITS[g]:>4} {b:>9.4g} {a:>9.4g} {(a / b - 1) if b else 0:>+8.0%}"
+        if extra:
+            bc, ac = d.calibrated_rmse[i], rms_cal[i]
+            line += f" {bc:>9.4g} {ac:>9.4g} {(ac / bc - 1) if bc else 0:>+8.0%}"
+        lines.append(line)
+    if extra:
+        lines.append("+a: with the thermal expansion of each material fitted as the diagnosis did ("
+                     + ", ".join(f"{m} {c:+.1%}" for m, c in d.expansion.items()) + " for the baseline)")
     return "\n".join(lines)
 
 
 def error_resolution(args, machine) -> str | None:
     """The ``--error-mesh`` choice resolved against the machine (None: no estimate)."""
-    from validate.diagnose import finer_resolution
+    from validate.diagnose import coarser_resolution, finer_resolution
     choice = getattr(args, "error_mesh", "auto")
     if choice == "none":
         return None
     if choice == "auto":
-        return finer_resolution(machine, args.mesh)
-    if choice not in machine.resolutions or machine.resolutions[choice] >= machine.resolutions[args.mesh]:
-        raise InputError("command line", "--error-mesh", f"{choice!r} is not finer than --mesh {args.mesh!r}")
+        return finer_resolution(machine, args.mesh) or coarser_resolution(machine, args.mesh)
+    if choice not in machine.resolutions or choice == args.mesh:
+        raise InputError("command line", "--error-mesh", f"{choice!r} is not another resolution than --mesh "
+                         f"{args.mesh!r} (known: {', '.join(machine.resolutions)})")
     return choice
 
 
@@ -98,18 +127,18 @@ def run_diagnose(args) -> int:
             raise
         raise InputError(args.measurement, "time", str(err)) from None
     print(format_diagnosis(d))
-    after = None
+    after = calibrated = None
     if args.apply or args.report:
         if not d.candidates:
             print("nothing to apply: no candidate effects")
         else:
-            after, extra = apply_top(d, machine, sc, mm)
+            after, calibrated, extra = apply_top(d, machine, sc, mm)
             if args.apply:
                 print(f"\nApplied {d.candidates[0]['effect']} ({' '.join(extra)}):")
-                print(format_before_after(d, after))
+                print(format_before_after(d, after, calibrated))
     if args.json:
         atomic_write_text(args.json, json.dumps(diagnosis_json(d), indent=2))
     if args.report:
         from validate.report import write_report
-        print(f"report: {write_report(d, machine, args.report, after)}")
+        print(f"report: {write_report(d, machine, args.report, after, calibrated=calibrated)}")
     return 0

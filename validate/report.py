@@ -184,12 +184,13 @@ _CAPTIONS = {
 
 def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None = None,
                  sections: list[tuple[str, str]] | None = None,
-                 closing: list[tuple[str, str]] | None = None) -> Path:
+                 closing: list[tuple[str, str]] | None = None, calibrated: np.ndarray | None = None) -> Path:
     """Write ``folder/index.html`` atomically (figures embedded); returns its path.
 
     Order: the verdict; ``sections`` (title, preformatted text), e.g. the comparison table of
     :func:`validate.compare.format_compare`; the candidate ranking; RMSE before/after on the
-    diagnosing model (with ``after``); ``closing`` sections; the figures with captions."""
+    diagnosing model (with ``after``; with ``calibrated``, the rerun with the fitted material
+    expansion, too); ``closing`` sections; the figures with captions."""
     from validate.diagnose import format_diagnosis
     from validate.diagnose_cli import format_before_after
 
@@ -204,7 +205,7 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
     parts.append(block("Ranking of the candidate effects", format_diagnosis(d)))
     if after is not None:
         parts.append(block("RMSE before and after adding the top candidate (diagnosing model)",
-                           format_before_after(d, after)))
+                           format_before_after(d, after, calibrated)))
     parts += [block(t, x) for t, x in closing or []]
     for title, png in figures(d, machine, after).items():
         caption = next((c for k, c in _CAPTIONS.items() if title.startswith(k)), "")

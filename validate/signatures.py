@@ -139,9 +139,10 @@ class SignatureFitter:
         self.r, self.w, self.gn_iterations = residual, weights, gn_iterations
         # nuisance responses (k, nt, nch), fitted freely alongside every candidate: profiled out
         # by projecting every weighted vector onto the complement of their span (Q orthonormal)
-        self.Q = None
+        self.Q = self.N = None
         if nuisance is not None and len(nuisance):
             cols = np.column_stack([(n * weights).ravel() for n in nuisance])
+            self.N = cols
             q, rr = np.linalg.qr(cols)
             keep = np.abs(np.diag(rr)) > 1e-10 * max(np.abs(np.diag(rr)).max(), 1e-300)
             self.Q = q[:, keep] if keep.any() else None
@@ -156,6 +157,13 @@ class SignatureFitter:
     def residual_after(self, g: np.ndarray) -> np.ndarray:
         """r - g - (the nuisance fitted to r - g), native units, shape of r."""
         return self.weighted(self.r - g).reshape(self.r.shape) / np.where(self.w > 0, self.w, 1.0)
+
+    def nuisance_coefficients(self, g: np.ndarray) -> np.ndarray:
+        """Amplitudes of the nuisance responses fitted (weighted least squares) to r - g; empty
+        without nuisance."""
+        if self.N is None:
+            return np.zeros(0)
+        return np.linalg.lstsq(self.N, ((self.r - g) * self.w).ravel(), rcond=None)[0]
 
     def sse(self, g: np.ndarray) -> float:
         return float(np.sum(self.weighted(self.r - g) ** 2))

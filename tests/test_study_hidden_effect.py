@@ -1,0 +1,47 @@
+"""The hidden-effect study's scoring and rendering (the study itself is a long run behind its own
+command: ``python -m validate.study_hidden_effect``)."""
+
+from __future__ import annotations
+
+import pytest
+
+from validate import study_hidden_effect as study
+
+
+def _row(hidden, scenario, rank, significant, true, fitted, before, after, ok):
+    return {"hidden": hidden, "scenario": scenario, "rank": rank, "top": hidden if rank == 1 else "other",
+            "significant": significant, "parameter": "power", "unit": "W", "true": true, "fitted": fitted,
+            "strength_error": abs(fitted / true - 1) if true == true else float("nan"),
+            "probe_rmse_before_um": before, "probe_rmse_after_um": after,
+            "probe_reduction": 1 - after / before if after == after else float("nan"),
+            "explained": 0.9, "delta_bic": 50.0, "confidence": 1.0, "pass": ok,
+            "truth_mesh": "fine", "model_mesh": "default", "error_mesh": "coarse", "_reasoning": {}}
+
+
+def test_bar_and_failure_analysis_follow_the_numbers():
+    """The bar table counts exactly the rows that meet each criterion; the failure analysis
+    gives signal = sqrt(before^2 - floor^2) against the nothing-hidden floor of the scenario."""
+    nan = float("nan")
+    rows = [_row("spindle_motor", "s", 1, True, 60.0, 57.0, 1.0, 0.1, True),
+            _row("test_bar_contact", "s", 1, True, 20.0, 12.0, 0.5, 0.3, False),
+            _row("(none)", "s", None, False, nan, nan, 0.3, nan, True)]
+    md = study.markdown(rows, False, "python -m validate.study_hidden_effect")
+    assert "| hidden effect ranked first | 100% of 2 |" in md
+    assert "| fitted strength within 25 % | 50% |" in md and "| probe RMSE reduced >= 70 % | 50% |" in md
+    assert "| nothing hidden -> nothing significant | 100% of 1 scenarios |" in md
+    assert "`fine` mesh" in md and "on\n`default`" not in md and "`default`; every" in md and "`coarse`" in md
+    fa = study.failure_analysis(rows)
+    assert "test_bar_contact" in fa and "spindle_motor" not in fa
+    assert "signal 0.4 um vs floor 0.3 um" in fa   # sqrt(0.5^2 - 0.3^2) = 0.4
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--truth", "huge"], "unknown mesh resolution 'huge'"),
+    (["--truth", "coarse", "--model", "default"], "coarser than --model"),
+    (["--effects", "nonsense"], "unknown effects: nonsense"),
+])
+def test_bad_options_are_one_clear_error(capsys, argv, needle):
+    with pytest.raises(SystemExit) as e:
+        study.main(argv)
+    assert e.value.code == 2
+    assert needle in capsys.readouterr().err
