@@ -175,27 +175,58 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
     fit = next((f for f in d.fits if f.effects == (hidden,)), None) if hidden else None
     fitted = fit.values[hidden][pname] if fit else float("nan")
     probes = [i for i, g in enumerate(d.groups) if g == "probe"]
-    # before: the diagnosing model with its nuisance (material expansion) fitted; after: the same
-    # plus the hidden effect at its fitted strength, nuisance refitted (validate.diagnose)
-    raw = float(np.sqrt(np.mean(d.residual[:, probes] ** 2)))
-    before = float(np.sqrt(np.mean(d.residual_after(np.zeros_like(d.residual))[:, probes] ** 2)))
-    after = float(np.sqrt(np.mean(d.residual_after(fit.response)[:, probes] ** 2))) if fit else float("nan")
+    temps = [i for i, g in enumerate(d.groups) if g == "temperature"]
+    rms = lambda x, cols: float(np.sqrt(np.mean(x[:, cols] ** 2)))
+    # plain: the diagnosing model as given; calibrated: with its nuisance (material expansion)
+    # fitted; after: plus the hidden effect at its fitted strength, nuisance refitted (what the
+    # diagnosis hands back, ``twin diagnose --apply``'s after+a). Temperatures do not depend on
+    # the expansion, so their before is the plain model's.
+    calibrated = d.residual_after(np.zeros_like(d.residual))
+    after_res = d.residual_after(fit.response) if fit else None
     top = d.candidates[0] if d.candidates else {}
-    err = abs(fitted / true_v - 1) if hidden else float("nan")
-    red = 1 - after / before if hidden and before > 0 else float("nan")
-    if hidden:
-        ok = bool(rank == 1 and d.significant and err <= BAR["strength"] and red >= BAR["probe_reduction"])
-    else:
-        ok = not d.significant
     mine = next((c for c in d.candidates if c["effect"] == hidden), top) if hidden else top
-    return {"hidden": hidden or "(none)", "scenario": sc.name, "rank": rank, "top": top.get("effect", ""),
-            "significant": d.significant, "parameter": pname, "unit": unit, "true": true_v, "fitted": fitted,
-            "strength_error": err, "probe_rmse_uncalibrated_um": raw, "probe_rmse_before_um": before, "probe_rmse_after_um": after,
-            "probe_reduction": red, "explained": top.get("explained", float("nan")),
-            "delta_bic": top.get("delta_bic", float("nan")), "confidence": top.get("confidence", float("nan")),
-            "pass": ok, "seconds": time.perf_counter() - t0, "message": d.message,
-            "truth_mesh": _MESHES.truth, "model_mesh": _MESHES.model, "error_mesh": _MESHES.error or "none",
-            "_reasoning": mine.get("reasoning", {}) if mine else {}}
+    row = {"hidden": hidden or "(none)", "scenario": sc.name, "rank": rank, "top": top.get("effect", ""),
+           "significant": d.significant, "parameter": pname, "unit": unit, "true": true_v, "fitted": fitted,
+           "probe_rmse_uncalibrated_um": rms(d.residual, probes), "probe_rmse_before_um": rms(calibrated, probes),
+           "probe_rmse_after_um": rms(after_res, probes) if fit else float("nan"),
+           "temperature_rmse_before_K": rms(d.residual, temps),
+           "temperature_rmse_after_K": rms(after_res, temps) if fit else float("nan"),
+           "explained": top.get("explained", float("nan")),
+           "delta_bic": top.get("delta_bic", float("nan")), "confidence": top.get("confidence", float("nan")),
+           "seconds": time.perf_counter() - t0, "message": d.message,
+           "truth_mesh": _MESHES.truth, "model_mesh": _MESHES.model, "error_mesh": _MESHES.error or "none",
+           "_reasoning": mine.get("reasoning", {}) if mine else {}}
+    return score(row)
+
+
+def score(row: dict) -> dict:
+    """Add the scores to a case's row (from its RMSEs, rank and strengths; also re-scores a CSV row):
+
+    * ``strength_error`` = |fitted / true - 1|;
+    * ``probe_reduction`` = 1 - after / plain: the probe RMSE of the model as given against the
+      model with the hidden effect at its fitted strength and the material expansion refitted
+      (what the diagnosis hands back): the bar's >= 70 %;
+    * ``probe_reduction_effect`` = 1 - after / calibrated, against the model with the expansion
+      already fitted: the effect's own share (an effect whose probe signature looks like a change
+      of expansion, e.g. a warmer or cooler steel test bar, has little left here);
+    * ``pass``: ranked first, significant, strength within 25 %, probe reduction >= 70 %; with
+      nothing hidden: nothing significant.
+    """
+    r = dict(row)
+    hidden = r["hidden"] != "(none)"
+    nan = float("nan")
+    plain, cal, after = (float(r[k]) for k in ("probe_rmse_uncalibrated_um", "probe_rmse_before_um",
+                                                "probe_rmse_after_um"))
+    r["strength_error"] = abs(float(r["fitted"]) / float(r["true"]) - 1) if hidden else nan
+    r["probe_reduction"] = 1 - after / plain if hidden and plain > 0 else nan
+    r["probe_reduction_effect"] = 1 - after / cal if hidden and cal > 0 else nan
+    significant = r["significant"] in (True, "True")
+    if hidden:
+        r["pass"] = bool(str(r["rank"]) == "1" and significant and r["strength_error"] <= BAR["strength"]
+                         and r["probe_reduction"] >= BAR["probe_reduction"])
+    else:
+        r["pass"] = not significant
+    return r
 
 
 def _q(v: float, unit: str) -> str:
@@ -213,6 +244,7 @@ def markdown(rows: list[dict], quick: bool, command: str, reasoning_md: str | No
     first = rate(lambda r: r["rank"] == 1)
     within = rate(lambda r: r["strength_error"] <= BAR["strength"])
     reduced = rate(lambda r: r["probe_reduction"] >= BAR["probe_reduction"])
+    own = rate(lambda r: r.get("probe_reduction_effect", float("nan")) >= BAR["probe_reduction"])
     quiet = float(np.mean([not r["significant"] for r in none])) if none else float("nan")
     verdict = lambda ok: "**pass**" if ok else "**FAIL**"
     first_row = rows[0] if rows else {}
@@ -229,25 +261,32 @@ def markdown(rows: list[dict], quick: bool, command: str, reasoning_md: str | No
              "(`validate.diagnose.channel_weights`). " if meshes.error else
              "The diagnosis runs without an estimate of its own discretisation error. ")
           + "It also fits the thermal expansion of each material as a free "
-          "nuisance with the baseline and every candidate: probe RMSE *before* is the default model with that "
-          "nuisance fitted, *after* adds the hidden effect at its fitted strength (nuisance refitted); the CSV "
-          "also has the RMSE without the nuisance (`probe_rmse_uncalibrated_um`).", "",
+          "nuisance with the baseline and every candidate. Probe RMSE: *plain* is the diagnosing model as "
+          "given, *calibrated* the same with the expansion fitted, *after* adds the hidden effect at its fitted "
+          "strength with the expansion refitted (what the diagnosis hands back, `twin diagnose --apply`'s "
+          "`after+a`). The bar's reduction is plain -> after; calibrated -> after, the effect's own share, is "
+          "reported beside it.", "",
           "## Against the bar", "",
           "| criterion | result | bar | |", "|---|---|---|---|",
           f"| hidden effect ranked first | {first:.0%} of {len(cases)} | >= 90 % | {verdict(first >= BAR['first'])} |",
           f"| fitted strength within 25 % | {within:.0%} | 100 % | {verdict(within >= 1)} |",
-          f"| probe RMSE reduced >= 70 % | {reduced:.0%} | 100 % | {verdict(reduced >= 1)} |",
+          f"| probe RMSE reduced >= 70 % (plain -> after) | {reduced:.0%} | 100 % | {verdict(reduced >= 1)} |",
+          f"| (the effect's own share: calibrated -> after >= 70 %) | {own:.0%} | reported | |",
           f"| nothing hidden -> nothing significant | {quiet:.0%} of {len(none)} scenarios | 100 % | "
           f"{verdict(quiet >= 1)} |", "",
           "## Cases", "",
           "| hidden | scenario | rank | top candidate | significant | true | fitted | error | "
-          "probe RMSE before | after | reduction | pass |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+          "probe RMSE plain | calibrated | after | reduction | own share | temperature RMSE before -> after | pass |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in cases:
+        temp = (f"{r['temperature_rmse_before_K']:.3g} -> {r['temperature_rmse_after_K']:.3g} K"
+                if np.isfinite(float(r.get("temperature_rmse_before_K", float("nan")))) else "")
         md.append(f"| {r['hidden']} | {r['scenario']} | {r['rank']} | {r['top']} | {r['significant']} | "
                   f"{r['parameter']} = {_q(r['true'], r['unit'])} | {_q(r['fitted'], r['unit'])} | "
-                  f"{_pct(r['strength_error'])} | {r['probe_rmse_before_um']:.3g} um | "
-                  f"{r['probe_rmse_after_um']:.3g} um | {_pct(r['probe_reduction'])} | {verdict(r['pass'])} |")
+                  f"{_pct(r['strength_error'])} | {r['probe_rmse_uncalibrated_um']:.3g} um | "
+                  f"{r['probe_rmse_before_um']:.3g} um | {r['probe_rmse_after_um']:.3g} um | "
+                  f"{_pct(r['probe_reduction'])} | {_pct(r.get('probe_reduction_effect', float('nan')))} | {temp} | "
+                  f"{verdict(r['pass'])} |")
     md += ["", "## Nothing hidden", "",
            "| scenario | best candidate | explained | dBIC | verdict | pass |", "|---|---|---|---|---|---|"]
     for r in none:
@@ -300,15 +339,16 @@ def _typed(row: dict) -> dict:
 
 def failure_analysis(rows: list[dict]) -> str:
     """Why each failing case fails, from the numbers alone: the nothing-hidden run on the same
-    scenario gives the model-error floor of the probes (model vs truth mesh, perturbed
-    materials, noise), the hidden signal is sqrt(before^2 - floor^2), and even a perfect fit leaves
-    the floor, so the reachable reduction is about 1 - floor / before (70 % needs signal / floor
-    of about 3.2 or more)."""
+    scenario, calibrated, gives the model-error floor of the probes (model vs truth mesh, noise),
+    the hidden signal is sqrt(plain^2 - floor^2) (with the plain model's material error in it),
+    and even a perfect fit leaves the floor, so the reachable reduction is about 1 - floor / plain
+    (70 % needs signal / floor of about 3.2 or more)."""
     num = lambda v: float(v) if v not in ("", None) else float("nan")
     floor = {r["scenario"]: num(r["probe_rmse_before_um"]) for r in rows if r["hidden"] == "(none)"}
     out = ["## Failure analysis", "",
-           "Probe model-error floor = probe RMSE of the nothing-hidden run on the same scenario; signal = "
-           "sqrt(before^2 - floor^2); reachable reduction ~ 1 - floor / before (the fit cannot remove the floor).", ""]
+           "Probe model-error floor = calibrated probe RMSE of the nothing-hidden run on the same scenario; "
+           "signal = sqrt(plain^2 - floor^2); reachable reduction ~ 1 - floor / plain (the fit cannot remove the "
+           "floor).", ""]
     for r in rows:
         ok = r["pass"] in (True, "True")
         if ok:
@@ -317,7 +357,7 @@ def failure_analysis(rows: list[dict]) -> str:
             out.append(f"- nothing hidden on `{r['scenario']}`: {r['top']} reported as missing "
                        f"(explains {num(r['explained']):.0%}, dBIC {num(r['delta_bic']):.0f}).")
             continue
-        before, fl = num(r["probe_rmse_before_um"]), floor.get(r["scenario"], float("nan"))
+        before, fl = num(r["probe_rmse_uncalibrated_um"]), floor.get(r["scenario"], float("nan"))
         sig = np.sqrt(max(before ** 2 - fl ** 2, 0.0)) if np.isfinite(fl) else float("nan")
         failed = []
         if str(r["rank"]) != "1":
@@ -354,7 +394,7 @@ def main(argv=None) -> int:
     if a.analyse:
         out = Path(a.out)
         with open(out / "hidden_effect.csv", newline="") as fh:
-            rows = [_typed(r) for r in csv.DictReader(fh)]
+            rows = [score(_typed(r)) for r in csv.DictReader(fh)]
         old = (out / "hidden_effect.md").read_text()
         head = "## The diagnosis's reasoning for the hidden effect"
         body = old.split(head, 1)[1].split("## Failure analysis")[0] if head in old else ""
