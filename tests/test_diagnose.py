@@ -36,6 +36,26 @@ def test_engine_matches_simulate_run(case):
     np.testing.assert_allclose(out[:, 16:], r.probe * 1e6, atol=1e-9)
 
 
+def test_expansion_sensitivity_from_one_run_is_exact(case):
+    """Drift is linear in each material's expansion coefficient alpha_m and K does not depend on
+    alpha, so d q / d(alpha_m / alpha_m0) = (C_m^T lam)^T (T - T_0) from the baseline's own
+    temperatures equals the difference quotient (y(alpha_m (1 + s)) - y(alpha_m)) / s of a twin
+    rebuilt with the scaled material, for any s; temperatures do not respond at all."""
+    from twin.materials import MATERIALS
+    machine, mm, sc, _ = case
+    short = replace(sc, steps=((600.0, 9000.0), (400.0, 0.0)))
+    spec = model_spec()
+    engine = Engine(machine, short, mm=mm)
+    names = sorted({p.material.name for p in machine.parts})
+    resp = engine.expansion_responses(spec, names)
+    base = engine.observe(spec)
+    for k, name in enumerate(names):
+        scaled = Engine(machine, short, mm=mm, materials={name: MATERIALS[name].scaled(expansion=1.05)})
+        quotient = (scaled.observe(spec) - base) / 0.05
+        np.testing.assert_allclose(resp[k], quotient, atol=1e-8 * np.abs(quotient).max())
+        assert np.abs(quotient).max() > 0.1 and not resp[k][:, :engine.nsensor].any()
+
+
 @pytest.fixture(scope="module")
 def hidden_motor(case):
     machine, mm, sc, ds = case

@@ -50,6 +50,7 @@ class PreparedTwin:
         self.adjoint = self.elastic.solve(np.asarray(drift_functionals(self.mm).todense()).T)  # (3 nnodes, nout)
         self.sensors = sensors if sensors is not None else [machine.point(n) for n in machine.sensor_sites]
         self._layouts: dict[int, tuple] = {}
+        self._expansion: dict[tuple, np.ndarray] = {}
 
     def _layout(self, mm_heat):
         """(sensor interpolation S, influence W) on the temperature dofs of ``mm_heat``."""
@@ -62,20 +63,37 @@ class PreparedTwin:
             self._layouts[mm_heat.nheat] = (S.toarray(), np.asarray(C.T @ self.adjoint))
         return self._layouts[mm_heat.nheat]
 
+    def expansion_influence(self, mm_heat, material: str) -> np.ndarray:
+        """Influence vectors (nheat, nout) of the drift outputs per unit relative change of the
+        expansion coefficient of ``material`` (a material name): C_m^T lam_i with C_m the coupling
+        of that material's cells alone. The drift is linear in each alpha and K does not depend
+        on alpha, so q_i(alpha_m (1 + s)) - q_i(alpha_m) = s (C_m^T lam_i)^T (T - T_0) exactly."""
+        key = (mm_heat.nheat, material)
+        if key not in self._expansion:
+            parts = {p.name: self.materials.get(p.name, p.material) for p in self.machine.parts}
+            alone = {name: m if m.name == material else m.scaled(expansion=0.0) for name, m in parts.items()}
+            self._expansion[key] = np.asarray(ElasticSolver.coupling(mm_heat, alone).T @ self.adjoint)
+        return self._expansion[key]
+
     def loads(self, spec: ModelSpec) -> LoadSet:
         return build_loads(self.mm, self.scenario, spec, self.heat, self.materials)
 
-    def run(self, spec: ModelSpec, theta: float = 0.5, on_step=None):
+    def run(self, spec: ModelSpec, theta: float = 0.5, on_step=None, expansion: tuple[str, ...] = ()):
         """Integrate the scenario with the effects of ``spec``.
 
-        Returns (loads, out) with out (nt, nsensor + 1 + nconv + nout): sensor temperatures
-        [degC], stored heat 1^T M T [J], int T dA per convection load [K m2], and the drift
-        outputs q_i = W_i^T T [m] (subtract the first row for the change from the start).
+        Returns (loads, out) with out (nt, nsensor + 1 + nconv + nout [+ nout per material]):
+        sensor temperatures [degC], stored heat 1^T M T [J], int T dA per convection load
+        [K m2], and the drift outputs q_i = W_i^T T [m] (subtract the first row for the change
+        from the start); then, for each material named in ``expansion``, the drift outputs'
+        sensitivity to a relative change of its expansion coefficient [m per unit]
+        (:meth:`expansion_influence`), from the same temperature history.
         """
         loads = self.loads(spec)
         S, W = self._layout(loads.mm)
         ones_M = np.asarray(loads.heat.M.sum(axis=0)).ravel()
-        outputs = sp.csr_matrix(np.vstack([S, ones_M[None, :], loads.system.r.T, W.T]))
+        rows = [S, ones_M[None, :], loads.system.r.T, W.T] + [self.expansion_influence(loads.mm, m).T
+                                                               for m in expansion]
+        outputs = sp.csr_matrix(np.vstack(rows))
         times = self.scenario.times()
         dt = self.scenario.sample_interval
         h, air, s = loads.signals(times[:-1] + theta * dt)

@@ -86,6 +86,22 @@ class Engine:
         probes = out[:, -len(self.probe_names):]
         return np.hstack([out[:, :self.nsensor], (probes - probes[0]) * 1e6])
 
+    def expansion_responses(self, spec: ModelSpec, materials: list[str]) -> np.ndarray:
+        """(nmat, nt, nsensor + nprobe): the response of every observable to a unit relative
+        change of each material's expansion coefficient, d y / d(alpha_m / alpha_m0), from one
+        run (:meth:`twin.prepared.PreparedTwin.expansion_influence`): zero on the temperatures,
+        probe readings in um on the probes."""
+        loads, out = self.twin.run(spec, expansion=tuple(materials))
+        self.runs += 1
+        npr = len(self.probe_names)
+        nout = 3 + npr                                   # tool X, Y, Z, then the probes
+        first = out.shape[1] - len(materials) * nout     # the materials' blocks come last
+        res = np.zeros((len(materials), out.shape[0], self.nsensor + npr))
+        for k in range(len(materials)):
+            probes = out[:, first + k * nout + 3:first + (k + 1) * nout]
+            res[k, :, self.nsensor:] = (probes - probes[0]) * 1e6
+        return res
+
     def observe(self, spec: ModelSpec) -> np.ndarray:
         """Like :meth:`true_outputs` with the temperature-sensor lag and bias applied (no noise)."""
         out = self.true_outputs(spec)
