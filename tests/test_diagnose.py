@@ -1,5 +1,7 @@
 """Hidden-effect proof on the coarse mesh: truth on the default mesh, half time step, perturbed
-materials, sensor noise, quantisation and bias (validate.synthetic); diagnosing model on coarse."""
+materials, sensor noise, quantisation and bias (validate.synthetic); diagnosing model on coarse.
+(The issue's configuration, truth on fine and model on default for every library effect, is the
+long study ``python -m validate.study_hidden_effect``.)"""
 
 from __future__ import annotations
 
