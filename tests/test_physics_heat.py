@@ -75,9 +75,10 @@ def test_theta_scheme_order_in_time(theta, order):
     assert np.all(np.abs(rates - order) < 0.15), rates
 
 
-def _fin_base_excess(L, w, h, P, spacing, refine=1.0):
-    """Steady base excess temperature [K] of a square steel fin L x w x w [m] with heat P [W] into
-    the base, film h [W/(m2 K)] on the sides, adiabatic tip, meshed at ``spacing`` x ``refine``."""
+def _steady_fin(L, w, h, P, spacing, refine=1.0):
+    """Steady square steel fin L x w x w [m], heat P [W] into the base x = 0, film h [W/(m2 K)]
+    on the sides, adiabatic tip, air 20 degC, meshed at ``spacing`` x ``refine``: returns
+    (mesh, nodal T [degC], side facet matrices)."""
     mm = box_body((L, w, w), spacing, surfaces=[("base", face(0, 0.0)), ("y0", face(1, 0.0)), ("y1", face(1, w)),
                                                 ("z0", face(2, 0.0)), ("z1", face(2, w))], refine=refine)
     heat = assemble_heat(mm)
@@ -85,7 +86,12 @@ def _fin_base_excess(L, w, h, P, spacing, refine=1.0):
     conv = assemble_facets(mm, sides)
     base = assemble_facets(mm, mm.facets["base"])
     system = HeatSystem(heat.M, heat.K, [conv.H], conv.r[:, None], (base.r / base.area)[:, None])
-    T = steady_state(system, np.array([h]), np.array([20.0]), np.array([P]))
+    return mm, steady_state(system, np.array([h]), np.array([20.0]), np.array([P])), conv
+
+
+def _fin_base_excess(L, w, h, P, spacing, refine=1.0):
+    """Mean base excess temperature [K] of :func:`_steady_fin`."""
+    mm, T, _ = _steady_fin(L, w, h, P, spacing, refine)
     return float(np.mean(T[np.isclose(mm.mesh.p[0], 0.0)]) - 20.0)
 
 
@@ -113,14 +119,7 @@ def test_fin_with_end_flux_matches_fin_equation():
     theta(x) = P cosh(m (L - x)) / (k A m sinh(m L)), m = sqrt(h p / (k A)) (Incropera Table 3.4 case B
     with a prescribed base flux). Within 1 % of the base excess."""
     L, w, h, P = 0.3, 0.02, 20.0, 5.0
-    mm = box_body((L, w, w), 0.005, surfaces=[("base", face(0, 0.0)), ("y0", face(1, 0.0)), ("y1", face(1, w)),
-                                                ("z0", face(2, 0.0)), ("z1", face(2, w))])
-    heat = assemble_heat(mm)
-    sides = np.unique(np.concatenate([mm.facets[n] for n in ("y0", "y1", "z0", "z1")]))
-    conv = assemble_facets(mm, sides)
-    base = assemble_facets(mm, mm.facets["base"])
-    system = HeatSystem(heat.M, heat.K, [conv.H], conv.r[:, None], (base.r / base.area)[:, None])
-    T = steady_state(system, np.array([h]), np.array([20.0]), np.array([P]))
+    mm, T, conv = _steady_fin(L, w, h, P, 0.005)
     k, A, perim = STEEL.conductivity, w * w, 4 * w
     m = np.sqrt(h * perim / (k * A))
     x = mm.mesh.p[0]
