@@ -49,7 +49,7 @@ def test_expansion_sensitivity_from_one_run_is_exact(case):
     spec = model_spec()
     engine = Engine(machine, short, mm=mm)
     names = sorted({p.material.name for p in machine.parts})
-    resp = engine.expansion_responses(spec, names)
+    resp = engine.observe_with_expansion(spec, names)[1]
     base = engine.observe(spec)
     for k, name in enumerate(names):
         scaled = Engine(machine, short, mm=mm, materials={name: MATERIALS[name].scaled(expansion=1.05)})

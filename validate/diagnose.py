@@ -215,7 +215,11 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     sensors = sensor_points(ds, machine) if "temperature" in ds else []
     engine = Engine(machine, scenario, resolution, mm=mm, sensors=sensors)
     interp = _interpolator(engine.times, t_meas)
-    base = interp(engine.observe(spec))
+    # the baseline and, from the same run, the exact expansion sensitivities (the nuisance)
+    materials = sorted({p.material.name for p in machine.parts}) if calibrate_expansion else []
+    observed, responses = engine.observe_with_expansion(spec, materials)
+    base = interp(observed)
+    nuisance = [interp(n) for n in responses]
     r = meas - base
     sigma = noise_levels(meas, groups, spec)
     err = model_error
@@ -227,10 +231,6 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     d.model_error_rms, d.error_resolution = err, error_resolution
     d.sensor_points, d.scenario = engine.sensors, scenario
     d.phases = input_phases(ds, scenario, t_meas)
-    nuisance, materials = [], []
-    if calibrate_expansion:   # exact sensitivities, one run (drift is linear in each alpha)
-        materials = sorted({p.material.name for p in machine.parts})
-        nuisance = [interp(n) for n in engine.expansion_responses(spec, materials)]
     fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w,
                              nuisance=np.array(nuisance) if nuisance else None)
     d.residual_after = fitter.residual_after

@@ -51,9 +51,9 @@ def apply_top(d, machine, scenario, mm=None):
 
     Returns (model after, model after with the material expansion fitted, the equivalent
     ``--effects``/``--set`` arguments); model arrays are (nt, nch) on the measurement's grid. The
-    second rerun scales each material's expansion coefficient by the nuisance the diagnosis fitted
-    together with the candidate (None when it fitted none), so its RMSE is the candidate's
-    ``rmse_after``; the first is what the printed arguments reproduce."""
+    second is the same rerun with each material's expansion coefficient scaled by the nuisance
+    the diagnosis fitted together with the candidate (None when it fitted none), from the same
+    run's exact expansion sensitivities; the first is what the printed arguments reproduce."""
     from validate.diagnose import _interpolator
     from validate.signatures import Engine, with_effect
 
@@ -61,14 +61,14 @@ def apply_top(d, machine, scenario, mm=None):
     spec = d.spec
     for eff, vals in top["values_si"].items():
         spec = with_effect(spec, eff, vals)
-    interp = lambda engine: _interpolator(engine.times, d.times)(engine.observe(spec))
-    after = interp(Engine(machine, scenario, mm=mm, sensors=d.sensor_points))
-    calibrated = None
     fit = next((f for f in d.fits if set(f.effects) == set(top["values_si"])), None)
-    if d.expansion_fit is not None and fit is not None and d.expansion:
-        mats = {p.material.name: p.material for p in machine.parts}
-        scaled = {m: mats[m].scaled(expansion=1 + c) for m, c in d.expansion_fit(fit.response).items()}
-        calibrated = interp(Engine(machine, scenario, mm=mm, sensors=d.sensor_points, materials=scaled))
+    coef = d.expansion_fit(fit.response) if d.expansion_fit is not None and fit is not None and d.expansion else {}
+    engine = Engine(machine, scenario, mm=mm, sensors=d.sensor_points)
+    observed, responses = engine.observe_with_expansion(spec, list(coef))
+    interp = _interpolator(engine.times, d.times)
+    after = interp(observed)
+    # drift is linear in each alpha for the rerun's temperatures: the calibrated rerun is exact
+    calibrated = after + sum(c * interp(r) for c, r in zip(coef.values(), responses)) if coef else None
     args = ["--effects", ",".join(f"+{e}" for e in top["values_si"])]
     for eff, vals in top["parameters"].items():
         args += [f"--set {eff}.{p}={v.replace(' ', '')}" for p, v in vals.items()]

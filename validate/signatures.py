@@ -79,35 +79,45 @@ class Engine:
         self.times = scenario.times()
         self.runs = 0
 
-    def true_outputs(self, spec: ModelSpec) -> np.ndarray:
-        """(nt, nsensor + nprobe): true sensor temperatures [degC], then probe readings [um]."""
-        loads, out = self.twin.run(spec)
-        self.runs += 1
-        probes = out[:, -len(self.probe_names):]
-        return np.hstack([out[:, :self.nsensor], (probes - probes[0]) * 1e6])
-
-    def expansion_responses(self, spec: ModelSpec, materials: list[str]) -> np.ndarray:
-        """(nmat, nt, nsensor + nprobe): the response of every observable to a unit relative
-        change of each material's expansion coefficient, d y / d(alpha_m / alpha_m0), from one
-        run (:meth:`twin.prepared.PreparedTwin.expansion_influence`): zero on the temperatures,
-        probe readings in um on the probes."""
-        loads, out = self.twin.run(spec, expansion=tuple(materials))
-        self.runs += 1
+    def _readings(self, out: np.ndarray, nmat: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """From a run's outputs: the true observables (nt, nsensor + nprobe) (sensor temperatures
+        [degC], probe readings [um]) and, for the ``nmat`` expansion blocks appended by
+        :meth:`twin.prepared.PreparedTwin.run`, the responses (nmat, nt, nsensor + nprobe) to a
+        unit relative change of each material's expansion coefficient (zero on temperatures)."""
         npr = len(self.probe_names)
         nout = 3 + npr                                   # tool X, Y, Z, then the probes
-        first = out.shape[1] - len(materials) * nout     # the materials' blocks come last
-        res = np.zeros((len(materials), out.shape[0], self.nsensor + npr))
-        for k in range(len(materials)):
-            probes = out[:, first + k * nout + 3:first + (k + 1) * nout]
-            res[k, :, self.nsensor:] = (probes - probes[0]) * 1e6
-        return res
+        first = out.shape[1] - (nmat + 1) * nout         # the drift block, then one per material
+        um = [(b - b[0]) * 1e6 for b in (out[:, first + k * nout + 3:first + (k + 1) * nout]
+                                         for k in range(nmat + 1))]
+        responses = np.zeros((nmat, out.shape[0], self.nsensor + npr))
+        for k in range(nmat):
+            responses[k, :, self.nsensor:] = um[k + 1]
+        return np.hstack([out[:, :self.nsensor], um[0]]), responses
+
+    def _run(self, spec: ModelSpec, materials: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        loads, out = self.twin.run(spec, expansion=tuple(materials))
+        self.runs += 1
+        return self._readings(out, len(materials))
+
+    def true_outputs(self, spec: ModelSpec) -> np.ndarray:
+        """(nt, nsensor + nprobe): true sensor temperatures [degC], then probe readings [um]."""
+        return self._run(spec)[0]
 
     def observe(self, spec: ModelSpec) -> np.ndarray:
         """Like :meth:`true_outputs` with the temperature-sensor lag and bias applied (no noise)."""
-        out = self.true_outputs(spec)
+        return self.observe_with_expansion(spec, [])[0]
+
+    def observe_with_expansion(self, spec: ModelSpec, materials: list[str]) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`observe` and, from the same run, the response of every observable to a unit
+        relative change of each material's expansion coefficient, d y / d(alpha_m / alpha_m0)
+        (nmat, nt, nsensor + nprobe) (:meth:`twin.prepared.PreparedTwin.expansion_influence`):
+        zero on the temperatures, probe readings in um on the probes. Drift is linear in each
+        alpha for the run's temperatures, so y + sum_m c_m response_m is the run with every
+        alpha_m scaled by (1 + c_m), exactly."""
+        out, responses = self._run(spec, tuple(materials))
         p = spec.params["temperature_sensor"]
         out[:, :self.nsensor] = lag_series(out[:, :self.nsensor], self.scenario.sample_interval, p["lag"]) + p["bias"]
-        return out
+        return out, responses
 
 
 def with_effect(spec: ModelSpec, effect: str, values: dict[str, float]) -> ModelSpec:
