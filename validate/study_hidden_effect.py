@@ -248,9 +248,9 @@ def markdown(rows: list[dict], quick: bool, command: str, reasoning_md: str | No
     quiet = float(np.mean([not r["significant"] for r in none])) if none else float("nan")
     verdict = lambda ok: "**pass**" if ok else "**FAIL**"
     first_row = rows[0] if rows else {}
+    error = first_row.get("error_mesh", _MESHES.error)   # "none" in a CSV row
     meshes = Meshes(first_row.get("truth_mesh", _MESHES.truth), first_row.get("model_mesh", _MESHES.model),
-                    None if first_row.get("error_mesh", _MESHES.error or "none") == "none" else
-                    first_row.get("error_mesh", _MESHES.error))
+                    None if error in (None, "none") else error)
     md = ["# Hidden-effect study" + (" (quick)" if quick else "") + (" at reference strengths" if _REFERENCE else ""), "",
           f"Command: `{command}`. Truth: default effects + one hidden effect on the `{meshes.truth}` mesh, half "
           "the time step, materials perturbed by up to 5 %, sensor noise 0.05 K / probe noise 0.05 um, "
