@@ -1,7 +1,7 @@
 """Machine description: parts made of axis-aligned boxes, named surfaces and named points.
 
 A machine is code (parametric); :meth:`Machine.mesh` turns it into a structured hexahedral mesh
-(see :mod:`twin.mesh`). Coordinates are metres: x along the table's X travel, y towards the
+(see :mod:`twin.fem.mesh`). Coordinates are metres: x along the table's X travel, y towards the
 column (rear), z up; the floor is z = 0.
 """
 
@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from twin.materials import MATERIALS, Material
+from geometries.materials import MATERIALS, Material
 
 Vec3 = tuple[float, float, float]
 
@@ -117,14 +117,6 @@ class Machine:
             if s.name == name:
                 return s
         raise KeyError(f"machine {self.name!r} has no surface {name!r}")
-
-    def mesh(self, resolution: str = "default"):
-        """The structured hexahedral mesh of this machine (see :func:`twin.mesh.build_mesh`)."""
-        from twin.mesh import build_mesh
-
-        if resolution not in self.resolutions:
-            raise KeyError(f"unknown mesh resolution {resolution!r}; known: {', '.join(self.resolutions)}")
-        return build_mesh(self, self.resolutions[resolution])
 
     def with_materials(self, materials: dict[str, Material]) -> "Machine":
         """A copy whose parts use ``materials[old.name]`` in place of their material."""

@@ -27,7 +27,7 @@ import numpy as np
 from learners.metrics import score_all
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.table import load_table
-from twin.atomic import atomic_write
+from twin.io.atomic import atomic_write
 from twin.errors import InputError
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]

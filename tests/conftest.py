@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from geometries.base import Box, Machine, Part, Surface
-from twin.materials import MATERIALS
+from geometries.materials import MATERIALS
+from twin.fem.mesh import mesh_machine
 
 
 def box_body(size, spacing, material="steel", surfaces=(), refine=1.0):
@@ -19,7 +20,7 @@ def box_body(size, spacing, material="steel", surfaces=(), refine=1.0):
     part = Part("body", MATERIALS[material], (Box((0.0, 0.0, 0.0), tuple(size)),), refine=refine)
     named = [Surface(name, ("body",), within=within) for name, within in surfaces]
     m = Machine("box", [part], named, [], [], "", "", [], {"test": spacing})
-    return m.mesh("test")
+    return mesh_machine(m, "test")
 
 
 def face(axis: int, value: float) -> Box:

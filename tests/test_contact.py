@@ -6,9 +6,10 @@ import numpy as np
 
 from geometries.base import Box, Machine, Part, Surface
 from tests.conftest import face
-from twin.assembly import assemble_facets, assemble_heat, assemble_interface
-from twin.materials import MATERIALS
-from twin.transient import HeatSystem, steady_state
+from twin.fem.assembly import assemble_facets, assemble_heat, assemble_interface
+from geometries.materials import MATERIALS
+from twin.physics.heat import HeatSystem, steady_state
+from twin.fem.mesh import mesh_machine
 
 
 def _two_part_bar(L=0.2, w=0.02, spacing=0.01):
@@ -16,7 +17,7 @@ def _two_part_bar(L=0.2, w=0.02, spacing=0.01):
     parts = [Part("a", steel, (Box((0, 0, 0), (L / 2, w, w)),)), Part("b", steel, (Box((L / 2, 0, 0), (L, w, w)),))]
     surfaces = [Surface("seat", ("b",), interface_with=("a",)), Surface("hot", ("a",), within=face(0, 0.0)),
                 Surface("cold", ("b",), within=face(0, L))]
-    return Machine("bar2", parts, surfaces, [], [], "", "", [], {"test": spacing}).mesh("test")
+    return mesh_machine(Machine("bar2", parts, surfaces, [], [], "", "", [], {"test": spacing}), "test")
 
 
 def test_steady_jump_across_a_contact_is_q_over_hc():

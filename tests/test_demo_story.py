@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 
 from validate.demo_story import HIDDEN, run_story
-from validate.measurement import read_measurement
+from twin.io.measurement import read_measurement
 
 
 def test_story_finds_the_hidden_cabinet(tmp_path):

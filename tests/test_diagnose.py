@@ -1,7 +1,7 @@
 """Hidden-effect proof on the coarse mesh: truth on the default mesh, half time step, perturbed
 materials, sensor noise, quantisation and bias (validate.synthetic); diagnosing model on coarse.
 (The issue's configuration, truth on fine and model on default for every library effect, is the
-long study ``python -m validate.study_hidden_effect``.)"""
+long study ``python -m validate.studies.hidden_effect``.)"""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ import pytest
 from geometries import build_machine
 from twin.api import model_spec
 from twin.scenario import load_scenario
+from twin.fem.mesh import mesh_machine
 from validate.diagnose import diagnose, diagnosis_json, format_diagnosis
 from validate.signatures import Engine
 from validate.synthetic import short_scenario, truth_measurement
@@ -24,7 +25,7 @@ def case():
     sc = short_scenario(replace(load_scenario("spindle-heat-cool-9000"), sample_interval=20.0), 0.5)
     machine = build_machine("cframe-vmc")
     ds = truth_measurement("cframe-vmc", sc, resolution="default")
-    return machine, machine.mesh("coarse"), sc, ds
+    return machine, mesh_machine(machine, "coarse"), sc, ds
 
 
 def test_engine_matches_simulate_run(case):
@@ -43,7 +44,7 @@ def test_expansion_sensitivity_from_one_run_is_exact(case):
     alpha, so d q / d(alpha_m / alpha_m0) = (C_m^T lam)^T (T - T_0) from the baseline's own
     temperatures equals the difference quotient (y(alpha_m (1 + s)) - y(alpha_m)) / s of a twin
     rebuilt with the scaled material, for any s; temperatures do not respond at all."""
-    from twin.materials import MATERIALS
+    from geometries.materials import MATERIALS
     machine, mm, sc, _ = case
     short = replace(sc, steps=((600.0, 9000.0), (400.0, 0.0)))
     spec = model_spec()

@@ -7,12 +7,13 @@ import pytest
 
 from geometries import build_machine
 from twin.api import simulate
-from twin.assembly import assemble_heat
+from twin.fem.assembly import assemble_heat
 from twin.effects import DEFAULT_EFFECTS, EFFECTS
 from twin.effects.room import facet_centres, facing
 from twin.model import ModelSpec, build_loads
 from twin.scenario import Ambient, Scenario
-from twin.transient import steady_state
+from twin.physics.heat import steady_state
+from twin.fem.mesh import mesh_machine
 
 NEW = ("electrical_cabinet", "ambient_stratification", "door_draft", "solar_load", "spindle_coolant",
        "z_axis_holding", "floor_lag")
@@ -21,7 +22,7 @@ H_AIR = 8.0
 
 @pytest.fixture(scope="module")
 def mm():
-    return build_machine("cframe-vmc").mesh("coarse")
+    return mesh_machine(build_machine("cframe-vmc"), "coarse")
 
 
 @pytest.fixture(scope="module")

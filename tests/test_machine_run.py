@@ -18,7 +18,7 @@ def test_energy_balance_over_a_full_machine_run(machine_coarse_run):
 
 def test_heat_power_reports_the_documented_source_powers(machine_coarse_run):
     """Bearing heat at 8000 rpm = (P_front + P_rear) (8000/9000)^(5/3) (Palmgren law)."""
-    from twin.results import to_dataset
+    from twin.io.results import to_dataset
 
     ds = to_dataset(machine_coarse_run, seed=0)
     p = ds.heat_power.sel(effect="spindle_bearings").values

@@ -7,10 +7,11 @@ import pytest
 
 from twin.api import simulate
 from twin.errors import InputError
-from twin.results import write_netcdf
+from twin.io.results import write_netcdf
 from twin.scenario import Ambient, Scenario
 from validate.compare import compare, detect_phases, format_compare, stats
-from validate.measurement import read_measurement, scenario_from_measurement, speed_steps
+from twin.io.measured_inputs import scenario_from_measurement, speed_steps
+from twin.io.measurement import read_measurement
 
 SITES = ("motor", "column_side", "bed_front")
 PROBES = ("X1", "X2", "Y1", "Y2", "Z")
@@ -54,7 +55,7 @@ def test_csv_measurement_has_the_result_schema(tmp_path, sim):
     assert np.allclose(meas.temperature, sim.temperature_true.sel(sensor=list(SITES)), atol=1e-9)
     assert np.allclose(meas.tilt, sim.tilt_true, atol=1e-6)
     from geometries import build_machine
-    from twin.results import derived_from_probes
+    from twin.io.results import derived_from_probes
 
     expected, _ = derived_from_probes(sim.probe_true.values, list(PROBES), build_machine("cframe-vmc"))
     assert np.allclose(meas.probe_drift, expected, atol=1e-6)  # ISO 230-3 five-probe evaluation

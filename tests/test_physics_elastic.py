@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from tests.conftest import box_body
-from twin.elastic import ElasticSolver
-from twin.materials import MATERIALS
-from twin.points import displacement_functional, interpolation_matrix
+from twin.physics.elastic import ElasticSolver
+from geometries.materials import MATERIALS
+from twin.fem.points import displacement_functional, interpolation_matrix
 
 
 def _node(mm, xyz):

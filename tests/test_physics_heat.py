@@ -7,9 +7,9 @@ import pytest
 from scipy.optimize import brentq
 
 from tests.conftest import box_body, face
-from twin.assembly import assemble_facets, assemble_heat
-from twin.materials import MATERIALS
-from twin.transient import HeatSystem, integrate, steady_state
+from twin.fem.assembly import assemble_facets, assemble_heat
+from geometries.materials import MATERIALS
+from twin.physics.heat import HeatSystem, integrate, steady_state
 
 STEEL = MATERIALS["steel"]
 

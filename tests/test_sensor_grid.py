@@ -7,9 +7,10 @@ import pytest
 
 from geometries import build_machine
 from geometries.base import Box, Machine, Part, material
-from twin.points import locate
+from twin.fem.points import locate
 from twin.scenario import Ambient, Scenario
-from twin.sensor_grid import axis_positions, surface_sensor_grid
+from twin.observe.sensor_grid import axis_positions, surface_sensor_grid
+from twin.fem.mesh import mesh_machine
 
 
 def _machine(parts):
@@ -62,7 +63,7 @@ def test_cframe_grid_points_lie_in_their_parts_cells():
     m = build_machine("cframe-vmc")
     pts = surface_sensor_grid(m, spacing=0.1)
     assert {p.part for p in pts} == {"carrier", "column", "test_bar"}
-    mm = m.mesh("coarse")
+    mm = mesh_machine(m, "coarse")
     cells, xi = locate(mm, np.array([p.xyz for p in pts]), [p.name for p in pts])
     assert np.all(np.abs(xi) <= 1 + 1e-9)
     assert [mm.part_names[mm.cell_part[c]] for c in cells] == [p.part for p in pts]

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from twin.scenario import Ambient, Scenario
-from validate import study_seed001, study_sensor_placement
-from validate.learner_data import build_data
+from validate.studies import seed001 as study_seed001, sensor_placement as study_sensor_placement
+from validate.studies.learner_data import build_data
 
 AIR = Ambient("constant", mean=20.0)
 TRAIN = Scenario("short-heat-cool", ((1800.0, 9000.0), (1200.0, 0.0)), AIR, sample_interval=60.0)

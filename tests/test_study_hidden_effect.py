@@ -1,11 +1,11 @@
 """The hidden-effect study's scoring and rendering (the study itself is a long run behind its own
-command: ``python -m validate.study_hidden_effect``)."""
+command: ``python -m validate.studies.hidden_effect``)."""
 
 from __future__ import annotations
 
 import pytest
 
-from validate import study_hidden_effect as study
+from validate.studies import hidden_effect as study
 
 
 def _row(hidden, scenario, rank, significant, true, fitted, plain, calibrated, after):
@@ -30,7 +30,7 @@ def test_bar_and_failure_analysis_follow_the_numbers():
     assert rows[0]["strength_error"] == pytest.approx(0.05) and rows[0]["probe_reduction"] == pytest.approx(0.9)
     assert rows[0]["probe_reduction_effect"] == pytest.approx(0.875) and rows[0]["pass"]
     assert not rows[1]["pass"] and rows[2]["pass"]
-    md = study.markdown(rows, False, "python -m validate.study_hidden_effect")
+    md = study.markdown(rows, False, "python -m validate.studies.hidden_effect")
     assert "| hidden effect ranked first | 100% of 2 |" in md
     assert "| fitted strength within 25 % | 50% |" in md and "| probe RMSE reduced >= 70 % (plain -> after) | 50% |" in md
     assert "| nothing hidden -> nothing significant | 100% of 1 scenarios |" in md

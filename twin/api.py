@@ -5,7 +5,7 @@ from __future__ import annotations
 from geometries import MACHINES, build_machine
 from twin.errors import InputError
 from twin.model import ModelSpec, parse_effects, parse_settings
-from twin.results import to_dataset
+from twin.io.results import to_dataset
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
 

@@ -11,11 +11,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from twin.assembly import assemble_facets, assemble_heat, assemble_interface, volume_vector
+from twin.fem.assembly import assemble_facets, assemble_heat, assemble_interface, volume_vector
 from twin.effects import DEFAULT_EFFECTS, EFFECTS, ContactConductance, Convection, HeatSource, SurfaceHeatFlux
 from twin.errors import InputError
-from twin.instruments import INSTRUMENTS
-from twin.transient import HeatSystem
+from twin.observe.instruments import INSTRUMENTS
+from twin.physics.heat import HeatSystem
 from twin.units import UnitError, parse_quantity
 
 

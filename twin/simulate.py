@@ -1,9 +1,9 @@
 """Run one simulation: machine + effects + scenario -> transient heat -> drift -> instruments.
 
-Heat: :mod:`twin.transient`. Drift: every displacement output (tool point relative to the
+Heat: :mod:`twin.physics.heat`. Drift: every displacement output (tool point relative to the
 workpiece point in X, Y, Z; each ISO 230-3 probe relative to its fixture) is a linear functional
 of the temperature rise, q(t) = W^T (T(t) - T_0), with W from one adjoint elastic solve per
-output (:mod:`twin.elastic`); the displacement field itself is never formed in a run.
+output (:mod:`twin.physics.elastic`); the displacement field itself is never formed in a run.
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from twin.mesh import MachineMesh
+from twin.fem.mesh import MachineMesh
 from twin.model import LoadSet, ModelSpec
-from twin.prepared import PreparedTwin, drift_functionals  # noqa: F401  (drift_functionals re-exported)
+from twin.physics.prepared import PreparedTwin, drift_functionals  # noqa: F401  (drift_functionals re-exported)
 
 AXES = ("X", "Y", "Z")
 
@@ -64,7 +64,7 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "def
     ``materials`` maps a material name to a replacement (e.g. perturbed properties);
     ``progress(done, total)`` is called after every step; ``sensors`` (a list of
     :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites;
-    ``prepared`` reuses a :class:`twin.prepared.PreparedTwin` of the same machine and scenario.
+    ``prepared`` reuses a :class:`twin.physics.prepared.PreparedTwin` of the same machine and scenario.
     """
     spec = spec or ModelSpec()
     t0 = _time.perf_counter()

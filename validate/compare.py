@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from twin.cli_options import add_measurement_options, add_model_options
+from twin.cli.options import add_measurement_options, add_model_options
 
 _GROUPS = (("temperature", "sensor", "T", "K"), ("probe", "probe_id", "probe", "um"),
            ("tilt", "rotation", "tilt", "urad"))
@@ -116,13 +116,13 @@ def detect_phases(time: np.ndarray, speed: np.ndarray | None = None, ambient: np
                   smooth: float = 1800.0) -> list[Phase]:
     """Phases of the inputs.
 
-    Spindle: steps of :func:`validate.measurement.speed_steps` labelled "spindle off" (0 rpm),
+    Spindle: steps of :func:`twin.io.measured_inputs.speed_steps` labelled "spindle off" (0 rpm),
     "spindle on N rpm" (after a stop or at the start) or "speed change to N rpm" (after another
     speed). Ambient: the sign of dT_air/dt [K/s], smoothed by a centred moving average over
     ``smooth`` [s], "rising" above ``ambient_rate`` (default 0.1 K/h), "falling" below its
     negative, else "steady"; ambient stretches shorter than ``smooth`` merge into their predecessor.
     """
-    from validate.measurement import speed_steps
+    from twin.io.measured_inputs import speed_steps
 
     t = np.asarray(time, float)
     phases: list[Phase] = []
@@ -214,7 +214,7 @@ def model_for(measured: xr.Dataset, machine: str, scenario: str | None = None, e
     """Simulate the twin at the measurement's sensor sites, driven by its inputs unless a scenario
     is named. Returns (model Dataset, RunResult)."""
     from twin.api import simulate
-    from validate.measurement import scenario_from_measurement, sensors_of
+    from twin.io.measured_inputs import scenario_from_measurement, sensors_of
 
     sc = scenario if scenario else scenario_from_measurement(measured)
     sensors = sensors_of(measured) or None
@@ -231,7 +231,7 @@ def add_compare_parser(subparsers) -> None:
 
 def run_compare(args) -> int:
     """CLI body of ``twin compare``: prints the comparison table, returns 0."""
-    from validate.measurement import read_measurement
+    from twin.io.measurement import read_measurement
 
     meas = read_measurement(args.measurement, getattr(args, "mapping", None), args.machine)
     model, _ = model_for(meas, args.machine, args.scenario, args.effects, args.set, args.mesh, args.seed)

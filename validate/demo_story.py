@@ -9,7 +9,7 @@ The story, on generated data (nothing is downloaded):
    properties perturbed by 2-4 %, sensor noise, 0.0625 K quantisation, a 0.03 K sensor bias,
    probe noise). It runs the same spindle test (9000 rpm 120 min, stop 70 min) and is logged
    every :data:`LOG_INTERVAL` s into ``measurement/spindle-test.csv`` with its column mapping
-   ``measurement/spindle-test.toml``: the format :func:`validate.measurement.read_measurement`
+   ``measurement/spindle-test.toml``: the format :func:`twin.io.measurement.read_measurement`
    reads, so the rest of the story runs exactly the path a user's own data takes.
 2. **Compare** (:mod:`validate.compare`): the twin (default effects, on the demo's mesh) driven by
    the measured inputs; RMSE / max|r| / NSE per channel and per phase; worst channels first.
@@ -35,6 +35,7 @@ from typing import Callable
 
 import numpy as np
 
+from twin.fem.mesh import mesh_machine
 from twin.units import format_quantity
 
 MACHINE = "cframe-vmc"
@@ -44,38 +45,6 @@ HIDDEN_PARAMETER, HIDDEN_VALUE = "power", 120.0     # [W]
 LOG_INTERVAL = 60.0                                 # [s] logging interval of the "measurement"
 DIAGNOSE_MESH = "coarse"
 _UNITS = {"T": "K", "probe": "um", "tilt": "urad"}
-
-
-def write_measurement(ds, folder: Path, stem: str = "spindle-test", machine: str = MACHINE) -> tuple[Path, Path]:
-    """Write a result/measurement Dataset as ``stem.csv`` + ``stem.toml`` in ``folder``.
-
-    Columns: ``t_s`` [s], ``spindle_rpm`` [rpm], ``room_degC`` [degC], one ``T_<site>`` [degC] per
-    temperature sensor (placed at the machine's named site), one ``probe_<id>_um`` [um] per
-    ISO 230-3 probe. Both files are written atomically. Returns (csv path, toml path).
-    """
-    from twin.atomic import atomic_write_text
-
-    folder.mkdir(parents=True, exist_ok=True)
-    cols: list[tuple[str, np.ndarray, str]] = [
-        ("t_s", ds.time.values, "%.0f"), ("spindle_rpm", ds.spindle_speed.values, "%.0f"),
-        ("room_degC", ds.ambient_temperature.values, "%.4f")]
-    toml = [f'# column mapping of {stem}.csv (see validate/measurement.py)', f'machine = "{machine}"', "",
-            "[columns.t_s]", 'role = "time"', 'unit = "s"', "",
-            "[columns.spindle_rpm]", 'role = "spindle_speed"', 'unit = "rpm"', "",
-            "[columns.room_degC]", 'role = "ambient_temperature"', 'unit = "degC"']
-    temp = ds.temperature.transpose("time", "sensor")
-    for i, s in enumerate(ds.sensor.values):
-        cols.append((f"T_{s}", temp.values[:, i], "%.4f"))
-        toml += ["", f"[columns.T_{s}]", 'role = "temperature"', f'site = "{s}"', 'unit = "degC"']
-    probe = ds.probe.transpose("time", "probe_id")
-    for i, p in enumerate(ds.probe_id.values):
-        cols.append((f"probe_{p}_um", probe.values[:, i], "%.2f"))
-        toml += ["", f"[columns.probe_{p}_um]", 'role = "probe"', f'probe = "{p}"', 'unit = "um"']
-    lines = [",".join(c[0] for c in cols)]
-    lines += [",".join(fmt % float(v[k]) for _, v, fmt in cols) for k in range(len(ds.time))]
-    csv_path = atomic_write_text(folder / f"{stem}.csv", "\n".join(lines) + "\n")
-    toml_path = atomic_write_text(folder / f"{stem}.toml", "\n".join(toml) + "\n")
-    return csv_path, toml_path
 
 
 def _short(value: float, dimension: str) -> str:
@@ -133,9 +102,10 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     from twin.scenario import load_scenario
     from validate.compare import compare, model_for
     from validate.diagnose import diagnose, diagnosis_json
-    from twin.atomic import atomic_write_text
+    from twin.io.atomic import atomic_write_text
     from validate.diagnose_cli import apply_top, format_before_after
-    from validate.measurement import read_measurement, scenario_from_measurement
+    from twin.io.measured_inputs import scenario_from_measurement
+    from twin.io.measurement import read_measurement, write_measurement
     from validate.report import write_report
     from validate.synthetic import truth_measurement
 
@@ -158,7 +128,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     sc = replace(load_scenario(SCENARIO), sample_interval=LOG_INTERVAL)
     truth = truth_measurement(MACHINE, sc, f"+{HIDDEN}", [f"{HIDDEN}.{HIDDEN_PARAMETER}={true_text.replace(' ', '')}"],
                               resolution=mesh, seed=seed + 1)
-    csv_path, toml_path = write_measurement(truth, out_dir / "measurement")
+    csv_path, toml_path = write_measurement(truth, out_dir / "measurement", "spindle-test", MACHINE)
     say(f"  wrote {csv_path} and its column mapping {toml_path.name} "
         f"({len(truth.time)} rows: time, spindle speed, room air, {truth.sizes['sensor']} temperatures, 5 probes)")
     lap("measure")
@@ -176,7 +146,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     lap("compare")
 
     machine = build_machine(MACHINE)
-    mm = machine.mesh(DIAGNOSE_MESH)
+    mm = mesh_machine(machine, DIAGNOSE_MESH)
     sc_meas = scenario_from_measurement(meas)
     d = diagnose(meas, machine, sc_meas, model_spec(), mm=mm)
     say(f"diagnose (twin diagnose {csv_path}): every library effect not in the model, fitted on the "

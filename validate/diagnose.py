@@ -198,7 +198,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
 
     ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
     ``machine``: a built machine; ``scenario``: the Scenario that drove it (its grid must cover
-    ``ds.time``); ``mm``: a prebuilt mesh of ``machine`` (else ``machine.mesh(resolution)``).
+    ``ds.time``); ``mm``: a prebuilt mesh of ``machine`` (else ``mesh_machine(machine, resolution)``).
     ``candidates`` defaults to every registered effect not in ``spec``. ``error_resolution``: a
     finer mesh on which the baseline is run once more; the difference per channel estimates the
     diagnosing model's discretisation error, and channels where it is large weigh less;

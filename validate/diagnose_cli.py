@@ -9,9 +9,10 @@ import json
 
 import numpy as np
 
-from twin.atomic import atomic_write_text
-from twin.cli_options import add_measurement_options, add_model_options
+from twin.io.atomic import atomic_write_text
+from twin.cli.options import add_measurement_options, add_model_options
 from twin.errors import InputError
+from twin.fem.mesh import mesh_machine
 
 
 def add_diagnose_parser(subparsers) -> None:
@@ -36,7 +37,8 @@ def load_inputs(args):
     """(measurement Dataset, machine, Scenario, ModelSpec) from the parsed arguments."""
     from twin.api import machine_by_name, model_spec
     from twin.scenario import load_scenario
-    from validate.measurement import read_measurement, scenario_from_measurement
+    from twin.io.measured_inputs import scenario_from_measurement
+    from twin.io.measurement import read_measurement
 
     meas = read_measurement(args.measurement, getattr(args, "mapping", None), args.machine)
     machine = machine_by_name(args.machine)
@@ -119,7 +121,7 @@ def run_diagnose(args) -> int:
     from validate.diagnose import diagnose, diagnosis_json, format_diagnosis
 
     meas, machine, sc, spec = load_inputs(args)
-    mm = machine.mesh(args.mesh)
+    mm = mesh_machine(machine, args.mesh)
     try:
         d = diagnose(meas, machine, sc, spec, mm=mm, error_resolution=error_resolution(args, machine))
     except ValueError as err:

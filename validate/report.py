@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from twin.atomic import atomic_write_text
+from twin.io.atomic import atomic_write_text
 
 def _png(fig) -> str:
     buf = io.BytesIO()

@@ -31,7 +31,7 @@ from scipy.optimize import lsq_linear
 
 from twin.effects import EFFECTS, HeatSource, SurfaceHeatFlux
 from twin.model import ModelSpec
-from twin.prepared import PreparedTwin
+from twin.physics.prepared import PreparedTwin
 from twin.signals import lag_series
 
 # Dimensions of parameters that set an effect's *strength* (what the diagnosis fits), in the order
@@ -64,7 +64,7 @@ def reference_value(param) -> float:
 
 class Engine:
     """A twin prepared once for many runs of one scenario on one mesh
-    (:class:`twin.prepared.PreparedTwin`), observed at the sensors and probes;
+    (:class:`twin.physics.prepared.PreparedTwin`), observed at the sensors and probes;
     :meth:`observe` then costs one transient integration. Equivalent to
     :func:`twin.simulate.run` (tested) restricted to sensors and probes.
     """
@@ -82,7 +82,7 @@ class Engine:
     def _readings(self, out: np.ndarray, nmat: int = 0) -> tuple[np.ndarray, np.ndarray]:
         """From a run's outputs: the true observables (nt, nsensor + nprobe) (sensor temperatures
         [degC], probe readings [um]) and, for the ``nmat`` expansion blocks appended by
-        :meth:`twin.prepared.PreparedTwin.run`, the responses (nmat, nt, nsensor + nprobe) to a
+        :meth:`twin.physics.prepared.PreparedTwin.run`, the responses (nmat, nt, nsensor + nprobe) to a
         unit relative change of each material's expansion coefficient (zero on temperatures)."""
         npr = len(self.probe_names)
         nout = 3 + npr                                   # tool X, Y, Z, then the probes
@@ -110,7 +110,7 @@ class Engine:
     def observe_with_expansion(self, spec: ModelSpec, materials: list[str]) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`observe` and, from the same run, the response of every observable to a unit
         relative change of each material's expansion coefficient, d y / d(alpha_m / alpha_m0)
-        (nmat, nt, nsensor + nprobe) (:meth:`twin.prepared.PreparedTwin.expansion_influence`):
+        (nmat, nt, nsensor + nprobe) (:meth:`twin.physics.prepared.PreparedTwin.expansion_influence`):
         zero on the temperatures, probe readings in um on the probes. Drift is linear in each
         alpha for the run's temperatures, so y + sum_m c_m response_m is the run with every
         alpha_m scaled by (1 + c_m), exactly."""

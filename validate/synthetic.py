@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from twin.api import simulate
-from twin.materials import MATERIALS
+from geometries.materials import MATERIALS
 from twin.scenario import Scenario
 
 PERTURBED = {

@@ -73,7 +73,7 @@ class Convection:
 @dataclass(frozen=True)
 class ContactConductance:
     """Finite thermal contact across interior ``facets``; ``parts`` is the side that gets its own
-    interface temperatures (see :meth:`twin.mesh.MachineMesh.split_heat`)."""
+    interface temperatures (see :meth:`twin.fem.mesh.MachineMesh.split_heat`)."""
 
     label: str
     facets: np.ndarray

@@ -1,12 +1,12 @@
 """Train/test data for the learner studies: two twin runs observed by dense virtual surface sensors.
 
 :func:`build_data` simulates a training and a test scenario on one machine with the machine's own
-sensor sites plus a :func:`twin.sensor_grid.surface_sensor_grid` of virtual sensors, caches each
+sensor sites plus a :func:`twin.observe.sensor_grid.surface_sensor_grid` of virtual sensors, caches each
 run as NetCDF in the output folder (a re-run with the same settings reads the files back), and
 returns the learners' matrices:
 
 - inputs ``X`` [degC]: the *measured* temperatures (sensor model: lag, noise, quantisation; see
-  :mod:`twin.instruments`) as rises over each sensor's first reading, as seed 001 uses
+  :mod:`twin.observe.instruments`) as rises over each sensor's first reading, as seed 001 uses
   "temperature changes";
 - targets ``y[axis]`` [um]: the *true* tool-point drift (``drift`` of the result, tool relative to
   the table), axis ``X``, ``Y`` or ``Z``.
@@ -26,9 +26,9 @@ import numpy as np
 import xarray as xr
 
 from twin.api import machine_by_name, simulate
-from twin.results import write_netcdf
+from twin.io.results import write_netcdf
 from twin.scenario import Scenario, load_scenario
-from twin.sensor_grid import surface_sensor_grid
+from twin.observe.sensor_grid import surface_sensor_grid
 
 __all__ = ["StudyData", "build_data", "cached_run", "temperature_rise"]
 

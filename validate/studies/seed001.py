@@ -1,6 +1,6 @@
 """Seed 001's protocol on the twin: train on the 9000 rpm heat/cool test, test on the duty cycle.
 
-``python -m validate.study_seed001 [--quick] [-o DIR]`` simulates ``cframe-vmc`` on
+``python -m validate.studies.seed001 [--quick] [-o DIR]`` simulates ``cframe-vmc`` on
 ``spindle-heat-cool-9000`` (train) and ``spindle-duty-cycle`` (test) with a dense grid of virtual
 surface sensors (50 mm pitch) on the carrier, column and test bar, lets ``gm0n-fcm`` pick 4 of them
 on the training run (per target axis), fits every registered learner on the measured temperature
@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 
 import learners
-from validate.study_common import fit_score, markdown_table, preset, select, start, write_csv
+from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
 
-NAME = "study_seed001"
+NAME = "seed001"
 SEED_ROWS = [  # seed 001 Table 5 (FCM-ANFIS 4) and Table 6, Z axis, test set; um
     {"axis": "Z", "learner": "seed 001 FCM-ANFIS 4 (6 rules)", "train_rmse": 0.6069, "train_nse": 0.9939,
      "test_rmse": 1.4139, "test_nse": 0.9764, "test_r": 0.9912, "test_max_abs_residual": 2.9521},

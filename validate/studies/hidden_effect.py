@@ -1,6 +1,6 @@
 """Hidden-effect study: for every library effect as the hidden one, does the diagnosis find it?
 
-``python -m validate.study_hidden_effect [--quick] [--out DIR] [--effects a,b]`` writes
+``python -m validate.studies.hidden_effect [--quick] [--out DIR] [--effects a,b]`` writes
 ``hidden_effect.md`` and ``hidden_effect.csv`` into ``DIR`` (default
 ``validate-out/study_hidden_effect``).
 
@@ -31,11 +31,12 @@ import numpy as np
 
 from geometries import build_machine
 from twin.api import model_spec
+from twin.fem.mesh import mesh_machine
 from twin.effects import DEFAULT_EFFECTS, EFFECTS
 from twin.scenario import load_scenario
 from twin.units import format_quantity, parse_quantity
 from validate.diagnose import diagnose, mesh_error
-from twin.atomic import atomic_write_text
+from twin.io.atomic import atomic_write_text
 from validate.signatures import reference_value, strength_parameter
 from validate.synthetic import short_scenario, truth_measurement
 
@@ -139,7 +140,7 @@ def _run_planned(args) -> dict:
     _REFERENCE, _MESHES = reference, meshes
     if not _WORKER:
         _WORKER["machine"] = build_machine("cframe-vmc")
-        _WORKER["mm"] = _WORKER["machine"].mesh(meshes.model)
+        _WORKER["mm"] = mesh_machine(_WORKER["machine"], meshes.model)
     return run_case(_WORKER["machine"], _WORKER["mm"], hidden, scenario_name, quick)
 
 
@@ -437,7 +438,7 @@ def main(argv=None) -> int:
     w.writeheader()
     w.writerows(rows)
     atomic_write_text(out / "hidden_effect.csv", buf.getvalue())
-    cmd = "python -m validate.study_hidden_effect" + (" --quick" if a.quick else "") + (
+    cmd = "python -m validate.studies.hidden_effect" + (" --quick" if a.quick else "") + (
         " --reference" if a.reference else "") + (
         f" --effects {a.effects}" if a.effects else "") + (f" --jobs {a.jobs}" if a.jobs > 1 else "")
     text = markdown(rows, a.quick, cmd) + "\n" + failure_analysis(rows)

@@ -13,11 +13,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from twin.assembly import assemble_heat
-from twin.elastic import ElasticSolver
+from twin.fem.assembly import assemble_heat
+from twin.physics.elastic import ElasticSolver
 from twin.model import LoadSet, ModelSpec, build_loads
-from twin.points import displacement_functional, interpolation_matrix
-from twin.transient import integrate
+from twin.fem.points import displacement_functional, interpolation_matrix
+from twin.physics.heat import integrate
+from twin.fem.mesh import mesh_machine
 
 _UNIT = np.eye(3)
 
@@ -42,7 +43,7 @@ class PreparedTwin:
     def __init__(self, machine, scenario, mm=None, resolution: str = "default", materials: dict | None = None,
                  sensors: list | None = None):
         self.machine, self.scenario = machine, scenario
-        self.mm = mm if mm is not None else machine.mesh(resolution)
+        self.mm = mm if mm is not None else mesh_machine(machine, resolution)
         self.materials = {p.name: materials[p.material.name] for p in machine.parts
                           if materials and p.material.name in materials}
         self.heat = assemble_heat(self.mm, self.materials)

@@ -1,9 +1,9 @@
 """Global sparse matrices of a machine mesh, assembled once.
 
-Element matrices come from :mod:`twin.elements`, computed once per distinct (cell size,
+Element matrices come from :mod:`twin.fem.elements`, computed once per distinct (cell size,
 material) pair and scattered with one COO -> CSR conversion. Temperatures live on the
 temperature dofs ``mm.heat_t`` (the mesh nodes, plus copies where a contact interface splits
-the field, see :meth:`twin.mesh.MachineMesh.split_heat`); displacements on the mesh nodes.
+the field, see :meth:`twin.fem.mesh.MachineMesh.split_heat`); displacements on the mesh nodes.
 Facet matrices of the axis-aligned rectangular faces are in closed form.
 """
 
@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from twin import elements
-from twin.mesh import MachineMesh
+from twin.fem import elements
+from twin.fem.mesh import MachineMesh
 
 
 def cell_materials(mm: MachineMesh, materials: dict | None = None) -> list:
@@ -69,7 +69,7 @@ class ElasticMatrices:
 
 
 def assemble_elastic(mm: MachineMesh, materials: dict | None = None) -> ElasticMatrices:
-    """Assemble incompatible-mode brick stiffness and thermal coupling (see :mod:`twin.elements`)."""
+    """Assemble incompatible-mode brick stiffness and thermal coupling (see :mod:`twin.fem.elements`)."""
     mats = cell_materials(mm, materials)
     uniq, inverse = _groups(mm)
     part = uniq[:, 3].astype(int)

@@ -27,7 +27,7 @@ PRESETS = {
 
 def parse_args(name: str, doc: str, argv=None) -> argparse.Namespace:
     """``[--quick] [-o DIR] [--seed N]``; the default folder is ``validate-out/<name>/``."""
-    p = argparse.ArgumentParser(prog=f"python -m validate.{name}", description=doc.splitlines()[0])
+    p = argparse.ArgumentParser(prog=f"python -m validate.studies.{name}", description=doc.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="coarse mesh (smoke run); default: the default mesh")
     p.add_argument("-o", "--output", default=f"validate-out/{name}", help="output folder (default %(default)s)")
     p.add_argument("--seed", type=int, default=0, help="noise seed and random_state (default 0)")
@@ -37,7 +37,7 @@ def parse_args(name: str, doc: str, argv=None) -> argparse.Namespace:
 def start(name: str, doc: str, argv=None):
     """Common start of a study's ``main``: parse the options, create the output folder and build
     (or read cached) training and test data. Returns (args, output folder, StudyData)."""
-    from validate.learner_data import build_data
+    from validate.studies.learner_data import build_data
 
     args = parse_args(name, doc, argv)
     out = Path(args.output)

@@ -7,7 +7,7 @@ through the whole slab, a tensor grid has no local refinement). A cell belongs t
 whose box holds its centre; cells outside every part are dropped, and parts that touch share
 nodes (perfectly bonded joints). No external mesher, deterministic. This is the grid of the
 finite-difference-element method used for real-time thermal models of machine tools, here with
-trilinear (heat) and incompatible-mode Wilson-Taylor (elasticity) bricks (:mod:`twin.elements`).
+trilinear (heat) and incompatible-mode Wilson-Taylor (elasticity) bricks (:mod:`twin.fem.elements`).
 """
 
 from __future__ import annotations
@@ -178,3 +178,11 @@ def _surface_facets(mm: MachineMesh, surface) -> np.ndarray:
     if len(chosen) == 0:
         raise ValueError(f"surface {surface.name!r} of machine {mm.machine.name!r} has no faces")
     return np.sort(chosen)
+
+
+def mesh_machine(machine, resolution: str = "default") -> MachineMesh:
+    """The structured hexahedral mesh of ``machine`` at one of its named ``resolutions``
+    (:func:`build_mesh` with that spacing). Unknown resolutions raise KeyError naming the known ones."""
+    if resolution not in machine.resolutions:
+        raise KeyError(f"unknown mesh resolution {resolution!r}; known: {', '.join(machine.resolutions)}")
+    return build_mesh(machine, machine.resolutions[resolution])

@@ -1,7 +1,7 @@
 """Sensor-placement check: gm0n-fcm's 4 sensors against intuitive, random and truth-greedy sets.
 
-``python -m validate.study_sensor_placement [--quick] [-o DIR]`` uses the seed-001 runs of
-:mod:`validate.learner_data` (train ``spindle-heat-cool-9000``, test ``spindle-duty-cycle``, Z
+``python -m validate.studies.sensor_placement [--quick] [-o DIR]`` uses the seed-001 runs of
+:mod:`validate.studies.learner_data` (train ``spindle-heat-cool-9000``, test ``spindle-duty-cycle``, Z
 drift [um], measured temperature rises [degC]) and scores, with ``mlr`` and ``anfis-fcm``, these
 4-sensor sets:
 
@@ -24,9 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from validate.study_common import fit_score, markdown_table, preset, select, start, write_csv
+from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
 
-NAME = "study_sensor_placement"
+NAME = "sensor_placement"
 INTUITIVE = ("motor", "spindle_boss", "column_front_top", "test_bar")
 LEARNER_NAMES = ("mlr", "anfis-fcm")
 

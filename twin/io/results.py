@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from twin.atomic import atomic_write
-from twin.instruments import probe_reading, temperature_reading
+from twin.io.atomic import atomic_write
+from twin.observe.instruments import probe_reading, temperature_reading
 from twin.simulate import AXES, RunResult
 
 
@@ -128,5 +128,5 @@ def to_dataset(r: RunResult, seed: int = 0, resolution: str = "", scenario_label
 
 
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike) -> Path:
-    """Write ``ds`` to ``path`` atomically (see :mod:`twin.atomic`)."""
+    """Write ``ds`` to ``path`` atomically (see :mod:`twin.io.atomic`)."""
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))

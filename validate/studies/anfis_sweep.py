@@ -1,7 +1,7 @@
 """ANFIS-FCM sweeps as in the thesis's Tables 5-1 (MFs, 4 inputs) and 5-2 (1 to 8 inputs).
 
-``python -m validate.study_anfis_sweep [--quick] [-o DIR]`` uses the seed-001 runs of
-:mod:`validate.learner_data` (train ``spindle-heat-cool-9000``, test ``spindle-duty-cycle``, Z
+``python -m validate.studies.anfis_sweep [--quick] [-o DIR]`` uses the seed-001 runs of
+:mod:`validate.studies.learner_data` (train ``spindle-heat-cool-9000``, test ``spindle-duty-cycle``, Z
 drift [um], measured temperature rises [degC]).
 
 - Input sweep (Table 5-2): ``gm0n-fcm`` picks k = 1..8 grid sensors on the training run; ANFIS-FCM
@@ -20,9 +20,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from validate.study_common import fit_score, markdown_table, preset, select, start, write_csv
+from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
 
-NAME = "study_anfis_sweep"
+NAME = "anfis_sweep"
 # thesis Table 5-2 (test RMSE, test NSE) and Table 5-1 (validation RMSE, test RMSE), um
 THESIS_INPUTS = {1: (5.8847, 0.4070), 2: (5.5618, 0.4929), 3: (1.5183, 0.9585), 4: (1.4139, 0.9764),
                  5: (1.8981, 0.9351), 6: (3.9754, 0.7154), 7: (3.8346, 0.7352), 8: (4.4463, 0.6439)}

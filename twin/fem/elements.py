@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-# corners of the reference cube [-1, 1]^3 in scikit-fem's local node order (see twin.mesh)
+# corners of the reference cube [-1, 1]^3 in scikit-fem's local node order (see twin.fem.mesh)
 CORNER_SIGNS = 2.0 * np.array(
     [[0, 0, 0], [0, 1, 0], [1, 0, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]], dtype=float
 ) - 1.0

@@ -30,7 +30,7 @@ unit::
     probe = "X1"
     unit = "um"
 
-The result has the variables of :func:`twin.results.to_dataset`: ``time`` [s],
+The result has the variables of :func:`twin.io.results.to_dataset`: ``time`` [s],
 ``spindle_speed`` [rpm], ``ambient_temperature`` [degC], ``temperature(time, sensor)`` [degC] with
 ``x, y, z`` [m] and ``part`` coordinates, ``probe(time, probe_id)`` [um] and, with all five
 probes and a machine, ``probe_drift(time, axis)`` [um] and ``tilt(time, rotation)`` [urad].
@@ -48,8 +48,8 @@ import numpy as np
 import xarray as xr
 
 from twin.errors import InputError
-from twin.results import derived_from_probes
-from twin.scenario import Ambient, Scenario
+from twin.io.atomic import atomic_write_text
+from twin.io.results import derived_from_probes
 from twin.simulate import AXES
 from twin.units import CANONICAL, UnitError, parse_quantity
 
@@ -260,62 +260,31 @@ def _dataset(t, single, sensors, probes, mach, src) -> xr.Dataset:
     return xr.Dataset(data, coords, attrs)
 
 
-def sensors_of(ds: xr.Dataset) -> list:
-    """The temperature-sensor sites of a measurement as :class:`geometries.base.Point` s."""
-    from geometries.base import Point
+def write_measurement(ds, folder: Path, stem: str, machine: str) -> tuple[Path, Path]:
+    """Write a result/measurement Dataset as ``stem.csv`` + ``stem.toml`` in ``folder``.
 
-    if "sensor" not in ds.coords:
-        return []
-    return [Point(str(n), (float(x), float(y), float(z)), str(p)) for n, x, y, z, p in
-            zip(ds.sensor.values, ds.x.values, ds.y.values, ds.z.values, ds.part.values)]
-
-
-def speed_steps(t: np.ndarray, speed: np.ndarray, tolerance: float = 50.0) -> list[tuple[float, float, float]]:
-    """Piecewise-constant steps (start [s], end [s], speed [rpm]) found in a speed trace.
-
-    A new step begins where |n - n_step| exceeds ``tolerance`` [rpm] (n_step: the step's first
-    sample); each step's speed is the median of its samples (0 when it is within tolerance of 0).
+    Columns: ``t_s`` [s], ``spindle_rpm`` [rpm], ``room_degC`` [degC], one ``T_<site>`` [degC] per
+    temperature sensor (placed at the machine's named site), one ``probe_<id>_um`` [um] per
+    ISO 230-3 probe. Both files are written atomically. Returns (csv path, toml path).
     """
-    t, speed = np.asarray(t, float), np.asarray(speed, float)
-    starts = [0]
-    for i in range(1, len(speed)):
-        if abs(speed[i] - speed[starts[-1]]) > tolerance:
-            starts.append(i)
-    out = []
-    for k, i0 in enumerate(starts):
-        i1 = starts[k + 1] if k + 1 < len(starts) else len(t)
-        n = float(np.median(speed[i0:i1]))
-        out.append((float(t[i0]), float(t[i1]) if i1 < len(t) else float(t[-1]), 0.0 if abs(n) <= tolerance else n))
-    return out
-
-
-def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = None, name: str = "measured-inputs",
-                              tolerance: float = 50.0) -> Scenario:
-    """A :class:`Scenario` driven by a measurement's logged inputs.
-
-    Time is shifted to start at 0; the spindle steps come from :func:`speed_steps`, snapped to a
-    grid of ``sample_interval`` [s] (default: the median logging interval); the room air is a
-    ``table`` ambient through every sample; the machine starts uniform at the mean measured
-    temperature of the first sample (the room air when no temperatures were logged).
-    """
-    src = ds.attrs.get("source", "measurement")
-    for var in ("spindle_speed", "ambient_temperature"):
-        if var not in ds:
-            raise InputError(src, var, "needed to drive the twin from measured inputs (or name a --scenario)")
-    t = np.asarray(ds.time.values, float)
-    t = t - t[0]
-    dt = float(sample_interval or np.median(np.diff(t)))
-    n_total = max(1, int(round(t[-1] / dt)))
-    steps, prev = [], 0
-    found = speed_steps(t, ds.spindle_speed.values, tolerance)
-    for k, (_, t1, n) in enumerate(found):
-        end = n_total if k == len(found) - 1 else int(round(t1 / dt))
-        if end > prev:
-            if steps and steps[-1][1] == n:
-                steps[-1] = (steps[-1][0] + (end - prev) * dt, n)
-            else:
-                steps.append(((end - prev) * dt, n))
-            prev = end
-    ambient = Ambient("table", times=tuple(t), temperatures=tuple(np.asarray(ds.ambient_temperature.values, float)))
-    t_init = float(np.mean(ds.temperature.values[0])) if "temperature" in ds else None
-    return Scenario(name, tuple(steps), ambient, dt, t_init, "driven by measured inputs", src)
+    folder.mkdir(parents=True, exist_ok=True)
+    cols: list[tuple[str, np.ndarray, str]] = [
+        ("t_s", ds.time.values, "%.0f"), ("spindle_rpm", ds.spindle_speed.values, "%.0f"),
+        ("room_degC", ds.ambient_temperature.values, "%.4f")]
+    toml = [f'# column mapping of {stem}.csv (see twin/io/measurement.py)', f'machine = "{machine}"', "",
+            "[columns.t_s]", 'role = "time"', 'unit = "s"', "",
+            "[columns.spindle_rpm]", 'role = "spindle_speed"', 'unit = "rpm"', "",
+            "[columns.room_degC]", 'role = "ambient_temperature"', 'unit = "degC"']
+    temp = ds.temperature.transpose("time", "sensor")
+    for i, s in enumerate(ds.sensor.values):
+        cols.append((f"T_{s}", temp.values[:, i], "%.4f"))
+        toml += ["", f"[columns.T_{s}]", 'role = "temperature"', f'site = "{s}"', 'unit = "degC"']
+    probe = ds.probe.transpose("time", "probe_id")
+    for i, p in enumerate(ds.probe_id.values):
+        cols.append((f"probe_{p}_um", probe.values[:, i], "%.2f"))
+        toml += ["", f"[columns.probe_{p}_um]", 'role = "probe"', f'probe = "{p}"', 'unit = "um"']
+    lines = [",".join(c[0] for c in cols)]
+    lines += [",".join(fmt % float(v[k]) for _, v, fmt in cols) for k in range(len(ds.time))]
+    csv_path = atomic_write_text(folder / f"{stem}.csv", "\n".join(lines) + "\n")
+    toml_path = atomic_write_text(folder / f"{stem}.toml", "\n".join(toml) + "\n")
+    return csv_path, toml_path

@@ -18,8 +18,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from twin.assembly import ElasticMatrices, assemble_elastic
-from twin.mesh import MachineMesh
+from twin.fem.assembly import ElasticMatrices, assemble_elastic
+from twin.fem.mesh import MachineMesh
 
 
 def support_dofs(mm: MachineMesh) -> np.ndarray:
@@ -58,7 +58,7 @@ class ElasticSolver:
 
     @staticmethod
     def coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:
-        """Thermal coupling C [N/K] on the temperature dofs of ``mm`` (see :mod:`twin.assembly`)."""
+        """Thermal coupling C [N/K] on the temperature dofs of ``mm`` (see :mod:`twin.fem.assembly`)."""
         return assemble_elastic(mm, materials).C
 
     def solve(self, load: np.ndarray) -> np.ndarray:

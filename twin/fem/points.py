@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from twin.elements import shape_q1
-from twin.mesh import MachineMesh
+from twin.fem.elements import shape_q1
+from twin.fem.mesh import MachineMesh
 
 
 def locate(mm: MachineMesh, xyz: np.ndarray, names: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
