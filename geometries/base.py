@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from geometries.materials import MATERIALS, Material
+from geometries.regions import check_roles
 
 Vec3 = tuple[float, float, float]
 
@@ -86,7 +87,13 @@ class Probe:
 
 @dataclass
 class Machine:
-    """A parametric machine: parts, surfaces, points, probes and its mesh spacings."""
+    """A parametric machine: parts, surfaces, points, probes, its mesh spacings and its contract.
+
+    ``roles`` binds role names of :data:`geometries.regions.ROLES` to regions of this machine (the
+    places effects address); ``default_effects`` names the effects a model of this machine has
+    unless the user says otherwise; ``air_sites`` are points in the air round the machine where
+    sensors read the air temperature (not glued to a part).
+    """
 
     name: str
     parts: list[Part]
@@ -99,6 +106,18 @@ class Machine:
     resolutions: dict[str, float]
     description: str = ""
     parameters: dict[str, float] = field(default_factory=dict)
+    roles: dict = field(default_factory=dict)
+    default_effects: tuple[str, ...] = ()
+    air_sites: list[str] = field(default_factory=list)
+
+    def __post_init__(self):
+        check_roles(self.name, self.roles)
+
+    def role(self, name: str):
+        """The region bound to role ``name``; KeyError if this machine does not declare it."""
+        if name not in self.roles:
+            raise KeyError(f"machine {self.name!r} has no role {name!r}")
+        return self.roles[name]
 
     def part(self, name: str) -> Part:
         for p in self.parts:

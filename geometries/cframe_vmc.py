@@ -14,8 +14,12 @@ is the line x = y = 0. The carrier is modelled at one Z position (the test posit
 from __future__ import annotations
 
 from geometries.base import Box, Machine, Part, Point, Probe, Surface, material
+from geometries.regions import Band, Facing, Named, Parts, Union
 
 NAME = "cframe-vmc"
+
+# The effects a model of this machine has unless the user says otherwise (the seeds' spindle tests).
+DEFAULT_EFFECTS = ("spindle_bearings", "spindle_motor", "ambient_convection", "spindle_forced_convection", "floor")
 
 
 # Bearing zones get at least two cells in height: their heat peaks at mid-height, and a single
@@ -40,13 +44,14 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
     nose = 0.95                    # spindle nose height [m]
     tip = nose - bar_length        # tool reference point height [m]
     col_y0, col_y1 = throat, throat + 0.45
+    col_top = 1.90                 # column top [m]; the Z motor and brake sit in its top 0.2 m
     hb = bar_width / 2
 
     parts = [
         Part("bed", iron, (Box((-0.60, -0.55, 0.0), (0.60, col_y1, 0.35)),), "workpiece"),
         Part("saddle", iron, (Box((-0.35, -0.35, 0.35), (0.35, 0.25, 0.47)),), "workpiece"),
         Part("table", iron, (Box((-0.50, -0.25, 0.47), (0.50, 0.15, 0.55)),), "workpiece"),
-        Part("column", iron, (Box((-0.25, col_y0, 0.35), (0.25, col_y1, 1.90)),), "tool"),
+        Part("column", iron, (Box((-0.25, col_y0, 0.35), (0.25, col_y1, col_top)),), "tool"),
         Part("carrier", iron, (Box((-0.18, -0.12, 1.10), (0.18, col_y0, 1.55)),), "tool"),
         Part("spindle", steel, (Box((-0.075, -0.075, nose), (0.075, 0.075, 1.45)),), "tool"),
         Part("front_bearing", steel, (Box((-0.075, -0.075, 0.99), (0.075, 0.075, 1.05)),), "tool", refine=_BEARING),
@@ -67,8 +72,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         Surface("rear_bearing_seat", ("rear_bearing",), interface_with=("spindle",)),
         Surface("column_face", ("column",), within=Box((-1, col_y0 - 1e-4, 0), (1, col_y0 + 1e-4, 3))),
         Surface("carrier_top", ("carrier",), within=Box((-1, -1, 1.55 - 1e-4), (1, 1, 1.55 + 1e-4))),
-        # added for the effect library (twin/effects/room.py, spindle_extra.py)
-        Surface("column_side_left", ("column",), within=Box((-0.25 - 1e-4, col_y0, 0.35), (-0.25 + 1e-4, col_y1, 1.90))),
+        Surface("column_side_left", ("column",), within=Box((-0.25 - 1e-4, col_y0, 0.35), (-0.25 + 1e-4, col_y1, col_top))),
         Surface("spindle_jacket", ("spindle", "front_bearing", "rear_bearing"), interface_with=("carrier",)),
     ]
     e = 1e-3  # sensors sit 1 mm inside the surface they are glued to
@@ -119,4 +123,29 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         resolutions={"coarse": 0.10, "default": 0.06, "fine": 0.04},
         description="small 3-axis C-frame vertical machining centre (seed Machine A): X 500, Y 400, Z 330 mm, 9000 rpm",
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "probe_spacing": z2 - z1},
+        roles=roles(col_top),
+        default_effects=DEFAULT_EFFECTS,
     )
+
+
+def roles(col_top: float) -> dict:
+    """The machine contract: where each role of :data:`geometries.regions.ROLES` lies on the C-frame.
+    The operator and the hall door are in front (-y), the rear wall with its windows behind (+y),
+    the electrical cabinet beside the column's left side, the Z motor and brake in the column's
+    top 0.2 m (``col_top`` [m]: the column's top)."""
+    skin = Named("skin")
+    return {
+        "spindle.front_bearing": Parts(("front_bearing",)),
+        "spindle.rear_bearing": Parts(("rear_bearing",)),
+        "spindle.motor": Parts(("motor",)),
+        "spindle.rotating": Union((Named("test_bar_skin"), Named("spindle_nose"))),
+        "spindle.jacket": Named("spindle_jacket"),
+        "test_bar.seat": Named("test_bar_seat"),
+        "test_bar.body": Parts(("test_bar",)),
+        "structure.skin": skin,
+        "structure.front": Facing(skin, "-y"),
+        "structure.rear": Facing(skin, "+y"),
+        "floor.contact": Named("floor_contact"),
+        "cabinet.face": Named("column_side_left"),
+        "z_drive.top": Band(Parts(("column",)), "z", col_top - 0.2, col_top),
+    }

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from geometries import build_machine
-from twin.api import model_spec
+from twin.model import model_spec
 from twin.scenario import load_scenario
 from twin.fem.mesh import mesh_machine
 from validate.diagnose import diagnose, diagnosis_json, format_diagnosis
@@ -32,7 +32,7 @@ def test_engine_matches_simulate_run(case):
     from twin.simulate import run
     machine, mm, sc, _ = case
     short = replace(sc, steps=((600.0, 9000.0), (200.0, 0.0)))
-    spec = model_spec()
+    spec = model_spec(machine)
     r = run(machine, short, spec, mm=mm)
     out = Engine(machine, short, mm=mm).true_outputs(spec)
     np.testing.assert_allclose(out[:, :16], r.sensor_true, atol=1e-9)
@@ -47,7 +47,7 @@ def test_expansion_sensitivity_from_one_run_is_exact(case):
     from geometries.materials import MATERIALS
     machine, mm, sc, _ = case
     short = replace(sc, steps=((600.0, 9000.0), (400.0, 0.0)))
-    spec = model_spec()
+    spec = model_spec(machine)
     engine = Engine(machine, short, mm=mm)
     names = sorted({p.material.name for p in machine.parts})
     resp = engine.observe_with_expansion(spec, names)[1]
@@ -62,7 +62,7 @@ def test_expansion_sensitivity_from_one_run_is_exact(case):
 @pytest.fixture(scope="module")
 def hidden_motor(case):
     machine, mm, sc, ds = case
-    return diagnose(ds, machine, sc, model_spec("-spindle_motor"), mm=mm)
+    return diagnose(ds, machine, sc, model_spec(machine, "-spindle_motor"), mm=mm)
 
 
 def test_hidden_spindle_motor_found(hidden_motor):
@@ -114,7 +114,7 @@ def test_nothing_hidden_reports_nothing(case):
     failed while the test bar was one 60-100 mm cell long, a fin 55 mm long: its discretisation
     error aliased with a finite test_bar_contact of about 5 W/K. The bar's refined cells fixed it.)"""
     machine, mm, sc, ds = case
-    d = diagnose(ds, machine, sc, model_spec(), mm=mm)
+    d = diagnose(ds, machine, sc, model_spec(machine), mm=mm)
     assert not d.significant, format_diagnosis(d)
     assert "nothing significant" in format_diagnosis(d)
 
@@ -147,7 +147,7 @@ def test_nothing_hidden_with_mesh_error_estimate(case):
     material-expansion nuisance, the diagnosis reports nothing missing over every candidate.
     (Here the estimate's mesh is the truth's; the study uses the fine mesh to avoid that.)"""
     machine, mm, sc, ds = case
-    d = diagnose(ds, machine, sc, model_spec(), mm=mm, error_resolution="default")
+    d = diagnose(ds, machine, sc, model_spec(machine), mm=mm, error_resolution="default")
     assert not d.significant, format_diagnosis(d)
     assert d.model_error_rms is not None and d.expansion
     assert "mesh error estimate" in format_diagnosis(d) and "thermal expansion" in format_diagnosis(d)

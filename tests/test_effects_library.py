@@ -8,9 +8,10 @@ import pytest
 from geometries import build_machine
 from twin.api import simulate
 from twin.fem.assembly import assemble_heat
-from twin.effects import DEFAULT_EFFECTS, EFFECTS
-from twin.effects.room import facet_centres, facing
-from twin.model import ModelSpec, build_loads
+from twin.effects import EFFECTS
+from twin.fem.regions import facet_centres, facing
+from twin.model import ModelSpec
+from twin.physics.loads import build_loads
 from twin.scenario import Ambient, Scenario
 from twin.physics.heat import steady_state
 from twin.fem.mesh import mesh_machine
@@ -47,7 +48,7 @@ def steady(mm, heat, sc, effects, t, params=None):
 def test_registered_with_docs_and_bounds():
     for name in NEW:
         eff = EFFECTS[name]
-        assert name not in DEFAULT_EFFECTS
+        assert name not in build_machine("cframe-vmc").default_effects
         assert eff.__doc__ and eff.reference and eff.summary and eff.parameters
         for p in eff.parameters:
             assert p.lower <= p.default <= p.upper and p.doc and p.unit is not None

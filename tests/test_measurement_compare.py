@@ -55,7 +55,7 @@ def test_csv_measurement_has_the_result_schema(tmp_path, sim):
     assert np.allclose(meas.temperature, sim.temperature_true.sel(sensor=list(SITES)), atol=1e-9)
     assert np.allclose(meas.tilt, sim.tilt_true, atol=1e-6)
     from geometries import build_machine
-    from twin.io.results import derived_from_probes
+    from twin.observe import derived_from_probes
 
     expected, _ = derived_from_probes(sim.probe_true.values, list(PROBES), build_machine("cframe-vmc"))
     assert np.allclose(meas.probe_drift, expected, atol=1e-6)  # ISO 230-3 five-probe evaluation

@@ -45,11 +45,13 @@ def test_free_beam_with_linear_gradient_bends_with_curvature_alpha_dT_over_h():
 
 def test_adjoint_drift_equals_full_displacement_solve(machine_coarse_run):
     """q = g^T K^-1 C dT computed as (C^T K^-1 g)^T dT equals g^T u of a full solve (1e-8 rel)."""
-    from twin.simulate import drift_functionals
+    import scipy.sparse as sp
+
+    from twin.observe import FiveProbeTestBar, ToolDrift
 
     r = machine_coarse_run
     solver = ElasticSolver.build(r.mm)
-    g = drift_functionals(r.mm)
+    g = sp.vstack([ToolDrift().functionals(r.mm), FiveProbeTestBar().functionals(r.mm)]).tocsr()
     dT = r.hottest_field - r.scenario.start_temperature
     full = g @ solver.solve(solver.matrices.C @ dT)
     adjoint = solver.influence(g).T @ dT

@@ -1,21 +1,20 @@
-"""The model a user simulates: a set of effects with parameter values, and its heat system.
+"""The model a user simulates: a machine's set of effects with parameter values.
 
-``--effects`` takes ``+name,-name`` to change the default set, or plain ``a,b,c`` for an exact
-set; ``--set effect.param=VALUE UNIT`` sets a parameter (effects and instruments alike). Unknown
-names and wrong units raise :class:`twin.errors.InputError`; nothing is ignored.
+``--effects`` takes ``+name,-name`` to change the machine's default set
+(``Machine.default_effects``), or plain ``a,b,c`` for an exact set; ``--set
+effect.param=VALUE UNIT`` sets a parameter (effects and instruments alike). Unknown names, wrong
+units, and effects whose roles the machine does not declare raise :class:`twin.errors.InputError`;
+nothing is ignored.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from twin.fem.assembly import assemble_facets, assemble_heat, assemble_interface, volume_vector
-from twin.effects import DEFAULT_EFFECTS, EFFECTS, ContactConductance, Convection, HeatSource, SurfaceHeatFlux
+from geometries.regions import ROLES
+from twin.effects import EFFECTS
 from twin.errors import InputError
 from twin.observe.instruments import INSTRUMENTS
-from twin.physics.heat import HeatSystem
 from twin.units import UnitError, parse_quantity
 
 
@@ -23,7 +22,7 @@ from twin.units import UnitError, parse_quantity
 class ModelSpec:
     """Effects switched on and all parameter values (SI), effects' and instruments'."""
 
-    effects: tuple[str, ...] = DEFAULT_EFFECTS
+    effects: tuple[str, ...]
     params: dict[str, dict[str, float]] = field(default_factory=dict)
 
     def __post_init__(self):
@@ -45,7 +44,7 @@ class ModelSpec:
         return EFFECTS[group].parameters if group in EFFECTS else INSTRUMENTS[group]
 
 
-def parse_effects(text: str | None, base: tuple[str, ...] = DEFAULT_EFFECTS) -> tuple[str, ...]:
+def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
     """``"+a,-b"`` edits ``base``; ``"a,b"`` replaces it; None keeps it."""
     if not text:
         return tuple(base)
@@ -97,72 +96,30 @@ def parse_settings(items: list[str] | None, effects: tuple[str, ...]) -> dict[st
     return out
 
 
-@dataclass
-class LoadSet:
-    """A heat system plus the signals that drive it and the effect each load belongs to.
-
-    ``mm`` is the mesh the temperatures live on (split at contact interfaces when an effect asks
-    for it) and ``heat`` its conduction and capacity matrices.
-    """
-
-    system: HeatSystem
-    sources: list          # HeatSource / SurfaceHeatFlux, columns of F
-    convections: list      # Convection / ContactConductance, columns of r / entries of H
-    source_effect: list[str]
-    convection_effect: list[str]
-    areas: np.ndarray      # (ncv,) [m2]; 0 for contacts, which exchange heat inside the structure
-    mm: object = None
-    heat: object = None
-
-    def signals(self, t: np.ndarray):
-        """(h, air, s) arrays of shape (len(t), ncv|ncv|nsrc) at times t [s]."""
-        t = np.asarray(t, dtype=float)
-        zero = np.zeros(len(t))
-        h = np.column_stack([c.h(t) for c in self.convections]) if self.convections else np.zeros((len(t), 0))
-        air = (np.column_stack([c.air(t) if isinstance(c, Convection) else zero for c in self.convections])
-               if self.convections else np.zeros((len(t), 0)))
-        s = np.column_stack([src.power(t) for src in self.sources]) if self.sources else np.zeros((len(t), 0))
-        return h, air, s
+def check_applicable(effects, machine) -> None:
+    """Raise :class:`InputError` naming machine, effect and role if an effect in ``effects``
+    needs a role ``machine`` does not declare."""
+    for name in effects:
+        missing = EFFECTS[name].missing_roles(machine)
+        if missing:
+            role = missing[0]
+            raise InputError("--effects", name, f"does not apply to machine {machine.name}: it needs the role "
+                                                f"{role!r} ({ROLES[role][1]}), which {machine.name} does not declare")
 
 
-def build_loads(mm, scenario, spec: ModelSpec, heat=None, materials: dict | None = None) -> LoadSet:
-    """Collect every effect's loads and assemble their patterns once.
+def applicable_effects(machine) -> list[str]:
+    """Registered effects whose roles ``machine`` declares, sorted by name."""
+    return sorted(name for name, e in EFFECTS.items() if e.applies_to(machine))
 
-    When an effect returns a :class:`ContactConductance`, the temperature field is split at its
-    facets first (``mm.split_heat``) and ``heat`` is assembled on the split mesh; otherwise
-    ``heat`` (assembled with ``materials`` when None) is used as given.
-    """
-    sources, convs, s_eff, c_eff = [], [], [], []
-    for name in spec.effects:
-        for load in EFFECTS[name].loads(mm, scenario, spec.params[name]):
-            if isinstance(load, (Convection, ContactConductance)):
-                convs.append(load)
-                c_eff.append(name)
-            elif isinstance(load, (HeatSource, SurfaceHeatFlux)):
-                sources.append(load)
-                s_eff.append(name)
-            else:
-                raise TypeError(f"effect {name} returned an unknown load {load!r}")
-    for c in convs:
-        if isinstance(c, ContactConductance):
-            mm = mm.split_heat(c.parts, c.facets)
-    if heat is None or heat.M.shape[0] != mm.nheat:
-        heat = assemble_heat(mm, materials)
-    n = mm.nheat
-    F = np.zeros((n, len(sources)))
-    for j, src in enumerate(sources):
-        if isinstance(src, HeatSource):
-            b = volume_vector(mm, src.cells)
-        else:
-            b = assemble_facets(mm, src.facets).r
-        F[:, j] = b / b.sum()
-    H, r, areas = [], np.zeros((n, len(convs))), np.zeros(len(convs))
-    for j, c in enumerate(convs):
-        if isinstance(c, ContactConductance):
-            H.append(assemble_interface(mm, c.facets))
-        else:
-            f = assemble_facets(mm, c.facets)
-            H.append(f.H)
-            r[:, j], areas[j] = f.r, f.area
-    system = HeatSystem(heat.M, heat.K, H, r, F)
-    return LoadSet(system, sources, convs, s_eff, c_eff, areas, mm, heat)
+
+def model_spec(machine, effects: str | None = None, settings: list[str] | None = None) -> ModelSpec:
+    """The model of ``machine`` from CLI-style strings: ``effects="+a,-b"`` edits the machine's
+    default set, ``settings=["a.p=3 W"]``; every effect must apply to the machine."""
+    chosen = parse_effects(effects, tuple(machine.default_effects))
+    check_applicable(chosen, machine)
+    return ModelSpec(chosen, parse_settings(settings, chosen))
+
+
+def default_spec(machine) -> ModelSpec:
+    """The machine's default effects at their default parameters."""
+    return model_spec(machine)

@@ -1,9 +1,10 @@
-"""Run one simulation: machine + effects + scenario -> transient heat -> drift -> instruments.
+"""Run one simulation: machine + effects + scenario -> transient heat -> observers.
 
 Heat: :mod:`twin.physics.heat`. Drift: every displacement output (tool point relative to the
 workpiece point in X, Y, Z; each ISO 230-3 probe relative to its fixture) is a linear functional
 of the temperature rise, q(t) = W^T (T(t) - T_0), with W from one adjoint elastic solve per
-output (:mod:`twin.physics.elastic`); the displacement field itself is never formed in a run.
+observer (:mod:`twin.physics.prepared`); the displacement field itself is never formed in a run.
+What is recorded is a list of observers (:func:`twin.observe.standard_observers` by default).
 """
 
 from __future__ import annotations
@@ -14,78 +15,111 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from twin.fem.mesh import MachineMesh
-from twin.model import LoadSet, ModelSpec
-from twin.physics.prepared import PreparedTwin, drift_functionals  # noqa: F401  (drift_functionals re-exported)
-
-AXES = ("X", "Y", "Z")
+from twin.model import ModelSpec, default_spec
+from twin.observe import HeatBalance, HottestField, RunContext, TemperatureSensors, standard_observers
+from twin.physics.loads import LoadSet
+from twin.physics.prepared import PreparedTwin
 
 
 @dataclass
 class RunResult:
-    """Everything a run computed, before instruments and packaging (SI units, degC)."""
+    """Everything a run computed, before instruments and packaging: the raw readings of each
+    observer (SI units, degC) and what produced them."""
 
+    machine: object
     mm: MachineMesh
     scenario: object
     spec: ModelSpec
     loads: LoadSet
     times: np.ndarray
     theta: float
-    sensor_true: np.ndarray        # (nt, nsensor) degC
-    stored_heat: np.ndarray        # (nt,) J, 1^T M T
-    surface_integral: np.ndarray   # (nt, ncv) int T dA per convection load [K m2]
-    drift: np.ndarray              # (nt, 3) m, tool relative to workpiece
-    probe: np.ndarray              # (nt, nprobe) m
-    hottest_time: float
-    hottest_field: np.ndarray      # (nheat,) degC on the temperature dofs (mm.heat_node maps them to nodes)
-    sensors: list = field(default_factory=list)
+    observers: list
+    readings: dict
     timings: dict = field(default_factory=dict)
 
+    def observer(self, key: str):
+        """The run's observer with ``key`` (KeyError when the run had none)."""
+        for o in self.observers:
+            if o.key == key:
+                return o
+        raise KeyError(f"the run has no observer {key!r}")
+
+    def context(self, seed: int = 0) -> RunContext:
+        """What observers need to package their readings, with a generator seeded by ``seed``."""
+        return RunContext(self.times, self.scenario, self.spec, self.machine, self.loads,
+                          np.random.default_rng(seed), self.theta)
+
+    @property
+    def sensors(self) -> list:
+        return self.observer("temperature").points
+
+    @property
+    def sensor_true(self) -> np.ndarray:
+        """(n_t, n_sensor) true sensor temperatures [degC] (air sites read the model's air)."""
+        obs: TemperatureSensors = self.observer("temperature")
+        return obs.true_values(self.readings["temperature"], self.context())
+
+    @property
+    def drift(self) -> np.ndarray:
+        """(n_t, 3) tool-point drift X, Y, Z [m], tool relative to the workpiece."""
+        raw = self.readings["drift"]
+        return raw - raw[0]
+
+    @property
+    def probe(self) -> np.ndarray:
+        """(n_t, n_probe) true probe readings [m]."""
+        raw = self.readings["probes"]
+        return raw - raw[0]
+
+    @property
+    def stored_heat(self) -> np.ndarray:
+        """(n_t,) stored heat 1^T M T [J]."""
+        return self.readings["energy"][:, 0]
+
+    @property
+    def hottest_time(self) -> float:
+        return self.observer("hottest").time
+
+    @property
+    def hottest_field(self) -> np.ndarray:
+        """(n_heat,) [degC] on the temperature dofs (``mm.heat_node`` maps them to nodes)."""
+        return self.observer("hottest").field
+
     def heat_flows(self):
-        """Heat into the structure per load at the output instants [W]: sources P(t), and
-        h (T_air A - int T dA) for convection loads. Returns (sources (nt, nsrc), conv (nt, ncv))."""
-        h, air, s = self.loads.signals(self.times)
-        return s, h * (air * self.loads.areas - self.surface_integral)
+        """Heat into the structure per load at the output instants [W]: (sources (n_t, n_src),
+        convection (n_t, n_cv)), see :class:`twin.observe.HeatBalance`."""
+        return HeatBalance.flows(self.readings["energy"], self.context())
 
     def step_energy(self):
-        """Energy accounting of the theta-scheme [J] over the whole run: (heat in by sources,
-        heat in by convection (negative when lost), change of stored heat)."""
-        dt = self.times[1] - self.times[0]
-        h, air, s = self.loads.signals(self.times[:-1] + self.theta * dt)
-        mid = self.theta * self.surface_integral[1:] + (1 - self.theta) * self.surface_integral[:-1]
-        return (dt * s.sum(), dt * np.sum(h * (air * self.loads.areas - mid)),
-                self.stored_heat[-1] - self.stored_heat[0])
+        """(heat in by sources, heat in by convection (negative when lost), change of stored
+        heat) [J] over the run (:meth:`twin.observe.HeatBalance.energy`)."""
+        return HeatBalance.energy(self.readings["energy"], self.context())
 
 
 def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "default", theta: float = 0.5,
         materials: dict | None = None, progress=None, mm: MachineMesh | None = None,
-        sensors: list | None = None, prepared: PreparedTwin | None = None) -> RunResult:
-    """Simulate ``scenario`` on ``machine`` with the effects of ``spec``.
+        sensors: list | None = None, prepared: PreparedTwin | None = None, observers: list | None = None) -> RunResult:
+    """Simulate ``scenario`` on ``machine`` with the effects of ``spec`` (default: the machine's).
 
     ``materials`` maps a material name to a replacement (e.g. perturbed properties);
     ``progress(done, total)`` is called after every step; ``sensors`` (a list of
-    :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites;
-    ``prepared`` reuses a :class:`twin.physics.prepared.PreparedTwin` of the same machine and scenario.
+    :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites; ``observers``
+    replaces the whole standard set; ``prepared`` reuses a :class:`PreparedTwin` of the machine.
     """
-    spec = spec or ModelSpec()
+    spec = spec or default_spec(machine)
+    observers = observers if observers is not None else standard_observers(machine, sensors)
     t0 = _time.perf_counter()
-    twin = prepared or PreparedTwin(machine, scenario, mm, resolution, materials, sensors)
+    twin = prepared or PreparedTwin(machine, mm, resolution, materials)
+    if any(hasattr(o, "functionals") for o in observers):
+        twin.elastic  # noqa: B018  (factorise now, so that "preparation" holds it)
     prep = _time.perf_counter() - t0
     times = scenario.times()
-    hottest = {"max": -np.inf, "time": 0.0, "field": None}
 
     def on_step(n, T):
-        tmax = T.max()
-        if tmax > hottest["max"]:
-            hottest.update(max=tmax, time=times[n], field=T.copy())
         if progress is not None:
             progress(n, len(times) - 1)
 
     t1 = _time.perf_counter()
-    loads, out = twin.run(spec, theta, on_step)
+    loads, readings = twin.run(scenario, spec, observers, theta, on_step)
     timings = {"preparation": prep, "time_stepping": _time.perf_counter() - t1, "steps": len(times) - 1}
-    if hottest["field"] is None:
-        hottest["field"] = np.full(loads.mm.nheat, scenario.start_temperature)
-    ns, ncv = len(twin.sensors), loads.system.r.shape[1]
-    disp = out[:, ns + 1 + ncv:] - out[0, ns + 1 + ncv:]
-    return RunResult(loads.mm, scenario, spec, loads, times, theta, out[:, :ns], out[:, ns], out[:, ns + 1:ns + 1 + ncv],
-                     disp[:, :3], disp[:, 3:], hottest["time"], hottest["field"], twin.sensors, timings)
+    return RunResult(machine, loads.mm, scenario, spec, loads, times, theta, observers, readings, timings)

@@ -97,7 +97,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     urad}, on ``mesh``), ``seconds`` (wall time per stage).
     """
     from geometries import build_machine
-    from twin.api import model_spec
+    from twin.model import model_spec
     from twin.effects import EFFECTS
     from twin.scenario import load_scenario
     from validate.compare import compare, model_for
@@ -148,7 +148,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     machine = build_machine(MACHINE)
     mm = mesh_machine(machine, DIAGNOSE_MESH)
     sc_meas = scenario_from_measurement(meas)
-    d = diagnose(meas, machine, sc_meas, model_spec(), mm=mm)
+    d = diagnose(meas, machine, sc_meas, model_spec(machine), mm=mm)
     say(f"diagnose (twin diagnose {csv_path}): every library effect not in the model, fitted on the "
         f"{DIAGNOSE_MESH} mesh ({d.runs} twin runs)")
     for i, cand in enumerate(d.candidates[:3], 1):

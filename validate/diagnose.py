@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from twin.effects import EFFECTS
-from twin.model import ModelSpec
+from twin.model import ModelSpec, applicable_effects, default_spec
 from twin.units import format_quantity
 from validate.signatures import Engine, Fit, SignatureFitter
 
@@ -199,7 +199,8 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
     ``machine``: a built machine; ``scenario``: the Scenario that drove it (its grid must cover
     ``ds.time``); ``mm``: a prebuilt mesh of ``machine`` (else ``mesh_machine(machine, resolution)``).
-    ``candidates`` defaults to every registered effect not in ``spec``. ``error_resolution``: a
+    ``candidates`` defaults to every registered effect that applies to the machine (its roles
+    exist) and is not in ``spec``. ``error_resolution``: a
     finer mesh on which the baseline is run once more; the difference per channel estimates the
     diagnosing model's discretisation error, and channels where it is large weigh less;
     ``model_error`` gives that per-channel RMS directly (e.g. from :func:`mesh_error`, reused
@@ -208,7 +209,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     baseline and with every candidate (material data are uncertain by a few %, and a missing
     effect must explain what they cannot).
     """
-    spec = spec or ModelSpec()
+    spec = spec or default_spec(machine)
     meas, names, groups = measured_channels(ds)
     t_meas = np.asarray(ds["time"].values, float)
     t_meas = t_meas - t_meas[0]
@@ -239,7 +240,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     d.expansion_fit = lambda g: {m: float(c)
                                  for m, c in zip(materials, fitter.nuisance_coefficients(g))}
     d.expansion = d.expansion_fit(np.zeros_like(r))
-    pool = candidates if candidates is not None else [e for e in EFFECTS if e not in spec.effects]
+    pool = candidates if candidates is not None else [e for e in applicable_effects(machine) if e not in spec.effects]
     fits = [f for f in (fitter.fit_single(e) for e in pool) if f is not None]
     fits.sort(key=lambda f: f.sse)
     sse0 = fitter.sse(np.zeros_like(r))

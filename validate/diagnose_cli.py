@@ -35,7 +35,8 @@ def add_diagnose_parser(subparsers) -> None:
 
 def load_inputs(args):
     """(measurement Dataset, machine, Scenario, ModelSpec) from the parsed arguments."""
-    from twin.api import machine_by_name, model_spec
+    from twin.api import machine_by_name
+    from twin.model import model_spec
     from twin.scenario import load_scenario
     from twin.io.measured_inputs import scenario_from_measurement
     from twin.io.measurement import read_measurement
@@ -45,7 +46,7 @@ def load_inputs(args):
     if args.mesh not in machine.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
     sc = load_scenario(args.scenario) if args.scenario else scenario_from_measurement(meas)
-    return meas, machine, sc, model_spec(args.effects, args.set)
+    return meas, machine, sc, model_spec(machine, args.effects, args.set)
 
 
 def apply_top(d, machine, scenario, mm=None):

@@ -31,6 +31,8 @@ from scipy.optimize import lsq_linear
 
 from twin.effects import EFFECTS, HeatSource, SurfaceHeatFlux
 from twin.model import ModelSpec
+from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, RunContext, TemperatureSensors,
+                           sensor_points)
 from twin.physics.prepared import PreparedTwin
 from twin.signals import lag_series
 
@@ -63,41 +65,41 @@ def reference_value(param) -> float:
 
 
 class Engine:
-    """A twin prepared once for many runs of one scenario on one mesh
-    (:class:`twin.physics.prepared.PreparedTwin`), observed at the sensors and probes;
-    :meth:`observe` then costs one transient integration. Equivalent to
-    :func:`twin.simulate.run` (tested) restricted to sensors and probes.
+    """A twin prepared once (:class:`twin.physics.prepared.PreparedTwin`, or ``prepared``) for
+    many runs of one scenario, observed at the temperature sensors and the probes; :meth:`observe`
+    then costs one transient integration. Equivalent to :func:`twin.simulate.run` (tested)
+    restricted to sensors and probes.
     """
 
     def __init__(self, machine, scenario, resolution: str = "coarse", mm=None, materials: dict | None = None,
-                 sensors: list | None = None):
+                 sensors: list | None = None, prepared: PreparedTwin | None = None):
         self.machine, self.scenario = machine, scenario
-        self.twin = PreparedTwin(machine, scenario, mm, resolution, materials, sensors)
-        self.mm, self.sensors = self.twin.mm, self.twin.sensors
+        self.twin = prepared or PreparedTwin(machine, mm, resolution, materials)
+        self.mm = self.twin.mm
+        self.temperature = TemperatureSensors(sensors if sensors is not None else sensor_points(machine))
+        self.sensors = self.temperature.points
         self.nsensor = len(self.sensors)
+        self.probes = FiveProbeTestBar() if machine.probes else None
         self.probe_names = [p.name for p in machine.probes]
         self.times = scenario.times()
         self.runs = 0
 
-    def _readings(self, out: np.ndarray, nmat: int = 0) -> tuple[np.ndarray, np.ndarray]:
-        """From a run's outputs: the true observables (nt, nsensor + nprobe) (sensor temperatures
-        [degC], probe readings [um]) and, for the ``nmat`` expansion blocks appended by
-        :meth:`twin.physics.prepared.PreparedTwin.run`, the responses (nmat, nt, nsensor + nprobe) to a
-        unit relative change of each material's expansion coefficient (zero on temperatures)."""
-        npr = len(self.probe_names)
-        nout = 3 + npr                                   # tool X, Y, Z, then the probes
-        first = out.shape[1] - (nmat + 1) * nout         # the drift block, then one per material
-        um = [(b - b[0]) * 1e6 for b in (out[:, first + k * nout + 3:first + (k + 1) * nout]
-                                         for k in range(nmat + 1))]
-        responses = np.zeros((nmat, out.shape[0], self.nsensor + npr))
-        for k in range(nmat):
-            responses[k, :, self.nsensor:] = um[k + 1]
-        return np.hstack([out[:, :self.nsensor], um[0]]), responses
-
     def _run(self, spec: ModelSpec, materials: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
-        loads, out = self.twin.run(spec, expansion=tuple(materials))
+        """The true observables (nt, nsensor + nprobe) (sensor temperatures [degC], probe readings
+        [um]) and the responses (nmat, nt, nsensor + nprobe) to a unit relative change of each
+        material's expansion coefficient (zero on temperatures), from one run."""
+        observers = [self.temperature] + ([self.probes] if self.probes else [])
+        observers += [ExpansionSensitivity(m, self.probes) for m in materials if self.probes]
+        loads, raw = self.twin.run(self.scenario, spec, observers)
         self.runs += 1
-        return self._readings(out, len(materials))
+        ctx = RunContext(self.times, self.scenario, spec, self.machine, loads, np.random.default_rng(0))
+        temps = self.temperature.true_values(raw["temperature"], ctx)
+        um = (lambda key: (raw[key] - raw[key][0]) * 1e6)
+        probes = um("probes") if self.probes else np.zeros((len(self.times), 0))
+        responses = np.zeros((len(materials), len(self.times), self.nsensor + probes.shape[1]))
+        for k, o in enumerate(observers[2:] if self.probes else []):
+            responses[k, :, self.nsensor:] = um(o.key)
+        return np.hstack([temps, probes]), responses
 
     def true_outputs(self, spec: ModelSpec) -> np.ndarray:
         """(nt, nsensor + nprobe): true sensor temperatures [degC], then probe readings [um]."""
@@ -110,10 +112,10 @@ class Engine:
     def observe_with_expansion(self, spec: ModelSpec, materials: list[str]) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`observe` and, from the same run, the response of every observable to a unit
         relative change of each material's expansion coefficient, d y / d(alpha_m / alpha_m0)
-        (nmat, nt, nsensor + nprobe) (:meth:`twin.physics.prepared.PreparedTwin.expansion_influence`):
-        zero on the temperatures, probe readings in um on the probes. Drift is linear in each
-        alpha for the run's temperatures, so y + sum_m c_m response_m is the run with every
-        alpha_m scaled by (1 + c_m), exactly."""
+        (nmat, nt, nsensor + nprobe) (:class:`twin.observe.ExpansionSensitivity`): zero on the
+        temperatures, probe readings in um on the probes. Drift is linear in each alpha for the
+        run's temperatures, so y + sum_m c_m response_m is the run with every alpha_m scaled by
+        (1 + c_m), exactly."""
         out, responses = self._run(spec, tuple(materials))
         p = spec.params["temperature_sensor"]
         out[:, :self.nsensor] = lag_series(out[:, :self.nsensor], self.scenario.sample_interval, p["lag"]) + p["bias"]

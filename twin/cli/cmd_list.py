@@ -1,4 +1,4 @@
-"""``twin list machines | scenarios | effects | instruments``."""
+"""``twin list machines | scenarios | effects [--machine M] | instruments``."""
 
 from __future__ import annotations
 
@@ -6,31 +6,67 @@ from __future__ import annotations
 def add_parser(sub) -> None:
     p = sub.add_parser("list", help="list machines, scenarios, effects or instruments")
     p.add_argument("what", choices=["machines", "scenarios", "effects", "instruments"])
+    p.add_argument("--machine", help="with 'effects': only the effects that apply to this machine, "
+                                     "its defaults marked")
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
+def _machines() -> None:
     from geometries import MACHINES, build_machine
-    from twin.effects import DEFAULT_EFFECTS, EFFECTS
+
+    for name in sorted(MACHINES):
+        m = build_machine(name)
+        print(f"{name}: {m.description}\n  parts: {', '.join(p.name for p in m.parts)}\n"
+              f"  mesh resolutions: {', '.join(f'{k} ({v * 1e3:g} mm)' for k, v in m.resolutions.items())}\n"
+              f"  default effects: {', '.join(m.default_effects)}\n  roles: {', '.join(m.roles)}")
+
+
+def _effects(machine_name: str | None) -> None:
+    from geometries import MACHINES, build_machine
+    from twin.api import machine_by_name
+    from twin.effects import EFFECTS
+
+    def show(name, tag, where=""):
+        e = EFFECTS[name]
+        print(f"{name}{tag}: {e.summary}\n  reference: {e.reference}{where}")
+        for p in e.parameters:
+            print(f"    {p.describe()}")
+
+    if machine_name is None:
+        machines = [build_machine(n) for n in sorted(MACHINES)]
+        for name in sorted(EFFECTS):
+            on = [m.name for m in machines if EFFECTS[name].applies_to(m)]
+            default = [m.name for m in machines if name in m.default_effects]
+            show(name, f" (default on {', '.join(default)})" if default else "",
+                 f"\n  applies to: {', '.join(on) or 'no bundled machine'}")
+        return
+    m = machine_by_name(machine_name)
+    refused = []
+    for name in sorted(EFFECTS):
+        missing = EFFECTS[name].missing_roles(m)
+        if missing:
+            refused.append(f"{name} (needs {missing[0]})")
+        else:
+            show(name, " (default)" if name in m.default_effects else "")
+    if refused:
+        print(f"not applicable to {m.name}: {', '.join(refused)}")
+
+
+def run(args) -> int:
+    from twin.errors import InputError
     from twin.observe.instruments import INSTRUMENTS
     from twin.scenario import available, load_scenario
 
+    if args.machine and args.what != "effects":
+        raise InputError("command line", "--machine", "only 'twin list effects' takes --machine")
     if args.what == "machines":
-        for name in sorted(MACHINES):
-            m = build_machine(name)
-            print(f"{name}: {m.description}\n  parts: {', '.join(p.name for p in m.parts)}\n"
-                  f"  mesh resolutions: {', '.join(f'{k} ({v * 1e3:g} mm)' for k, v in m.resolutions.items())}")
+        _machines()
     elif args.what == "scenarios":
         for name in available():
             sc = load_scenario(name)
             print(f"{name}: {sc.duration / 60:g} min, sample interval {sc.sample_interval:g} s\n  {sc.description}")
     elif args.what == "effects":
-        for name in sorted(EFFECTS):
-            e = EFFECTS[name]
-            tag = " (default)" if name in DEFAULT_EFFECTS else ""
-            print(f"{name}{tag}: {e.summary}\n  reference: {e.reference}")
-            for p in e.parameters:
-                print(f"    {p.describe()}")
+        _effects(args.machine)
     else:
         for name, params in INSTRUMENTS.items():
             print(name)

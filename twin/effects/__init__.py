@@ -4,7 +4,5 @@ from twin.effects import environment, spindle, drives, room  # noqa: F401  (regi
 from twin.effects.base import (EFFECTS, ContactConductance, Convection, Effect, HeatSource, Parameter, SurfaceHeatFlux,
                                first_order_lag, register_effect, speed_power_law)
 
-DEFAULT_EFFECTS = ("spindle_bearings", "spindle_motor", "ambient_convection", "spindle_forced_convection", "floor")
-
-__all__ = ["EFFECTS", "DEFAULT_EFFECTS", "ContactConductance", "Convection", "Effect", "HeatSource", "Parameter", "SurfaceHeatFlux",
+__all__ = ["EFFECTS", "ContactConductance", "Convection", "Effect", "HeatSource", "Parameter", "SurfaceHeatFlux",
            "first_order_lag", "register_effect", "speed_power_law"]

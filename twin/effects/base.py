@@ -82,13 +82,23 @@ class ContactConductance:
 
 
 class Effect:
-    """Base class: subclasses set ``name``, ``summary``, ``reference``, ``parameters`` and
+    """Base class: subclasses set ``name``, ``summary``, ``reference``, ``parameters``, the
+    ``roles`` of the machine contract they place loads on (:data:`geometries.regions.ROLES`) and
     implement :meth:`loads`. The class docstring carries the equation."""
 
     name: str = ""
     summary: str = ""
     reference: str = ""
     parameters: tuple[Parameter, ...] = ()
+    roles: tuple[str, ...] = ()
+
+    def missing_roles(self, machine) -> list[str]:
+        """The roles this effect needs that ``machine`` does not declare."""
+        return [r for r in self.roles if r not in machine.roles]
+
+    def applies_to(self, machine) -> bool:
+        """True if ``machine`` declares every role this effect needs."""
+        return not self.missing_roles(machine)
 
     def parameter(self, name: str) -> Parameter:
         for p in self.parameters:

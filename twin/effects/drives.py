@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from twin.effects.base import Convection, Effect, HeatSource, Parameter, constant, register_effect
+from twin.fem.regions import role_cells, role_facets
 
 
 @register_effect
@@ -22,25 +23,18 @@ class SpindleCoolant(Effect):
     name = "spindle_coolant"
     summary = "jacket conductance G to coolant at T_air + offset on the cartridge, while the spindle runs"
     reference = "Bossmanns & Tu, Int. J. Mach. Tools Manuf. 39 (1999) 1345-1366 (spindle cooling)"
+    roles = ("spindle.jacket",)
     parameters = (
         Parameter("conductance", "conductance", 20.0, 0.0, 500.0, "jacket conductance G = UA"),
         Parameter("offset", "temperature_difference", 0.0, -10.0, 10.0, "coolant minus room air temperature"),
     )
 
     def loads(self, mm, scenario, p):
-        facets = mm.facets["spindle_jacket"]
+        facets = role_facets(mm, "spindle.jacket")
         h = p["conductance"] / mm.facet_area(facets)
         off = p["offset"]
         return [Convection(self.name, facets, lambda t: h * (np.abs(scenario.spindle_speed(t)) > 0),
                            lambda t: scenario.ambient_temperature(t) + off)]
-
-
-def column_top_cells(mm, depth: float = 0.2) -> np.ndarray:
-    """Column cells whose centre lies within ``depth`` [m] of the column's top."""
-    cells = mm.cells_of("column")
-    zc = mm.mesh.p[2, mm.mesh.t[:, cells]].mean(axis=0)
-    ztop = mm.mesh.p[2, mm.mesh.t[:, cells]].max()
-    return cells[zc >= ztop - depth]
 
 
 @register_effect
@@ -50,16 +44,18 @@ class ZAxisHolding(Effect):
         P(t) = P_hold   (constant, also when no axis moves),
 
     the holding current's copper losses I^2 R (torque = m g p / (2 pi)) plus brake coil heat,
-    spread uniformly over the column's top 0.2 m where the Z motor sits.
+    spread uniformly over the machine's ``z_drive.top`` region (on the C-frame, the column's top
+    0.2 m where the Z motor sits).
     """
 
     name = "z_axis_holding"
     summary = "constant holding losses of the Z motor and brake in the column top"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771-791, sec. 3.2 (feed drives)"
+    roles = ("z_drive.top",)
     parameters = (
         Parameter("power", "power", 25.0, 0.0, 500.0, "holding losses into the column top P_hold"),
     )
 
     def loads(self, mm, scenario, p):
         power = p["power"]
-        return [HeatSource(self.name, column_top_cells(mm), constant(power))]
+        return [HeatSource(self.name, role_cells(mm, "z_drive.top"), constant(power))]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from twin.effects.base import Convection, Effect, Parameter, constant, first_order_lag, register_effect
+from twin.fem.regions import role_facets
 
 
 @register_effect
@@ -18,13 +19,14 @@ class AmbientConvection(Effect):
     name = "ambient_convection"
     summary = "natural convection + linearised radiation of the skin to the room air"
     reference = "VDI Heat Atlas, F2 (free convection) and K1 (radiation)"
+    roles = ("structure.skin",)
     parameters = (
         Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "combined natural-convection and radiation coefficient"),
     )
 
     def loads(self, mm, scenario, p):
         h = p["h"]
-        return [Convection(self.name, mm.facets["skin"], constant(h), scenario.ambient_temperature)]
+        return [Convection(self.name, role_facets(mm, "structure.skin"), constant(h), scenario.ambient_temperature)]
 
 
 @register_effect
@@ -40,6 +42,7 @@ class Floor(Effect):
     name = "floor"
     summary = "bed foot held to a floor temperature lagging the room air"
     reference = "seed 000 L318-336 (ambient and foundation effects); ISO 230-3 Annex (environment)"
+    roles = ("floor.contact",)
     parameters = (
         Parameter("conductance", "heat_transfer_coefficient", 20.0, 0.0, 1000.0, "contact conductance of the foot per unit area"),
         Parameter("lag", "time", 6 * 3600.0, 0.0, 7 * 86400.0, "time constant tau of the floor following the room"),
@@ -49,5 +52,5 @@ class Floor(Effect):
     def loads(self, mm, scenario, p):
         lagged = first_order_lag(scenario.ambient_temperature, p["lag"], scenario.duration)
         offset, hc = p["offset"], p["conductance"]
-        return [Convection(self.name, mm.facets["floor_contact"], constant(hc),
+        return [Convection(self.name, role_facets(mm, "floor.contact"), constant(hc),
                            lambda t: lagged(t) + offset)]

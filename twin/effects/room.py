@@ -1,7 +1,8 @@
 """The room beyond uniform still air: a cabinet, stratified air, a door draft, the sun, a slow floor.
 
-Helpers here select skin facets by the direction they face and by height; every load is still a
-fixed spatial pattern times a time signal (see :mod:`twin.effects.base`).
+Each acts on the machine's roles (the skin, its front and rear, the cabinet face, the floor
+contact); every load is still a fixed spatial pattern times a time signal (see
+:mod:`twin.effects.base`).
 """
 
 from __future__ import annotations
@@ -10,29 +11,13 @@ import numpy as np
 
 from twin.effects.base import (Convection, Effect, Parameter, SurfaceHeatFlux, constant, first_order_lag,
                                register_effect)
-
-_AXES = {"x": 0, "y": 1, "z": 2}
-
-
-def facet_centres(mm, facets: np.ndarray) -> np.ndarray:
-    """Centroids (nf, 3) [m] of the given facets."""
-    return mm.mesh.p[:, mm.mesh.facets[:, facets]].mean(axis=1).T
-
-
-def facing(mm, facets: np.ndarray, direction: str) -> np.ndarray:
-    """Boundary facets among ``facets`` whose outward normal is ``direction`` ("+x", "-y", ...)."""
-    sign, axis = (1.0 if direction[0] == "+" else -1.0), _AXES[direction[1]]
-    corners = mm.mesh.p[:, mm.mesh.facets[:, facets]]
-    flat = np.ptp(corners[axis], axis=0) < 1e-12
-    owner = mm.mesh.f2t[0, facets]
-    cell_mid = mm.mesh.p[axis, mm.mesh.t[:, owner]].mean(axis=0)
-    outward = np.sign(corners[axis].mean(axis=0) - cell_mid)
-    return facets[flat & (outward == sign)]
+from twin.fem.regions import facet_centres, role_facets
 
 
 @register_effect
 class ElectricalCabinet(Effect):
-    """Heat of the electrical cabinet released beside the column's left (-x) side.
+    """Heat of the electrical cabinet released beside the structure's ``cabinet.face`` (the
+    C-frame: the column's left, -x, side).
 
     The cabinet's losses (drives, transformer, power supply) warm the air and radiate onto the
     adjacent column face; the part that reaches the structure is a uniform surface flux
@@ -45,6 +30,7 @@ class ElectricalCabinet(Effect):
     name = "electrical_cabinet"
     summary = "cabinet losses onto the column's left side face, P = P_standby + P_run [spindle on]"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771-791, sec. 3.2 (internal heat sources, cabinets)"
+    roles = ("cabinet.face",)
     parameters = (
         Parameter("power", "power", 40.0, 0.0, 1000.0, "heat reaching the column while the machine is powered"),
         Parameter("running_power", "power", 0.0, 0.0, 1000.0, "additional heat while the spindle turns"),
@@ -52,7 +38,7 @@ class ElectricalCabinet(Effect):
 
     def loads(self, mm, scenario, p):
         base, run = p["power"], p["running_power"]
-        return [SurfaceHeatFlux(self.name, mm.facets["column_side_left"],
+        return [SurfaceHeatFlux(self.name, role_facets(mm, "cabinet.face"),
                                 lambda t: base + run * (np.abs(scenario.spindle_speed(t)) > 0))]
 
 
@@ -71,6 +57,7 @@ class AmbientStratification(Effect):
     name = "ambient_stratification"
     summary = "vertical air-temperature gradient g: extra flux h g (z - z_ref) on the skin"
     reference = "ISO 230-3:2020 Annex (environmental temperature variation); VDI 2078 (room air stratification)"
+    roles = ("structure.skin",)
     parameters = (
         Parameter("gradient", "temperature_gradient", 0.5, -5.0, 5.0, "air temperature rise per metre of height g"),
         Parameter("reference_height", "length", 1.0, 0.0, 3.0, "height z_ref where the air is at the room temperature"),
@@ -79,7 +66,7 @@ class AmbientStratification(Effect):
     band = 0.1  # m
 
     def loads(self, mm, scenario, p):
-        facets = mm.facets["skin"]
+        facets = role_facets(mm, "structure.skin")
         z = facet_centres(mm, facets)[:, 2]
         moment = mm.facet_areas(facets) * (z - p["reference_height"])  # A (z - z_ref) [m3]
         k = np.floor(z / self.band).astype(int)
@@ -102,7 +89,8 @@ def event_window(t: np.ndarray, start: float, duration: float, period: float) ->
 
 @register_effect
 class DoorDraft(Effect):
-    """A cold (or warm) air stream from an opened hall door hitting the machine's front (-y) faces.
+    """A cold (or warm) air stream from an opened hall door hitting the machine's front
+    (``structure.front``; the C-frame: its -y faces).
 
         -k dT/dn = h_d w(t) (T - T_air(t) - dT),  w(t) = 1 during events, else 0,
 
@@ -114,6 +102,7 @@ class DoorDraft(Effect):
     name = "door_draft"
     summary = "air stream T_air + dT with h_d on the front faces during scheduled door openings"
     reference = "VDI Heat Atlas G4 (flat plate in parallel flow); Bryan, CIRP Annals 39/2 (1990) 645-656"
+    roles = ("structure.front",)
     parameters = (
         Parameter("h", "heat_transfer_coefficient", 15.0, 0.0, 100.0, "draft heat-transfer coefficient h_d"),
         Parameter("temperature_difference", "temperature_difference", -8.0, -30.0, 30.0, "draft air minus room air dT"),
@@ -123,7 +112,7 @@ class DoorDraft(Effect):
     )
 
     def loads(self, mm, scenario, p):
-        facets = facing(mm, mm.facets["skin"], "-y")
+        facets = role_facets(mm, "structure.front")
         h, dT = p["h"], p["temperature_difference"]
         return [Convection(self.name, facets,
                            lambda t: h * event_window(t, p["start"], p["duration"], p["period"]),
@@ -140,7 +129,8 @@ def daylight(t: np.ndarray, start_time_of_day: float, sunrise: float, sunset: fl
 
 @register_effect
 class SolarLoad(Effect):
-    """Sunlight through a window onto the machine's rear (+y) faces in day hours.
+    """Sunlight through a window onto the machine's rear (``structure.rear``; the
+    C-frame: its +y faces) in day hours.
 
         q(t) = q_peak sin(pi (tod - t_rise) / (t_set - t_rise))  for t_rise < tod < t_set, else 0,
 
@@ -151,6 +141,7 @@ class SolarLoad(Effect):
     name = "solar_load"
     summary = "absorbed sunlight on the rear faces, half-sine between sunrise and sunset"
     reference = "Duffie & Beckman, Solar Engineering of Thermal Processes, ch. 1-2"
+    roles = ("structure.rear",)
     parameters = (
         Parameter("flux", "heat_flux", 40.0, 0.0, 800.0, "absorbed flux at solar noon q_peak"),
         Parameter("sunrise", "time", 7 * 3600.0, 0.0, 86400.0, "time of day the sun reaches the faces"),
@@ -158,7 +149,7 @@ class SolarLoad(Effect):
     )
 
     def loads(self, mm, scenario, p):
-        facets = facing(mm, mm.facets["skin"], "+y")
+        facets = role_facets(mm, "structure.rear")
         peak = p["flux"] * mm.facet_area(facets)
         t0 = getattr(scenario.ambient, "start_time_of_day", 0.0)
         return [SurfaceHeatFlux(self.name, facets, lambda t: peak * daylight(t, t0, p["sunrise"], p["sunset"]))]
@@ -178,6 +169,7 @@ class FloorLag(Effect):
     name = "floor_lag"
     summary = "foot coupled to a slow foundation temperature lagging the room by tau_s"
     reference = "Bryan, CIRP Annals 39/2 (1990) 645-656 (foundation thermal inertia); ISO 230-3 Annex"
+    roles = ("floor.contact",)
     parameters = (
         Parameter("conductance", "heat_transfer_coefficient", 20.0, 0.0, 1000.0, "foot conductance to the slow foundation h_s"),
         Parameter("lag", "time", 2 * 86400.0, 3600.0, 30 * 86400.0, "time constant tau_s of the foundation"),
@@ -185,4 +177,4 @@ class FloorLag(Effect):
 
     def loads(self, mm, scenario, p):
         slow = first_order_lag(scenario.ambient_temperature, p["lag"], scenario.duration)
-        return [Convection(self.name, mm.facets["floor_contact"], constant(p["conductance"]), slow)]
+        return [Convection(self.name, role_facets(mm, "floor.contact"), constant(p["conductance"]), slow)]

@@ -6,6 +6,7 @@ import numpy as np
 
 from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, constant,
                                register_effect, speed_power_law)
+from twin.fem.regions import role_cells, role_facets, role_parts
 
 _REF = Parameter("reference_speed", "speed", 9000.0, 100.0, 60000.0, "speed at which the reference value holds")
 
@@ -26,6 +27,7 @@ class SpindleBearings(Effect):
     name = "spindle_bearings"
     summary = "friction heat at the front and rear spindle bearings, P = P_ref (n/n_ref)^x"
     reference = "T. A. Harris, Rolling Bearing Analysis (Palmgren friction model); Bossmanns & Tu 1999"
+    roles = ("spindle.front_bearing", "spindle.rear_bearing")
     parameters = (
         Parameter("front_power", "power", 150.0, 0.0, 2000.0, "front bearing heat at the reference speed"),
         Parameter("rear_power", "power", 130.0, 0.0, 2000.0, "rear bearing heat at the reference speed"),
@@ -35,9 +37,9 @@ class SpindleBearings(Effect):
 
     def loads(self, mm, scenario, p):
         return [
-            HeatSource(f"{self.name}.{zone}", mm.cells_of(zone),
+            HeatSource(f"{self.name}.{side}_bearing", role_cells(mm, f"spindle.{side}_bearing"),
                        speed_power_law(scenario, p["reference_speed"], p["exponent"], p[f"{side}_power"]))
-            for side, zone in (("front", "front_bearing"), ("rear", "rear_bearing"))
+            for side in ("front", "rear")
         ]
 
 
@@ -55,6 +57,7 @@ class SpindleMotor(Effect):
     name = "spindle_motor"
     summary = "motor losses into the carrier top, P = P_ref (n/n_ref)^x"
     reference = "seed 000 L4024-4028, L4249-4253 (motor on the carrier, most influential area)"
+    roles = ("spindle.motor",)
     parameters = (
         Parameter("power", "power", 60.0, 0.0, 5000.0, "heat into the structure at the reference speed"),
         _REF,
@@ -62,7 +65,7 @@ class SpindleMotor(Effect):
     )
 
     def loads(self, mm, scenario, p):
-        return [HeatSource(self.name, mm.cells_of("motor"),
+        return [HeatSource(self.name, role_cells(mm, "spindle.motor"),
                            speed_power_law(scenario, p["reference_speed"], p["exponent"], p["power"]))]
 
 
@@ -82,6 +85,7 @@ class SpindleForcedConvection(Effect):
     name = "spindle_forced_convection"
     summary = "h on rotating surfaces, h = h_ref (n/n_ref)^(2/3) (Becker)"
     reference = "K. M. Becker, Int. J. Heat Mass Transfer 6 (1963) 1053-1062"
+    roles = ("spindle.rotating",)
     parameters = (
         Parameter("h_reference", "heat_transfer_coefficient", 150.0, 0.0, 2000.0, "h at the reference speed"),
         _REF,
@@ -89,8 +93,7 @@ class SpindleForcedConvection(Effect):
     )
 
     def loads(self, mm, scenario, p):
-        facets = np.union1d(mm.facets["test_bar_skin"], mm.facets["spindle_nose"])
-        return [Convection(self.name, facets,
+        return [Convection(self.name, role_facets(mm, "spindle.rotating"),
                            speed_power_law(scenario, p["reference_speed"], p["exponent"], p["h_reference"]),
                            scenario.ambient_temperature)]
 
@@ -110,11 +113,12 @@ class TestBarContact(Effect):
     name = "test_bar_contact"
     summary = "finite conductance G between spindle and test bar (default model: perfect contact)"
     reference = "M. M. Yovanovich, thermal contact resistance (Handbook of Heat Transfer, ch. 4); Bossmanns & Tu 1999"
+    roles = ("test_bar.seat", "test_bar.body")
     parameters = (
         Parameter("conductance", "conductance", 20.0, 0.1, 1000.0, "conductance G of the bar's seat in the spindle"),
     )
 
     def loads(self, mm, scenario, p):
-        facets = mm.facets["test_bar_seat"]
+        facets = role_facets(mm, "test_bar.seat")
         hc = p["conductance"] / mm.facet_area(facets)
-        return [ContactConductance(self.name, facets, ("test_bar",), constant(hc))]
+        return [ContactConductance(self.name, facets, role_parts(mm, "test_bar.body"), constant(hc))]

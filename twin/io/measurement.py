@@ -49,19 +49,19 @@ import xarray as xr
 
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
-from twin.io.results import derived_from_probes
-from twin.simulate import AXES
+from twin.observe.base import variable
+from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
 
 ROLES = {"time": "time", "spindle_speed": "speed", "ambient_temperature": "temperature",
          "temperature": "temperature", "probe": "length"}
-PROBES = ("X1", "X2", "Y1", "Y2", "Z")
 _ROLE_KEYS = {"time": set(), "spindle_speed": set(), "ambient_temperature": set(),
               "temperature": {"site", "x", "y", "z", "part", "name"}, "probe": {"probe"}}
 
 
-def _var(dims, data, units, long_name):
-    return (dims, np.asarray(data), {"units": units, "long_name": long_name})
+def probe_names(machine) -> list[str]:
+    """The machine's displacement probes (the ISO 230-3 five-probe nest without a machine)."""
+    return [p.name for p in machine.probes] if machine is not None else list(FIVE_PROBES)
 
 
 def read_measurement(path: str | Path, mapping: str | Path | None = None, machine=None) -> xr.Dataset:
@@ -193,8 +193,9 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             single[role] = values
         elif role == "probe":
             pid = entry.get("probe")
-            if pid not in PROBES:
-                raise InputError(msrc, key + ".probe", f"unknown probe {pid!r}; known: {', '.join(PROBES)}")
+            known = probe_names(mach)
+            if pid not in known:
+                raise InputError(msrc, key + ".probe", f"unknown probe {pid!r}; known: {', '.join(known)}")
             if pid in probes:
                 raise InputError(msrc, key + ".probe", f"probe {pid} mapped twice")
             probes[pid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
@@ -231,11 +232,11 @@ def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: st
 def _dataset(t, single, sensors, probes, mach, src) -> xr.Dataset:
     data, coords = {}, {"time": ("time", t, {"units": "s", "long_name": "time since start"})}
     if "spindle_speed" in single:
-        data["spindle_speed"] = _var("time", single["spindle_speed"], "rpm", "spindle speed")
+        data["spindle_speed"] = variable("time", single["spindle_speed"], "rpm", "spindle speed")
     if "ambient_temperature" in single:
-        data["ambient_temperature"] = _var("time", single["ambient_temperature"], "degC", "room air temperature")
+        data["ambient_temperature"] = variable("time", single["ambient_temperature"], "degC", "room air temperature")
     if sensors:
-        data["temperature"] = _var(("time", "sensor"), np.column_stack([s[3] for s in sensors]), "degC",
+        data["temperature"] = variable(("time", "sensor"), np.column_stack([s[3] for s in sensors]), "degC",
                                    "temperature as measured")
         coords.update({
             "sensor": ("sensor", [s[0] for s in sensors], {"long_name": "temperature sensor site"}),
@@ -244,14 +245,14 @@ def _dataset(t, single, sensors, probes, mach, src) -> xr.Dataset:
             "z": ("sensor", [s[1][2] for s in sensors], {"units": "m", "long_name": "sensor z"}),
             "part": ("sensor", [s[2] for s in sensors], {"long_name": "part carrying the sensor"})})
     if probes:
-        ids = [p for p in PROBES if p in probes]
+        ids = [p for p in probe_names(mach) if p in probes]
         arr = np.column_stack([probes[p] for p in ids])
-        data["probe"] = _var(("time", "probe_id"), arr, "um", "ISO 230-3 probe reading as measured")
+        data["probe"] = variable(("time", "probe_id"), arr, "um", "ISO 230-3 probe reading as measured")
         coords["probe_id"] = ("probe_id", ids, {"long_name": "ISO 230-3 probe"})
-        if len(ids) == 5 and mach is not None:
+        if mach is not None and set(FIVE_PROBES) <= set(ids):
             drift, tilt = derived_from_probes(arr, ids, mach)
-            data["probe_drift"] = _var(("time", "axis"), drift, "um", "tool-point drift derived from the probe readings")
-            data["tilt"] = _var(("time", "rotation"), tilt, "urad", "test-bar tilt from the probe readings (A about X, B about Y)")
+            data["probe_drift"] = variable(("time", "axis"), drift, "um", "tool-point drift derived from the probe readings")
+            data["tilt"] = variable(("time", "rotation"), tilt, "urad", "test-bar tilt from the probe readings (A about X, B about Y)")
             coords["axis"] = ("axis", list(AXES), {"long_name": "machine axis"})
             coords["rotation"] = ("rotation", ["A", "B"], {"long_name": "rotation about X (A) and Y (B)"})
     attrs = {"title": f"measurement {Path(src).name}", "source": src, "kind": "measurement"}

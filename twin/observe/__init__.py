@@ -1,0 +1,27 @@
+"""Observers (virtual instruments) and the standard set a run records."""
+
+from twin.observe.base import Observer, RunContext, variable
+from twin.observe.displacement import ExpansionSensitivity, FiveProbeTestBar, ToolDrift, derived_from_probes
+from twin.observe.energy import HeatBalance
+from twin.observe.snapshot import HottestField
+from twin.observe.temperature import TemperatureSensors
+
+
+def sensor_points(machine) -> list:
+    """The machine's temperature-sensor sites, glued ones then those in the air."""
+    return [machine.point(n) for n in list(machine.sensor_sites) + list(machine.air_sites)]
+
+
+def standard_observers(machine, sensors: list | None = None) -> list[Observer]:
+    """What a simulation records: temperature sensors (``sensors``, default the machine's sites),
+    the tool-point drift, the five-probe test bar (when the machine has probes), the heat balance
+    and the hottest field. The order fixes the instrument-noise draws (temperatures, then probes)."""
+    observers = [TemperatureSensors(sensors if sensors is not None else sensor_points(machine)), ToolDrift()]
+    if machine.probes:
+        observers.append(FiveProbeTestBar())
+    return observers + [HeatBalance(), HottestField()]
+
+
+__all__ = ["Observer", "RunContext", "variable", "ExpansionSensitivity", "FiveProbeTestBar", "ToolDrift",
+           "derived_from_probes", "HeatBalance", "HottestField", "TemperatureSensors", "sensor_points",
+           "standard_observers"]

@@ -38,21 +38,26 @@ class HeatSystem:
 
 def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.ndarray, air: np.ndarray,
               s: np.ndarray, outputs: sp.spmatrix, theta: float = 0.5,
-              on_step: Callable[[int, np.ndarray], None] | None = None) -> np.ndarray:
+              on_step: Callable[[int, np.ndarray], None] | None = None,
+              factorisations: dict | None = None, operator_key: tuple = ()) -> np.ndarray:
     """Integrate ``nsteps`` steps of length ``dt`` [s] from ``T0`` [degC].
 
     h (nsteps, ncv) [W/(m2 K)], air (nsteps, ncv) [degC] and s (nsteps, nsrc) [W] hold the
     signals at t_n + theta dt. Returns ``outputs @ T`` at every step, shape (nsteps+1, nout).
     ``on_step(n, T)`` is called after each step with the new field (progress, snapshots).
+    ``factorisations``: a dict kept by the caller across runs (:class:`twin.physics.prepared.
+    PreparedTwin`), keyed by ``operator_key`` (which must identify M, K and the H_k: the layout
+    and the convection loads), dt, theta and the film coefficients, so a factorised operator is
+    reused by every later run with the same operator.
     """
     if not 0.5 <= theta <= 1.0:
         raise ValueError("theta must lie in [1/2, 1] (unconditionally stable range)")
-    cache: dict[tuple, tuple] = {}
+    cache: dict[tuple, tuple] = {} if factorisations is None else factorisations
     T = np.array(T0, dtype=float)
     out = np.empty((nsteps + 1, outputs.shape[0]))
     out[0] = outputs @ T
     for n in range(nsteps):
-        key = tuple(np.round(h[n], 12))
+        key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
         if key not in cache:
             A = system.K + sum((hk * Hk for hk, Hk in zip(h[n], system.H) if hk != 0), sp.csr_matrix(system.K.shape))
             lhs = (system.M + theta * dt * A).tocsc()

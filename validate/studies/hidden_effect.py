@@ -1,8 +1,8 @@
 """Hidden-effect study: for every library effect as the hidden one, does the diagnosis find it?
 
-``python -m validate.studies.hidden_effect [--quick] [--out DIR] [--effects a,b]`` writes
-``hidden_effect.md`` and ``hidden_effect.csv`` into ``DIR`` (default
-``validate-out/study_hidden_effect``).
+``python -m validate.studies.hidden_effect [--machine M] [--quick] [--out DIR] [--effects a,b]``
+writes ``hidden_effect.md`` and ``hidden_effect.csv`` into ``DIR`` (default
+``validate-out/hidden_effect/<machine>``).
 
 Truth (:mod:`validate.synthetic`): the default effects plus one hidden effect at the plausible
 strength of :data:`CASES`, on the ``fine`` mesh with half the sample interval, perturbed
@@ -29,10 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
-from geometries import build_machine
-from twin.api import model_spec
+from geometries import MACHINES, build_machine
+from twin.model import applicable_effects, model_spec
 from twin.fem.mesh import mesh_machine
-from twin.effects import DEFAULT_EFFECTS, EFFECTS
+from twin.effects import EFFECTS
 from twin.scenario import load_scenario
 from twin.units import format_quantity, parse_quantity
 from validate.diagnose import diagnose, mesh_error
@@ -42,6 +42,9 @@ from validate.synthetic import short_scenario, truth_measurement
 
 BAR = {"first": 0.9, "strength": 0.25, "probe_reduction": 0.7}
 DAY_NIGHT = {"etve-day-night"}
+# The cases' scenarios are the C-frame's; a machine that cannot run one (a lower top speed) names
+# the scenario that gives the same excitation on it.
+SCENARIO_FOR: dict[str, dict[str, str]] = {}
 
 
 @dataclass(frozen=True)
@@ -107,6 +110,11 @@ def case_for(effect: str) -> Case:
                                      "not in the study's table: reference strength on the spindle duty cycle.")
 
 
+def scenario_for(name: str, machine: str) -> str:
+    """The scenario giving case scenario ``name``'s excitation on ``machine``."""
+    return SCENARIO_FOR.get(machine, {}).get(name, name)
+
+
 def load_case_scenario(name: str, quick: bool):
     sc = load_scenario(name)
     if quick and name not in DAY_NIGHT:
@@ -135,11 +143,11 @@ _MESHES = Meshes()
 
 def _run_planned(args) -> dict:
     """Pool worker: one case, with the machine and the model's mesh built once per process."""
-    hidden, scenario_name, quick, reference, meshes = args
+    hidden, scenario_name, quick, reference, meshes, machine = args
     global _REFERENCE, _MESHES
     _REFERENCE, _MESHES = reference, meshes
     if not _WORKER:
-        _WORKER["machine"] = build_machine("cframe-vmc")
+        _WORKER["machine"] = build_machine(machine)
         _WORKER["mm"] = mesh_machine(_WORKER["machine"], meshes.model)
     return run_case(_WORKER["machine"], _WORKER["mm"], hidden, scenario_name, quick)
 
@@ -156,8 +164,8 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
         unit = par.unit
         strength = None if _REFERENCE else case_for(hidden).strength
         true_v = parse_quantity(strength, par.dimension) if strength else (
-            par.default if hidden in DEFAULT_EFFECTS else reference_value(par))
-    if hidden in DEFAULT_EFFECTS:
+            par.default if hidden in machine.default_effects else reference_value(par))
+    if hidden in machine.default_effects:
         truth_eff, diag_eff = None, f"-{hidden}"
         settings = [f"{hidden}.{pname}={format_quantity(true_v, par.dimension).replace(' ', '')}"]
     elif hidden:
@@ -166,8 +174,8 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
     else:
         truth_eff = diag_eff = None
         settings = []
-    ds = truth_measurement("cframe-vmc", sc, truth_eff, settings, resolution=_MESHES.truth)
-    spec = model_spec(diag_eff)
+    ds = truth_measurement(machine.name, sc, truth_eff, settings, resolution=_MESHES.truth)
+    spec = model_spec(machine, diag_eff)
     key = (sc.name, spec.effects)
     if key not in _MESH_ERROR and _MESHES.error:   # the diagnosing model's own estimate: never the truth's
         _MESH_ERROR[key] = mesh_error(ds, machine, sc, spec, mm, _MESHES.error)
@@ -379,7 +387,8 @@ def failure_analysis(rows: list[dict]) -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="shortened spindle scenarios (minutes, not tens of minutes)")
-    ap.add_argument("--out", default="validate-out/study_hidden_effect", help="folder for hidden_effect.md/.csv")
+    ap.add_argument("--machine", default="cframe-vmc", help="machine (default: %(default)s)")
+    ap.add_argument("--out", help="folder for hidden_effect.md/.csv (default: validate-out/hidden_effect/MACHINE)")
     ap.add_argument("--effects", help="comma-separated hidden effects (default: spindle_motor and every library effect)")
     ap.add_argument("--jobs", type=int, default=1, help="cases run in parallel processes (default 1)")
     ap.add_argument("--reference", action="store_true",
@@ -393,7 +402,7 @@ def main(argv=None) -> int:
                          "'none' (default: %(default)s)")
     a = ap.parse_args(argv)
     if a.analyse:
-        out = Path(a.out)
+        out = Path(a.out or f"validate-out/hidden_effect/{a.machine}")
         with open(out / "hidden_effect.csv", newline="") as fh:
             rows = [score(_typed(r)) for r in csv.DictReader(fh)]
         old = (out / "hidden_effect.md").read_text()
@@ -405,14 +414,21 @@ def main(argv=None) -> int:
         atomic_write_text(out / "hidden_effect.md", text)
         print(failure_analysis(rows))
         return 0
-    hidden = a.effects.split(",") if a.effects else ["spindle_motor"] + [e for e in EFFECTS if e not in DEFAULT_EFFECTS]
+    if a.machine not in MACHINES:
+        ap.error(f"--machine: unknown machine {a.machine!r} (known: {', '.join(sorted(MACHINES))})")
+    machine = build_machine(a.machine)
+    hidden = a.effects.split(",") if a.effects else ["spindle_motor"] + [
+        e for e in applicable_effects(machine) if e not in machine.default_effects]
     unknown = [h for h in hidden if h not in EFFECTS]
     if unknown:
         ap.error(f"unknown effects: {', '.join(unknown)}")
-    plan = [(h, case_for(h).scenario) for h in hidden]
+    refused = [h for h in hidden if not EFFECTS[h].applies_to(machine)]
+    if refused:
+        ap.error(f"effects that do not apply to {machine.name}: {', '.join(refused)}")
+    plan = [(h, scenario_for(case_for(h).scenario, machine.name)) for h in hidden]
     plan += [(None, s) for s in dict.fromkeys(s for _, s in plan)]
     global _REFERENCE, _MESHES
-    sizes = build_machine("cframe-vmc").resolutions
+    sizes = machine.resolutions
     for opt in ("truth", "model", "error_mesh"):
         v = getattr(a, opt)
         if v not in sizes and not (opt == "error_mesh" and v == "none"):
@@ -423,14 +439,14 @@ def main(argv=None) -> int:
         ap.error(f"--truth {a.truth} is coarser than --model {a.model}: the truth must be at least as fine")
     _REFERENCE = a.reference
     _MESHES = Meshes(a.truth, a.model, None if a.error_mesh == "none" else a.error_mesh)
-    work = [(h, s, a.quick, a.reference, _MESHES) for h, s in plan]
+    work = [(h, s, a.quick, a.reference, _MESHES, machine.name) for h, s in plan]
     if a.jobs > 1:
         from multiprocessing import Pool
         with Pool(a.jobs) as pool:
             rows = _report_each(pool.imap(_run_planned, work))
     else:
         rows = _report_each(map(_run_planned, work))
-    out = Path(a.out)
+    out = Path(a.out or f"validate-out/hidden_effect/{machine.name}")
     out.mkdir(parents=True, exist_ok=True)
     buf = io.StringIO()
     cols = [k for k in rows[0] if not k.startswith("_")]
@@ -438,7 +454,7 @@ def main(argv=None) -> int:
     w.writeheader()
     w.writerows(rows)
     atomic_write_text(out / "hidden_effect.csv", buf.getvalue())
-    cmd = "python -m validate.studies.hidden_effect" + (" --quick" if a.quick else "") + (
+    cmd = "python -m validate.studies.hidden_effect" + f" --machine {machine.name}" + (" --quick" if a.quick else "") + (
         " --reference" if a.reference else "") + (
         f" --effects {a.effects}" if a.effects else "") + (f" --jobs {a.jobs}" if a.jobs > 1 else "")
     text = markdown(rows, a.quick, cmd) + "\n" + failure_analysis(rows)

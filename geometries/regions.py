@@ -1,0 +1,115 @@
+"""Regions and roles: where on a machine a load acts or an instrument looks, in words and geometry.
+
+A *region* describes a set of cells (a volume) or boundary faces (a surface) by name and geometry,
+never by mesh numbers; :mod:`twin.fem.regions` turns it into cells or facets of a mesh:
+
+* :class:`Parts` — the cells of the named parts (volume), or their faces open to the air and
+  the floor (surface);
+* :class:`Named` — one of the machine's named surfaces (surface);
+* :class:`Facing` — the faces of a surface region whose outward normal is ``"+x"``, ``"-y"`` ...;
+* :class:`Band` — the cells or faces of a region whose centre's coordinate along ``axis`` lies in
+  [lo, hi] [m] (a height band, the top of a column);
+* :class:`InBox` — the cells or faces of a region whose centre lies in a box;
+* :class:`Union` — several regions together.
+
+A *role* is a name from :data:`ROLES` that a machine binds to a region (``Machine.roles``): the
+contract between machines and effects. Effects address roles (``"spindle.front_bearing"``), so
+one effect serves every machine that declares the roles it needs; a machine without one is told
+so by name. The vocabulary is closed: a machine declaring an unknown role is an error, so a typo
+never leaves an effect silently unplaced.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from geometries.base import Box
+
+AXES = {"x": 0, "y": 1, "z": 2}
+DIRECTIONS = ("+x", "-x", "+y", "-y", "+z", "-z")
+
+
+@dataclass(frozen=True)
+class Parts:
+    """Cells of the named parts (volume) or their exterior faces (surface)."""
+
+    names: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Named:
+    """A named :class:`geometries.base.Surface` of the machine (surface only)."""
+
+    surface: str
+
+
+@dataclass(frozen=True)
+class Facing:
+    """Faces of the surface region ``base`` whose outward normal is ``direction`` ("+x" ... "-z")."""
+
+    base: object
+    direction: str
+
+    def __post_init__(self):
+        if self.direction not in DIRECTIONS:
+            raise ValueError(f"direction {self.direction!r} is not one of {', '.join(DIRECTIONS)}")
+
+
+@dataclass(frozen=True)
+class Band:
+    """Cells or faces of ``base`` whose centre's coordinate along ``axis`` lies in [lo, hi] [m]."""
+
+    base: object
+    axis: str
+    lo: float
+    hi: float
+
+    def __post_init__(self):
+        if self.axis not in AXES or not self.hi > self.lo:
+            raise ValueError(f"band needs an axis x, y or z and hi > lo, got {self.axis!r} [{self.lo}, {self.hi}]")
+
+
+@dataclass(frozen=True)
+class InBox:
+    """Cells or faces of ``base`` whose centre lies inside ``box``."""
+
+    base: object
+    box: "Box"
+
+
+@dataclass(frozen=True)
+class Union:
+    """Every cell or face of any of ``regions``."""
+
+    regions: tuple
+
+
+# The role vocabulary: name -> (kind, meaning). "volume" roles resolve to cells, "surface" roles
+# to boundary faces, "interface" roles to interior faces between two parts, "parts" roles to the
+# parts on one side of an interface.
+ROLES: dict[str, tuple[str, str]] = {
+    "spindle.front_bearing": ("volume", "the front spindle bearing zone, where bearing friction heat arises"),
+    "spindle.rear_bearing": ("volume", "the rear spindle bearing zone"),
+    "spindle.motor": ("volume", "the spindle motor's body"),
+    "spindle.pulley": ("volume", "the belt pulley on the spindle, where belt friction heat enters"),
+    "spindle.rotating": ("surface", "surfaces turning with the spindle in the air: the test bar and the spindle nose"),
+    "spindle.jacket": ("interface", "the cartridge/housing interface where a cooling jacket sits"),
+    "test_bar.seat": ("interface", "the contact between the spindle nose and the test bar"),
+    "test_bar.body": ("parts", "the test bar's parts: the side of the seat that gets its own temperatures"),
+    "structure.skin": ("surface", "every face of the structure open to the room air"),
+    "structure.front": ("surface", "the skin facing the operator's side and the hall door"),
+    "structure.rear": ("surface", "the skin facing the rear wall and its windows"),
+    "floor.contact": ("surface", "the foot of the bed standing on the floor"),
+    "cabinet.face": ("surface", "the structure face an electrical cabinet stands beside"),
+    "z_drive.top": ("volume", "where the Z motor and its brake sit, holding the spindle carrier"),
+}
+
+
+def check_roles(machine_name: str, roles: dict) -> None:
+    """Raise ValueError naming the machine and the role if a role is not in :data:`ROLES`."""
+    unknown = sorted(set(roles) - set(ROLES))
+    if unknown:
+        raise ValueError(f"machine {machine_name!r} declares unknown role(s) {', '.join(unknown)}; "
+                         f"known: {', '.join(ROLES)}")

@@ -1,0 +1,134 @@
+"""Displacement observers: tool-point drift, the ISO 230-3 five-probe test bar, and the
+sensitivity of any displacement observer to one material's expansion coefficient.
+
+Each is a set of linear functionals q = G u of the displacement u [m] (``functionals``: G, rows
+over the interleaved nodal displacements). The prepared twin solves K lam = G^T once and gives
+rows (C^T lam)^T on a temperature layout, so q(t) - q(0) = rows (T(t) - T_0) [m]: the change
+from the uniform start temperature, which is also the zero-strain reference.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from twin.fem.points import displacement_functional, interpolation_matrix
+from twin.observe.base import Observer, variable
+from twin.observe.instruments import probe_reading
+
+AXES = ("X", "Y", "Z")
+_UNIT = np.eye(3)
+
+
+def relative_displacement(mm, a: str, b: str, directions) -> sp.csr_matrix:
+    """Rows: displacement of machine point ``a`` minus that of point ``b`` along each direction."""
+    machine = mm.machine
+    P = {n: interpolation_matrix(mm, [machine.point(n).xyz], [n], field="mesh") for n in {a, b}}
+    return sp.vstack([displacement_functional(P[a], d) - displacement_functional(P[b], d)
+                      for d in directions]).tocsr()
+
+
+class DisplacementObserver(Observer):
+    """Base of linear displacement observers: subclasses give :meth:`functionals`."""
+
+    def functionals(self, mm) -> sp.csr_matrix:
+        raise NotImplementedError
+
+    def rows(self, twin, loads):
+        return twin.displacement_rows(self, loads.mm)
+
+    @staticmethod
+    def change_um(raw: np.ndarray) -> np.ndarray:
+        """Readings [m] as changes from the first instant, in um."""
+        return (raw - raw[0]) * 1e6
+
+
+class ToolDrift(DisplacementObserver):
+    """The true tool-point drift X, Y, Z: the machine's tool point relative to its workpiece point,
+    variable ``drift(time, axis)`` [um]."""
+
+    key = "drift"
+
+    def functionals(self, mm):
+        return relative_displacement(mm, mm.machine.tool_point, mm.machine.workpiece_point, _UNIT)
+
+    def data(self, raw, ctx):
+        return ({"drift": variable(("time", "axis"), self.change_um(raw), "um",
+                                   "true tool-point drift, tool relative to table")},
+                {"axis": ("axis", list(AXES), {"long_name": "machine axis"})})
+
+
+def probe_geometry(machine) -> tuple[float, float, float]:
+    """(z of the X1/Y1 probes, z of X2/Y2, z of the tool point) [m]."""
+    return machine.point("X1").xyz[2], machine.point("X2").xyz[2], machine.point(machine.tool_point).xyz[2]
+
+
+def derived_from_probes(probe_um: np.ndarray, names: list[str], machine) -> tuple[np.ndarray, np.ndarray]:
+    """ISO 230-3 five-probe evaluation: drift at the tool point [um] and tilts A, B [urad].
+
+    A (about X) = (Y1 - Y2) / d, B (about Y) = (X2 - X1) / d, d the probe spacing [m]; X and Y are
+    extrapolated linearly from the two heights to the tool point, Z is the end probe.
+    """
+    col = {n: probe_um[:, i] for i, n in enumerate(names)}
+    z1, z2, zt = probe_geometry(machine)
+    d = z2 - z1
+    ext = (z1 - zt) / d
+    x = col["X1"] + (col["X1"] - col["X2"]) * ext
+    y = col["Y1"] + (col["Y1"] - col["Y2"]) * ext
+    tilt = np.column_stack([(col["Y1"] - col["Y2"]) / d, (col["X2"] - col["X1"]) / d])
+    return np.column_stack([x, y, col["Z"]]), tilt
+
+
+FIVE_PROBES = ("X1", "X2", "Y1", "Y2", "Z")
+
+
+class FiveProbeTestBar(DisplacementObserver):
+    """The ISO 230-3 five-probe nest: each probe (fixed to the workpiece side) reads the test bar's
+    displacement along its direction. Variables ``probe``/``probe_true(time, probe_id)`` [um] and,
+    from the readings, ``probe_drift(time, axis)`` [um] and ``tilt``/``tilt_true(time, rotation)``
+    [urad] (:func:`derived_from_probes`)."""
+
+    key = "probes"
+
+    def functionals(self, mm):
+        machine = mm.machine
+        rows = [relative_displacement(mm, p.target, p.fixture, [p.direction]) for p in machine.probes]
+        return sp.vstack(rows).tocsr()
+
+    def data(self, raw, ctx):
+        machine = ctx.machine
+        names = [p.name for p in machine.probes]
+        true = self.change_um(raw)
+        meas = probe_reading(true, ctx.spec.params["probe"], ctx.rng)
+        data = {"probe": variable(("time", "probe_id"), meas, "um", "ISO 230-3 probe reading as measured"),
+                "probe_true": variable(("time", "probe_id"), true, "um", "true probe reading")}
+        coords = {"probe_id": ("probe_id", names, {"long_name": "ISO 230-3 probe"})}
+        if set(FIVE_PROBES) <= set(names):
+            pdrift, tilt = derived_from_probes(meas, names, machine)
+            _, tilt_true = derived_from_probes(true, names, machine)
+            data.update({
+                "probe_drift": variable(("time", "axis"), pdrift, "um", "tool-point drift derived from the probe readings"),
+                "tilt": variable(("time", "rotation"), tilt, "urad",
+                                 "test-bar tilt from the probe readings (A about X, B about Y)"),
+                "tilt_true": variable(("time", "rotation"), tilt_true, "urad", "true test-bar tilt")})
+            coords.update({"axis": ("axis", list(AXES), {"long_name": "machine axis"}),
+                           "rotation": ("rotation", ["A", "B"], {"long_name": "rotation about X (A) and Y (B)"})})
+        return data, coords
+
+
+class ExpansionSensitivity(Observer):
+    """d q / d s of a displacement observer's readings q for a relative change s of one material's
+    expansion coefficient, alpha_m (1 + s) [m per unit]: rows (C_m^T lam)^T with C_m the thermal
+    coupling of that material's cells alone. Drift is linear in each alpha and K does not depend
+    on alpha, so q(alpha_m (1 + s)) - q(alpha_m) = s (C_m^T lam)^T (T - T_0) exactly. Raw only
+    (no Dataset variables): the diagnosis fits it as a nuisance."""
+
+    def __init__(self, material: str, of: DisplacementObserver):
+        self.material, self.of = material, of
+        self.key = f"expansion:{material}:{of.key}"
+
+    def cache_key(self) -> tuple:
+        return (type(self).__name__, self.material) + self.of.cache_key()
+
+    def rows(self, twin, loads):
+        return twin.displacement_rows(self.of, loads.mm, material=self.material)

@@ -1,0 +1,76 @@
+"""Point temperature sensors: glued to a part (trilinear interpolation of the field) or in the air.
+
+A sensor whose site is on a part reads T at its point through the sensor model of
+:func:`twin.observe.instruments.temperature_reading` (first-order lag, bias, noise, quantisation).
+A sensor in the air (``part == "air"``, a machine's ``air_sites``) reads the air temperature the
+model assumes there: the room air T_air(t), plus g (z - z_ref) when the model has the
+``ambient_stratification`` effect (its gradient g and reference height z_ref). Its rows are zero:
+the model's air does not depend on the structure's temperature.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from twin.fem.points import interpolation_matrix
+from twin.observe.base import Observer, RunContext, variable
+from twin.observe.instruments import temperature_reading
+
+AIR = "air"
+
+
+def air_temperature(points, ctx: RunContext) -> np.ndarray:
+    """(n_t, n_points) the model's air temperature [degC] at ``points`` over the run."""
+    air = np.asarray(ctx.scenario.ambient_temperature(ctx.times), float)[:, None]
+    z = np.array([p.xyz[2] for p in points], float)[None, :]
+    out = np.repeat(air, len(points), axis=1)
+    strat = ctx.spec.params.get("ambient_stratification") if "ambient_stratification" in ctx.spec.effects else None
+    if strat:
+        out = out + strat["gradient"] * (z - strat["reference_height"])
+    return out
+
+
+class TemperatureSensors(Observer):
+    """Temperature sensors at ``points`` (:class:`geometries.base.Point`); variables
+    ``temperature`` (as measured) and ``temperature_true`` (time, sensor) [degC] with the sensor
+    coordinates ``x, y, z`` [m] and ``part``."""
+
+    key = "temperature"
+
+    def __init__(self, points):
+        self.points = list(points)
+        self.air = np.array([p.part == AIR for p in self.points], bool)
+
+    def cache_key(self) -> tuple:
+        return (type(self).__name__, tuple((p.name, tuple(p.xyz), p.part) for p in self.points))
+
+    def rows(self, twin, loads):
+        layout = loads.mm
+        rows = np.zeros((len(self.points), layout.nheat))
+        glued = np.flatnonzero(~self.air)
+        if len(glued):
+            pts = [self.points[i] for i in glued]
+            rows[glued] = interpolation_matrix(layout, [p.xyz for p in pts], [p.name for p in pts]).toarray()
+        return rows
+
+    def true_values(self, raw: np.ndarray, ctx: RunContext) -> np.ndarray:
+        """(n_t, n_sensor) true temperatures [degC]: the field at glued sites, the air elsewhere."""
+        out = np.array(raw, dtype=float, copy=True)
+        if self.air.any():
+            out[:, self.air] = air_temperature([p for p, a in zip(self.points, self.air) if a], ctx)
+        return out
+
+    def data(self, raw, ctx):
+        true = self.true_values(raw, ctx)
+        meas = temperature_reading(true, ctx.scenario.sample_interval, ctx.spec.params["temperature_sensor"], ctx.rng)
+        pts = self.points
+        data = {"temperature": variable(("time", "sensor"), meas, "degC", "temperature as measured (sensor model)"),
+                "temperature_true": variable(("time", "sensor"), true, "degC", "true temperature at the sensor site")}
+        coords = {
+            "sensor": ("sensor", [p.name for p in pts], {"long_name": "temperature sensor site"}),
+            "x": ("sensor", [p.xyz[0] for p in pts], {"units": "m", "long_name": "sensor x"}),
+            "y": ("sensor", [p.xyz[1] for p in pts], {"units": "m", "long_name": "sensor y"}),
+            "z": ("sensor", [p.xyz[2] for p in pts], {"units": "m", "long_name": "sensor z"}),
+            "part": ("sensor", [p.part for p in pts], {"long_name": "part carrying the sensor (air: in the air)"}),
+        }
+        return data, coords
