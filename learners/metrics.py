@@ -21,7 +21,7 @@ import numpy as np
 
 from twin.errors import InputError
 
-__all__ = ["rmse", "nse", "correlation", "max_abs_residual", "improvement", "mean_relative_error", "score_all"]
+__all__ = ["rms", "rmse", "nse", "correlation", "max_abs_residual", "improvement", "mean_relative_error", "score_all"]
 
 
 def _pair(y_true, y_pred):
@@ -34,10 +34,17 @@ def _pair(y_true, y_pred):
     return z, p
 
 
+def rms(residual, axis=None):
+    """Root mean square sqrt(mean r^2) of residuals, over ``axis`` (None: all of them). The one
+    implementation behind every RMSE of the package (per channel: ``axis=0``)."""
+    r = np.asarray(residual, dtype=float)
+    return np.sqrt(np.mean(r * r, axis=axis))
+
+
 def rmse(y_true, y_pred) -> float:
     """Root-mean-square error, Eq. (3.31) (units of the data, µm)."""
     z, p = _pair(y_true, y_pred)
-    return float(np.sqrt(np.mean((z - p) ** 2)))
+    return float(rms(z - p))
 
 
 def nse(y_true, y_pred) -> float:

@@ -90,7 +90,7 @@ def test_apply_rerun_reproduces_the_fitted_residual(case, hidden_motor):
     c * g_probe the linearised fit leaves out, a few % of the effect's probe response (|c| of a
     few %). The plain rerun (what the printed --effects/--set reproduce) differs from the
     calibrated one only on the probes."""
-    from validate.diagnose_cli import apply_top, format_before_after
+    from validate.apply import apply_top, format_before_after
     machine, mm, sc, _ = case
     d = hidden_motor
     after, calibrated, args = apply_top(d, machine, sc, mm)

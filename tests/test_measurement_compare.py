@@ -9,7 +9,8 @@ from twin.api import simulate
 from twin.errors import InputError
 from twin.io.results import write_netcdf
 from twin.scenario import Ambient, Scenario
-from validate.compare import compare, detect_phases, format_compare, stats
+from validate.channels import detect_phases
+from validate.compare import compare, format_compare, stats
 from twin.io.measured_inputs import scenario_from_measurement, speed_steps
 from twin.io.measurement import read_measurement
 
@@ -97,7 +98,7 @@ def test_compare_with_itself_is_perfect(sim):
     for c in r.channels:
         assert c.stats.rmse == 0.0 and c.stats.max_abs == 0.0 and c.stats.nse == 1.0
     assert len(r.channels) == 16 + 5 + 2
-    assert "T:motor" in format_compare(r)
+    assert "temperature:motor" in format_compare(r)
 
 
 def test_known_offset_gives_rmse_equal_offset(sim):
@@ -106,16 +107,16 @@ def test_known_offset_gives_rmse_equal_offset(sim):
     shifted["probe"] = shifted.probe_true - 2.0
     r = compare(shifted, sim)
     for c in r.channels:
-        if c.name.startswith("T:"):
+        if c.name.startswith("temperature:"):
             assert c.stats.rmse == pytest.approx(0.3) and c.stats.max_abs == pytest.approx(0.3)
         elif c.name.startswith("probe:"):
             assert c.stats.rmse == pytest.approx(2.0)
-    ph = r.channel("T:motor").phases
+    ph = r.channel("temperature:motor").phases
     assert all(s.rmse == pytest.approx(0.3) for s in ph if s.n)
     # NSE = 1 - n c^2 / sum (m - mean)^2 for a constant offset c
     m = shifted.temperature.sel(sensor="motor").values
-    assert r.channel("T:motor").stats.nse == pytest.approx(1 - len(m) * 0.09 / np.sum((m - m.mean()) ** 2))
-    assert r.ranking()[0].name.startswith("T:")  # a 0.3 K offset hurts the flat sensors most
+    assert r.channel("temperature:motor").stats.nse == pytest.approx(1 - len(m) * 0.09 / np.sum((m - m.mean()) ** 2))
+    assert r.ranking()[0].name.startswith("temperature:")  # a 0.3 K offset hurts the flat sensors most
 
 
 def test_stats_closed_form():
@@ -179,7 +180,7 @@ def test_compare_command_on_csv(tmp_path, sim, capsys):
     args = parser.parse_args(["compare", str(csv), "--machine", "cframe-vmc", "--mesh", "coarse"])
     assert args.func(args) == 0
     out = capsys.readouterr().out
-    assert "T:motor" in out and "worst channels" in out and "spindle on 9000 rpm" in out
+    assert "temperature:motor" in out and "worst channels" in out and "spindle on 9000 rpm" in out
     args = parser.parse_args(["compare", str(tmp_path / "missing.csv")])
     with pytest.raises(InputError, match="no such measurement file"):
         args.func(args)

@@ -35,8 +35,10 @@ from typing import Callable
 
 import numpy as np
 
+from learners.metrics import rms
 from twin.fem.mesh import mesh_machine
 from twin.units import format_quantity
+from validate.channels import GROUPS
 
 MACHINE = "cframe-vmc"
 SCENARIO = "spindle-heat-cool-9000"
@@ -44,7 +46,6 @@ HIDDEN = "electrical_cabinet"
 HIDDEN_PARAMETER, HIDDEN_VALUE = "power", 120.0     # [W]
 LOG_INTERVAL = 60.0                                 # [s] logging interval of the "measurement"
 DIAGNOSE_MESH = "coarse"
-_UNITS = {"T": "K", "probe": "um", "tilt": "urad"}
 
 
 def _short(value: float, dimension: str) -> str:
@@ -81,7 +82,7 @@ def _rmse_table(before, after=None, names: list[str] | None = None) -> list[str]
 def _group_rmse(result, prefix: str) -> float:
     """Root-mean-square over a channel group's RMSEs (K, um or urad)."""
     v = [c.stats.rmse for c in result.channels if c.name.startswith(prefix + ":")]
-    return float(np.sqrt(np.mean(np.square(v)))) if v else float("nan")
+    return float(rms(v)) if v else float("nan")
 
 
 def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable[[str], None] = lambda s: None,
@@ -103,7 +104,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     from validate.compare import compare, model_for
     from validate.diagnose import diagnose, diagnosis_json
     from twin.io.atomic import atomic_write_text
-    from validate.diagnose_cli import apply_top, format_before_after
+    from validate.apply import apply_top, format_before_after
     from twin.io.measured_inputs import scenario_from_measurement
     from twin.io.measurement import read_measurement, write_measurement
     from validate.report import write_report
@@ -169,7 +170,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
         worst = [c.name for c in cmp0.ranking()[:6]]
         say("\n".join(_rmse_table(cmp0, cmp1, worst)))
         say("  all channels: " + ", ".join(
-            f"{g} RMSE {_group_rmse(cmp0, g):.3g} -> {_group_rmse(cmp1, g):.3g} {u}" for g, u in _UNITS.items()))
+            f"{g} RMSE {_group_rmse(cmp0, g):.3g} -> {_group_rmse(cmp1, g):.3g} {u}" for g, (_, u) in GROUPS.items()))
         if top["effect"] == HIDDEN:
             fit = top["values_si"][HIDDEN][HIDDEN_PARAMETER]
             say(f"  the hidden truth was {HIDDEN}.{HIDDEN_PARAMETER} = {true_text}; fitted {_short(fit, par.dimension)} "

@@ -42,7 +42,7 @@ kept only if the second member passes the same test against the residual the bet
 leaves (BIC gain >= ``bic_margin``, >= ``min_explained`` of that residual explained).
 
 Reasoning: for every candidate, the fraction of the weighted residual it removes per channel and
-per phase of the inputs (:func:`validate.compare.detect_phases`: spindle on / off / speed change,
+per phase of the inputs (:func:`validate.channels.detect_phases`: spindle on / off / speed change,
 ambient rising / falling / steady), next to the share of the residual each cell holds
 (:func:`reasoning`).
 """
@@ -56,10 +56,12 @@ import numpy as np
 from twin.effects import EFFECTS
 from twin.model import ModelSpec, applicable_effects, default_spec
 from twin.units import format_quantity
+from learners.metrics import rms
+from validate.channels import GROUPS as CHANNEL_GROUPS
+from validate.channels import input_phases, resampler, stack
 from validate.signatures import Engine, Fit, SignatureFitter
 
-GROUPS = ("temperature", "probe")
-UNITS = {"temperature": "K", "probe": "um"}
+GROUPS = ("temperature", "probe")   # the channel groups the diagnosis fits (validate.channels)
 
 
 @dataclass
@@ -82,31 +84,18 @@ class Diagnosis:
     runs: int = 0
     sensor_points: list = field(default_factory=list)
     scenario: object = None
-    phases: list = field(default_factory=list)   # validate.compare.Phase, from the inputs
+    phases: list = field(default_factory=list)   # validate.channels.Phase, from the inputs
     model_error_rms: np.ndarray | None = None      # per channel, estimated discretisation error
     expansion: dict = field(default_factory=dict)   # material -> fitted relative change of alpha (baseline)
     calibrated_rmse: np.ndarray | None = None      # per channel, baseline with the nuisance fitted
     residual_after: object = None                  # g -> r - g - nuisance fitted to r - g
     expansion_fit: object = None                   # g -> {material: relative change of alpha} fitted to r - g
     error_resolution: str | None = None
+    twin: object = None                            # the diagnosing PreparedTwin, reused by apply
 
     @property
     def residual(self) -> np.ndarray:
         return self.measured - self.model
-
-
-def measured_channels(ds) -> tuple[np.ndarray, list[str], list[str]]:
-    """Stack the Dataset's ``temperature`` [degC] and ``probe`` [um] into (nt, nch) with names."""
-    cols, names, groups = [], [], []
-    if "temperature" in ds:
-        cols.append(np.asarray(ds["temperature"].transpose("time", "sensor").values, float))
-        names += [f"temperature:{s}" for s in ds["sensor"].values]
-        groups += ["temperature"] * ds.sizes["sensor"]
-    if "probe" in ds:
-        cols.append(np.asarray(ds["probe"].transpose("time", "probe_id").values, float))
-        names += [f"probe:{s}" for s in ds["probe_id"].values]
-        groups += ["probe"] * ds.sizes["probe_id"]
-    return np.hstack(cols), names, groups
 
 
 def sensor_points(ds, machine) -> list:
@@ -144,8 +133,8 @@ def channel_weights(residual: np.ndarray, groups: list[str], sigma: dict[str, fl
     e = np.zeros(len(groups)) if model_error is None else np.asarray(model_error, float)
     for k, s in sigma.items():
         m = g == k
-        rms = max(float(np.sqrt(np.mean(residual[:, m] ** 2))), s)
-        w[m] = 1.0 / (np.sqrt(rms ** 2 + e[m] ** 2) * np.sqrt(m.sum()))
+        r = max(float(rms(residual[:, m])), s)
+        w[m] = 1.0 / (np.sqrt(r ** 2 + e[m] ** 2) * np.sqrt(m.sum()))
     return w
 
 
@@ -157,8 +146,8 @@ def mesh_error(ds, machine, scenario, spec: ModelSpec, mm, resolution: str) -> n
     sensors = sensor_points(ds, machine) if "temperature" in ds else []
     coarse = Engine(machine, scenario, mm=mm, sensors=sensors)
     finer = Engine(machine, scenario, resolution, sensors=sensors)
-    interp = _interpolator(coarse.times, t)
-    return np.sqrt(np.mean((interp(finer.observe(spec)) - interp(coarse.observe(spec))) ** 2, axis=0))
+    interp = resampler(coarse.times, t)
+    return rms(interp(finer.observe(spec)) - interp(coarse.observe(spec)), axis=0)
 
 
 def finer_resolution(machine, resolution: str) -> str | None:
@@ -210,12 +199,13 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     effect must explain what they cannot).
     """
     spec = spec or default_spec(machine)
-    meas, names, groups = measured_channels(ds)
+    stacked = stack(ds, GROUPS)
+    meas, names, groups = stacked.values, stacked.names, stacked.groups
     t_meas = np.asarray(ds["time"].values, float)
     t_meas = t_meas - t_meas[0]
     sensors = sensor_points(ds, machine) if "temperature" in ds else []
     engine = Engine(machine, scenario, resolution, mm=mm, sensors=sensors)
-    interp = _interpolator(engine.times, t_meas)
+    interp = resampler(engine.times, t_meas)
     # the baseline and, from the same run, the exact expansion sensitivities (the nuisance)
     materials = sorted({p.material.name for p in machine.parts}) if calibrate_expansion else []
     observed, responses = engine.observe_with_expansion(spec, materials)
@@ -226,17 +216,17 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     err = model_error
     if err is None and error_resolution:
         finer = Engine(machine, scenario, error_resolution, sensors=sensors)
-        err = np.sqrt(np.mean((interp(finer.observe(spec)) - base) ** 2, axis=0))
+        err = rms(interp(finer.observe(spec)) - base, axis=0)
     w = channel_weights(r, groups, sigma, err)
-    d = Diagnosis(t_meas, names, groups, meas, base, w, np.sqrt(np.mean(r ** 2, axis=0)), spec=spec)
+    d = Diagnosis(t_meas, names, groups, meas, base, w, rms(r, axis=0), spec=spec)
     d.model_error_rms, d.error_resolution = err, error_resolution
-    d.sensor_points, d.scenario = engine.sensors, scenario
-    d.phases = input_phases(ds, scenario, t_meas)
+    d.sensor_points, d.scenario, d.twin = engine.sensors, scenario, engine.twin
+    d.phases = input_phases(ds, t_meas, scenario)
     fitter = SignatureFitter(_Resampled(engine, interp), spec, base, r, w,
                              nuisance=np.array(nuisance) if nuisance else None)
     d.residual_after = fitter.residual_after
     calibrated = fitter.residual_after(np.zeros_like(r))
-    d.calibrated_rmse = np.sqrt(np.mean(calibrated ** 2, axis=0))
+    d.calibrated_rmse = rms(calibrated, axis=0)
     d.expansion_fit = lambda g: {m: float(c)
                                  for m, c in zip(materials, fitter.nuisance_coefficients(g))}
     d.expansion = d.expansion_fit(np.zeros_like(r))
@@ -266,17 +256,6 @@ def _pair_significant(pair: Fit, singles: list[Fit], n_eff: float, min_explained
         return False
     gain = n_eff * np.log(better.sse / max(pair.sse, 1e-300)) - (pair.nparams - better.nparams) * np.log(n_eff)
     return bool(gain >= bic_margin and 1 - pair.sse / better.sse >= min_explained)
-
-
-def input_phases(ds, scenario, t: np.ndarray) -> list:
-    """Phases of the inputs (:func:`validate.compare.detect_phases`): the measured spindle speed
-    and room air where the Dataset has them, else the scenario's, on the measurement's grid."""
-    from validate.compare import detect_phases
-    speed = (np.asarray(ds["spindle_speed"].values, float) if "spindle_speed" in ds
-             else np.asarray(scenario.spindle_speed(t), float))
-    ambient = (np.asarray(ds["ambient_temperature"].values, float) if "ambient_temperature" in ds
-               else np.asarray(scenario.ambient_temperature(t), float))
-    return detect_phases(t, speed, ambient)
 
 
 def reasoning(d: Diagnosis, response: np.ndarray, top_channels: int = 4) -> dict:
@@ -332,8 +311,8 @@ def _score(d: Diagnosis, fits: list[Fit], r, sse0, min_explained, bic_margin):
             corr = float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b) or 1.0))
             if abs(bics[i] - bics[j]) < 6 or abs(corr) > 0.95:
                 twins.append("+".join(o.effects))
-        rms_before = np.sqrt(np.mean(after_of(np.zeros_like(r)) ** 2, axis=0))
-        rms_after = np.sqrt(np.mean(after ** 2, axis=0))
+        rms_before = rms(after_of(np.zeros_like(r)), axis=0)
+        rms_after = rms(after, axis=0)
         per_ch = 1 - (rms_after / np.where(rms_before > 0, rms_before, 1)) ** 2
         best_ch = [d.channels[k] for k in np.argsort(-per_ch)[:3]]
         d.candidates.append({
@@ -375,14 +354,6 @@ class _Resampled:
         return self._i(self._e.observe(spec))
 
 
-def _interpolator(t_model: np.ndarray, t_meas: np.ndarray):
-    if len(t_model) == len(t_meas) and np.allclose(t_model, t_meas):
-        return lambda y: y
-    if t_meas.min() < t_model[0] - 1e-9 or t_meas.max() > t_model[-1] + 1e-9:
-        raise ValueError("measurement times lie outside the scenario's duration")
-    return lambda y: np.column_stack([np.interp(t_meas, t_model, y[:, k]) for k in range(y.shape[1])])
-
-
 def format_diagnosis(d: Diagnosis, top: int = 8) -> str:
     """A readable ranking table plus the verdict."""
     lines = [f"Baseline RMSE per channel ({len(d.channels)} channels, effective samples {d.n_eff:.0f}):"]
@@ -390,7 +361,7 @@ def format_diagnosis(d: Diagnosis, top: int = 8) -> str:
         idx = [i for i, k in enumerate(d.groups) if k == g]
         if idx:
             vals = ", ".join(f"{d.channels[i].split(':', 1)[1]} {d.baseline_rmse[i]:.3g}" for i in idx)
-            lines.append(f"  {g} [{UNITS[g]}]: {vals}")
+            lines.append(f"  {g} [{CHANNEL_GROUPS[g][1]}]: {vals}")
             if d.model_error_rms is not None:
                 vals = ", ".join(f"{d.channels[i].split(':', 1)[1]} {d.model_error_rms[i]:.3g}" for i in idx)
                 lines.append(f"    mesh error estimate ({d.error_resolution} vs the diagnosing mesh): {vals}")
@@ -398,8 +369,8 @@ def format_diagnosis(d: Diagnosis, top: int = 8) -> str:
         exp = ", ".join(f"{m} {v:+.1%}" for m, v in d.expansion.items())
         probes = [i for i, g in enumerate(d.groups) if g == "probe"]
         lines.append(f"Nuisance fitted with the baseline and every candidate: thermal expansion {exp}"
-                     + (f"; probe RMSE {np.sqrt(np.mean(d.baseline_rmse[probes] ** 2)):.3g} -> "
-                        f"{np.sqrt(np.mean(d.calibrated_rmse[probes] ** 2)):.3g} um" if probes else ""))
+                     + (f"; probe RMSE {rms(d.baseline_rmse[probes]):.3g} -> "
+                        f"{rms(d.calibrated_rmse[probes]):.3g} um" if probes else ""))
     lines.append("")
     head = f"{'rank':>4}  {'effect':<44} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
     lines += [head, "-" * len(head)]
@@ -434,7 +405,7 @@ def diagnosis_json(d: Diagnosis) -> dict:
     """The ``--json`` document: baseline per-channel RMSE and the ordered candidates."""
     return {
         "baseline": {"rmse": {c: float(v) for c, v in zip(d.channels, d.baseline_rmse)},
-                     "units": {c: UNITS[g] for c, g in zip(d.channels, d.groups)}},
+                     "units": {c: CHANNEL_GROUPS[g][1] for c, g in zip(d.channels, d.groups)}},
         "significant": d.significant,
         "message": d.message,
         "effective_samples": d.n_eff,

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from learners.metrics import rms
 from twin.io.atomic import atomic_write_text
 
 def _png(fig) -> str:
@@ -19,18 +20,6 @@ def _png(fig) -> str:
     import matplotlib.pyplot as plt
     plt.close(fig)
     return base64.b64encode(buf.getvalue()).decode()
-
-
-def _phases(d) -> list:
-    """Phases of the diagnosis' inputs by :func:`validate.compare.detect_phases` (spindle from the
-    scenario's speed [rpm], ambient from its room air [degC]) on the measurement's time grid."""
-    from validate.compare import detect_phases
-
-    sc = getattr(d, "scenario", None)
-    if sc is None:
-        return []
-    t = np.asarray(d.times, float)
-    return detect_phases(t, sc.spindle_speed(t), sc.ambient_temperature(t))
 
 
 _SPINDLE_COLOURS = {"spindle on": "orange", "speed change": "gold", "spindle off": None}
@@ -99,7 +88,7 @@ def figures(d, machine, after: np.ndarray | None = None) -> dict[str, str]:
 
     out = {}
     th = d.times / 3600
-    phases = _phases(d)
+    phases = d.phases
     top = _candidate_text(d.candidates[0]) if d.candidates else ""
     order = np.argsort(-d.baseline_rmse * d.weights)[:6]
     fig, axes = plt.subplots(len(order), 1, figsize=(8, 1.9 * len(order) + 0.6), sharex=True, squeeze=False)
@@ -113,7 +102,7 @@ def figures(d, machine, after: np.ndarray | None = None) -> dict[str, str]:
         unit = "degC" if d.groups[k] == "temperature" else "um"
         ax.set_ylabel(f"[{unit}]", fontsize=8)
         ax.set_title(f"{d.channels[k]}: RMSE {d.baseline_rmse[k]:.3g}"
-                     + (f" -> {np.sqrt(np.mean((d.measured[:, k] - after[:, k]) ** 2)):.3g}" if after is not None else "")
+                     + (f" -> {rms(d.measured[:, k] - after[:, k]):.3g}" if after is not None else "")
                      + f" {'K' if unit == 'degC' else unit}", fontsize=8, loc="left")
     lines = [Line2D([], [], color="k", marker=".", ls="", label="measured"),
              Line2D([], [], color="C0", label="model")]
@@ -129,14 +118,14 @@ def figures(d, machine, after: np.ndarray | None = None) -> dict[str, str]:
     if temps and d.sensor_points:
         rows = [("before", d.baseline_rmse[temps])]
         if after is not None:
-            rows.append(("after", np.sqrt(np.mean((d.measured - after) ** 2, axis=0))[temps]))
+            rows.append(("after", rms(d.measured - after, axis=0)[temps]))
         norm = Normalize(0, max(float(rows[0][1].max()), 1e-9))
         fig, axes = plt.subplots(len(rows), 2, figsize=(10, 4.6 * len(rows)), squeeze=False, layout="constrained")
         xyz = np.array([p.xyz for p in d.sensor_points])
-        for (what, rms), axrow in zip(rows, axes):
+        for (what, values), axrow in zip(rows, axes):
             for ax, (a, b, view) in zip(axrow, ((0, 2, "front view (x-z)"), (1, 2, "side view (y-z, machine front on the left)"))):
                 _machine_outline(ax, machine, a, b)
-                sc = ax.scatter(xyz[:, a], xyz[:, b], c=rms, cmap="inferno_r", norm=norm, s=60, edgecolor="k", zorder=3)
+                sc = ax.scatter(xyz[:, a], xyz[:, b], c=values, cmap="inferno_r", norm=norm, s=60, edgecolor="k", zorder=3)
                 for n, (x, z) in enumerate(zip(xyz[:, a], xyz[:, b]), 1):
                     ax.annotate(str(n), (x, z), xytext=(5, 2), textcoords="offset points", fontsize=7, color="0.2")
                 ax.set_xlabel(f"{'xy'[a]} [m]")
@@ -192,7 +181,7 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
     diagnosing model (with ``after``; with ``calibrated``, the rerun with the fitted material
     expansion, too); ``closing`` sections; the figures with captions."""
     from validate.diagnose import format_diagnosis
-    from validate.diagnose_cli import format_before_after
+    from validate.apply import format_before_after
 
     def block(title: str, text: str) -> str:
         return f"<h2>{html.escape(title)}</h2><pre>{html.escape(text)}</pre>"

@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from geometries import MACHINES, build_machine
+from learners.metrics import rms
 from twin.model import applicable_effects, model_spec
 from twin.fem.mesh import mesh_machine
 from twin.effects import EFFECTS
@@ -185,7 +186,7 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
     fitted = fit.values[hidden][pname] if fit else float("nan")
     probes = [i for i, g in enumerate(d.groups) if g == "probe"]
     temps = [i for i, g in enumerate(d.groups) if g == "temperature"]
-    rms = lambda x, cols: float(np.sqrt(np.mean(x[:, cols] ** 2)))
+    group_rms = lambda x, cols: float(rms(x[:, cols]))
     # plain: the diagnosing model as given; calibrated: with its nuisance (material expansion)
     # fitted; after: plus the hidden effect at its fitted strength, nuisance refitted (what the
     # diagnosis hands back, ``twin diagnose --apply``'s after+a). Temperatures do not depend on
@@ -196,10 +197,10 @@ def run_case(machine, mm, hidden: str | None, scenario_name: str, quick: bool) -
     mine = next((c for c in d.candidates if c["effect"] == hidden), top) if hidden else top
     row = {"hidden": hidden or "(none)", "scenario": sc.name, "rank": rank, "top": top.get("effect", ""),
            "significant": d.significant, "parameter": pname, "unit": unit, "true": true_v, "fitted": fitted,
-           "probe_rmse_uncalibrated_um": rms(d.residual, probes), "probe_rmse_before_um": rms(calibrated, probes),
-           "probe_rmse_after_um": rms(after_res, probes) if fit else float("nan"),
-           "temperature_rmse_before_K": rms(d.residual, temps),
-           "temperature_rmse_after_K": rms(after_res, temps) if fit else float("nan"),
+           "probe_rmse_uncalibrated_um": group_rms(d.residual, probes), "probe_rmse_before_um": group_rms(calibrated, probes),
+           "probe_rmse_after_um": group_rms(after_res, probes) if fit else float("nan"),
+           "temperature_rmse_before_K": group_rms(d.residual, temps),
+           "temperature_rmse_after_K": group_rms(after_res, temps) if fit else float("nan"),
            "explained": top.get("explained", float("nan")),
            "delta_bic": top.get("delta_bic", float("nan")), "confidence": top.get("confidence", float("nan")),
            "seconds": time.perf_counter() - t0, "message": d.message,
@@ -307,7 +308,7 @@ def markdown(rows: list[dict], quick: bool, command: str, reasoning_md: str | No
            f"{(reference_case if _REFERENCE else case_for)(r['hidden']).why}" for r in cases]
     md += ["", "## The diagnosis's reasoning for the hidden effect", "",
            "Fraction of the weighted residual the hidden effect's fit removes per channel and per input "
-           "phase (`validate.compare.detect_phases`), as explained / share of the residual in that cell.", ""]
+           "phase (`validate.channels.detect_phases`), as explained / share of the residual in that cell.", ""]
     if reasoning_md is not None:   # re-rendered from the CSV: keep the run's reasoning lines
         md.append(reasoning_md.strip())
     for r in cases if reasoning_md is None else []:

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from learners.metrics import rms
 from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
 
 NAME = "sensor_placement"
@@ -35,7 +36,7 @@ def _lstsq_test_rmse(Xtr, ytr, Xte, yte) -> float:
     A = np.column_stack([np.ones(len(Xtr)), Xtr])
     coef, *_ = np.linalg.lstsq(A, ytr, rcond=None)
     r = np.column_stack([np.ones(len(Xte)), Xte]) @ coef - yte
-    return float(np.sqrt(np.mean(r * r)))
+    return float(rms(r))
 
 
 def greedy_oracle(data, axis: str = "Z", k: int = 4) -> list[int]:

@@ -1,0 +1,156 @@
+"""One channel vocabulary for compare, diagnose, report and JSON, and the input phases.
+
+A *channel* is one measured signal of a result or measurement, named ``<group>:<label>``:
+
+* ``temperature:<sensor>`` (degC as read; residuals in K) from ``temperature(time, sensor)``;
+* ``probe:<id>`` [um] from ``probe(time, probe_id)``;
+* ``tilt:<A|B>`` [urad] from ``tilt(time, rotation)``.
+
+:func:`stack` reads any subset of the groups from a Dataset into one (n_t, n_ch) array with names,
+groups and units, using the noise-free ``*_true`` variables on request. Phases of the inputs
+(spindle on/off/speed change, ambient rising/falling/steady) come from :func:`detect_phases`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from twin.io.measured_inputs import speed_steps
+
+# group -> (dimension of the variable besides time, unit of a residual)
+GROUPS: dict[str, tuple[str, str]] = {"temperature": ("sensor", "K"), "probe": ("probe_id", "um"),
+                                      "tilt": ("rotation", "urad")}
+
+
+def channel(group: str, label) -> str:
+    """The channel name of ``label`` in ``group`` (``"probe:Y1"``)."""
+    return f"{group}:{label}"
+
+
+def split(name: str) -> tuple[str, str]:
+    """(group, label) of a channel name."""
+    group, label = name.split(":", 1)
+    return group, label
+
+
+@dataclass
+class Channels:
+    """Stacked channels: ``values`` (n_t, n_ch), and per channel its name, group and unit."""
+
+    values: np.ndarray
+    names: list[str]
+    groups: list[str]
+    units: list[str]
+
+    def index(self, group: str) -> list[int]:
+        """Columns of the channels in ``group``."""
+        return [i for i, g in enumerate(self.groups) if g == group]
+
+
+def stack(ds, groups=tuple(GROUPS), prefer_true: bool = False) -> Channels:
+    """The channels of ``groups`` present in ``ds`` (a result or a measurement), in group order.
+    ``prefer_true``: read ``<group>_true`` where the Dataset has it (the model's noise-free truth)."""
+    cols, names, gs, units = [], [], [], []
+    for group in groups:
+        dim, unit = GROUPS[group]
+        var = f"{group}_true" if prefer_true and f"{group}_true" in ds else group
+        if var not in ds or dim not in ds[var].dims:
+            continue
+        cols.append(np.asarray(ds[var].transpose("time", dim).values, float))
+        labels = [str(v) for v in ds[dim].values]
+        names += [channel(group, v) for v in labels]
+        gs += [group] * len(labels)
+        units += [unit] * len(labels)
+    values = np.hstack(cols) if cols else np.zeros((ds.sizes.get("time", 0), 0))
+    return Channels(values, names, gs, units)
+
+
+@dataclass
+class Phase:
+    """A stretch of time [start, end) [s] with one behaviour of the inputs."""
+
+    kind: str     # "spindle" or "ambient"
+    label: str    # e.g. "spindle on 9000 rpm", "speed change to 6000 rpm", "ambient rising"
+    start: float
+    end: float
+
+
+def _segments(labels: list[str], t: np.ndarray) -> list[tuple[str, float, float]]:
+    out = []
+    for i, lab in enumerate(labels):
+        if out and out[-1][0] == lab:
+            out[-1][2] = i
+        else:
+            out.append([lab, i, i])
+    end = lambda j: float(t[j + 1]) if j + 1 < len(t) else float(t[-1]) + (float(t[-1] - t[-2]) if len(t) > 1 else 0.0)
+    return [(lab, float(t[i0]), end(i1)) for lab, i0, i1 in out]
+
+
+def detect_phases(time: np.ndarray, speed: np.ndarray | None = None, ambient: np.ndarray | None = None,
+                  speed_tolerance: float = 50.0, ambient_rate: float = 0.1 / 3600.0,
+                  smooth: float = 1800.0) -> list[Phase]:
+    """Phases of the inputs.
+
+    Spindle: steps of :func:`twin.io.measured_inputs.speed_steps` labelled "spindle off" (0 rpm),
+    "spindle on N rpm" (after a stop or at the start) or "speed change to N rpm" (after another
+    speed). Ambient: the sign of dT_air/dt [K/s], smoothed by a centred moving average over
+    ``smooth`` [s], "rising" above ``ambient_rate`` (default 0.1 K/h), "falling" below its
+    negative, else "steady"; ambient stretches shorter than ``smooth`` merge into their predecessor.
+    """
+    t = np.asarray(time, float)
+    phases: list[Phase] = []
+    if speed is not None:
+        prev = 0.0
+        for t0, t1, n in speed_steps(t, speed, speed_tolerance):
+            if n == 0:
+                label = "spindle off"
+            elif prev == 0:
+                label = f"spindle on {n:.0f} rpm"
+            else:
+                label = f"speed change to {n:.0f} rpm"
+            phases.append(Phase("spindle", label, t0, t1 if t1 > t0 else t0))
+            prev = n
+        if phases:
+            phases[-1].end = float(t[-1]) + (float(t[-1] - t[-2]) if len(t) > 1 else 0.0)
+    if ambient is not None and len(t) > 2:
+        a = np.asarray(ambient, float)
+        dt = float(np.median(np.diff(t)))
+        w = max(1, int(round(smooth / dt)))
+        kernel = np.ones(w) / w
+        pad = np.pad(a, (w // 2, w - 1 - w // 2), mode="edge")
+        rate = np.gradient(np.convolve(pad, kernel, mode="valid"), t)
+        labels = ["ambient rising" if r > ambient_rate else "ambient falling" if r < -ambient_rate else "ambient steady"
+                  for r in rate]
+        merged: list[list] = []
+        for lab, t0, t1 in _segments(labels, t):
+            if merged and (t1 - t0 < smooth or merged[-1][0] == lab):
+                merged[-1][2] = t1
+            else:
+                merged.append([lab, t0, t1])
+        phases += [Phase("ambient", lab, t0, t1) for lab, t0, t1 in merged]
+    return phases
+
+
+def resampler(t_model: np.ndarray, t_meas: np.ndarray):
+    """A function taking model outputs (n_model, k) on ``t_model`` [s] to the measurement's
+    instants ``t_meas`` (linear in time); identity when the grids agree. ValueError if the
+    measurement reaches outside the model's time span."""
+    if len(t_model) == len(t_meas) and np.allclose(t_model, t_meas):
+        return lambda y: y
+    if t_meas.min() < t_model[0] - 1e-9 or t_meas.max() > t_model[-1] + 1e-9:
+        raise ValueError("measurement times lie outside the scenario's duration")
+    return lambda y: np.column_stack([np.interp(t_meas, t_model, y[:, k]) for k in range(y.shape[1])])
+
+
+def input_phases(ds, t: np.ndarray, scenario=None) -> list[Phase]:
+    """Phases of the inputs on the grid ``t`` [s]: the Dataset's logged spindle speed and room air
+    where it has them, else the ``scenario``'s (no phases of an input neither gives)."""
+    def signal(var, of_scenario):
+        if var in ds:
+            return np.asarray(ds[var].values, float)
+        return None if scenario is None else np.asarray(of_scenario(t), float)
+
+    return detect_phases(t, signal("spindle_speed", getattr(scenario, "spindle_speed", None)),
+                         signal("ambient_temperature", getattr(scenario, "ambient_temperature", None)))
