@@ -22,10 +22,6 @@ never leaves an effect silently unplaced.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    from geometries.base import Box
 
 AXES = {"x": 0, "y": 1, "z": 2}
 DIRECTIONS = ("+x", "-x", "+y", "-y", "+z", "-z")
@@ -73,10 +69,10 @@ class Band:
 
 @dataclass(frozen=True)
 class InBox:
-    """Cells or faces of ``base`` whose centre lies inside ``box``."""
+    """Cells or faces of ``base`` whose centre lies inside ``box`` (a :class:`geometries.base.Box`)."""
 
     base: object
-    box: "Box"
+    box: object
 
 
 @dataclass(frozen=True)

@@ -129,10 +129,10 @@ def format_compare(result: CompareResult, top: int = 8) -> str:
     return "\n".join(lines)
 
 
-def model_for(measured: xr.Dataset, machine: str, scenario: str | None = None, effects: str | None = None,
+def model_for(measured: xr.Dataset, machine: str, scenario=None, effects: str | None = None,
               settings: list[str] | None = None, resolution: str = "default", seed: int = 0, progress=None):
     """Simulate the twin at the measurement's sensor sites, driven by its inputs unless a scenario
-    is named. Returns (model Dataset, RunResult)."""
+    (a name, a path or a Scenario) is given. Returns (model Dataset, RunResult)."""
     from twin.api import simulate
     from twin.io.measured_inputs import scenario_from_measurement, sensors_of
 
@@ -142,7 +142,7 @@ def model_for(measured: xr.Dataset, machine: str, scenario: str | None = None, e
 
 
 def add_compare_parser(subparsers) -> None:
-    """``twin compare MEAS --machine NAME [--mapping TOML] [--scenario S] [--effects ..] [--set ..] [--mesh R]``."""
+    """``twin compare MEAS [--machine NAME] [--mapping TOML] [--scenario S] [--effects ..] [--set ..] [--mesh R]``."""
     p = subparsers.add_parser("compare", help="compare the twin with a measurement: residuals per channel and phase")
     add_measurement_options(p)
     add_model_options(p)
@@ -151,9 +151,11 @@ def add_compare_parser(subparsers) -> None:
 
 def run_compare(args) -> int:
     """CLI body of ``twin compare``: prints the comparison table, returns 0."""
-    from twin.io.measurement import read_measurement
+    from twin.cli.progress import progress_bar
+    from validate.inputs import load_inputs
 
-    meas = read_measurement(args.measurement, getattr(args, "mapping", None), args.machine)
-    model, _ = model_for(meas, args.machine, args.scenario, args.effects, args.set, args.mesh, args.seed)
+    meas, machine, sc, _ = load_inputs(args)
+    model, _ = model_for(meas, machine.name, sc, args.effects, args.set, args.mesh, args.seed,
+                         progress=progress_bar(f"{machine.name} / measured inputs"))
     print(format_compare(compare(meas, model)))
     return 0

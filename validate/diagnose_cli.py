@@ -12,6 +12,7 @@ from twin.io.atomic import atomic_write_text
 from twin.cli.options import add_measurement_options, add_model_options
 from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
+from validate.inputs import load_inputs
 
 
 def add_diagnose_parser(subparsers) -> None:
@@ -30,22 +31,6 @@ def add_diagnose_parser(subparsers) -> None:
     p.add_argument("--apply", action="store_true", help="rerun with the top candidate at its fitted strength")
     p.add_argument("--report", metavar="DIR", help="write an HTML report with figures into DIR")
     p.set_defaults(func=run_diagnose)
-
-
-def load_inputs(args):
-    """(measurement Dataset, machine, Scenario, ModelSpec) from the parsed arguments."""
-    from twin.api import machine_by_name
-    from twin.model import model_spec
-    from twin.scenario import load_scenario
-    from twin.io.measured_inputs import scenario_from_measurement
-    from twin.io.measurement import read_measurement
-
-    meas = read_measurement(args.measurement, getattr(args, "mapping", None), args.machine)
-    machine = machine_by_name(args.machine)
-    if args.mesh not in machine.resolutions:
-        raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
-    sc = load_scenario(args.scenario) if args.scenario else scenario_from_measurement(meas)
-    return meas, machine, sc, model_spec(machine, args.effects, args.set)
 
 
 def error_resolution(args, machine) -> str | None:

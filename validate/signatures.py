@@ -36,24 +36,10 @@ from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, RunContext, Te
 from twin.physics.prepared import PreparedTwin
 from twin.signals import lag_series
 
-# Dimensions of parameters that set an effect's *strength* (what the diagnosis fits), in the order
-# preferred when an effect has several; time constants, speeds, exponents and lengths are shape.
-STRENGTH_DIMENSIONS = ("power", "heat_flux", "conductance", "temperature_gradient",
-                       "heat_transfer_coefficient", "temperature_difference")
-
-
 def strength_parameter(effect) -> str | None:
-    """Name of the parameter the diagnosis fits for ``effect``: ``effect.strength`` if the effect
-    declares one, else its first parameter whose dimension is a strength (W, W/m2, W/K, K/m,
-    W/(m2 K), K), else None (the effect has nothing to fit)."""
-    declared = getattr(effect, "strength", None)
-    if declared:
-        return declared
-    for dim in STRENGTH_DIMENSIONS:
-        for p in effect.parameters:
-            if p.dimension == dim:
-                return p.name
-    return None
+    """Name of the parameter the diagnosis fits for ``effect`` (its declared ``strength``), or None
+    when the effect has nothing to fit."""
+    return effect.strength or None
 
 
 def reference_value(param) -> float:

@@ -21,5 +21,6 @@ def add_measurement_options(p: argparse.ArgumentParser) -> None:
     """MEASUREMENT, --mapping, --machine, --scenario."""
     p.add_argument("measurement", help="a twin NetCDF result, or a CSV file with a TOML column mapping")
     p.add_argument("--mapping", help="TOML column mapping of a CSV (default: the CSV's name with .toml)")
-    p.add_argument("--machine", default="cframe-vmc", help="machine (default cframe-vmc)")
+    p.add_argument("--machine", help="the measured machine (default: the one the measurement names: a result's "
+                                     "'machine' attribute or the mapping's machine key)")
     p.add_argument("--scenario", help="drive the twin by this scenario instead of the measured inputs")

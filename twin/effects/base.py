@@ -83,14 +83,19 @@ class ContactConductance:
 
 class Effect:
     """Base class: subclasses set ``name``, ``summary``, ``reference``, ``parameters``, the
-    ``roles`` of the machine contract they place loads on (:data:`geometries.regions.ROLES`) and
-    implement :meth:`loads`. The class docstring carries the equation."""
+    ``roles`` of the machine contract they place loads on (:data:`geometries.regions.ROLES`), their
+    ``strength`` parameter and whether the response is ``linear`` in it (true for heat sources
+    and fluxes whose power scales with it; a film coefficient or conductance changes the operator,
+    so its response is not), and implement :meth:`loads`. The class docstring carries the
+    equation."""
 
     name: str = ""
     summary: str = ""
     reference: str = ""
     parameters: tuple[Parameter, ...] = ()
     roles: tuple[str, ...] = ()
+    strength: str = ""      # the parameter that sets how strong the effect is (what a diagnosis fits)
+    linear: bool = False    # is every observable's response linear in the strength (heat sources only)?
 
     def missing_roles(self, machine) -> list[str]:
         """The roles this effect needs that ``machine`` does not declare."""
@@ -120,6 +125,8 @@ def register_effect(cls: type[Effect]) -> type[Effect]:
     """Class decorator: register one instance of ``cls`` under ``cls.name``."""
     if cls.name in EFFECTS:
         raise RuntimeError(f"effect {cls.name!r} registered twice")
+    if cls.strength and cls.strength not in {p.name for p in cls.parameters}:
+        raise RuntimeError(f"effect {cls.name!r}: strength {cls.strength!r} is not one of its parameters")
     EFFECTS[cls.name] = cls()
     return cls
 

@@ -21,6 +21,8 @@ class SpindleCoolant(Effect):
     """
 
     name = "spindle_coolant"
+    strength = "conductance"
+    linear = False
     summary = "jacket conductance G to coolant at T_air + offset on the cartridge, while the spindle runs"
     reference = "Bossmanns & Tu, Int. J. Mach. Tools Manuf. 39 (1999) 1345-1366 (spindle cooling)"
     roles = ("spindle.jacket",)
@@ -49,6 +51,8 @@ class ZAxisHolding(Effect):
     """
 
     name = "z_axis_holding"
+    strength = "power"
+    linear = True
     summary = "constant holding losses of the Z motor and brake in the column top"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771-791, sec. 3.2 (feed drives)"
     roles = ("z_drive.top",)

@@ -17,6 +17,8 @@ class AmbientConvection(Effect):
     """
 
     name = "ambient_convection"
+    strength = "h"
+    linear = False
     summary = "natural convection + linearised radiation of the skin to the room air"
     reference = "VDI Heat Atlas, F2 (free convection) and K1 (radiation)"
     roles = ("structure.skin",)
@@ -40,6 +42,8 @@ class Floor(Effect):
     """
 
     name = "floor"
+    strength = "conductance"
+    linear = False
     summary = "bed foot held to a floor temperature lagging the room air"
     reference = "seed 000 L318-336 (ambient and foundation effects); ISO 230-3 Annex (environment)"
     roles = ("floor.contact",)

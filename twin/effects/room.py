@@ -28,6 +28,8 @@ class ElectricalCabinet(Effect):
     """
 
     name = "electrical_cabinet"
+    strength = "power"
+    linear = True
     summary = "cabinet losses onto the column's left side face, P = P_standby + P_run [spindle on]"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771-791, sec. 3.2 (internal heat sources, cabinets)"
     roles = ("cabinet.face",)
@@ -55,6 +57,8 @@ class AmbientStratification(Effect):
     """
 
     name = "ambient_stratification"
+    strength = "gradient"
+    linear = True
     summary = "vertical air-temperature gradient g: extra flux h g (z - z_ref) on the skin"
     reference = "ISO 230-3:2020 Annex (environmental temperature variation); VDI 2078 (room air stratification)"
     roles = ("structure.skin",)
@@ -100,6 +104,8 @@ class DoorDraft(Effect):
     """
 
     name = "door_draft"
+    strength = "h"
+    linear = False
     summary = "air stream T_air + dT with h_d on the front faces during scheduled door openings"
     reference = "VDI Heat Atlas G4 (flat plate in parallel flow); Bryan, CIRP Annals 39/2 (1990) 645-656"
     roles = ("structure.front",)
@@ -139,6 +145,8 @@ class SolarLoad(Effect):
     """
 
     name = "solar_load"
+    strength = "flux"
+    linear = True
     summary = "absorbed sunlight on the rear faces, half-sine between sunrise and sunset"
     reference = "Duffie & Beckman, Solar Engineering of Thermal Processes, ch. 1-2"
     roles = ("structure.rear",)
@@ -167,6 +175,8 @@ class FloorLag(Effect):
     """
 
     name = "floor_lag"
+    strength = "conductance"
+    linear = False
     summary = "foot coupled to a slow foundation temperature lagging the room by tau_s"
     reference = "Bryan, CIRP Annals 39/2 (1990) 645-656 (foundation thermal inertia); ISO 230-3 Annex"
     roles = ("floor.contact",)

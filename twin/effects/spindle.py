@@ -25,6 +25,8 @@ class SpindleBearings(Effect):
     """
 
     name = "spindle_bearings"
+    strength = "front_power"
+    linear = True
     summary = "friction heat at the front and rear spindle bearings, P = P_ref (n/n_ref)^x"
     reference = "T. A. Harris, Rolling Bearing Analysis (Palmgren friction model); Bossmanns & Tu 1999"
     roles = ("spindle.front_bearing", "spindle.rear_bearing")
@@ -55,6 +57,8 @@ class SpindleMotor(Effect):
     """
 
     name = "spindle_motor"
+    strength = "power"
+    linear = True
     summary = "motor losses into the carrier top, P = P_ref (n/n_ref)^x"
     reference = "seed 000 L4024-4028, L4249-4253 (motor on the carrier, most influential area)"
     roles = ("spindle.motor",)
@@ -83,6 +87,8 @@ class SpindleForcedConvection(Effect):
     """
 
     name = "spindle_forced_convection"
+    strength = "h_reference"
+    linear = False
     summary = "h on rotating surfaces, h = h_ref (n/n_ref)^(2/3) (Becker)"
     reference = "K. M. Becker, Int. J. Heat Mass Transfer 6 (1963) 1053-1062"
     roles = ("spindle.rotating",)
@@ -111,6 +117,8 @@ class TestBarContact(Effect):
     """
 
     name = "test_bar_contact"
+    strength = "conductance"
+    linear = False
     summary = "finite conductance G between spindle and test bar (default model: perfect contact)"
     reference = "M. M. Yovanovich, thermal contact resistance (Handbook of Heat Transfer, ch. 4); Bossmanns & Tu 1999"
     roles = ("test_bar.seat", "test_bar.body")

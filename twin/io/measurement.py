@@ -94,9 +94,17 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
 
 
 def _machine(machine, spec: dict, src: str):
-    name = machine if machine is not None else spec.get("machine")
-    if name is None or not isinstance(name, str):
-        return name
+    named = spec.get("machine")
+    if named is not None and not isinstance(named, str):
+        raise InputError(src, "machine", f"expected a machine name, got {named!r}")
+    given = machine if isinstance(machine, str) or machine is None else machine.name
+    if given is not None and named is not None and given != named:
+        raise InputError(src, "machine", f"the mapping names machine {named!r}, the command line {given!r}")
+    if machine is not None and not isinstance(machine, str):
+        return machine
+    name = given or named
+    if name is None:
+        return None
     from twin.api import machine_by_name
 
     try:

@@ -1,0 +1,94 @@
+"""Every registered effect on every bundled machine, in one place.
+
+For each (machine, effect): either the machine declares every role the effect needs and a short
+run with it closes its energy balance, or asking for it is one clear error naming machine, effect
+and role. Each effect declares its strength parameter and whether the observables' response is
+linear in it; the declaration is checked both ways:
+
+* first law over the run (theta-scheme, :mod:`twin.observe.energy`): heat in by sources + heat
+  in by convection = change of stored heat, to 1e-9 of the largest term;
+* linear (heat sources and fluxes): every observable is affine in the strength p, so with y(p)
+  the temperature sensors and probes of the model with E at strength p, y(2 p) - 2 y(p) + y(0) = 0
+  to 1e-9 of max |y(p) - y(0)|;
+* not linear (film coefficients, conductances): that second difference exceeds 1e-6 of it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geometries import MACHINES, build_machine
+from twin.effects import EFFECTS
+from twin.errors import InputError
+from twin.fem.mesh import mesh_machine
+from twin.model import ModelSpec, model_spec
+from twin.observe import FiveProbeTestBar, HeatBalance, RunContext, TemperatureSensors, sensor_points
+from twin.physics.prepared import PreparedTwin
+from twin.scenario import Ambient, Scenario
+
+# 40 min at 3000 rpm, 20 min stopped, every 2 min; a daily room from 11:00 (the sun is up); a door
+# opening at 10 min so that every scheduled effect acts inside the run
+SCENARIO = Scenario("registry", ((2400.0, 3000.0), (1200.0, 0.0)),
+                    Ambient("daily", mean=20.0, amplitude=2.0, coldest_at=6 * 3600.0, start_time_of_day=11 * 3600.0),
+                    120.0)
+SCHEDULE = {"door_draft": {"start": 600.0}}
+PAIRS = [(m, e) for m in sorted(MACHINES) for e in sorted(EFFECTS)]
+
+
+@pytest.fixture(scope="module")
+def twins():
+    return {name: PreparedTwin(build_machine(name), mesh_machine(build_machine(name), "coarse")) for name in MACHINES}
+
+
+def _spec(effects, values=None):
+    params = {e: {**EFFECTS[e].defaults(), **SCHEDULE.get(e, {})} for e in effects}
+    for e, v in (values or {}).items():
+        params[e].update(v)
+    return ModelSpec(tuple(effects), params)
+
+
+def _observe(twin, spec):
+    m = twin.machine
+    observers = [TemperatureSensors([p for p in sensor_points(m) if p.part != "air"]), FiveProbeTestBar(), HeatBalance()]
+    loads, raw = twin.run(SCENARIO, spec, observers)
+    y = np.hstack([raw["temperature"], raw["probes"] - raw["probes"][0]])
+    return y, loads, raw["energy"]
+
+
+def test_every_effect_declares_roles_strength_and_linearity():
+    for name, e in EFFECTS.items():
+        assert e.roles, name
+        assert e.strength in {p.name for p in e.parameters}, name
+        assert isinstance(e.linear, bool), name
+
+
+@pytest.mark.parametrize("machine,effect", PAIRS)
+def test_effect_on_machine(twins, machine, effect):
+    twin = twins[machine]
+    m = twin.machine
+    eff = EFFECTS[effect]
+    if not eff.applies_to(m):
+        with pytest.raises(InputError) as err:
+            model_spec(m, f"+{effect}")
+        missing = eff.missing_roles(m)[0]
+        assert effect in str(err.value) and m.name in str(err.value) and missing in str(err.value)
+        return
+    base = [e for e in ("ambient_convection",) if e != effect]
+    p = eff.parameter(eff.strength)
+    p1 = p.default if p.default != 0 else 0.1 * p.upper
+    y = {}
+    for k in (0, 1, 2):
+        spec = _spec(base + [effect], {effect: {eff.strength: k * p1}})
+        y[k], loads, energy = _observe(twin, spec)
+        if k == 1:
+            ctx = RunContext(SCENARIO.times(), SCENARIO, spec, m, loads, np.random.default_rng(0))
+            sources, convection, stored = HeatBalance.energy(energy, ctx)
+            assert abs(sources + convection - stored) <= 1e-9 * max(abs(sources), abs(convection), abs(stored))
+    scale = np.abs(y[1] - y[0]).max()
+    assert scale > 0, f"{effect} at strength {p1:g} changes nothing on {machine}'s sensors and probes"
+    deviation = np.abs(y[2] - 2 * y[1] + y[0]).max() / scale
+    if eff.linear:
+        assert deviation <= 1e-9
+    else:
+        assert deviation > 1e-6
