@@ -66,14 +66,18 @@ class PreparedTwin:
             self._couplings[key] = C
         return self._couplings[key]
 
+    def adjoint(self, observer) -> np.ndarray:
+        """lam = K^-1 G^T (3 n_nodes, k) of a displacement observer's functionals G, solved once."""
+        key = observer.cache_key()
+        if key not in self._adjoints:
+            G = observer.functionals(self.mm)
+            self._adjoints[key] = self.elastic.solve(np.asarray(G.todense()).T)
+        return self._adjoints[key]
+
     def displacement_rows(self, observer, layout, material: str | None = None) -> np.ndarray:
         """(k, n_heat) rows (C^T lam)^T of a displacement observer on ``layout`` (see
-        :mod:`twin.observe.displacement`), lam = K^-1 G^T solved once per observer."""
-        akey = observer.cache_key()
-        if akey not in self._adjoints:
-            G = observer.functionals(self.mm)
-            self._adjoints[akey] = self.elastic.solve(np.asarray(G.todense()).T)
-        return np.asarray(self.coupling(layout, material).T @ self._adjoints[akey]).T
+        :mod:`twin.observe.displacement`), lam from :meth:`adjoint`."""
+        return np.asarray(self.coupling(layout, material).T @ self.adjoint(observer)).T
 
     def loads(self, scenario, spec) -> LoadSet:
         """The load set of ``spec`` for ``scenario`` on this mesh (heat matrices from the cache)."""
