@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from geometries import cframe_vmc
+from geometries import belt_vmc, cframe_vmc
 from geometries.base import Box, Machine, Part, Point, Probe, Surface
 
-MACHINES = {cframe_vmc.NAME: cframe_vmc.build}
+MACHINES = {cframe_vmc.NAME: cframe_vmc.build, belt_vmc.NAME: belt_vmc.build}
 
 
 def build_machine(name: str) -> Machine:

@@ -89,7 +89,7 @@ ROLES: dict[str, tuple[str, str]] = {
     "spindle.front_bearing": ("volume", "the front spindle bearing zone, where bearing friction heat arises"),
     "spindle.rear_bearing": ("volume", "the rear spindle bearing zone"),
     "spindle.motor": ("volume", "the spindle motor's body"),
-    "spindle.pulley": ("volume", "the belt pulley on the spindle, where belt friction heat enters"),
+    "spindle.belt_contact": ("surface", "the rim of the spindle's belt pulley, where belt friction heat enters"),
     "spindle.rotating": ("surface", "surfaces turning with the spindle in the air: the test bar and the spindle nose"),
     "spindle.jacket": ("interface", "the cartridge/housing interface where a cooling jacket sits"),
     "test_bar.seat": ("interface", "the contact between the spindle nose and the test bar"),

@@ -8,8 +8,10 @@ from twin.observe.temperature import TemperatureSensors
 
 
 def sensor_points(machine) -> list:
-    """The machine's temperature-sensor sites, glued ones then those in the air."""
-    return [machine.point(n) for n in list(machine.sensor_sites) + list(machine.air_sites)]
+    """The machine's temperature-sensor sites, glued ones and those in the air, in the order of
+    the machine's points (a machine lists them in its own numbering)."""
+    names = set(machine.sensor_sites) | set(machine.air_sites)
+    return [p for p in machine.points if p.name in names]
 
 
 def standard_observers(machine, sensors: list | None = None) -> list[Observer]:

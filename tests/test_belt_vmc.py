@@ -1,0 +1,213 @@
+"""``belt-vmc`` (seed 000, Machine B): its mesh, its 77 temperature points, the belt-drive law and
+its calibration against the seed's heating/cooling tests (thesis Table 5-3, L5203-5257).
+
+belt-vmc's default effect set is the C-frame's five plus ``belt_drive`` (``Machine.default_effects``).
+Runtime (about 60 s on 2 cores): the calibration runs on the ``default`` mesh, one module-scoped
+run per scenario (belt-test-6 5 s, belt-test-1 5 s, belt-test-4 12 s: the 8 h test is the
+longest, and Test IV is the seed's training test); the mesh-convergence check needs one ``fine``
+run (belt-test-6, the shortest test and the one with the largest drift, 26 s). The point checks
+use the meshes only (no run). Test II, III and V are not run here: II and III repeat Test I's
+speed for longer, V is Test VI without the room drift.
+
+Two kinds of bands: the seed's range where the twin reaches it (peak X and Z at 8000 rpm, the
+mesh convergence), and where it does not (peak Y: 11 um against 60-79 at 8000 rpm) the twin's own
+calibrated value, held as a band, beside a strict ``xfail`` test that states the seed's band and
+fails loudly (XPASS) once a change reaches it. Why Y falls short: ``geometries/belt_vmc.py``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geometries import build_machine
+from geometries.belt_vmc import AIR_GAP_MAX, AIR_POINTS, TEMPERATURE_POINTS
+from twin.api import simulate
+from twin.effects import EFFECTS
+from twin.errors import InputError
+from twin.fem.mesh import mesh_machine
+from twin.fem.points import locate
+from twin.observe.sensor_grid import owner_of
+
+AXES6 = np.vstack([np.eye(3), -np.eye(3)])
+Y_SHORT = "peak Y is 4-7x below the seed in this model: top and bottom heat tilt the head opposite ways (geometries/belt_vmc.py)"
+
+
+@pytest.fixture(scope="module")
+def machine():
+    return build_machine("belt-vmc")
+
+
+@pytest.fixture(scope="module")
+def meshes(machine):
+    return {res: mesh_machine(machine, res) for res in machine.resolutions}
+
+
+def _run(scenario, resolution="default"):
+    ds, _ = simulate("belt-vmc", scenario, resolution=resolution)
+    return ds
+
+
+@pytest.fixture(scope="module")
+def test6():
+    return _run("belt-test-6")
+
+
+@pytest.fixture(scope="module")
+def test6_fine():
+    return _run("belt-test-6", "fine")
+
+
+@pytest.fixture(scope="module")
+def test1():
+    return _run("belt-test-1")
+
+
+@pytest.fixture(scope="module")
+def test4():
+    return _run("belt-test-4")
+
+
+def peak(ds, axis):
+    return float(np.abs(ds.drift.sel(axis=axis).values).max())
+
+
+# ---- the machine and its points ----------------------------------------------------------------
+
+def test_meshes_at_every_resolution_with_every_part_and_surface(machine, meshes):
+    """Every resolution meshes (coarse 100, default 60, fine 40 mm), each part has cells and each
+    named surface faces (the mesher raises on an empty one); nodes grow as the cells shrink."""
+    nodes = [meshes[r].nnodes for r in ("coarse", "default", "fine")]
+    assert nodes == sorted(nodes) and nodes[0] > 1000
+    for mm in meshes.values():
+        assert all(len(mm.cells_of(p.name)) for p in machine.parts)
+        assert set(mm.facets) == {s.name for s in machine.surfaces}
+        assert all(len(f) for f in mm.facets.values())
+
+
+def test_seventy_seven_points_in_the_seed_order(machine):
+    """T1..T77 (Table 4-4) = the structural sensor sites + the air sites, disjoint, in that order;
+    the air points are T66 T67 T70 T73 T75 T76 T77."""
+    assert TEMPERATURE_POINTS == tuple(f"T{i}" for i in range(1, 78))
+    assert set(machine.sensor_sites) | set(machine.air_sites) == set(TEMPERATURE_POINTS)
+    assert not set(machine.sensor_sites) & set(machine.air_sites)
+    assert sorted(machine.air_sites, key=TEMPERATURE_POINTS.index) == ["T66", "T67", "T70", "T73", "T75", "T76", "T77"]
+    assert set(machine.air_sites) == set(AIR_POINTS)
+    order = [TEMPERATURE_POINTS.index(n) for n in machine.sensor_sites]
+    assert order == sorted(order) and len(machine.sensor_sites) == 70
+    assert all(machine.point(n).part == "air" for n in machine.air_sites)
+
+
+def test_structural_sites_lie_in_their_part_one_mm_under_a_face(machine, meshes):
+    """Each structural site is in a cell of its own part on every mesh (``twin.fem.points.locate``);
+    a glued sensor has air 2 mm away along one axis (it is 1 mm inside an exterior face), T71-T72
+    are at least 30 mm inside the column casting (no air within 30 mm)."""
+    pts = [machine.point(n) for n in machine.sensor_sites]
+    xyz = np.array([p.xyz for p in pts])
+    for mm in meshes.values():
+        cells, _ = locate(mm, xyz, [p.name for p in pts])
+        assert [mm.part_names[mm.cell_part[c]] for c in cells] == [p.part for p in pts]
+    index = {p.name: i for i, p in enumerate(machine.parts)}
+    assert list(owner_of(machine, xyz)) == [index[p.part] for p in pts]
+    for p in pts:
+        near = owner_of(machine, np.asarray(p.xyz) + 0.002 * AXES6)
+        far = owner_of(machine, np.asarray(p.xyz) + 0.03 * AXES6)
+        if p.name in ("T71", "T72"):
+            assert np.all(far == index["column"]), p.name
+        else:
+            assert np.any(near == -1), p.name
+
+
+def test_sensor_groups_where_table_4_4_puts_them(machine):
+    """Column T1-T7 on the column; strip 1 T8-T33 up the carrier's front face and strip 2 T34-T62
+    down its right side, each spread evenly over the carrier's height (spacing h/n, first and last
+    h/(2n) from the ends); boss T63-T65 below the carrier; Y bed T68-T69 on the bed; table T74."""
+    carrier = machine.part("carrier").boxes[0]
+    z0, z1 = carrier.lo[2], carrier.hi[2]
+    assert all(machine.point(f"T{i}").part == "column" for i in (*range(1, 8), 71, 72))
+    for first, n, rising, axis, face in ((8, 26, True, 1, carrier.lo[1]), (34, 29, False, 0, carrier.hi[0])):
+        xyz = np.array([machine.point(f"T{first + i}").xyz for i in range(n)])
+        z = xyz[:, 2] if rising else xyz[::-1, 2]
+        assert np.allclose(np.diff(z), (z1 - z0) / n) and z[0] == pytest.approx(z0 + (z1 - z0) / (2 * n))
+        assert np.allclose(np.abs(xyz[:, axis] - face), 1e-3)
+    assert all(machine.point(f"T{i}").part == "carrier" and machine.point(f"T{i}").xyz[2] < z0 for i in (63, 64, 65))
+    assert [machine.point(n).part for n in ("T68", "T69", "T74")] == ["bed", "bed", "table"]
+
+
+def test_air_sites_in_the_air_beside_their_place(machine, meshes):
+    """Each air point is outside every part (no mesh cell holds it: ``locate`` raises) and
+    between 20 mm and ``AIR_GAP_MAX`` = 0.1 m from the part it is named after (AIR_POINTS)."""
+    for name in machine.air_sites:
+        p = np.asarray(machine.point(name).xyz)
+        assert owner_of(machine, p)[0] == -1, name
+        for mm in meshes.values():
+            with pytest.raises(ValueError, match="outside the machine"):
+                locate(mm, p, [name])
+        gap = min(np.linalg.norm(np.maximum(np.maximum(np.subtract(b.lo, p), np.subtract(p, b.hi)), 0.0))
+                  for b in machine.part(AIR_POINTS[name]).boxes)
+        assert 0.02 <= gap <= AIR_GAP_MAX, (name, gap)
+
+
+def test_belt_drive_needs_a_belt_and_is_a_belt_vmc_default():
+    """belt_drive acts on the role ``spindle.belt_contact``: belt-vmc declares it (and has the
+    effect by default), cframe-vmc does not, so the C-frame refuses the effect with an InputError
+    naming the role and the diagnosis never tries it there."""
+    belt = EFFECTS["belt_drive"]
+    assert "belt_drive" in build_machine("belt-vmc").default_effects
+    assert "belt_drive" not in build_machine("cframe-vmc").default_effects
+    assert belt.applies_to(build_machine("belt-vmc")) and not belt.applies_to(build_machine("cframe-vmc"))
+    with pytest.raises(InputError, match="spindle.belt_contact"):
+        simulate("cframe-vmc", "belt-test-1", effects="+belt_drive", resolution="coarse")
+
+
+# ---- the belt-drive law -------------------------------------------------------------------------
+
+def test_belt_heat_power_is_the_power_law(test1, test6):
+    """heat_power[belt_drive] = P_ref (n / n_ref)^x with P_ref = 50 W, n_ref = 8000 rpm, x = 1.5
+    at the tests' speeds (4000 rpm: 50 / 2^1.5 = 17.678 W; 8000 rpm: 50 W) to 1e-9 relative,
+    and exactly 0 while the spindle stands."""
+    defaults = EFFECTS["belt_drive"].defaults()
+    p_ref, n_ref, x = defaults["power"], defaults["reference_speed"], defaults["exponent"]
+    assert (p_ref, n_ref, x) == (50.0, 8000.0, 1.5)
+    for ds, n in ((test1, 4000.0), (test6, 8000.0)):
+        power = ds.heat_power.sel(effect="belt_drive").values
+        running = ds.spindle_speed.values == n
+        assert running.sum() > 100
+        np.testing.assert_allclose(power[running], p_ref * (n / n_ref) ** x, rtol=1e-9)
+        assert np.all(power[ds.spindle_speed.values == 0] == 0.0)
+
+
+# ---- calibration ---------------------------------------------------------------------------------
+
+def test_8000_rpm_x_and_z_in_the_seed_range(test6):
+    """Test VI (8000 rpm 1 h, 1 h stopped; seed X 3, Z 22-24 um): peak |X| < 5 um (symmetry) and
+    peak |Z| in 15-30 um."""
+    assert peak(test6, "X") < 5.0
+    assert 15.0 <= peak(test6, "Z") <= 30.0
+
+
+def test_twin_calibration_of_peak_y(test6, test1, test4):
+    """The twin's own peak |Y| (not the seed's): Test VI 8-16 um (11.3), Test I 2.5-5.5 um (3.7),
+    Test IV 7-14 um (10.0); as in the seed, Y grows with heating time and speed (IV > I, VI > I)."""
+    y6, y1, y4 = peak(test6, "Y"), peak(test1, "Y"), peak(test4, "Y")
+    assert 8.0 <= y6 <= 16.0 and 2.5 <= y1 <= 5.5 and 7.0 <= y4 <= 14.0
+    assert y4 > y1 and y6 > y1
+
+
+@pytest.mark.xfail(strict=True, reason=Y_SHORT)
+def test_seed_band_8000_rpm_y(test6):
+    """Seed band, not reached: Test VI peak |Y| in 55-85 um (seed 60-79) and above peak |Z|."""
+    assert 55.0 <= peak(test6, "Y") <= 85.0 and peak(test6, "Y") > peak(test6, "Z")
+
+
+@pytest.mark.xfail(strict=True, reason=Y_SHORT)
+def test_seed_band_4000_rpm_y(test1, test4):
+    """Seed band, not reached: Test I peak |Y| in 18-32 um (seed 25), Test IV in 30-50 um (seed 39)."""
+    assert 18.0 <= peak(test1, "Y") <= 32.0 and 30.0 <= peak(test4, "Y") <= 50.0
+
+
+def test_mesh_convergence_of_peak_y(test6, test6_fine):
+    """Peak |Y| (and |Z|) of Test VI differ by less than 3 % between the default and fine meshes."""
+    for axis in "YZ":
+        d, f = peak(test6, axis), peak(test6_fine, axis)
+        assert abs(d - f) < 0.03 * f, axis
