@@ -75,3 +75,27 @@ def test_seed001_learner_notes_are_computed_from_the_models():
     assert "4 rules with 12 least-squares consequent parameters" in note
     assert "refused" in study_seed001.learner_note("gm1n", {"error": "unstable"}, None, X, y, Xt)
     assert "grows 1e" in study_seed001.grey_equation_note(X, y) or "(stable)" in study_seed001.grey_equation_note(X, y)
+
+
+def test_machine_b_gra_groups_and_selection():
+    """Machine B GRA study on synthetic rises: each point's degree is Liu's similitude degree
+    eps = 1 / (1 + |s_0 - s_m|), s = sum_{k=2..n-1} x^0(k) + x^0(n)/2 on zero-initial images
+    (thesis Eq. (4.1)); points are ranked inside their Table 4-4 group and the best of each of
+    the five groups is kept."""
+    from validate.studies import machine_b_gra as gra
+    from validate.studies.machine_b_data import GROUPS, MachineBRun
+
+    t = np.arange(361) * 10.0
+    y = 30 * (1 - np.exp(-t / 3000))                         # um, growing
+    X = np.outer(y / 10, np.random.default_rng(0).uniform(0.1, 2.0, 77))   # K
+
+    def liu(a):
+        a0 = a - a[0]
+        return a0[1:-1].sum() + 0.5 * a0[-1]
+
+    rows, sel = gra.run_study({"VI": MachineBRun("VI", "belt-test-6", t, X, y, 0 * y, None)})
+    degree = {r["point"]: r["degree"] for r in rows}
+    for i in (1, 40, 77):
+        assert degree[f"T{i}"] == pytest.approx(1 / (1 + abs(liu(y) - liu(X[:, i - 1]))), rel=1e-12)
+    assert sel["best_per_group"] == [max(GROUPS[g], key=lambda i: degree[f"T{i}"]) for g in GROUPS]
+    assert len(rows) == 77 and len(sel["gra_fcm"]) == 5

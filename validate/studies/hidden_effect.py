@@ -45,7 +45,12 @@ BAR = {"first": 0.9, "strength": 0.25, "probe_reduction": 0.7}
 DAY_NIGHT = {"etve-day-night"}
 # The cases' scenarios are the C-frame's; a machine that cannot run one (a lower top speed) names
 # the scenario that gives the same excitation on it.
-SCENARIO_FOR: dict[str, dict[str, str]] = {}
+SCENARIO_FOR: dict[str, dict[str, str]] = {
+    # belt-vmc turns 8000 rpm at most: the seed's Test VI (8000 rpm 1 h, 1 h stopped) heats and cools
+    # it as the C-frame's heat-cool test does, Test IV (4000 rpm 2 h / 1 h / 2 h / 3 h) switches the
+    # spindle on and off as the duty cycle does
+    "belt-vmc": {"spindle-heat-cool-9000": "belt-test-6", "spindle-duty-cycle": "belt-test-4"},
+}
 
 
 @dataclass(frozen=True)
