@@ -42,6 +42,20 @@ def _observers(machine):
     return [TemperatureSensors(sensor_points(machine)), ToolDrift(), FiveProbeTestBar(), HeatBalance()]
 
 
+def _cooled_slab(steps: int):
+    """A steel slab heated through one face at 50 W and cooled there by h = 300 W/(m2 K) to 15 degC
+    air, from 20 degC: (heat matrices, system, n, the integrate arguments for ``steps`` 30 s steps,
+    observing every 7th node)."""
+    mm = box_body((0.2, 0.05, 0.05), 0.01, surfaces=[("cooled", face(0, 0.2))])
+    heat = assemble_heat(mm)
+    fm = assemble_facets(mm, mm.facets["cooled"])
+    system = HeatSystem(heat.M, heat.K, [fm.H], fm.r[:, None], (fm.r / fm.area)[:, None])
+    n = mm.nnodes
+    args = (np.full(n, 20.0), 30.0, steps, np.full((steps, 1), 300.0), np.full((steps, 1), 15.0),
+            np.full((steps, 1), 50.0), np.eye(n)[::7])
+    return heat, system, n, args
+
+
 def test_consistent_mass_is_bounded_below_by_lumped_over_27():
     """Trilinear mass: the eigenvalues of M_L^-1 M lie in [1/27, 1] (the 1-D element's (h/6)[2 1; 1 2]
     against (h/2) I has 1/3 and 1, cubed for the brick), the inequality behind every bound."""
@@ -56,13 +70,7 @@ def test_pcg_steps_equal_direct_ones_within_the_verified_bound():
     """A slab cooled on one face: PCG with extrapolated start vs sparse LU, 200 CN steps. Each output
     errs by at most (27 w^T M_L^-1 w)^(1/2) sum_n rho_n (||A^-1 r||_M <= (r^T M^-1 r)^(1/2), M-contraction
     of the theta-scheme), and that bound is below ``heat_tol`` sqrt(C) times the row norm."""
-    mm = box_body((0.2, 0.05, 0.05), 0.01, surfaces=[("cooled", face(0, 0.2))])
-    heat = assemble_heat(mm)
-    fm = assemble_facets(mm, mm.facets["cooled"])
-    system = HeatSystem(heat.M, heat.K, [fm.H], fm.r[:, None], (fm.r / fm.area)[:, None])
-    n, steps = mm.nnodes, 200
-    args = (np.full(n, 20.0), 30.0, steps, np.full((steps, 1), 300.0), np.full((steps, 1), 15.0),
-            np.full((steps, 1), 50.0), np.eye(n)[::7])
+    heat, system, n, args = _cooled_slab(200)
     direct = integrate(system, *args, stepper=DirectStepper())
     it = IterativeStepper(heat_tol=1e-4)
     iterative = integrate(system, *args, stepper=it)
@@ -199,13 +207,7 @@ def test_gpu_heat_steps_equal_cpu_ones():
         cupy.cuda.runtime.getDeviceCount()
     except Exception:  # noqa: BLE001
         pytest.skip("no CUDA device")
-    mm = box_body((0.2, 0.05, 0.05), 0.01, surfaces=[("cooled", face(0, 0.2))])
-    heat = assemble_heat(mm)
-    fm = assemble_facets(mm, mm.facets["cooled"])
-    system = HeatSystem(heat.M, heat.K, [fm.H], fm.r[:, None], (fm.r / fm.area)[:, None])
-    n, steps = mm.nnodes, 50
-    args = (np.full(n, 20.0), 30.0, steps, np.full((steps, 1), 300.0), np.full((steps, 1), 15.0),
-            np.full((steps, 1), 50.0), np.eye(n)[::7])
+    _, system, n, args = _cooled_slab(50)
     cpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6))
     gpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
     np.testing.assert_allclose(gpu, cpu, atol=1e-8)
