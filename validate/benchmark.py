@@ -40,6 +40,8 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--cases", type=int, default=1, help="number of batched cases (default 1: one plain run)")
     ap.add_argument("--rom-order", type=int, default=48)
     ap.add_argument("--no-reference", action="store_true", help="skip the full-order reference of the ROM")
+    ap.add_argument("--heat-only", action="store_true",
+                    help="observe temperatures and the heat balance only (no elastic adjoints): times the heat step")
     ap.add_argument("--no-bound", action="store_true", help="batched ROM: skip the verified error bound")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", action="store_true", help="print only the JSON object")
@@ -88,8 +90,8 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     mm = build_mesh(machine, spacing) if spacing else mesh_machine(machine, args.mesh)
     twin = PreparedTwin(machine, mm, solver=options)
-    observers = [TemperatureSensors(sensor_points(machine)), ToolDrift()]
-    if machine.probes:
+    observers = [TemperatureSensors(sensor_points(machine))] + ([] if args.heat_only else [ToolDrift()])
+    if machine.probes and not args.heat_only:
         observers.append(FiveProbeTestBar())
     observers.append(HeatBalance())
     for o in observers:
