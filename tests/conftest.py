@@ -10,6 +10,19 @@ from geometries.materials import MATERIALS
 from twin.fem.mesh import mesh_machine
 
 
+def pytest_addoption(parser):
+    parser.addoption("--solver", default=None, choices=["auto", "direct", "iterative", "rom"],
+                     help="force the solver of every twin built without an explicit one (e.g. run the "
+                          "hidden-effect tests with --solver iterative)")
+
+
+def pytest_configure(config):
+    forced = config.getoption("--solver")
+    if forced:
+        from twin.physics import solvers
+        solvers.DEFAULT["solver"] = forced
+
+
 def box_body(size, spacing, material="steel", surfaces=(), refine=1.0):
     """A one-part machine: a box [0, size] [m] meshed with cubes no wider than ``spacing`` [m]
     (times the part's ``refine``).

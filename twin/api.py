@@ -20,14 +20,15 @@ def machine_by_name(name: str):
 
 def simulate(machine: str, scenario: str | Scenario, effects: str | None = None, settings: list[str] | None = None,
              resolution: str = "default", seed: int = 0, theta: float = 0.5, progress=None,
-             sensors: list | None = None, materials: dict | None = None) -> tuple:
+             sensors: list | None = None, materials: dict | None = None, solver=None) -> tuple:
     """Simulate by names; returns (Dataset, RunResult). ``effects`` edits the machine's default
-    set (``"+a,-b"``) or replaces it (``"a,b"``)."""
+    set (``"+a,-b"``) or replaces it (``"a,b"``); ``solver``: a
+    :class:`twin.physics.solvers.SolverOptions` or a solver name (default: chosen by size)."""
     m = machine_by_name(machine)
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     spec: ModelSpec = model_spec(m, effects, settings)
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
-                            mm=mesh_machine(m, resolution))
+                            mm=mesh_machine(m, resolution), solver=solver)
     return to_dataset(result, seed, resolution), result

@@ -36,6 +36,7 @@ class RunResult:
     observers: list
     readings: dict
     timings: dict = field(default_factory=dict)
+    solver_info: dict = field(default_factory=dict)   # what solved it and each output's error
 
     def observer(self, key: str):
         """The run's observer with ``key`` (KeyError when the run had none)."""
@@ -98,29 +99,29 @@ class RunResult:
 
 def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "default", theta: float = 0.5,
         materials: dict | None = None, progress=None, mm: MachineMesh | None = None,
-        sensors: list | None = None, prepared: PreparedTwin | None = None, observers: list | None = None) -> RunResult:
+        sensors: list | None = None, prepared: PreparedTwin | None = None, observers: list | None = None,
+        solver=None) -> RunResult:
     """Simulate ``scenario`` on ``machine`` with the effects of ``spec`` (default: the machine's).
 
     ``materials`` maps a material name to a replacement (e.g. perturbed properties);
     ``progress(done, total)`` is called after every step; ``sensors`` (a list of
     :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites; ``observers``
-    replaces the whole standard set; ``prepared`` reuses a :class:`PreparedTwin` of the machine.
+    replaces the whole standard set; ``prepared`` reuses a :class:`PreparedTwin` of the machine;
+    ``solver`` (:class:`twin.physics.solvers.SolverOptions` or a name) chooses the solvers of a
+    new one (default: by size).
     """
     spec = spec or default_spec(machine)
     observers = observers if observers is not None else standard_observers(machine, sensors)
     t0 = _time.perf_counter()
-    twin = prepared or PreparedTwin(machine, mm, resolution, materials)
+    twin = prepared or PreparedTwin(machine, mm, resolution, materials, solver)
     for o in observers:   # factorise and solve the adjoints now, so that "preparation" holds them
         if hasattr(o, "functionals"):
             twin.adjoint(o)
     prep = _time.perf_counter() - t0
     times = scenario.times()
 
-    def on_step(n, T):
-        if progress is not None:
-            progress(n, len(times) - 1)
-
     t1 = _time.perf_counter()
-    loads, readings = twin.run(scenario, spec, observers, theta, on_step)
+    loads, readings = twin.run(scenario, spec, observers, theta, progress=progress)
     timings = {"preparation": prep, "time_stepping": _time.perf_counter() - t1, "steps": len(times) - 1}
-    return RunResult(machine, loads.mm, scenario, spec, loads, times, theta, observers, readings, timings)
+    return RunResult(machine, loads.mm, scenario, spec, loads, times, theta, observers, readings, timings,
+                     dict(twin.run_info))

@@ -1,38 +1,148 @@
-"""Benchmark one run: ``python -m validate.benchmark [--machine M] [--scenario S] [--mesh R]``.
+"""Benchmark one run or a batch of cases and print one JSON object.
 
-Prints node count, heat assembly, elastic factorisation (+ adjoint drift operator), time per
-step, total wall time and peak memory. Not a test: numbers depend on the machine.
+    python -m validate.benchmark --machine cframe-vmc --scenario etve-day-night --spacing 20mm \
+        --solver full|rom|direct|iterative [--device gpu] [--cases N] [--json]
+
+``nodes``, ``preparation_s`` (mesh, heat and elastic assembly, elastic adjoints; for the reduced
+model also its offline phase), ``step_ms`` (time stepping / steps), ``total_s`` (end to end),
+``peak_mib`` (max RSS of the process), the solver information of the run and, for the reduced
+model, ``rom_order``, ``offline_s`` and ``max_rel_error``: the largest error of each drift output
+(tool-point drift X, Y, Z and the five probes) against a full-order run of the same prepared
+twin, relative to that output's peak |value| (the reference run is not counted in the times;
+``--no-reference`` skips it). With ``--cases N`` it runs N cases at once (:mod:`twin.physics.
+batch`): every linear effect strength and the room air's amplitude scaled by factors drawn
+uniformly in [0.5, 1.5] (seeded), and ``max_rel_error`` compares a few of them with full runs.
+Not a test: the numbers depend on the machine and its load.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import resource
+import sys
 import time
+from dataclasses import replace
+
+import numpy as np
+
+SOLVER_NAMES = {"full": "auto", "rom": "rom", "direct": "direct", "iterative": "iterative"}
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="python -m validate.benchmark", description=__doc__.splitlines()[0])
+    ap.add_argument("--machine", default="cframe-vmc")
+    ap.add_argument("--scenario", default="etve-day-night")
+    ap.add_argument("--spacing", default=None, help="cell size with its unit, e.g. 20mm (default: --mesh)")
+    ap.add_argument("--mesh", default="default", help="a named resolution when --spacing is not given")
+    ap.add_argument("--solver", default="full", choices=sorted(SOLVER_NAMES))
+    ap.add_argument("--device", default="cpu", choices=["cpu", "gpu"])
+    ap.add_argument("--cases", type=int, default=1, help="number of batched cases (default 1: one plain run)")
+    ap.add_argument("--rom-order", type=int, default=48)
+    ap.add_argument("--no-reference", action="store_true", help="skip the full-order reference of the ROM")
+    ap.add_argument("--heat-only", action="store_true",
+                    help="observe temperatures and the heat balance only (no elastic adjoints): times the heat step")
+    ap.add_argument("--no-bound", action="store_true", help="batched ROM: skip the verified error bound")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--json", action="store_true", help="print only the JSON object")
+    return ap
+
+
+def vary_cases(scenario, spec, n: int, seed: int) -> list:
+    """``n`` (scenario, spec) cases: every linear strength and the ambient amplitude scaled by
+    factors uniform in [0.5, 1.5] (case 0 is the unscaled model)."""
+    from twin.effects import EFFECTS
+    from twin.model import ModelSpec
+
+    rng = np.random.default_rng(seed)
+    linear = [e for e in spec.effects if EFFECTS[e].linear and EFFECTS[e].strength]
+    cases = []
+    for i in range(n):
+        f = np.ones(len(linear) + 1) if i == 0 else rng.uniform(0.5, 1.5, len(linear) + 1)
+        params = {g: dict(v) for g, v in spec.params.items()}
+        for k, e in enumerate(linear):
+            params[e][EFFECTS[e].strength] *= f[k]
+        amb = replace(scenario.ambient, amplitude=scenario.ambient.amplitude * f[-1])
+        cases.append((replace(scenario, ambient=amb), ModelSpec(spec.effects, params)))
+    return cases
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m validate.benchmark")
-    ap.add_argument("--machine", default="cframe-vmc")
-    ap.add_argument("--scenario", default="spindle-heat-cool-9000")
-    ap.add_argument("--mesh", default="default")
-    args = ap.parse_args(argv)
-    from twin.api import simulate
+    args = _parser().parse_args(argv)
+    from twin.api import machine_by_name
+    from twin.errors import InputError
+    from twin.fem.mesh import build_mesh, mesh_machine
+    from twin.model import model_spec
+    from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
+    from twin.physics.prepared import PreparedTwin
+    from twin.physics.solvers import SolverOptions
+    from twin.scenario import load_scenario
+    from twin.units import UnitError, parse_quantity
 
+    try:
+        machine = machine_by_name(args.machine)
+        scenario = load_scenario(args.scenario)
+        options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order)
+        spacing = parse_quantity(args.spacing, "length") if args.spacing else None
+    except (InputError, UnitError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
     t0 = time.perf_counter()
-    ds, r = simulate(args.machine, args.scenario, resolution=args.mesh)
-    wall = time.perf_counter() - t0
-    t = r.timings
-    peak_mib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(f"machine {args.machine}, scenario {args.scenario}, mesh {args.mesh}")
-    print(f"  nodes                      {r.mm.nnodes} ({r.mm.ncells} cells, {3 * r.mm.nnodes} elastic dofs)")
-    print(f"  preparation                {t['preparation']:.2f} s (heat assembly, elastic assembly and "
-          f"factorisation, adjoint drift solves, sensor operators)")
-    print(f"  time stepping              {t['time_stepping']:.2f} s for {t['steps']} steps "
-          f"({1e3 * t['time_stepping'] / t['steps']:.2f} ms per step, incl. factorisations of the heat operators)")
-    print(f"  total wall time            {wall:.2f} s")
-    print(f"  peak memory (max RSS)      {peak_mib:.0f} MiB")
+    mm = build_mesh(machine, spacing) if spacing else mesh_machine(machine, args.mesh)
+    twin = PreparedTwin(machine, mm, solver=options)
+    observers = [TemperatureSensors(sensor_points(machine))] + ([] if args.heat_only else [ToolDrift()])
+    if machine.probes and not args.heat_only:
+        observers.append(FiveProbeTestBar())
+    observers.append(HeatBalance())
+    for o in observers:
+        if hasattr(o, "functionals"):
+            twin.adjoint(o)
+    spec = model_spec(machine)
+    cases = vary_cases(scenario, spec, args.cases, args.seed) if args.cases > 1 else [(scenario, spec)]
+    t1 = time.perf_counter()
+    if args.cases > 1:
+        loads, readings, info = twin.run_batch(cases, observers, bound=not args.no_bound)
+    else:
+        loads, readings = twin.run(scenario, spec, observers)
+        info = twin.run_info
+        readings = {k: v[:, :, None] for k, v in readings.items()}
+    t2 = time.perf_counter()
+    steps = len(scenario.times()) - 1
+    offline = float(info.get("rom_offline_s", 0.0))
+    result = {"machine": args.machine, "scenario": args.scenario, "spacing_m": mm.spacing, "nodes": int(mm.nnodes),
+              "solver": args.solver, "device": args.device, "cases": len(cases),
+              "preparation_s": round(t1 - t0 + offline, 3), "step_ms": round(1e3 * (t2 - t1 - offline) / steps, 4),
+              "total_s": round(t2 - t0, 3),
+              "peak_mib": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
+    result.update({k: v for k, v in info.items() if isinstance(v, (int, float, str)) and k not in result})
+    if args.solver == "rom":
+        result.update(rom_order=info["rom_order"], offline_s=round(offline, 3))
+        if not args.no_reference:
+            result["max_rel_error"] = _reference_error(twin, cases, observers, readings)
+    print(json.dumps(result, sort_keys=True) if args.json else json.dumps(result, indent=2, sort_keys=True))
     return 0
+
+
+def _reference_error(twin, cases, observers, readings, most: int = 3) -> float:
+    """max over the drift outputs (and up to ``most`` cases) of max_t |rom - full| / max_t |full|,
+    both as changes from the start."""
+    reduced_options = twin.options
+    twin.options = replace(reduced_options, solver="auto")
+    worst = 0.0
+    try:
+        for j, (sc, spec) in enumerate(cases[:most]):
+            _, full = twin.run(sc, spec, observers)
+            for key in ("drift", "probes"):
+                if key not in full:
+                    continue
+                ref = full[key] - full[key][0]
+                rom = readings[key][:, :, j] - readings[key][0, :, j]
+                peak = np.abs(ref).max(axis=0)
+                ok = peak > 1e-3 * peak.max()          # an output that does not move has no relative error
+                worst = max(worst, float(np.max(np.abs(rom - ref).max(axis=0)[ok] / peak[ok])))
+    finally:
+        twin.options = reduced_options
+    return worst
 
 
 if __name__ == "__main__":

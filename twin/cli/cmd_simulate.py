@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from twin.cli.options import add_model_options
+from twin.cli.options import add_model_options, solver_options
 from twin.cli.progress import progress_bar
 from twin.errors import InputError
 from twin.io.atomic import atomic_write, check_writable
@@ -16,7 +16,7 @@ def add_parser(sub) -> None:
     p.add_argument("scenario", help="a bundled scenario name or a path to a TOML file")
     p.add_argument("-o", "--output", required=True, help="result file (.nc)")
     p.add_argument("--field", metavar="FILE", help="also write the temperature field at the hottest moment (.vtu or .xdmf)")
-    add_model_options(p)
+    add_model_options(p, solvers=True)
     p.set_defaults(func=run)
 
 
@@ -25,7 +25,7 @@ def simulate_with_progress(machine: str, scenario: str, args):
     from twin.api import simulate
 
     return simulate(machine, scenario, args.effects, args.set, args.mesh, args.seed,
-                    progress=progress_bar(f"{machine} / {Path(scenario).stem}"))
+                    progress=progress_bar(f"{machine} / {Path(scenario).stem}"), solver=solver_options(args))
 
 
 def run(args) -> int:

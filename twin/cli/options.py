@@ -7,14 +7,30 @@ import argparse
 
 def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default", mesh_help: str = "mesh resolution",
                       effects_help: str = "+name,-name to change the default set (write --effects=-name when it "
-                                          "starts with -), or a,b,c for an exact set") -> None:
-    """--effects, --set, --mesh, --seed."""
+                                          "starts with -), or a,b,c for an exact set", solvers: bool = False) -> None:
+    """--effects, --set, --mesh, --seed; with ``solvers`` also --solver and --device (for the
+    commands that pass them on: :func:`solver_options`)."""
     p.add_argument("--effects", help=effects_help)
     p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE",
                    help="set a parameter with its unit, e.g. spindle_motor.power=120W (repeatable)")
     p.add_argument("--mesh", default=mesh_default, choices=["coarse", "default", "fine"],
                    help=f"{mesh_help} (default {mesh_default})")
     p.add_argument("--seed", type=int, default=0, help="seed of the instrument noise")
+    if solvers:
+        p.add_argument("--solver", default="auto", choices=["auto", "direct", "iterative", "rom"],
+                       help="linear solvers: auto (direct factorisation up to 30k nodes, iterative above), "
+                            "direct, iterative (PCG heat steps, AMG-CG elastic adjoints) or rom (reduced model "
+                            "with its error reported per output); default auto")
+        p.add_argument("--device", default="cpu", choices=["cpu", "gpu"],
+                       help="gpu: the iterative heat step on a CUDA GPU with CuPy (optional); default cpu")
+
+
+def solver_options(args):
+    """The :class:`twin.physics.solvers.SolverOptions` of parsed --solver/--device (auto on the
+    CPU for a command that does not offer them)."""
+    from twin.physics.solvers import SolverOptions
+
+    return SolverOptions(getattr(args, "solver", "auto"), getattr(args, "device", "cpu"))
 
 
 def add_measurement_options(p: argparse.ArgumentParser) -> None:

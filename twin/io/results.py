@@ -66,9 +66,17 @@ def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "")
         "reference_temperature_degC": sc.start_temperature,
         **({"hottest_time_s": r.hottest_time} if any(o.key == "hottest" for o in r.observers) else {}),
         **attrs,
+        **solver_attrs(getattr(r, "solver_info", {})),
         "Conventions": "CF-1.8",
     }
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
+
+
+def solver_attrs(info: dict) -> dict:
+    """What solved the run, as NetCDF attributes: scalars as they are, per-output errors
+    (``solver_error_bound``, ``rom_error_estimate``: {observer key: [value per output]} in the
+    observer's raw SI units, m or degC) as JSON."""
+    return {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()}
 
 
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike) -> Path:

@@ -8,6 +8,10 @@ never blocked (the support reactions of a self-equilibrated thermal load are zer
 Every drift output is a linear functional q = g^T u = g^T K^-1 C dT. With one adjoint solve
 K lam = g per output, the influence vector is w = C^T lam and q = w^T dT: a dot product per time
 step (the adjoint identity g^T K^-1 C = (C^T K^-T g)^T with K symmetric).
+
+Small meshes factorise K_ff (SuperLU); large ones solve by CG with a smoothed-aggregation AMG
+preconditioner built on the six rigid-body modes (:class:`twin.physics.solvers.AmgElastic`),
+whose cost grows about linearly with the mesh where the factorisation's fill grows faster.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ import scipy.sparse.linalg as spla
 
 from twin.fem.assembly import ElasticMatrices, assemble_elastic
 from twin.fem.mesh import MachineMesh
+from twin.physics.solvers import AmgElastic, rigid_body_modes
 
 
 def support_dofs(mm: MachineMesh) -> np.ndarray:
@@ -40,21 +45,40 @@ def support_dofs(mm: MachineMesh) -> np.ndarray:
 
 @dataclass
 class ElasticSolver:
-    """Factorised stiffness of a supported machine: solves K u = f for any load."""
+    """The supported stiffness of a machine, ready to solve K u = f for any load: factorised
+    (``method="direct"``) or by AMG-preconditioned CG to ``rtol`` (``method="amg"``)."""
 
     matrices: ElasticMatrices
     fixed: np.ndarray
     free: np.ndarray
     _lu: object
+    method: str = "direct"
+    rtol: float = 0.0
 
     @classmethod
-    def build(cls, mm: MachineMesh, materials: dict | None = None) -> "ElasticSolver":
+    def build(cls, mm: MachineMesh, materials: dict | None = None, method: str = "direct",
+              rtol: float = 1e-10) -> "ElasticSolver":
         mats = assemble_elastic(mm, materials)
         fixed = support_dofs(mm)
         free = np.setdiff1d(np.arange(mats.K.shape[0]), fixed)
-        kff = mats.K[free][:, free].tocsc()
-        lu = spla.splu(kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-        return cls(mats, fixed, free, lu)
+        kff = mats.K[free][:, free]
+        if method == "direct":
+            solver = spla.splu(kff.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                               options={"SymmetricMode": True})
+            rtol = 0.0
+        elif method == "amg":
+            solver = AmgElastic(kff.tocsr(), rigid_body_modes(mm.mesh.p.T)[free], rtol)
+        else:
+            raise ValueError(f"unknown elastic method {method!r}")
+        return cls(mats, fixed, free, solver, method, rtol)
+
+    def info(self) -> dict:
+        """What solves the adjoints, for the result attributes."""
+        if self.method == "direct":
+            return {"solver_elastic": "direct (sparse LU of the supported stiffness, SuperLU)"}
+        its = self._lu.iterations or [0]
+        return {"solver_elastic": "CG + smoothed-aggregation AMG (pyamg, rigid-body modes as near-null space)",
+                "elastic_rtol": self.rtol, "elastic_iterations_max": int(max(its))}
 
     @staticmethod
     def coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:

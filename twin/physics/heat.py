@@ -12,7 +12,8 @@ the grid. Because 1^T K = 0 and 1^T H_k T = int T dA, the scheme conserves energ
 1^T M (T^(n+1) - T^n) = dt (sum_j s_j 1^T b_j + sum_k h_k (T_air,k A_k - r_k^T T^(n+theta))).
 
 Piecewise-constant spindle schedules give few distinct h vectors, so few factorisations; each
-step is then one back-substitution and two sparse products.
+step is then one back-substitution and two sparse products. Large meshes solve each step by
+warm-started PCG instead (:mod:`twin.physics.solvers`, with a verified bound on the error it adds).
 """
 
 from __future__ import annotations
@@ -23,6 +24,8 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+from twin.physics.solvers import DirectStepper
 
 
 @dataclass
@@ -39,12 +42,19 @@ class HeatSystem:
 def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.ndarray, air: np.ndarray,
               s: np.ndarray, outputs: sp.spmatrix, theta: float = 0.5,
               on_step: Callable[[int, np.ndarray], None] | None = None,
-              factorisations: dict | None = None, operator_key: tuple = ()) -> np.ndarray:
+              factorisations: dict | None = None, operator_key: tuple = (), stepper=None) -> np.ndarray:
     """Integrate ``nsteps`` steps of length ``dt`` [s] from ``T0`` [degC].
 
     h (nsteps, ncv) [W/(m2 K)], air (nsteps, ncv) [degC] and s (nsteps, nsrc) [W] hold the
     signals at t_n + theta dt. Returns ``outputs @ T`` at every step, shape (nsteps+1, nout).
     ``on_step(n, T)`` is called after each step with the new field (progress, snapshots).
+
+    Batched cases (multiple right-hand sides, one operator): ``T0`` (n, m), ``air`` (nsteps,
+    ncv, m) and ``s`` (nsteps, nsrc, m) give outputs (nsteps+1, nout, m); the film coefficients
+    ``h`` are shared by all cases.
+
+    ``stepper`` solves each step (:mod:`twin.physics.solvers`: direct LU or warm-started PCG on
+    the CPU or a GPU); by default a direct stepper whose factorisations live in
     ``factorisations``: a dict kept by the caller across runs (:class:`twin.physics.prepared.
     PreparedTwin`), keyed by ``operator_key`` (which must identify M, K and the H_k: the layout
     and the convection loads), dt, theta and the film coefficients, so a factorised operator is
@@ -52,24 +62,28 @@ def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.
     """
     if not 0.5 <= theta <= 1.0:
         raise ValueError("theta must lie in [1/2, 1] (unconditionally stable range)")
-    cache: dict[tuple, tuple] = {} if factorisations is None else factorisations
-    T = np.array(T0, dtype=float)
-    out = np.empty((nsteps + 1, outputs.shape[0]))
-    out[0] = outputs @ T
+    stepper = stepper if stepper is not None else DirectStepper(factorisations)
+    xp = stepper.xp
+    stepper.begin(nsteps, system)
+    to_dev = (lambda a: a) if xp is np else xp.asarray
+    T = to_dev(np.array(T0, dtype=float))
+    batched = T.ndim == 2
+    F, r = to_dev(system.F), to_dev(system.r)
+    W = outputs if xp is np else stepper._matrix(sp.csr_matrix(outputs))
+    out = np.empty((nsteps + 1, outputs.shape[0]) + ((T.shape[1],) if batched else ()))
+    host = (lambda a: a) if xp is np else xp.asnumpy
+    out[0] = host(W @ T)
     for n in range(nsteps):
         key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
-        if key not in cache:
-            A = system.K + sum((hk * Hk for hk, Hk in zip(h[n], system.H) if hk != 0), sp.csr_matrix(system.K.shape))
-            lhs = (system.M + theta * dt * A).tocsc()
-            rhs_op = (system.M - (1.0 - theta) * dt * A).tocsr()
-            cache[key] = (spla.splu(lhs, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                    options={"SymmetricMode": True}), rhs_op)
-        lu, rhs_op = cache[key]
-        f = system.F @ s[n] + system.r @ (h[n] * air[n])
-        T = lu.solve(rhs_op @ T + dt * f)
-        out[n + 1] = outputs @ T
+        op = stepper.operator(key, system, dt, theta, h[n])
+        if batched:
+            f = F @ to_dev(s[n]) + r @ to_dev(h[n][:, None] * air[n])
+        else:
+            f = F @ to_dev(s[n]) + r @ to_dev(h[n] * air[n])
+        T = stepper.solve(op, stepper.rhs_operator(op) @ T + dt * f, T)
+        out[n + 1] = host(W @ T)
         if on_step is not None:
-            on_step(n + 1, T)
+            on_step(n + 1, host(T))
     return out
 
 

@@ -51,15 +51,9 @@ def layout_key(mm) -> tuple:
     return (mm.nheat, hash(np.ascontiguousarray(mm.heat_t).tobytes()))
 
 
-def build_loads(mm, scenario, spec, heat=None, materials: dict | None = None,
-                heat_cache: dict | None = None) -> LoadSet:
-    """Collect every effect's loads and assemble their patterns once.
-
-    When an effect returns a :class:`ContactConductance`, the temperature field is split at its
-    facets first (``mm.split_heat``) and the heat matrices are assembled on the split mesh (or
-    taken from ``heat_cache``, keyed by :func:`layout_key`, and stored there); otherwise
-    ``heat`` (assembled with ``materials`` when None) is used as given.
-    """
+def collect_loads(mm, scenario, spec) -> tuple[list, list, list, list]:
+    """Every effect's load objects (patterns and signals, nothing assembled): (sources,
+    convections and contacts, the effect of each source, the effect of each convection)."""
     sources, convs, s_eff, c_eff = [], [], [], []
     for name in spec.effects:
         for load in EFFECTS[name].loads(mm, scenario, spec.params[name]):
@@ -71,6 +65,25 @@ def build_loads(mm, scenario, spec, heat=None, materials: dict | None = None,
                 s_eff.append(name)
             else:
                 raise TypeError(f"effect {name} returned an unknown load {load!r}")
+    return sources, convs, s_eff, c_eff
+
+
+def pattern_key(loads: list) -> tuple:
+    """Identifies the spatial patterns of a list of loads (label and cells or facets of each)."""
+    return tuple((type(x).__name__, x.label, hash(np.asarray(getattr(x, "cells", getattr(x, "facets", ()))).tobytes()))
+                 for x in loads)
+
+
+def build_loads(mm, scenario, spec, heat=None, materials: dict | None = None,
+                heat_cache: dict | None = None) -> LoadSet:
+    """Collect every effect's loads and assemble their patterns once.
+
+    When an effect returns a :class:`ContactConductance`, the temperature field is split at its
+    facets first (``mm.split_heat``) and the heat matrices are assembled on the split mesh (or
+    taken from ``heat_cache``, keyed by :func:`layout_key`, and stored there); otherwise
+    ``heat`` (assembled with ``materials`` when None) is used as given.
+    """
+    sources, convs, s_eff, c_eff = collect_loads(mm, scenario, spec)
     for c in convs:
         if isinstance(c, ContactConductance):
             mm = mm.split_heat(c.parts, c.facets)

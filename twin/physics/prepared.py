@@ -9,7 +9,15 @@ runs need them:
   mesh's temperature dofs, split where a contact conductance asks for it);
 * per layout, the heat matrices and every observer's rows;
 * per operator (layout, convection loads, dt, theta, film coefficients), the factorisation of
-  M + theta dt A, so a later run with the same operators only back-substitutes.
+  M + theta dt A (direct) or the operator and its diagonal (iterative), so a later run with the
+  same operators only back-substitutes or iterates;
+* per load set, the reduced model (``solver="rom"``, :mod:`twin.physics.rom`).
+
+The solvers are chosen by size or by ``solver`` (:class:`twin.physics.solvers.SolverOptions`):
+direct factorisations for small meshes, warm-started PCG for the heat steps and AMG-CG for the
+elastic adjoints on large ones, or the reduced model. :attr:`PreparedTwin.run_info` holds what
+solved the last run, its tolerances and the bound (iterative) or estimate (reduced) of every
+output's error, for the result attributes.
 
 A run with a scenario, a model spec and a list of observers then costs its load assembly and one
 transient integration; the readings come back per observer (:mod:`twin.observe`).
@@ -22,17 +30,22 @@ import scipy.sparse as sp
 
 from twin.fem.assembly import assemble_heat
 from twin.fem.mesh import mesh_machine
+from twin.observe.base import Observer
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate
 from twin.physics.loads import LoadSet, build_loads, layout_key
+from twin.physics.solvers import DirectStepper, IterativeStepper, as_options, mass_weights, output_bounds
 
 
 class PreparedTwin:
     """``machine`` meshed (``mm``, or ``resolution``) and assembled with ``materials`` (a map from
-    material name to a replacement Material) once; :meth:`run` any scenario and effect set."""
+    material name to a replacement Material) once; :meth:`run` any scenario and effect set.
+    ``solver``: a :class:`twin.physics.solvers.SolverOptions` or a solver name (default auto)."""
 
-    def __init__(self, machine, mm=None, resolution: str = "default", materials: dict | None = None):
+    def __init__(self, machine, mm=None, resolution: str = "default", materials: dict | None = None,
+                 solver=None):
         self.machine = machine
+        self.options = as_options(solver)
         self.mm = mm if mm is not None else mesh_machine(machine, resolution)
         self.materials = {p.name: materials[p.material.name] for p in machine.parts
                           if materials and p.material.name in materials}
@@ -43,12 +56,16 @@ class PreparedTwin:
         self._couplings: dict[tuple, sp.csr_matrix] = {}
         self._rows: dict[tuple, np.ndarray] = {}
         self.factorisations: dict[tuple, tuple] = {}
+        self.reduced: dict[tuple, object] = {}
+        self.method = self.options.resolve(self.mm.nheat)   # the full-order method: direct | iterative
+        self.run_info: dict = {}
 
     @property
     def elastic(self) -> ElasticSolver:
         """The factorised stiffness of the supported machine (built on first use)."""
         if self._elastic is None:
-            self._elastic = ElasticSolver.build(self.mm, self.materials)
+            method = "direct" if self.method == "direct" else "amg"
+            self._elastic = ElasticSolver.build(self.mm, self.materials, method, self.options.elastic_rtol)
         return self._elastic
 
     def coupling(self, layout, material: str | None = None) -> sp.csr_matrix:
@@ -93,33 +110,76 @@ class PreparedTwin:
             rows = self._rows[key]
         return np.zeros((0, loads.mm.nheat)) if rows is None else np.asarray(rows)
 
-    def run(self, scenario, spec, observers, theta: float = 0.5, on_step=None) -> tuple[LoadSet, dict]:
+    def stepper(self):
+        """The full-order heat stepper of this twin (its caches persist across runs)."""
+        if self.method == "direct":
+            return DirectStepper(self.factorisations)
+        o = self.options
+        return IterativeStepper(o.heat_tol, o.device, o.max_iterations, self.factorisations)
+
+    def output_rows(self, observers, loads) -> tuple[sp.csr_matrix, np.ndarray]:
+        """The stacked rows of ``observers`` on the layout of ``loads`` (CSR) and the block bounds."""
+        keys = [o.key for o in observers]
+        if len(set(keys)) != len(keys):
+            raise ValueError(f"observer keys must be unique in a run, got {keys}")
+        blocks = [sp.csr_matrix(self._rows_of(o, loads)) for o in observers]
+        outputs = sp.vstack(blocks).tocsr() if blocks else sp.csr_matrix((0, loads.mm.nheat))
+        return outputs, np.cumsum([0] + [b.shape[0] for b in blocks])
+
+    def run(self, scenario, spec, observers, theta: float = 0.5, on_step=None, progress=None) -> tuple[LoadSet, dict]:
         """Integrate ``scenario`` with the effects of ``spec``, observed by ``observers``.
 
         Returns (loads, readings): ``readings[observer.key]`` is that observer's raw output
         (n_t, k) at every output instant (see :class:`twin.observe.base.Observer`).
-        ``on_step(n, T)`` is called after each step.
+        ``on_step(n, T)`` is called after each step with the field, ``progress(n, total)``
+        without it (the reduced model then never forms the field unless an observer needs it).
+        :attr:`run_info` then describes the solvers and the error of every output.
         """
-        keys = [o.key for o in observers]
-        if len(set(keys)) != len(keys):
-            raise ValueError(f"observer keys must be unique in a run, got {keys}")
         loads = self.loads(scenario, spec)
-        blocks = [self._rows_of(o, loads) for o in observers]
-        outputs = sp.csr_matrix(np.vstack(blocks)) if blocks else sp.csr_matrix((0, loads.mm.nheat))
+        outputs, bounds = self.output_rows(observers, loads)
         times = scenario.times()
         dt = scenario.sample_interval
         h, air, s = loads.signals(times[:-1] + theta * dt)
         T0 = np.full(loads.mm.nheat, scenario.start_temperature)
         for o in observers:
             o.start(T0)
+        hooks = [o for o in observers if type(o).on_step is not Observer.on_step]
+        nsteps = len(times) - 1
 
         def step(n, T):
-            for o in observers:
+            for o in hooks:
                 o.on_step(n, times[n], T)
             if on_step is not None:
                 on_step(n, T)
+            if progress is not None:
+                progress(n, nsteps)
 
-        out = integrate(loads.system, T0, dt, len(times) - 1, h, air, s, outputs, theta, step,
-                        self.factorisations, loads.operator_key)
-        bounds = np.cumsum([0] + [len(b) for b in blocks])
+        needs_field = bool(hooks) or on_step is not None
+        if self.options.solver == "rom":
+            from twin.physics.rom import reduced_model
+            rom = reduced_model(self, loads, outputs, h)
+            out, info = rom.integrate(scenario.start_temperature, dt, nsteps, h, air, s, theta,
+                                      step if needs_field else None, progress)
+            for name, key in (("_estimate", "rom_error_estimate"), ("_bound", "rom_error_bound")):
+                values = info.pop(name)
+                info[key] = {o.key: values[a:b].tolist() for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        else:
+            stepper = self.stepper()
+            hook = step if needs_field else ((lambda n, T: progress(n, nsteps)) if progress is not None else None)
+            out = integrate(loads.system, T0, dt, nsteps, h, air, s, outputs, theta, hook,
+                            self.factorisations, loads.operator_key, stepper)
+            info = stepper.info()
+            if stepper.method == "iterative":
+                bound = output_bounds(outputs, mass_weights(loads.system.M), float(stepper.rho_sum))
+                info["solver_error_bound"] = {o.key: bound[a:b].tolist()
+                                              for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        self.run_info = {"solver": self.options.solver, "solver_method": self.method, "device": self.options.device,
+                         **info, **(self._elastic.info() if self._elastic is not None else {})}
         return loads, {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+
+    def run_batch(self, cases, observers, theta: float = 0.5, progress=None, bound: bool = True) -> tuple[LoadSet, dict, dict]:
+        """Many (scenario, spec) cases at once, vectorised in the reduced model and as multiple
+        right-hand sides in the full one (:func:`twin.physics.batch.run_batch`): (loads, readings
+        {key: (n_t, k, cases)}, info). Observers must be linear (rows only)."""
+        from twin.physics.batch import run_batch
+        return run_batch(self, cases, observers, theta, progress, bound)

@@ -1,0 +1,213 @@
+"""Solvers at scale, verified on small meshes: iterative heat steps and AMG elastic adjoints against
+the direct factorisations, the verified error bounds, the energy balance of an iterative run, the
+reduced model against full runs, batched cases against single runs, and the GPU path (skipped
+without CuPy and a GPU). Benchmarks are a command: ``python -m validate.benchmark``."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from geometries import build_machine
+from tests.conftest import box_body, face
+from twin.fem.assembly import assemble_facets, assemble_heat
+from twin.model import model_spec
+from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
+from twin.physics.heat import HeatSystem, integrate
+from twin.physics.prepared import PreparedTwin
+from twin.physics.solvers import (DirectStepper, IterativeStepper, SolverOptions, mass_weights,
+                                  output_bounds)
+from twin.scenario import Ambient, Scenario
+
+SHORT = Scenario("short", ((1200.0, 9000.0), (900.0, 0.0)), Ambient("daily", 20.0, 2.0), 30.0)
+
+
+@pytest.fixture(scope="module")
+def machine():
+    return build_machine("cframe-vmc")
+
+
+@pytest.fixture(scope="module")
+def twins(machine):
+    """The coarse C-frame prepared three ways (direct, iterative, reduced), one mesh."""
+    from twin.fem.mesh import mesh_machine
+    mm = mesh_machine(machine, "coarse")
+    return {k: PreparedTwin(machine, mm, solver=k) for k in ("direct", "iterative", "rom")}
+
+
+def _observers(machine):
+    return [TemperatureSensors(sensor_points(machine)), ToolDrift(), FiveProbeTestBar(), HeatBalance()]
+
+
+def _cooled_slab(steps: int):
+    """A steel slab heated through one face at 50 W and cooled there by h = 300 W/(m2 K) to 15 degC
+    air, from 20 degC: (heat matrices, system, n, the integrate arguments for ``steps`` 30 s steps,
+    observing every 7th node)."""
+    mm = box_body((0.2, 0.05, 0.05), 0.01, surfaces=[("cooled", face(0, 0.2))])
+    heat = assemble_heat(mm)
+    fm = assemble_facets(mm, mm.facets["cooled"])
+    system = HeatSystem(heat.M, heat.K, [fm.H], fm.r[:, None], (fm.r / fm.area)[:, None])
+    n = mm.nnodes
+    args = (np.full(n, 20.0), 30.0, steps, np.full((steps, 1), 300.0), np.full((steps, 1), 15.0),
+            np.full((steps, 1), 50.0), np.eye(n)[::7])
+    return heat, system, n, args
+
+
+def test_consistent_mass_is_bounded_below_by_lumped_over_27():
+    """Trilinear mass: the eigenvalues of M_L^-1 M lie in [1/27, 1] (the 1-D element's (h/6)[2 1; 1 2]
+    against (h/2) I has 1/3 and 1, cubed for the brick), the inequality behind every bound."""
+    mm = box_body((0.06, 0.04, 0.03), 0.01)
+    M = assemble_heat(mm).M.toarray()
+    lam = sla.eigh(M, np.diag(M.sum(axis=1)), eigvals_only=True)
+    assert lam.min() >= 1 / 27 - 1e-12 and lam.max() <= 1 + 1e-12
+    assert lam.min() < 1 / 27 * 1.5     # and 1/27 is nearly reached: the constant is not loose
+
+
+def test_pcg_steps_equal_direct_ones_within_the_verified_bound():
+    """A slab cooled on one face: PCG with extrapolated start vs sparse LU, 200 CN steps. Each output
+    errs by at most (27 w^T M_L^-1 w)^(1/2) sum_n rho_n (||A^-1 r||_M <= (r^T M^-1 r)^(1/2), M-contraction
+    of the theta-scheme), and that bound is below ``heat_tol`` sqrt(C) times the row norm."""
+    heat, system, n, args = _cooled_slab(200)
+    direct = integrate(system, *args, stepper=DirectStepper())
+    it = IterativeStepper(heat_tol=1e-4)
+    iterative = integrate(system, *args, stepper=it)
+    bound = output_bounds(np.eye(n)[::7], mass_weights(heat.M), float(it.rho_sum))
+    err = np.abs(iterative - direct).max(axis=0)
+    assert np.all(err <= bound) and err.max() > 0
+    assert float(it.rho_sum) <= 1e-4 * np.sqrt(heat.M.sum()) * (1 + 1e-12)
+    assert 0 < np.mean(it.iterations) < 30
+
+
+def test_amg_adjoints_equal_direct_ones(twins, machine):
+    """Drift influence rows by AMG-CG (rigid-body modes as near-null space) vs SuperLU: the
+    relative residual 1e-8 gives rows equal to about that relative accuracy."""
+    d, i = twins["direct"], twins["iterative"]
+    assert i.elastic.method == "amg" and d.elastic.method == "direct"
+    for obs in (ToolDrift(), FiveProbeTestBar()):
+        a, b = d.displacement_rows(obs, d.mm), i.displacement_rows(obs, i.mm)
+        assert np.max(np.abs(a - b)) <= 1e-6 * np.max(np.abs(a))
+
+
+@pytest.fixture(scope="module")
+def runs(twins, machine):
+    spec = model_spec(machine)
+    out = {}
+    for k, twin in twins.items():
+        obs = _observers(machine)
+        loads, readings = twin.run(SHORT, spec, obs)
+        out[k] = (loads, readings, dict(twin.run_info), obs)
+    return out
+
+
+def test_iterative_run_equals_direct_within_its_reported_bound(runs):
+    _, ref, _, _ = runs["direct"]
+    _, got, info, _ = runs["iterative"]
+    assert info["solver_method"] == "iterative" and "AMG" in info["solver_elastic"]
+    for key, bound in info["solver_error_bound"].items():
+        err = np.abs(got[key] - ref[key]).max(axis=0)
+        assert np.all(err <= np.asarray(bound)), key
+    # the solver's tolerance, not the bound's pessimism, is what the drift sees
+    assert np.abs(got["drift"] - ref["drift"]).max() < 1e-6 * np.abs(ref["drift"] - ref["drift"][0]).max()
+
+
+def test_energy_balance_of_an_iterative_run_closes_to_the_solver_tolerance(runs):
+    """Summing the steps' first law with residuals r_n: |stored - sources - convection| =
+    |sum_n 1^T r_n| <= sqrt(1^T M 1) sum_n rho_n (Cauchy-Schwarz in the M norm)."""
+    from twin.observe import RunContext
+    loads, readings, info, obs = runs["iterative"]
+    ctx = RunContext(SHORT.times(), SHORT, None, None, loads, np.random.default_rng(0))
+    sources, convection, stored = HeatBalance.energy(readings["energy"], ctx)
+    capacity = float(loads.system.M.sum())
+    assert abs(sources + convection - stored) <= np.sqrt(capacity) * info["heat_residual_sum"]
+    assert abs(sources + convection - stored) < 1e-6 * abs(sources)
+
+
+def test_reduced_model_error_is_below_its_bound_and_estimate(runs):
+    """ROM vs the direct full model on a run whose spindle starts and stops (the forced-convection
+    film switches from 150 to 0 W/(m2 K) on the same reduction): every output's error is below its
+    verified bound; the drift outputs' errors are below the estimate |y_r - y_(r-b)|."""
+    _, ref, _, _ = runs["direct"]
+    _, got, info, _ = runs["rom"]
+    assert info["rom_order"] >= 40 and info["rom_estimate_order"] < info["rom_order"]
+    for key in ref:
+        err = np.abs(got[key] - ref[key]).max(axis=0)
+        assert np.all(err <= np.asarray(info["rom_error_bound"][key])), key
+    for key in ("drift", "probes"):
+        peak = np.abs(ref[key] - ref[key][0]).max(axis=0)
+        moving = peak > 1e-3 * peak.max()
+        err = np.abs(got[key] - ref[key]).max(axis=0)
+        assert np.all(err[moving] <= np.asarray(info["rom_error_estimate"][key])[moving]), key
+        assert np.all(err[moving] < 0.02 * peak[moving])
+
+
+def test_batched_cases_equal_single_runs(twins, machine):
+    """Three cases (source strengths, room amplitude, and a different film) through one prepared
+    twin: the reduced model vectorised and the direct model with multiple right-hand sides equal
+    their single runs (to round-off)."""
+    from dataclasses import replace
+    base = model_spec(machine)
+    cases = [(SHORT, base),
+             (replace(SHORT, ambient=Ambient("daily", 20.0, 3.0)), model_spec(machine, settings=["spindle_bearings.front_power=90W"])),
+             (SHORT, model_spec(machine, settings=["ambient_convection.h=12W/m2K"]))]
+    for kind in ("rom", "direct"):
+        twin = twins[kind]
+        obs = [TemperatureSensors(sensor_points(machine)), ToolDrift()]
+        _, batch, info = twin.run_batch(cases, obs)
+        assert info["cases"] == 3
+        for j, (sc, spec) in enumerate(cases):
+            _, single = twin.run(sc, spec, obs)
+            for key in single:
+                np.testing.assert_allclose(batch[key][:, :, j], single[key], rtol=1e-9,
+                                           atol=1e-9 * np.abs(single[key]).max())
+
+
+def test_contact_split_runs_through_the_reduced_model(twins, machine):
+    """test_bar_contact splits the temperature layout: the reduction is built on the split layout
+    (the contact is one more H_k with r_k = 0) and stays within its bound of the direct model."""
+    spec = model_spec(machine, "+test_bar_contact", ["test_bar_contact.conductance=5W/K"])
+    obs = lambda: [TemperatureSensors(sensor_points(machine)), ToolDrift()]  # noqa: E731
+    _, ref = twins["direct"].run(SHORT, spec, obs())
+    _, got = twins["rom"].run(SHORT, spec, obs())
+    info = twins["rom"].run_info
+    for key in ref:
+        assert np.all(np.abs(got[key] - ref[key]).max(axis=0) <= np.asarray(info["rom_error_bound"][key]))
+
+
+def test_cli_writes_the_solver_and_its_errors_into_the_result(tmp_path):
+    from twin.cli import main
+    import xarray as xr
+    toml = tmp_path / "s.toml"
+    toml.write_text('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n'
+                    '[[spindle]]\nspeed = "6000 rpm"\nduration = "20 min"\n')
+    out = tmp_path / "r.nc"
+    assert main(["simulate", "cframe-vmc", str(toml), "-o", str(out), "--mesh", "coarse", "--solver", "rom"]) == 0
+    ds = xr.open_dataset(out)
+    assert ds.attrs["solver"] == "rom" and ds.attrs["rom_order"] >= 40
+    bound = json.loads(ds.attrs["rom_error_bound"])
+    assert len(bound["drift"]) == 3 and all(b >= 0 for b in bound["drift"])
+    assert main(["simulate", "cframe-vmc", str(toml), "-o", str(tmp_path / "x.nc"), "--solver", "magic"]) == 2
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_gpu_option_needs_the_iterative_path():
+    from twin.errors import InputError
+    with pytest.raises(InputError, match="--device"):
+        SolverOptions("direct", "gpu")
+    assert SolverOptions("auto", "gpu").resolve(100) == "iterative"
+    assert SolverOptions("auto").resolve(100) == "direct" and SolverOptions("auto").resolve(10**6) == "iterative"
+
+
+def test_gpu_heat_steps_equal_cpu_ones():
+    """The same PCG code on CuPy arrays (skipped without CuPy and a CUDA device)."""
+    cupy = pytest.importorskip("cupy")
+    try:
+        cupy.cuda.runtime.getDeviceCount()
+    except Exception:  # noqa: BLE001
+        pytest.skip("no CUDA device")
+    _, system, n, args = _cooled_slab(50)
+    cpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6))
+    gpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
+    np.testing.assert_allclose(gpu, cpu, atol=1e-8)

@@ -1,0 +1,264 @@
+"""Reduced-order heat model: a block-Krylov basis, affine in the film coefficients, every observer
+projected exactly, and an error estimate for every output.
+
+With u = T - T_0 (T_0 the uniform start temperature; K 1 = 0, H_k 1 = r_k for a film and
+H_c 1 = 0 for a contact, so T_0 drops out of the operator) the full model is
+
+    M u' + (K + sum_k h_k(t) H_k) u = F s(t) + sum_k h_k(t) (T_air,k(t) - T_0) r_k,   u(0) = 0.
+
+**Basis** (offline): V (n, r) spans the block Krylov space of the moments at s = 0,
+
+    A_ref^-1 B,  (A_ref^-1 M) A_ref^-1 B,  ...,   B = [F, r_1 .. r_m],
+    A_ref = K + sum_k hbar_k H_k + sigma_0 M,
+
+(hbar the mean film coefficients of the run that built it, sigma_0 = 1 / (10 days) keeps A_ref
+definite without any film), M-orthonormalised block by block (twice-iterated Gram-Schmidt, rank
+deflation by the eigenvalues of each block's M-Gram matrix). Modal truncation is not used: local
+heat inputs excite many modes quasi-statically (notes/engine-performance.md).
+
+**Reduced model** (online): with V^T M V = I, z' + (K_r + sum_k h_k(t) H_k,r) z = F_r s +
+sum_k h_k (T_air,k - T_0) r_k,r, K_r = V^T K V, H_k,r = V^T H_k V, F_r = V^T F, r_k,r = V^T r_k:
+affine in the h_k, so any film schedule (speed-dependent, another scenario) runs on the same
+reduction. The same theta-scheme as the full model; every observer's rows W give W V and W 1
+exactly (y = T_0 W 1 + (W V) z). Each step costs O(r^2) per case.
+
+**Error, reported two ways.** (1) A verified bound: a reduced step leaves the full-space residual
+R_n = M V (z+ - z) + dt (K + sum h_k H_k) V z_theta - dt f_n = Y c_n, Y = [M V, K V, H_k V, F, r_k]
+(c_n from the reduced state and the signals), and exactly as for an iterative solver
+(:mod:`twin.physics.solvers`) the error of every output q = w^T T over the run is at most
+(27 w^T M_L^-1 w)^(1/2) sum_n rho_n with rho_n = (c_n^T G c_n)^(1/2), G = Y^T 27 M_L^-1 Y
+computed once offline (plus a round-off allowance 64 eps (sum_i |c_i| G_ii^(1/2))^2 under the
+root). It holds for any film schedule, any input, any mesh; it is pessimistic (about sqrt(n)
+for a point sensor). (2) An estimate: the model is also integrated with its leading blocks less
+the last two (order r - b, b the size of two blocks: one more moment of each reference
+operator), and max_t |y_r - y_(r-b)| per output estimates the error of y_r (when the moments
+converge geometrically it exceeds the error by the ratio of a two-block step; not guaranteed). Both come with the result; tests/test_scale.py holds
+the error against full runs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from twin.physics.solvers import DIRECT_LIMIT, mass_weights, output_bounds, pcg
+
+SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
+
+
+@dataclass
+class ReducedModel:
+    """Projected matrices of one load set (module docstring): basis ``V`` (n, r), ``K`` (r, r),
+    ``H`` (ncv, r, r), ``F`` (r, nsrc), ``R`` (r, ncv), ``order_estimate`` the size of the
+    sub-basis whose difference estimates the error, ``offline_s`` the time the reduction took."""
+
+    V: np.ndarray
+    K: np.ndarray
+    H: np.ndarray
+    F: np.ndarray
+    R: np.ndarray
+    order_estimate: int
+    offline_s: float
+    gram: np.ndarray | None = None        # residual Gram matrix (:func:`residual_gram`)
+    outputs: np.ndarray | None = None     # (nout, r) W V
+    ones: np.ndarray | None = None        # (nout,) W 1
+    output_norms: np.ndarray | None = None   # (nout,) (27 w^T M_L^-1 w)^(1/2)
+
+    @property
+    def order(self) -> int:
+        return self.V.shape[1]
+
+    def project_outputs(self, outputs: sp.spmatrix, weights: np.ndarray) -> "ReducedModel":
+        """A copy observing ``outputs`` (nout, n): W V and W 1 (exact), and each row's bounding
+        norm for the error bound (``weights``: :func:`twin.physics.solvers.mass_weights`)."""
+        W = sp.csr_matrix(outputs)
+        return ReducedModel(self.V, self.K, self.H, self.F, self.R, self.order_estimate, self.offline_s, self.gram,
+                            np.asarray(W @ self.V), np.asarray(W @ np.ones(W.shape[1])).ravel(),
+                            output_bounds(W, weights, 1.0))
+
+    def integrate(self, T0: float, dt: float, nsteps: int, h, air, s, theta: float = 0.5, on_step=None,
+                  progress=None, bound: bool = True) -> tuple[np.ndarray, dict]:
+        """The theta-scheme on the reduced model: outputs (nsteps+1, nout[, m]) and the run info
+        (order; ``_estimate``: max_t |y_r - y_(r-b)| per output; ``_bound``: the verified bound
+        of each output's error, ||w||_W sum_n rho_n (module docstring), when ``bound``).
+
+        Batched cases: ``air`` (nsteps, ncv, m) and ``s`` (nsteps, nsrc, m) and optionally ``h``
+        (nsteps, ncv, m), one column per case; otherwise 2-D as in :func:`twin.physics.heat.integrate`.
+        ``on_step(n, T)`` gets the reconstructed field T_0 + V z (costs n r per step).
+        """
+        batched = np.ndim(s) == 3
+        m = np.shape(s)[2] if batched else 1
+        s3 = np.asarray(s, float).reshape(nsteps, -1, m)
+        air3 = np.asarray(air, float).reshape(nsteps, -1, m)
+        h = np.asarray(h, float)
+        h3 = h if h.ndim == 3 else np.repeat(h[:, :, None], m, axis=2)
+        shared = h.ndim == 2 or bool(np.all(h3 == h3[:, :, :1]))
+        r, r0 = self.order, self.order_estimate
+        z = np.zeros((r, m))
+        z0 = np.zeros((r0, m))
+        W, W0 = self.outputs, self.outputs[:, :r0]
+        base = (T0 * self.ones)[:, None]
+        out = np.empty((nsteps + 1, len(self.ones), m))
+        est = np.zeros((len(self.ones), m))
+        out[0] = base
+        cache: dict = {}
+        eye = np.eye(r)
+        G = self.gram
+        gdiag = np.sqrt(np.maximum(np.diag(G), 0.0))
+        rho_sum = np.zeros(m)
+        for n in range(nsteps):
+            z_old = z
+            if shared:
+                key = tuple(np.round(h3[n, :, 0], 12))
+                if key not in cache:
+                    A = self.K + np.tensordot(h3[n, :, 0], self.H, axes=1)
+                    cache[key] = (_step_matrices(A, dt, theta, eye), _step_matrices(A[:r0, :r0], dt, theta, eye[:r0, :r0]))
+                (P, Q), (P0, Q0) = cache[key]
+                f = self.F @ s3[n] + self.R @ (h3[n] * (air3[n] - T0))
+                z = P @ z + Q @ f
+                z0 = P0 @ z0 + Q0 @ f[:r0]
+            else:   # film coefficients differ per case: one small solve per case and step
+                A = self.K[None] + np.einsum("km,kij->mij", h3[n], self.H)
+                f = self.F @ s3[n] + self.R @ (h3[n] * (air3[n] - T0))
+                z = _batched_step(A, z, f, dt, theta)
+                z0 = _batched_step(A[:, :r0, :r0], z0, f[:r0], dt, theta)
+            if bound:
+                zt = theta * z + (1 - theta) * z_old
+                c = np.vstack([z - z_old, dt * zt] + [dt * h3[n, k] * zt for k in range(len(self.H))]
+                              + [-dt * s3[n], -dt * h3[n] * (air3[n] - T0)])
+                q = np.einsum("im,im->m", c, G @ c)
+                rho_sum += np.sqrt(np.maximum(q, 0.0) + 64 * np.finfo(float).eps * (gdiag @ np.abs(c)) ** 2)
+            y = base + W @ z
+            out[n + 1] = y
+            est = np.maximum(est, np.abs(y - base - W0 @ z0))
+            if on_step is not None:
+                on_step(n + 1, T0 + self.V @ (z[:, 0] if m == 1 else z))
+            elif progress is not None:
+                progress(n + 1, nsteps)
+        bounds = self.output_norms[:, None] * rho_sum[None, :] if bound else np.full(est.shape, np.nan)
+        if not batched:
+            out, est, bounds = out[:, :, 0], est[:, 0], bounds[:, 0]
+        info = {"solver_heat": "reduced model (block Krylov at s = 0, M-orthonormal, affine in the film coefficients)",
+                "rom_order": r, "rom_estimate_order": r0, "rom_offline_s": self.offline_s}
+        return out, {**info, "_estimate": est, "_bound": bounds}
+
+
+def _step_matrices(A: np.ndarray, dt: float, theta: float, eye: np.ndarray):
+    """(P, Q) with z+ = P z + Q f: P = (I + theta dt A)^-1 (I - (1 - theta) dt A), Q = dt (I + theta dt A)^-1."""
+    lhs = eye + theta * dt * A
+    return np.linalg.solve(lhs, eye - (1 - theta) * dt * A), dt * np.linalg.inv(lhs)
+
+
+def _batched_step(A: np.ndarray, z: np.ndarray, f: np.ndarray, dt: float, theta: float) -> np.ndarray:
+    """One theta step per case: A (m, r, r), z and f (r, m)."""
+    eye = np.eye(A.shape[1])[None]
+    lhs = eye + theta * dt * A
+    rhs = np.einsum("mij,jm->mi", eye - (1 - theta) * dt * A, z) + dt * f.T
+    return np.linalg.solve(lhs, rhs[:, :, None])[:, :, 0].T
+
+
+def _reference_solver(A: sp.csr_matrix, rtol: float = 1e-10):
+    """X -> A^-1 X for the SPD reference operator: sparse LU on small layouts, CG with a
+    smoothed-aggregation AMG preconditioner (pyamg) on large ones."""
+    if A.shape[0] <= DIRECT_LIMIT:
+        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        return lu.solve
+    import pyamg
+
+    ml = pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=500, coarse_solver="splu")
+    prec = ml.aspreconditioner(cycle="V")
+    ones = np.ones(A.shape[0])
+
+    def solve(X):
+        tol = rtol * np.linalg.norm(X, axis=0)
+        Y, _, _ = pcg(lambda V: A @ V, X, np.zeros_like(X), lambda R: np.column_stack([prec @ R[:, j] for j in range(R.shape[1])]),
+                      ones, tol, max_iterations=500)
+        return Y
+
+    return solve
+
+
+def _m_orthonormalise(X: np.ndarray, V: np.ndarray, M: sp.spmatrix, drop: float = 1e-10) -> np.ndarray:
+    """Columns spanning X minus its M-projection on V (V^T M V = I), M-orthonormal, with directions
+    whose M-norm fell below ``drop`` of the block's largest (already in V, or dependent) removed."""
+    scale = np.sqrt(np.max(np.einsum("ij,ij->j", X, M @ X)))
+    for _ in range(2):                       # twice is enough (Kahan-Parlett)
+        if V.shape[1]:
+            X = X - V @ (V.T @ (M @ X))
+    G = X.T @ (M @ X)
+    lam, U = np.linalg.eigh(0.5 * (G + G.T))
+    keep = lam > (drop * scale) ** 2
+    Y = X @ (U[:, keep] / np.sqrt(lam[keep]))
+    if V.shape[1] and Y.shape[1]:            # one more pass against round-off
+        Y = Y - V @ (V.T @ (M @ Y))
+        G = Y.T @ (M @ Y)
+        lam, U = np.linalg.eigh(0.5 * (G + G.T))
+        Y = Y @ (U / np.sqrt(lam))
+    return Y
+
+
+def build_reduced(system, h_refs: list, order: int = 48) -> ReducedModel:
+    """Reduce ``system`` (:class:`twin.physics.heat.HeatSystem`) to about ``order`` basis vectors:
+    whole blocks of moments at s = 0 of each reference operator A(h) for h in ``h_refs`` (film
+    coefficient vectors; the extremes of a run's films when they vary, so that both the spindle
+    turning and standing are spanned), taken in turn (module docstring)."""
+    import time
+
+    t0 = time.perf_counter()
+    M = system.M.tocsr()
+    solves = [_reference_solver((system.K + sum((hk * Hk for hk, Hk in zip(h, system.H)), sp.csr_matrix(system.K.shape))
+                                 + SIGMA0 * M).tocsr()) for h in h_refs]
+    B = np.column_stack([system.F, system.r])
+    B = B[:, np.any(B != 0, axis=0)]
+    V = np.zeros((M.shape[0], 0))
+    starts = [0]
+    X = [solve(B) for solve in solves]
+    while V.shape[1] < order:
+        for i, solve in enumerate(solves):
+            if X[i] is None:
+                continue
+            Y = _m_orthonormalise(X[i], V, M)
+            if Y.shape[1] == 0:
+                X[i] = None
+                continue
+            V = np.hstack([V, Y])
+            starts.append(V.shape[1])
+            X[i] = solve(M @ Y) if V.shape[1] < order else None
+        if all(x is None for x in X):
+            break
+    if len(starts) < 4:
+        raise ValueError("the reduced model needs at least three blocks of moments to estimate its error; "
+                         f"the Krylov space is exhausted at order {V.shape[1]} (use the full model)")
+    K = V.T @ (system.K @ V)
+    H = np.stack([V.T @ (Hk @ V) for Hk in system.H]) if system.H else np.zeros((0, V.shape[1], V.shape[1]))
+    gram = residual_gram(system, V)
+    return ReducedModel(V, 0.5 * (K + K.T), 0.5 * (H + np.transpose(H, (0, 2, 1))), V.T @ system.F,
+                        V.T @ system.r, starts[-3], time.perf_counter() - t0, gram)
+
+
+def residual_gram(system, V: np.ndarray) -> np.ndarray:
+    """G = Y^T (27 M_L^-1) Y for Y = [M V, K V, H_1 V .. H_m V, F, r_1 .. r_m]: the full-space
+    residual of a reduced step is R = Y c (:meth:`ReducedModel.integrate`), so its bounding norm
+    rho = (27 R^T M_L^-1 R)^(1/2) (:mod:`twin.physics.solvers`) is (c^T G c)^(1/2)."""
+    w = mass_weights(system.M)
+    blocks = [system.M @ V, system.K @ V] + [Hk @ V for Hk in system.H] + [system.F, system.r]
+    Y = np.hstack(blocks)
+    return Y.T @ (w[:, None] * Y)
+
+
+def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:
+    """The reduced model of ``loads`` on ``twin`` (built on first use from the extremes of the film
+    coefficients ``h`` (nsteps, ncv[, m]), or their value when constant, and cached per operator
+    and source patterns: later runs with other films reuse it, their error reported), observing
+    ``outputs``. Any layout works, contact splits included: the contact matrices are H_k
+    like the films (with r_k = 0)."""
+    key = (loads.operator_key, hash(np.ascontiguousarray(loads.system.F).tobytes()))
+    if key not in twin.reduced:
+        hh = np.moveaxis(np.asarray(h, float).reshape(len(h), len(loads.convections), -1), 1, 2).reshape(-1, len(loads.convections))
+        lo, hi = (hh.min(axis=0), hh.max(axis=0)) if len(hh) else (np.zeros(0), np.zeros(0))
+        refs = [lo, hi] if np.any(hi > lo * (1 + 1e-9)) else [hh.mean(axis=0) if len(hh) else lo]
+        twin.reduced[key] = build_reduced(loads.system, refs, twin.options.rom_order)
+    return twin.reduced[key].project_outputs(outputs, mass_weights(loads.system.M))

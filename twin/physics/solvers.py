@@ -1,0 +1,306 @@
+"""Linear solvers of the heat steps, chosen by size: direct factorisation or warm-started PCG.
+
+Every theta-step solves A x = b with A = M + theta dt (K + sum_k h_k H_k), symmetric positive
+definite (M is, K and the H_k are semi-definite). Two ways:
+
+* **direct** (small meshes): one sparse LU per distinct operator, cached by the caller under the
+  load set's ``operator_key`` and every later step is a back-substitution (exact to round-off);
+* **iterative** (large meshes): Jacobi-preconditioned conjugate gradients started from the linear
+  extrapolation 2 T^n - T^(n-1) of the last two steps. With dt of tens of seconds A is nearly
+  mass-dominated, so a handful of iterations reach the tolerance, each at the memory-bandwidth
+  limit (one sparse product and five vector passes).
+
+**The iterative tolerance is a verified bound on the outputs.** Let r = b - A x be the residual
+of a step and E the accumulated error of the field. Because A >= M (SPD ordering),
+||A^-1 r||_M <= ||A^-1 r||_A = (r^T A^-1 r)^(1/2) <= (r^T M^-1 r)^(1/2), and the consistent
+trilinear mass is bounded below by its lumped diagonal, M >= M_L / 27 (the eigenvalues of a Q1
+element's mass relative to its row sums lie in [1/27, 1]), so
+
+    ||A^-1 r||_M <= rho = (27 r^T M_L^-1 r)^(1/2).
+
+The theta-scheme propagator (M + theta dt A)^-1 (M - (1 - theta) dt A) is a contraction in the M
+norm for theta >= 1/2, so after N steps ||E_N||_M <= sum_n rho_n. Every linear output q = w^T T
+then errs by at most |w^T E| <= ||w||_(M^-1) ||E||_M <= (27 w^T M_L^-1 w)^(1/2) sum_n rho_n, and
+the stored heat 1^T M T by at most (1^T M 1)^(1/2) sum_n rho_n. CG stops each step when
+rho <= ``heat_tol`` (C / ...) so that sum rho_n <= heat_tol sqrt(C), C = 1^T M 1 the total heat
+capacity [J/K]: ``heat_tol`` [K] bounds the capacity-weighted RMS temperature error the solver adds
+over the whole run. The bound per output is reported with the result (:func:`output_bounds`).
+
+The same code runs on a GPU (``device="gpu"``, CuPy): arrays and the sparse matrices live on the
+device, the outputs come back every step. CPU results are the reference.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from twin.errors import InputError
+
+SOLVERS = ("auto", "direct", "iterative", "rom")
+DEVICES = ("cpu", "gpu")
+DIRECT_LIMIT = 30_000       # temperature dofs up to which "auto" factorises (the default mesh: 15.6 k)
+MASS_BOUND = 27.0           # M >= M_L / 27 for trilinear bricks
+
+
+@dataclass
+class SolverOptions:
+    """What solves the linear systems of a prepared twin.
+
+    ``solver``: auto (direct up to :data:`DIRECT_LIMIT` temperature dofs, iterative above), direct,
+    iterative or rom (the reduced model, :mod:`twin.physics.rom`). ``device``: cpu or gpu (the
+    iterative heat step on a GPU with CuPy). ``heat_tol`` [K]: bound on the capacity-weighted RMS
+    temperature error the iterative heat solver may add over a run (module docstring).
+    ``elastic_rtol``: relative residual of the iterative elastic adjoint solves. ``rom_order``:
+    the reduced model's basis size (:mod:`twin.physics.rom`).
+    """
+
+    solver: str = "auto"
+    device: str = "cpu"
+    heat_tol: float = 1e-6
+    elastic_rtol: float = 1e-8
+    rom_order: int = 48
+    max_iterations: int = 2000
+
+    def __post_init__(self):
+        if self.solver not in SOLVERS:
+            raise InputError("command line", "--solver", f"unknown solver {self.solver!r}; known: {', '.join(SOLVERS)}")
+        if self.device not in DEVICES:
+            raise InputError("command line", "--device", f"unknown device {self.device!r}; known: {', '.join(DEVICES)}")
+        if self.device == "gpu" and self.solver == "direct":
+            raise InputError("command line", "--device", "the GPU path is the iterative heat step: use --solver "
+                                                         "iterative or auto with --device gpu")
+        if not self.heat_tol > 0 or not self.elastic_rtol > 0 or self.rom_order < 2:
+            raise InputError("command line", "--solver", "tolerances must be positive and the ROM order at least 2")
+
+    def resolve(self, nheat: int) -> str:
+        """The full-order method for a layout of ``nheat`` temperature dofs: direct or iterative."""
+        if self.solver in ("direct", "iterative"):
+            return self.solver
+        if self.device == "gpu":
+            return "iterative"
+        return "direct" if nheat <= DIRECT_LIMIT else "iterative"
+
+
+DEFAULT = {"solver": "auto"}   # what None means; the test suite's --solver option changes it
+
+
+def as_options(solver) -> SolverOptions:
+    """A :class:`SolverOptions` from itself, a solver name or None (``DEFAULT``: auto)."""
+    if isinstance(solver, SolverOptions):
+        return solver
+    return SolverOptions(solver or DEFAULT["solver"])
+
+
+def array_module(device: str):
+    """numpy for the CPU, cupy for the GPU (imported here: CuPy is optional)."""
+    if device == "cpu":
+        return np
+    try:
+        import cupy
+    except ImportError:  # pragma: no cover - depends on the machine
+        raise InputError("command line", "--device", "gpu needs CuPy (pip install cupy-cuda12x) and a CUDA GPU") from None
+    return cupy
+
+
+def mass_weights(M: sp.spmatrix) -> np.ndarray:
+    """27 / m_L,i [1/(J/K)]: the diagonal weight of the norm rho = (r^T W r)^(1/2) that bounds
+    ||A^-1 r||_M (module docstring); m_L the lumped (row-sum) capacity."""
+    return MASS_BOUND / np.asarray(M.sum(axis=1)).ravel()
+
+
+def output_bounds(rows: sp.spmatrix | np.ndarray, weights: np.ndarray, rho_sum: float) -> np.ndarray:
+    """Bound on each output's solver error, (w^T W w)^(1/2) sum_n rho_n, for rows w (k, n)."""
+    rows = sp.csr_matrix(rows)
+    return np.sqrt(np.asarray(rows.multiply(rows) @ weights).ravel()) * rho_sum
+
+
+def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2000):
+    """Preconditioned CG on every column of ``b`` (n,) or (n, m) at once.
+
+    ``apply(X)`` is A X and ``precondition(R)`` an SPD approximation of A^-1 R, both on (n, m)
+    blocks; ``weights`` (n,) the diagonal of the norm in which each column's residual must fall
+    below ``tol`` (a number or one per column). Returns (x, iterations, rho) with rho the final
+    residual norm per column; raises RuntimeError if ``max_iterations`` are not enough (never a
+    silent unconverged answer).
+    """
+    single = b.ndim == 1
+    B = b[:, None] if single else b
+    X = (x0[:, None] if single else x0).copy()
+    weights = weights[:, None]
+    R = B - apply(X)
+    rho = xp.sqrt(xp.sum(weights * R * R, axis=0))
+    it = 0
+    active = rho > tol
+    if bool(active.any()):
+        Z = precondition(R)
+        P = Z.copy()
+        rz = xp.sum(R * Z, axis=0)
+        while bool(active.any()):
+            if it >= max_iterations:
+                raise RuntimeError(f"PCG did not converge in {max_iterations} iterations "
+                                   f"(residual {float(rho.max()):.3g})")
+            Q = apply(P)
+            pq = xp.sum(P * Q, axis=0)
+            alpha = xp.where(active, rz / xp.where(pq > 0, pq, 1.0), 0.0)
+            X += alpha * P
+            R -= alpha * Q
+            rho = xp.sqrt(xp.sum(weights * R * R, axis=0))
+            active = active & (rho > tol)
+            Z = precondition(R)
+            rz_new = xp.sum(R * Z, axis=0)
+            beta = xp.where(active, rz_new / xp.where(rz > 0, rz, 1.0), 0.0)
+            P = Z + beta * P
+            rz = rz_new
+            it += 1
+    return (X[:, 0] if single else X), it, (rho[0] if single else rho)
+
+
+def jacobi(dinv):
+    """The Jacobi preconditioner R -> D^-1 R of a matrix with inverse diagonal ``dinv`` (n,)."""
+    return lambda R: dinv[:, None] * R if R.ndim == 2 else dinv * R
+
+
+def theta_operators(system, dt: float, theta: float, h: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """(M + theta dt A, M - (1 - theta) dt A) with A = K + sum_k h_k H_k, as CSR."""
+    A = system.K + sum((hk * Hk for hk, Hk in zip(h, system.H) if hk != 0), sp.csr_matrix(system.K.shape))
+    return (system.M + theta * dt * A).tocsr(), (system.M - (1.0 - theta) * dt * A).tocsr()
+
+
+class DirectStepper:
+    """Sparse LU per distinct operator, cached in ``factorisations`` (kept by the caller)."""
+
+    method = "direct"
+    xp = np
+
+    def __init__(self, factorisations: dict | None = None):
+        self.cache = {} if factorisations is None else factorisations
+
+    def operator(self, key, system, dt, theta, h):
+        if key not in self.cache:
+            lhs, rhs_op = theta_operators(system, dt, theta, h)
+            self.cache[key] = (spla.splu(lhs.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                         options={"SymmetricMode": True}), rhs_op)
+        return self.cache[key]
+
+    def begin(self, nsteps: int, system) -> None:
+        pass
+
+    def rhs_operator(self, op):
+        return op[1]
+
+    def solve(self, op, rhs, T):
+        return op[0].solve(rhs)
+
+    def info(self) -> dict:
+        return {"solver_heat": "direct (sparse LU per operator, SuperLU)"}
+
+
+@dataclass
+class IterativeStepper:
+    """Jacobi-PCG warm-started from 2 T^n - T^(n-1), on the CPU or a GPU (module docstring).
+
+    ``operators`` (kept by the caller) caches the CSR operators and their inverse diagonals per key.
+    """
+
+    heat_tol: float = 1e-6
+    device: str = "cpu"
+    max_iterations: int = 2000
+    operators: dict = field(default_factory=dict)
+    iterations: list = field(default_factory=list)
+    rho_sum: float | np.ndarray = 0.0
+    weights: np.ndarray | None = None
+
+    method = "iterative"
+
+    def __post_init__(self):
+        self.xp = array_module(self.device)
+        self._previous = None
+
+    def _matrix(self, A):
+        if self.device == "cpu":
+            return A
+        import cupyx.scipy.sparse as csp
+        return csp.csr_matrix(A)
+
+    def begin(self, nsteps: int, system) -> None:
+        """Reset the statistics and set the per-step tolerance for a run of ``nsteps`` steps."""
+        self.iterations, self.rho_sum, self._previous = [], 0.0, None
+        self.weights = mass_weights(system.M)
+        capacity = float(system.M.sum())
+        self.step_tol = self.heat_tol * np.sqrt(capacity) / max(nsteps, 1)
+        self._w = self.xp.asarray(self.weights)
+
+    def operator(self, key, system, dt, theta, h):
+        if key not in self.operators:
+            lhs, rhs_op = theta_operators(system, dt, theta, h)
+            dinv = 1.0 / lhs.diagonal()
+            self.operators[key] = (self._matrix(lhs), self._matrix(rhs_op), self.xp.asarray(dinv))
+        return self.operators[key]
+
+    def rhs_operator(self, op):
+        return op[1]
+
+    def solve(self, op, rhs, T):
+        lhs, _, dinv = op
+        guess = T if self._previous is None else 2.0 * T - self._previous
+        x, it, rho = pcg(lambda v: lhs @ v, rhs, guess, jacobi(dinv), self._w, self.step_tol, self.xp,
+                         self.max_iterations)
+        self._previous = T
+        self.iterations.append(it)
+        self.rho_sum = self.rho_sum + (rho if self.device == "cpu" else self.xp.asnumpy(rho))
+        return x
+
+    def info(self) -> dict:
+        its = np.asarray(self.iterations or [0])
+        return {"solver_heat": f"Jacobi-PCG, warm start 2T^n - T^(n-1), on {self.device}",
+                "heat_tol_K": self.heat_tol, "heat_residual_sum": float(np.max(self.rho_sum)),
+                "heat_iterations_mean": float(its.mean()), "heat_iterations_max": int(its.max())}
+
+
+def rigid_body_modes(points: np.ndarray) -> np.ndarray:
+    """The six rigid-body modes (3 n, 6) of nodes at ``points`` (n, 3) [m], dofs interleaved:
+    translations x, y, z and rotations about x, y, z (about the centroid)."""
+    p = points - points.mean(axis=0)
+    n = len(p)
+    B = np.zeros((n, 3, 6))
+    for i in range(3):
+        B[:, i, i] = 1.0
+    x, y, z = p[:, 0], p[:, 1], p[:, 2]
+    B[:, 1, 3], B[:, 2, 3] = -z, y          # about x: (0, -z, y)
+    B[:, 0, 4], B[:, 2, 4] = z, -x          # about y: (z, 0, -x)
+    B[:, 0, 5], B[:, 1, 5] = -y, x          # about z: (-y, x, 0)
+    return B.reshape(3 * n, 6)
+
+
+class AmgElastic:
+    """CG with a smoothed-aggregation algebraic multigrid preconditioner (pyamg) for the
+    supported stiffness K_ff (SPD under the 3-2-1 support), built with the six rigid-body modes
+    as the near-null space so that the coarse levels keep them (without them aggregation-AMG
+    converges badly on elasticity). ``rtol``: relative residual ||K x - f|| <= rtol ||f||."""
+
+    def __init__(self, kff: sp.csr_matrix, modes: np.ndarray, rtol: float = 1e-10, max_iterations: int = 500):
+        import pyamg
+
+        self.rtol, self.max_iterations = rtol, max_iterations
+        self.ml = pyamg.smoothed_aggregation_solver(kff.tocsr(), B=modes, symmetry="hermitian", strength="symmetric",
+                                                    smooth="jacobi", max_coarse=500, coarse_solver="splu")
+        self.iterations: list[int] = []
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        rhs = np.asarray(rhs, dtype=float)
+        cols = rhs[:, None] if rhs.ndim == 1 else rhs
+        out = np.zeros(cols.shape)
+        for j in range(cols.shape[1]):
+            if not np.any(cols[:, j]):
+                continue
+            residuals: list[float] = []
+            out[:, j] = self.ml.solve(cols[:, j], tol=self.rtol, accel="cg", maxiter=self.max_iterations,
+                                      residuals=residuals)
+            if residuals[-1] > self.rtol * np.linalg.norm(cols[:, j]) * (1 + 1e-6):
+                raise RuntimeError(f"AMG-CG did not reach rtol {self.rtol:.1e} in {self.max_iterations} iterations")
+            self.iterations.append(len(residuals) - 1)
+        return out[:, 0] if rhs.ndim == 1 else out
