@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from geometries import MACHINES, build_machine
+from twin import limits
 from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
 from twin.io.results import to_dataset
@@ -22,12 +23,16 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
              resolution: str = "default", seed: int = 0, theta: float = 0.5, progress=None,
              sensors: list | None = None, materials: dict | None = None) -> tuple:
     """Simulate by names; returns (Dataset, RunResult). ``effects`` edits the machine's default
-    set (``"+a,-b"``) or replaces it (``"a,b"``)."""
+    set (``"+a,-b"``) or replaces it (``"a,b"``). Everything is checked before the run starts:
+    names, units, the scenario's speeds against the machine's maximum and the run's size
+    (:mod:`twin.limits`)."""
     m = machine_by_name(machine)
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     spec: ModelSpec = model_spec(m, effects, settings)
-    result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
-                            mm=mesh_machine(m, resolution))
+    limits.check_scenario(sc, m)
+    mm = mesh_machine(m, resolution)
+    limits.check_run_size(sc, mm.nheat)
+    result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors, mm=mm)
     return to_dataset(result, seed, resolution), result

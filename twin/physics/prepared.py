@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from twin.errors import InputError
 from twin.fem.assembly import assemble_heat
 from twin.fem.mesh import mesh_machine
 from twin.physics.elastic import ElasticSolver
@@ -122,4 +123,17 @@ class PreparedTwin:
         out = integrate(loads.system, T0, dt, len(times) - 1, h, air, s, outputs, theta, step,
                         self.factorisations, loads.operator_key)
         bounds = np.cumsum([0] + [len(b) for b in blocks])
-        return loads, {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        readings = {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        check_finite(readings, times, scenario.source or scenario.name)
+        return loads, readings
+
+
+def check_finite(readings: dict, times: np.ndarray, source: str) -> None:
+    """Raise :class:`twin.errors.InputError` naming the first observer whose readings hold NaN or
+    inf, and when they begin: a result never passes them off as numbers."""
+    for key, values in readings.items():
+        bad = ~np.isfinite(values)
+        if bad.any():
+            n = int(np.flatnonzero(bad.any(axis=1))[0])
+            raise InputError(source, key, f"the run produced NaN or infinite values from t = {times[n]:g} s on; "
+                                          "no result is written (an input beyond what the model can represent?)")
