@@ -17,6 +17,13 @@ def _pyplot():
     return plt
 
 
+def picture_suffixes() -> tuple[str, ...]:
+    """The file suffixes matplotlib can write (".png", ".pdf", ".svg", ...)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return tuple(f".{k}" for k in sorted(FigureCanvasBase.get_supported_filetypes()))
+
+
 def plot_result(ds, path) -> None:
     """Three panels against time [min]: drift X, Y, Z [um]; tilts A, B [urad]; temperatures [degC]."""
     plt = _pyplot()
