@@ -195,7 +195,9 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
         if abs(duration / dt - round(duration / dt)) > 1e-6:
             raise InputError(source, f"spindle[{i}].duration", f"must be a multiple of the sample interval ({dt:g} s)")
         steps.append((duration, speed))
-    limits.check_steps(sum(d for d, _ in steps), dt, source, "sample_interval")
+    total = sum(d for d, _ in steps)
+    # name the culprit: the interval when the durations would be affordable at 1 s, else the durations
+    limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     return Scenario(name, tuple(steps), ambient, dt, t0, description, source)
 
 
@@ -209,7 +211,8 @@ def _ambient(table, source: str) -> Ambient:
         amplitude = r.get("amplitude", "temperature_difference", required=True)
         if amplitude < 0:
             raise InputError(source, "ambient.amplitude", f"must not be negative, got {r.table['amplitude']!r}")
-        limits.check_temperatures([mean - amplitude, mean + amplitude], source, "ambient.amplitude")
+        for extreme in (mean - amplitude, mean + amplitude):
+            limits.check_temperatures(extreme, source, "ambient.amplitude")
         a = Ambient("daily", mean=mean, amplitude=amplitude,
                     coldest_at=r.get("coldest_at", "time", default=6 * 3600.0),
                     start_time_of_day=r.get("start_time_of_day", "time", default=0.0))

@@ -3,6 +3,8 @@ scenario that drives the twin, and the model, all checked before any simulation 
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from twin.errors import InputError
@@ -31,8 +33,9 @@ def declare_inputs(files, args) -> None:
     from twin.io.measurement import mapping_path
 
     files.input(args.measurement, "measurement", "measurement file")
-    mapping = mapping_path(args.measurement, getattr(args, "mapping", None))
-    if mapping is not None and (mapping.exists() or getattr(args, "mapping", None)):
+    given = getattr(args, "mapping", None)
+    mapping = mapping_path(args.measurement, given)
+    if given or (mapping is not None and os.path.lexists(mapping)):   # a missing default: the reader says so
         files.input(mapping, "--mapping", "column mapping")
     if args.scenario:
         declare_scenario(files, args.scenario)

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import csv
 import io
+import os
 import tomllib
 from pathlib import Path
 
@@ -99,8 +100,8 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
         mach = _machine(machine, {"machine": ds.attrs.get("machine")}, src, "the measurement is of")
         _check_netcdf_values(ds, mach, src)
         return _with_channels(ds, src)
-    mapping = mapping_path(path, mapping)
-    if not mapping.exists() and not mapping.is_symlink():
+    given, mapping = mapping, mapping_path(path, mapping)
+    if not given and not os.path.lexists(mapping):
         raise InputError(str(mapping), "--mapping", f"no column mapping for {path.name} (a TOML file naming each "
                                                     "column's role and unit)")
     text = read_text(mapping, "--mapping", "column mapping")
@@ -167,6 +168,9 @@ def _read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
     if len(rows) < 3:
         raise InputError(str(path), "file", "needs a header row and at least two data rows")
     header = [h.strip() for h in rows[0]]
+    twice = [h for h in header if header.count(h) > 1]
+    if twice:
+        raise InputError(str(path), twice[0], "two columns have this name")
     for i, r in enumerate(rows[1:], start=2):
         if len(r) != len(header):
             raise InputError(str(path), f"line {i}", f"has {len(r)} fields, the header has {len(header)}")

@@ -46,7 +46,7 @@ def input_file(path: str | os.PathLike, field: str = "file", what: str = "file")
     path = Path(path)
     try:
         st = path.stat()
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
         raise InputError(str(path), field, f"no such {what}") from None
     except (OSError, ValueError) as err:
         raise InputError(str(path), field, f"cannot be read ({_reason(err)})") from None
@@ -73,7 +73,7 @@ def read_text(path: str | os.PathLike, field: str = "file", what: str = "file") 
 
 
 def _reason(err: BaseException) -> str:
-    return getattr(err, "strerror", None) or type(err).__name__
+    return getattr(err, "strerror", None) or str(err) or type(err).__name__
 
 
 def _folder(path: Path) -> Path:
@@ -102,11 +102,13 @@ def output_file(path: str | os.PathLike, field: str = "output", suffixes: tuple[
     doc). ``suffixes``: the ones the writer supports (None: any). ``folder_may_be_created``: the
     folder need not exist yet (it is checked by :func:`output_folder`)."""
     path = Path(path)
-    if not path.name or str(path).endswith(os.sep):
-        raise InputError(str(path), field, "names a folder, not a file")
-    if suffixes is not None and path.suffix.lower() not in suffixes:
-        raise InputError(str(path), field, f"unsupported suffix {path.suffix or '(none)'!r}; use "
-                                           f"{', '.join(suffixes)}")
+    try:
+        return _output_file(path, field, suffixes, folder_may_be_created)
+    except (OSError, ValueError) as err:   # a name too long, a loop of links, a NUL byte ...
+        raise InputError(str(path), field, f"cannot be used as an output ({_reason(err)})") from None
+
+
+def _output_file(path: Path, field: str, suffixes, folder_may_be_created: bool) -> Path:
     if path.is_symlink() and not path.exists():
         raise InputError(str(path), field, "is a dangling link")
     if path.exists():
@@ -115,6 +117,9 @@ def output_file(path: str | os.PathLike, field: str = "output", suffixes: tuple[
             raise InputError(str(path), field, f"is {_kind(mode)}; an output must be a regular file")
         if not os.access(path, os.W_OK):
             raise InputError(str(path), field, "exists and is read-only")
+    if suffixes is not None and path.suffix.lower() not in suffixes:
+        raise InputError(str(path), field, f"unsupported suffix {path.suffix or '(none)'!r}; use "
+                                           f"{', '.join(suffixes)}")
     if not (folder_may_be_created and not _folder(path).exists()):
         _check_creatable(_folder(path), path, field)
     return path
@@ -124,6 +129,13 @@ def output_folder(path: str | os.PathLike, field: str = "output") -> Path:
     """``path`` as a Path after checking it is an existing writable folder, or can be created in
     an existing writable folder."""
     path = Path(path)
+    try:
+        return _output_folder(path, field)
+    except (OSError, ValueError) as err:
+        raise InputError(str(path), field, f"cannot be used as an output folder ({_reason(err)})") from None
+
+
+def _output_folder(path: Path, field: str) -> Path:
     if path.exists() or path.is_symlink():
         if not path.is_dir():
             raise InputError(str(path), field, "exists and is not a folder")
@@ -136,12 +148,12 @@ def output_folder(path: str | os.PathLike, field: str = "output") -> Path:
 def same_file(a: str | os.PathLike, b: str | os.PathLike) -> bool:
     """Whether ``a`` and ``b`` name the same file: equal resolved paths, or the same inode."""
     a, b = Path(a), Path(b)
-    if a.resolve() == b.resolve():
-        return True
     try:
+        if a.resolve() == b.resolve():
+            return True
         return a.exists() and b.exists() and os.path.samefile(a, b)
-    except OSError:
-        return False
+    except (OSError, RuntimeError, ValueError):   # a loop of links, a name too long: not comparable
+        return a == b
 
 
 class Files:
@@ -186,8 +198,8 @@ class Files:
     def output(self, path: str | os.PathLike, field: str, suffixes: tuple[str, ...] | None = None,
                folder_may_be_created: bool = False) -> Path:
         """Declare a file the command writes; returns it checked (:func:`output_file`)."""
+        self._clash(Path(path), field, output=True)
         path = output_file(path, field, suffixes, folder_may_be_created)
-        self._clash(path, field, output=True)
         self.outputs.append((path, field))
         return path
 

@@ -90,7 +90,7 @@ def check_finite(ds: xr.Dataset, source: str) -> None:
             continue
         where = ""
         if "time" in var.dims and "time" in ds.coords:
-            bad = ~np.isfinite(var.transpose("time", ...).values).reshape(len(ds.time), -1).any(axis=1)
+            bad = (~np.isfinite(var.transpose("time", ...).values)).reshape(len(ds.time), -1).any(axis=1)
             where = f" from t = {float(ds.time.values[np.flatnonzero(bad)[0]]):g} s"
         raise InputError(source, str(name), f"holds NaN or infinite values{where}")
 
@@ -98,8 +98,8 @@ def check_finite(ds: xr.Dataset, source: str) -> None:
 def read_result(path: str | os.PathLike, field: str = "file", required: tuple[str, ...] = (),
                 min_samples: int = 2) -> xr.Dataset:
     """Load a NetCDF result or measurement, checked: a readable regular file
-    (:func:`twin.io.paths.input_file`), a ``time`` coordinate with at least ``min_samples``
-    samples, every ``required`` variable present, no NaN or inf anywhere
+    (:func:`twin.io.paths.input_file`), a strictly increasing ``time`` coordinate with at least
+    ``min_samples`` samples, every ``required`` variable present, no NaN or inf anywhere
     (:class:`twin.errors.InputError` naming file and variable)."""
     path = input_file(path, field, "NetCDF file")
     try:
@@ -107,10 +107,14 @@ def read_result(path: str | os.PathLike, field: str = "file", required: tuple[st
             ds = ds.load()
     except Exception as err:  # noqa: BLE001 - any reader failure is a bad file for the user
         raise InputError(str(path), field, f"not a readable NetCDF file ({type(err).__name__})") from None
-    if "time" not in ds.coords:
+    if "time" not in ds.coords or "time" not in ds.dims:
         raise InputError(str(path), "time", "missing time coordinate; is this a twin result?")
     if ds.sizes["time"] < min_samples:
         raise InputError(str(path), "time", f"{ds.sizes['time']} sample(s); at least {min_samples} are needed")
+    t = np.asarray(ds["time"].values)
+    if t.dtype.kind in "fiu" and np.any(np.diff(t) <= 0):
+        i = int(np.flatnonzero(np.diff(t) <= 0)[0])
+        raise InputError(str(path), "time", f"time is not increasing at sample {i + 2} ({t[i]:g} -> {t[i + 1]:g} s)")
     missing = [v for v in required if v not in ds]
     if missing:
         raise InputError(str(path), missing[0], "missing variable; is this a twin result?")
