@@ -107,6 +107,10 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
     for name in ("time", "temperature", "probe", "drift", "tilt", "heat_power"):
         assert "units" in ds[name].attrs
     assert ds.heat_power.sel(effect="spindle_motor").values[0] == pytest.approx(100 * 6000 / 9000)
+    # the result carries its energy balance (first law over the run: sources + convection = stored)
+    a = ds.attrs
+    assert a["energy_sources_J"] > 0 and a["energy_closure"] < 1e-9
+    assert a["energy_sources_J"] + a["energy_convection_J"] == pytest.approx(a["energy_stored_J"], rel=1e-9)
     import meshio
 
     field = meshio.read(tmp_path / "hot.vtu")
