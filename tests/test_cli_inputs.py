@@ -8,22 +8,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from tests.fuzz_cases import SCENARIO as SHORT   # 6000 rpm for 10 min, then stopped for 20, logged every minute
 from twin.cli import main
 from twin.scenario import load_scenario
 from twin.units import UnitError, parse_quantity
-
-SHORT = """
-name = "short"
-sample_interval = "30 s"
-[ambient]
-temperature = "20 degC"
-[[spindle]]
-speed = "6000 rpm"
-duration = "10 min"
-[[spindle]]
-speed = "0 rpm"
-duration = "5 min"
-"""
 
 
 def _error(capsys, argv):
