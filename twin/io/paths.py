@@ -189,12 +189,6 @@ class Files:
         self.inputs.append((path, field))
         return path
 
-    def text(self, path: str | os.PathLike, field: str, what: str = "file") -> str:
-        """Declare a UTF-8 text input and return its text (:func:`read_text`)."""
-        text = read_text(path, field, what)
-        self.input(path, field, what)
-        return text
-
     def output(self, path: str | os.PathLike, field: str, suffixes: tuple[str, ...] | None = None,
                folder_may_be_created: bool = False) -> Path:
         """Declare a file the command writes; returns it checked (:func:`output_file`)."""
