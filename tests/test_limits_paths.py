@@ -38,6 +38,16 @@ def test_speed_limit_is_the_machines():
     assert limits.max_speed(None) == limits.UNDECLARED_MAX_SPEED
 
 
+def test_a_scenario_from_a_log_keeps_the_logs_tolerance():
+    from twin.scenario import Ambient, Scenario
+
+    m = build_machine("cframe-vmc")
+    steps = ((600.0, 9400.0),)
+    with pytest.raises(InputError, match="maximum of 9000 rpm"):
+        limits.check_scenario(Scenario("typed", steps, Ambient("constant")), m)
+    limits.check_scenario(Scenario("measured", steps, Ambient("constant"), extra={"logged": True}), m)
+
+
 @pytest.mark.parametrize("name", sorted(MACHINES))
 def test_every_sensor_site_and_probe_target_lies_on_its_part(name):
     """The position check accepts every point a machine names (so it refuses only what is off)."""
