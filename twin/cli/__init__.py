@@ -86,10 +86,12 @@ def _interrupted(err: KeyboardInterrupt) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     atomic.forget_completed()
-    try:
-        previous = signal.signal(signal.SIGTERM, _terminate)
-    except ValueError:  # not the main thread: leave signals alone
-        previous = None
+    previous = None
+    if signal.getsignal(signal.SIGTERM) is not signal.SIG_IGN:   # an ignored SIGTERM stays ignored
+        try:
+            previous = signal.signal(signal.SIGTERM, _terminate)
+        except ValueError:  # not the main thread: leave signals alone
+            pass
     try:
         return _main(argv)
     except KeyboardInterrupt as err:
