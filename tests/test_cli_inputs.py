@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from tests.fuzz_cases import SCENARIO as SHORT   # 6000 rpm for 10 min, then stopped for 20, logged every minute
+from tests.fuzz_files import SCENARIO as SHORT   # 6000 rpm for 10 min, then stopped for 20, logged every minute
 from twin.cli import main
 from twin.scenario import load_scenario
 from twin.units import UnitError, parse_quantity

@@ -21,7 +21,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from tests.fuzz_cases import all_cases, good_files, result_dataset
+from tests.fuzz_cases import all_cases
+from tests.fuzz_files import good_files, result_dataset
 from twin.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
