@@ -92,7 +92,8 @@ class Machine:
     ``roles`` binds role names of :data:`geometries.regions.ROLES` to regions of this machine (the
     places effects address); ``default_effects`` names the effects a model of this machine has
     unless the user says otherwise; ``air_sites`` are points in the air round the machine where
-    sensors read the air temperature (not glued to a part).
+    sensors read the air temperature (not glued to a part); ``max_speed`` is the spindle's maximum
+    speed [rpm] (scenarios and measurements beyond it are refused, :mod:`twin.limits`).
     """
 
     name: str
@@ -109,6 +110,7 @@ class Machine:
     roles: dict = field(default_factory=dict)
     default_effects: tuple[str, ...] = ()
     air_sites: list[str] = field(default_factory=list)
+    max_speed: float | None = None
 
     def __post_init__(self):
         check_roles(self.name, self.roles)

@@ -220,8 +220,9 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
                      "60-8000 rpm, DC motor on the carrier top belted to a pulley on the spindle, linear scales on X, Y, Z"),
         roles=roles(col_top),
         default_effects=DEFAULT_EFFECTS,
+        max_speed=8000.0,
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "column_depth": column_depth,
-                    "motor_offset": motor_offset, "probe_spacing": z2 - z1, "min_speed": 60.0, "max_speed": 8000.0,
+                    "motor_offset": motor_offset, "probe_spacing": z2 - z1, "min_speed": 60.0,
                     "travel_x": 0.40, "travel_y": 0.30, "travel_z": 0.30, "linear_scales": 1.0},
     )
 

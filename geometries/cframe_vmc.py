@@ -19,6 +19,8 @@ from geometries.regions import Band, Facing, Named, Parts, Union
 NAME = "cframe-vmc"
 
 # The effects a model of this machine has unless the user says otherwise (the seeds' spindle tests).
+MAX_SPEED = 9000.0  # rpm, the seeds' spindle maximum
+
 DEFAULT_EFFECTS = ("spindle_bearings", "spindle_motor", "ambient_convection", "spindle_forced_convection", "floor")
 
 
@@ -125,6 +127,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "probe_spacing": z2 - z1},
         roles=roles(col_top),
         default_effects=DEFAULT_EFFECTS,
+        max_speed=MAX_SPEED,
     )
 
 

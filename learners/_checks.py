@@ -13,12 +13,28 @@ from sklearn.utils.validation import check_array, check_is_fitted, check_X_y
 def check_fit_data(estimator, X, y, *, min_samples: int = 2):
     """Validate training data: return ``(X, y)`` as float arrays (2-D, 1-D), never views to mutate.
 
-    Sets ``estimator.n_features_in_``. Raises ``ValueError`` for NaN/inf, ragged shapes or fewer
-    than ``min_samples`` rows.
+    Sets ``estimator.n_features_in_``. Raises ``ValueError`` for NaN/inf, ragged shapes, fewer
+    than ``min_samples`` rows or a constant target.
     """
     X, y = check_X_y(X, y, dtype=float, y_numeric=True, ensure_min_samples=min_samples)
     estimator.n_features_in_ = X.shape[1]
-    return X, np.asarray(y, dtype=float).ravel()
+    y = np.asarray(y, dtype=float).ravel()
+    refuse_constant_target(y, type(estimator).__name__)
+    return X, y
+
+
+def is_constant(values) -> bool:
+    """Whether ``values`` hardly vary: range <= 1e-12 x max(1, max |value|)."""
+    v = np.asarray(values, dtype=float)
+    return bool(v.size == 0 or np.ptp(v) <= 1e-12 * max(1.0, float(np.max(np.abs(v)))))
+
+
+def refuse_constant_target(y, model: str) -> None:
+    """Raise ``ValueError`` for a constant target: there is nothing to learn, and every score
+    relative to the target's spread (NSE, R) would be undefined."""
+    if is_constant(y):
+        raise ValueError(f"{model}: the target is constant ({float(np.asarray(y).ravel()[0]):g}); there is nothing "
+                         "to learn")
 
 
 def check_predict_data(estimator, X, fitted_attribute: str):

@@ -11,9 +11,15 @@ inputs and scored on every test table (which must carry the same input columns) 
 :func:`learners.metrics.score_all`. One row per learner and test set is printed as an aligned text
 table; ``-o`` writes the same rows as CSV (to a temporary file in the same folder, then renamed, so
 no half-written file is left). ``--seed`` is given to every learner and selector that has a
-``random_state``. Bad names and bad tables raise :class:`twin.errors.InputError`, as does a
-learner or selector that refuses the data with a ``ValueError`` (too few rows for it, too many
-grid rules, ...); the ``twin`` entry point turns it into ``error: <msg>`` and exit status 2.
+``random_state``. Bad names and bad tables raise :class:`twin.errors.InputError`, as do
+degenerate problems (:func:`learners.table.check_problem`: the target among the inputs, a
+constant target or input, a selector asking for more inputs than there are), a learner or
+selector that refuses the data with a ``ValueError`` (too few rows for it, too many grid rules,
+...) and predictions that are not finite; the ``twin`` entry point turns it into
+``error: <file>: <field>: <message>`` and exit status 2. ``--train`` takes one table (a second
+``--train`` is refused rather than silently replacing the first); ``--test`` may be repeated,
+each file once. Every file is checked before any learner is fitted; ``-o`` never replaces an
+input (:class:`twin.io.paths.Files`).
 """
 
 from __future__ import annotations
@@ -26,9 +32,11 @@ import numpy as np
 
 from learners.metrics import score_all
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
-from learners.table import load_table
-from twin.io.atomic import atomic_write
+from learners.table import check_problem, load_table
+from twin.cli.options import add_seed_option
 from twin.errors import InputError
+from twin.io.atomic import atomic_write
+from twin.io.paths import Files
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
@@ -43,9 +51,9 @@ def add_learn_parser(subparsers):
         "learn", help="fit thermal-error learners on one table and score them on others",
         description="Fit thermal-error learners on a training table and score them (RMSE, NSE, R, "
                     "max|res|, improvement %, MRE %) on one or more test tables.")
-    p.add_argument("--train", required=True, metavar="FILE", help="training table (CSV or NetCDF)")
+    p.add_argument("--train", required=True, metavar="FILE", help="training table (CSV or NetCDF), given once")
     p.add_argument("--test", required=True, action="append", metavar="FILE",
-                   help="test table; repeat for several")
+                   help="test table; repeat for several (each file once)")
     p.add_argument("--target", required=True, metavar="NAME",
                    help="target column (CSV) or address such as drift:Z (NetCDF)")
     p.add_argument("--learner", required=True, metavar="L1,L2",
@@ -56,7 +64,7 @@ def add_learn_parser(subparsers):
                    help="comma-separated candidate inputs (default: all but time and target)")
     p.add_argument("--time-column", default="time", metavar="NAME", help="time column in s (default time)")
     p.add_argument("-o", "--output", metavar="FILE", help="also write the scores as CSV")
-    p.add_argument("--seed", type=int, default=0, help="random_state for learners and selectors (default 0)")
+    add_seed_option(p, "random_state for learners and selectors")
     p.set_defaults(func=run_learn)
     return p
 
@@ -75,6 +83,7 @@ def _seeded(estimator, seed):
 
 
 def _make_selector(spec, seed):
+    """(selector, requested count or None) from ``METHOD[:K]``."""
     method, sep, count = str(spec).partition(":")
     method = method.strip()
     params = {}
@@ -91,7 +100,7 @@ def _make_selector(spec, seed):
                          f"unknown selector {method!r}; known: {', '.join(sorted(SELECTORS))}")
     if params and "n_select" not in SELECTORS[method]().get_params():
         raise InputError("command line", "--select", f"selector {method!r} takes no count")
-    return _seeded(make_selector(method, **params), seed)
+    return _seeded(make_selector(method, **params), seed), params.get("n_select")
 
 
 @contextlib.contextmanager
@@ -99,11 +108,9 @@ def _as_input_error(source, field):
     """A learner or selector refusing the user's data (ValueError) becomes an InputError."""
     try:
         yield
-    except InputError:
-        raise
     except ValueError as exc:
-        raise InputError(source, field, str(exc).strip().splitlines()[0] if str(exc).strip() else
-                         type(exc).__name__) from exc
+        text = exc.message if isinstance(exc, InputError) else str(exc).strip()
+        raise InputError(source, field, text.splitlines()[0] if text else type(exc).__name__) from None
 
 
 def _fmt(value, digits=4):
@@ -137,24 +144,47 @@ def _write_csv(path, rows):
     atomic_write(path, write, field="-o")
 
 
+def _declare_files(args) -> Files:
+    """Every file of the command checked before any work: tables readable, each test once, the
+    scores not an input."""
+    files = Files()
+    files.input(args.train, "--train", "table")
+    for path in args.test:
+        if args.test.count(path) > 1:
+            raise InputError(path, "--test", "given more than once")
+        files.input(path, "--test", "table")
+    if args.output:
+        files.output(args.output, "-o", (".csv",))
+    return files
+
+
 def run_learn(args) -> int:
     """Run ``twin learn`` for a parsed namespace; prints the score table; returns 0."""
+    from twin.cli.progress import progress_bar
+
     seed = args.seed
+    _declare_files(args)
     learner_names = _split_names(args.learner, "--learner")
     learners = {name: _seeded(make_learner(name), seed) for name in learner_names}
-    selector = _make_selector(args.select, seed)
+    selector, n_select = _make_selector(args.select, seed)
     inputs = None if str(args.inputs).strip() in ("", "all") else _split_names(args.inputs, "--inputs")
+    if inputs and args.target in inputs:
+        raise InputError("command line", "--inputs", f"the target {args.target} is also an input")
 
-    train = load_table(args.train, args.target, inputs=inputs, time_column=args.time_column)
-    tests = [(path, load_table(path, args.target, inputs=train.input_names, time_column=args.time_column))
-             for path in args.test]
+    train = load_table(args.train, args.target, inputs=inputs, time_column=args.time_column, field="--train")
+    check_problem(train, args.train, args.target, n_select=n_select)
+    tests = [(path, load_table(path, args.target, inputs=train.input_names, time_column=args.time_column,
+                               field="--test")) for path in args.test]
+    for path, tab in tests:
+        check_problem(tab, path, args.target, training=False)
     with _as_input_error(args.train, args.select):
         selector.fit(train.X, train.y)
     cols = list(selector.selected_)
     used = [train.input_names[i] for i in cols]
 
     rows = []
-    for name, est in learners.items():
+    progress = progress_bar("learn", "fit")
+    for done, (name, est) in enumerate(learners.items(), start=1):
         start = time.perf_counter()
         with _as_input_error(args.train, name):
             est.fit(train.X[:, cols], train.y)
@@ -162,9 +192,13 @@ def run_learn(args) -> int:
         for path, tab in tests:
             with _as_input_error(path, name):
                 pred = est.predict(tab.X[:, cols])
+            if not np.all(np.isfinite(pred)):
+                raise InputError(str(path), name, "the learner's predictions are not finite (it diverged on "
+                                                  "these data); no scores are written")
             scores = score_all(tab.y, pred)
             rows.append({"learner": name, "test": str(path), **{k: float(v) for k, v in scores.items()},
                          "inputs": ";".join(used), "fit_time_s": float(fit_s)})
+        progress(done, len(learners))
     print(_text_table(rows))
     if args.output:
         _write_csv(args.output, rows)

@@ -38,6 +38,7 @@ from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
+from learners._checks import refuse_constant_target
 from learners.registry import register_learner
 from twin.errors import InputError
 
@@ -86,6 +87,7 @@ def check_series(X, y=None, *, model: str, min_rows: int = 4):
         raise InputError("data", "y", f"{model}: X has {Xa.shape[0]} rows but y has {ya.shape[0]}")
     if not np.all(np.isfinite(ya)):
         raise InputError("data", "y", f"{model} target contains NaN or infinite values")
+    refuse_constant_target(ya, model)
     return Xa, ya
 
 

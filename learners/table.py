@@ -20,15 +20,17 @@ increasing, fewer than ``min_rows`` rows.
 from __future__ import annotations
 
 import csv
+import io
 import math
-import os
 from typing import NamedTuple
 
 import numpy as np
 
+from learners._checks import is_constant as _is_constant
 from twin.errors import InputError
+from twin.io.paths import input_file, read_text
 
-__all__ = ["Table", "load_table", "MIN_ROWS"]
+__all__ = ["Table", "load_table", "check_problem", "MIN_ROWS"]
 
 MIN_ROWS = 3
 _NETCDF_EXT = (".nc", ".nc4", ".netcdf", ".cdf", ".h5", ".hdf5")
@@ -45,21 +47,19 @@ class Table(NamedTuple):
     input_names: list
 
 
-def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_ROWS) -> Table:
+def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_ROWS, field="file") -> Table:
     """Read ``path`` (CSV or NetCDF) and return :class:`Table` for ``target``.
 
     ``inputs``: None or "all" for every available input, else a list (or comma-separated string)
-    of input names.
+    of input names. ``field``: the option that named the file (for errors about the file itself).
     """
-    path = str(path)
-    if not os.path.isfile(path):
-        raise InputError(path, "file", "no such file")
+    path = str(input_file(path, field, "table"))
     if isinstance(inputs, str):
         inputs = None if inputs.strip() in ("", "all") else [s.strip() for s in inputs.split(",") if s.strip()]
     if _is_netcdf(path):
         time, X, y, names = _load_netcdf(path, target, inputs, time_column)
     else:
-        time, X, y, names = _load_csv(path, target, inputs, time_column)
+        time, X, y, names = _load_csv(path, target, inputs, time_column, field)
     if len(time) < min_rows:
         raise InputError(path, "rows", f"{len(time)} data rows; at least {min_rows} are needed")
     bad = np.flatnonzero(np.diff(time) <= 0)
@@ -70,6 +70,28 @@ def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_RO
     if not names:
         raise InputError(path, "inputs", "no input columns")
     return Table(time, X, y, names)
+
+
+def check_problem(table: Table, path, target: str, *, training: bool = True, n_select: int | None = None) -> None:
+    """Refuse a degenerate learning problem with :class:`InputError`: the target among the inputs,
+    a constant target (nothing to learn; NSE undefined), and on a training table a constant input
+    (no information, NaN correlations) or a selector asking for more inputs than there are."""
+    names = list(table.input_names)
+    var, _, label = str(target).partition(":")
+    if target in names or (var == "temperature" and label in names):
+        raise InputError("command line", "--inputs", f"the target {target} is also an input")
+    if _is_constant(table.y):
+        raise InputError(str(path), target, f"the target is constant ({table.y[0]:g}): nothing to learn, and "
+                                            "NSE and R are undefined")
+    if not training:
+        return
+    for j, name in enumerate(names):
+        if _is_constant(table.X[:, j]):
+            raise InputError(str(path), name, f"input is constant ({table.X[0, j]:g}): it carries no "
+                                              "information; leave it out with --inputs")
+    if n_select is not None and n_select > len(names):
+        raise InputError("command line", "--select", f"asks for {n_select} inputs, the training table has "
+                                                     f"{len(names)} ({', '.join(names)})")
 
 
 def _is_netcdf(path):
@@ -93,11 +115,10 @@ def _parse(path, column, line, text):
     return value
 
 
-def _load_csv(path, target, inputs, time_column):
+def _load_csv(path, target, inputs, time_column, field="file"):
     try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            rows = list(csv.reader(fh))
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        rows = list(csv.reader(io.StringIO(read_text(path, field, "table"), newline="")))
+    except csv.Error as exc:
         raise InputError(path, "file", f"cannot read CSV: {exc}") from None
     rows = [r for r in rows if any(cell.strip() for cell in r)]
     if not rows:

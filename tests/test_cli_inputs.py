@@ -8,22 +8,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from tests.fuzz_files import SCENARIO as SHORT   # 6000 rpm for 10 min, then stopped for 20, logged every minute
 from twin.cli import main
 from twin.scenario import load_scenario
 from twin.units import UnitError, parse_quantity
-
-SHORT = """
-name = "short"
-sample_interval = "30 s"
-[ambient]
-temperature = "20 degC"
-[[spindle]]
-speed = "6000 rpm"
-duration = "10 min"
-[[spindle]]
-speed = "0 rpm"
-duration = "5 min"
-"""
 
 
 def _error(capsys, argv):
@@ -107,6 +95,10 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
     for name in ("time", "temperature", "probe", "drift", "tilt", "heat_power"):
         assert "units" in ds[name].attrs
     assert ds.heat_power.sel(effect="spindle_motor").values[0] == pytest.approx(100 * 6000 / 9000)
+    # the result carries its energy balance (first law over the run: sources + convection = stored)
+    a = ds.attrs
+    assert a["energy_sources_J"] > 0 and a["energy_closure"] < 1e-9
+    assert a["energy_sources_J"] + a["energy_convection_J"] == pytest.approx(a["energy_stored_J"], rel=1e-9)
     import meshio
 
     field = meshio.read(tmp_path / "hot.vtu")

@@ -59,10 +59,26 @@ def test_expansion_sensitivity_from_one_run_is_exact(case):
         assert np.abs(quotient).max() > 0.1 and not resp[k][:, :engine.nsensor].any()
 
 
+PROGRESS = []
+
+
 @pytest.fixture(scope="module")
 def hidden_motor(case):
     machine, mm, sc, ds = case
-    return diagnose(ds, machine, sc, model_spec(machine, "-spindle_motor"), mm=mm)
+    return diagnose(ds, machine, sc, model_spec(machine, "-spindle_motor"), mm=mm,
+                    progress=lambda done, total: PROGRESS.append((done, total)))
+
+
+def test_progress_counts_every_stage(case, hidden_motor):
+    """The diagnosis reports progress after the baseline, the error estimate, each candidate and
+    each pair it tries: done counts up by one and ends at the (possibly grown) total."""
+    from twin.model import applicable_effects
+
+    done = [d for d, _ in PROGRESS]
+    assert done == list(range(1, len(done) + 1))
+    assert PROGRESS[-1][0] == PROGRESS[-1][1]
+    candidates = [e for e in applicable_effects(case[0]) if e not in hidden_motor.spec.effects]
+    assert PROGRESS[0][1] == 2 + len(candidates) and len(done) >= 2 + len(candidates)
 
 
 def test_hidden_spindle_motor_found(hidden_motor):

@@ -158,7 +158,7 @@ def test_mapping_errors(tmp_path, sim):
         read_measurement(csv)
     assert err.value.field == "columns.ghost"
     (tmp_path / "m.toml").write_text(toml.replace('site = "motor"', 'site = "nowhere"'))
-    with pytest.raises(InputError, match="no site"):
+    with pytest.raises(InputError, match="no sensor site"):
         read_measurement(csv)
     (tmp_path / "m.toml").write_text(toml.replace('role = "spindle_speed"', 'role = "speeed"'))
     with pytest.raises(InputError, match="unknown role"):

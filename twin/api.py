@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from geometries import MACHINES, build_machine
+from twin import limits
 from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
 from twin.io.results import to_dataset
@@ -23,12 +24,17 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
              sensors: list | None = None, materials: dict | None = None, solver=None) -> tuple:
     """Simulate by names; returns (Dataset, RunResult). ``effects`` edits the machine's default
     set (``"+a,-b"``) or replaces it (``"a,b"``); ``solver``: a
-    :class:`twin.physics.solvers.SolverOptions` or a solver name (default: chosen by size)."""
+    :class:`twin.physics.solvers.SolverOptions` or a solver name (default: chosen by size).
+    Everything is checked before the run starts: names, units, the scenario's speeds against the
+    machine's maximum and the run's size (:mod:`twin.limits`)."""
     m = machine_by_name(machine)
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     spec: ModelSpec = model_spec(m, effects, settings)
-    result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
-                            mm=mesh_machine(m, resolution), solver=solver)
+    limits.check_scenario(sc, m)
+    mm = mesh_machine(m, resolution)
+    limits.check_run_size(sc, mm.nheat)
+    result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors, mm=mm,
+                            solver=solver)
     return to_dataset(result, seed, resolution), result

@@ -3,8 +3,9 @@
 ``--effects`` takes ``+name,-name`` to change the machine's default set
 (``Machine.default_effects``), or plain ``a,b,c`` for an exact set; ``--set
 effect.param=VALUE UNIT`` sets a parameter (effects and instruments alike). Unknown names, wrong
-units, and effects whose roles the machine does not declare raise :class:`twin.errors.InputError`;
-nothing is ignored.
+units, and effects whose roles the machine does not declare raise :class:`twin.errors.InputError`
+(``command line: --set <key>: <message>``); nothing is ignored, and a parameter set twice is an
+error, not the last value.
 """
 
 from __future__ import annotations
@@ -17,6 +18,8 @@ from twin.errors import InputError
 from twin.observe.instruments import INSTRUMENTS
 from twin.units import UnitError, parse_quantity
 
+CLI = "command line"   # the source named in errors about --effects and --set
+
 
 @dataclass
 class ModelSpec:
@@ -28,15 +31,15 @@ class ModelSpec:
     def __post_init__(self):
         for name in self.effects:
             if name not in EFFECTS:
-                raise InputError("--effects", name, f"unknown effect; known: {', '.join(sorted(EFFECTS))}")
+                raise InputError(CLI, f"--effects {name}", f"unknown effect; known: {', '.join(sorted(EFFECTS))}")
         full = {name: EFFECTS[name].defaults() for name in self.effects}
         full.update({name: {p.name: p.default for p in params} for name, params in INSTRUMENTS.items()})
         for group, values in self.params.items():
             if group not in full:
-                raise InputError("--set", group, "is not an effect that is switched on, nor an instrument")
+                raise InputError(CLI, f"--set {group}", "is not an effect that is switched on, nor an instrument")
             for key, value in values.items():
                 if key not in full[group]:
-                    raise InputError("--set", f"{group}.{key}", f"unknown parameter; known: {', '.join(full[group])}")
+                    raise InputError(CLI, f"--set {group}.{key}", f"unknown parameter; known: {', '.join(full[group])}")
                 full[group][key] = float(value)
         self.params = full
 
@@ -49,6 +52,8 @@ def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
     if not text:
         return tuple(base)
     items = [s.strip() for s in text.split(",") if s.strip()]
+    if not items or any(i in "+-" for i in items):
+        raise InputError(CLI, f"--effects {text}", "names no effect; write +name,-name or a,b,c")
     if not any(i[0] in "+-" for i in items):
         chosen = items
     else:
@@ -59,11 +64,11 @@ def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
                 chosen.append(name)
             elif sign == "-":
                 if name not in chosen:
-                    raise InputError("--effects", name, "cannot remove an effect that is not in the model")
+                    raise InputError(CLI, f"--effects {name}", "cannot remove an effect that is not in the model")
                 chosen.remove(name)
     for name in chosen:
         if name not in EFFECTS:
-            raise InputError("--effects", name, f"unknown effect; known: {', '.join(sorted(EFFECTS))}")
+            raise InputError(CLI, f"--effects {name}", f"unknown effect; known: {', '.join(sorted(EFFECTS))}")
     return tuple(dict.fromkeys(chosen))
 
 
@@ -72,26 +77,29 @@ def parse_settings(items: list[str] | None, effects: tuple[str, ...]) -> dict[st
     out: dict[str, dict[str, float]] = {}
     for item in items or []:
         if "=" not in item or "." not in item.split("=", 1)[0]:
-            raise InputError("--set", item, "expected effect.param=VALUE UNIT, e.g. spindle_motor.power=300W")
+            raise InputError(CLI, f"--set {item}", "expected effect.param=VALUE UNIT, e.g. spindle_motor.power=300W")
         key, value = item.split("=", 1)
         group, name = key.strip().split(".", 1)
+        key = key.strip()
         if group in EFFECTS:
             if group not in effects:
-                raise InputError("--set", key, f"effect {group!r} is not switched on (add it with --effects +{group})")
+                raise InputError(CLI, f"--set {key}", f"effect {group!r} is not switched on (add it with --effects +{group})")
             table = EFFECTS[group].parameters
         elif group in INSTRUMENTS:
             table = INSTRUMENTS[group]
         else:
-            raise InputError("--set", key, f"unknown effect or instrument {group!r}")
+            raise InputError(CLI, f"--set {key}", f"unknown effect or instrument {group!r}")
         param = next((p for p in table if p.name == name), None)
         if param is None:
-            raise InputError("--set", key, f"unknown parameter; known: {', '.join(p.name for p in table)}")
+            raise InputError(CLI, f"--set {key}", f"unknown parameter; known: {', '.join(p.name for p in table)}")
         try:
             v = parse_quantity(value.strip(), param.dimension)
         except UnitError as err:
-            raise InputError("--set", key, str(err)) from None
+            raise InputError(CLI, f"--set {key}", str(err)) from None
         if not param.lower <= v <= param.upper:
-            raise InputError("--set", key, f"{value.strip()} is outside the bounds {param.describe()}")
+            raise InputError(CLI, f"--set {key}", f"{value.strip()} is outside the bounds {param.describe()}")
+        if name in out.get(group, {}):
+            raise InputError(CLI, f"--set {key}", "set more than once; give each parameter once")
         out.setdefault(group, {})[name] = v
     return out
 
@@ -103,7 +111,7 @@ def check_applicable(effects, machine) -> None:
         missing = EFFECTS[name].missing_roles(machine)
         if missing:
             role = missing[0]
-            raise InputError("--effects", name, f"does not apply to machine {machine.name}: it needs the role "
+            raise InputError(CLI, f"--effects {name}", f"does not apply to machine {machine.name}: it needs the role "
                                                 f"{role!r} ({ROLES[role][1]}), which {machine.name} does not declare")
 
 

@@ -17,6 +17,19 @@ def _pyplot():
     return plt
 
 
+# formats matplotlib writes by itself (pgf needs LaTeX; the others need an optional Pillow codec)
+_PICTURES = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp")
+
+
+def picture_suffixes() -> tuple[str, ...]:
+    """The picture suffixes ``twin plot`` writes (".png", ".pdf", ".svg", ...): those matplotlib
+    supports that need no external program."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    supported = FigureCanvasBase.get_supported_filetypes()
+    return tuple(f".{k}" for k in _PICTURES if k in supported)
+
+
 def plot_result(ds, path) -> None:
     """Three panels against time [min]: drift X, Y, Z [um]; tilts A, B [urad]; temperatures [degC]."""
     plt = _pyplot()

@@ -16,8 +16,12 @@ A scenario file::
     speed = "9000 rpm"
     duration = "120 min"
 
-Unknown keys, missing keys, wrong units and non-positive durations raise
-:class:`twin.errors.InputError` naming the file and the key.
+Unknown keys, missing keys, wrong units, non-positive durations, impossible temperatures (below
+absolute zero or outside the plausible range of room air), a negative amplitude and runs too long
+to afford raise :class:`twin.errors.InputError` naming the file and the key
+(:mod:`twin.limits`); a file that is not UTF-8 text, a directory or a device is refused by
+:mod:`twin.io.paths`. Speeds are checked against a machine when one runs the scenario
+(:func:`twin.limits.check_scenario`).
 """
 
 from __future__ import annotations
@@ -28,7 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
+from twin import limits
 from twin.errors import InputError
+from twin.io.paths import read_text
 from twin.units import UnitError, parse_quantity
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
@@ -106,18 +112,25 @@ def available() -> list[str]:
     return sorted(p.stem for p in SCENARIO_DIR.glob("*.toml"))
 
 
-def load_scenario(name_or_path: str) -> Scenario:
-    """A bundled scenario by name, or a TOML file by path."""
+def scenario_path(name_or_path: str | Path) -> Path:
+    """The file of a bundled scenario name, or ``name_or_path`` itself when it is a path (it ends
+    in .toml, contains a folder or exists); unknown names raise :class:`InputError`."""
     path = Path(name_or_path)
-    if not (path.suffix == ".toml" or path.exists()):
-        path = SCENARIO_DIR / f"{name_or_path}.toml"
-        if not path.exists():
-            raise InputError("command line", "scenario",
-                             f"unknown scenario {name_or_path!r}; known: {', '.join(available())} (or a path to a .toml file)")
-    if not path.exists():
-        raise InputError(str(path), "file", "no such scenario file")
+    if path.suffix == ".toml" or path.exists() or len(path.parts) > 1:
+        return path
+    bundled = SCENARIO_DIR / f"{name_or_path}.toml"
+    if not bundled.is_file():
+        raise InputError("command line", "scenario",
+                         f"unknown scenario {str(name_or_path)!r}; known: {', '.join(available())} (or a path to a .toml file)")
+    return bundled
+
+
+def load_scenario(name_or_path: str | Path) -> Scenario:
+    """A bundled scenario by name, or a TOML file by path."""
+    path = scenario_path(name_or_path)
+    text = read_text(path, "scenario", "scenario file")
     try:
-        data = tomllib.loads(path.read_text())
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise InputError(str(path), "toml", f"malformed TOML: {err}") from None
     return scenario_from_dict(data, str(path), default_name=path.stem)
@@ -164,6 +177,8 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     description = str(top.get("description", default=""))
     dt = top.positive("sample_interval", "time", default=10.0)
     t0 = top.get("initial_temperature", "temperature")
+    if t0 is not None:
+        limits.check_temperatures(t0, source, "initial_temperature", "structure")
     ambient = _ambient(top.get("ambient", required=True), source)
     raw_steps = top.get("spindle", required=True)
     top.finish()
@@ -180,6 +195,9 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
         if abs(duration / dt - round(duration / dt)) > 1e-6:
             raise InputError(source, f"spindle[{i}].duration", f"must be a multiple of the sample interval ({dt:g} s)")
         steps.append((duration, speed))
+    total = sum(d for d, _ in steps)
+    # name the culprit: the interval when the durations would be affordable at 1 s, else the durations
+    limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     return Scenario(name, tuple(steps), ambient, dt, t0, description, source)
 
 
@@ -187,10 +205,15 @@ def _ambient(table, source: str) -> Ambient:
     r = _Reader(table, source, "ambient.")
     kind = r.get("kind", default="constant")
     if kind == "constant":
-        a = Ambient("constant", mean=r.get("temperature", "temperature", required=True))
+        a = Ambient("constant", mean=_air(r, "temperature", source))
     elif kind == "daily":
-        a = Ambient("daily", mean=r.get("mean", "temperature", required=True),
-                    amplitude=r.get("amplitude", "temperature_difference", required=True),
+        mean = _air(r, "mean", source)
+        amplitude = r.get("amplitude", "temperature_difference", required=True)
+        if amplitude < 0:
+            raise InputError(source, "ambient.amplitude", f"must not be negative, got {r.table['amplitude']!r}")
+        for extreme in (mean - amplitude, mean + amplitude):
+            limits.check_temperatures(extreme, source, "ambient.amplitude")
+        a = Ambient("daily", mean=mean, amplitude=amplitude,
                     coldest_at=r.get("coldest_at", "time", default=6 * 3600.0),
                     start_time_of_day=r.get("start_time_of_day", "time", default=0.0))
     elif kind == "table":
@@ -200,11 +223,19 @@ def _ambient(table, source: str) -> Ambient:
             raise InputError(source, "ambient.temperatures", "needs as many entries as ambient.times")
         if np.any(np.diff(times) <= 0):
             raise InputError(source, "ambient.times", "must increase strictly")
+        limits.check_temperatures(temps, source, "ambient.temperatures")
         a = Ambient("table", times=tuple(times), temperatures=tuple(temps))
     else:
         raise InputError(source, "ambient.kind", f"unknown kind {kind!r}; known: constant, daily, table")
     r.finish()
     return a
+
+
+def _air(r: _Reader, key: str, source: str) -> float:
+    """A required room-air temperature [degC] of the ambient table, within the plausible range."""
+    value = r.get(key, "temperature", required=True)
+    limits.check_temperatures(value, source, r.prefix + key)
+    return value
 
 
 def _list(r: _Reader, key: str, dimension: str, source: str) -> list[float]:

@@ -152,8 +152,10 @@ def add_compare_parser(subparsers) -> None:
 def run_compare(args) -> int:
     """CLI body of ``twin compare``: prints the comparison table, returns 0."""
     from twin.cli.progress import progress_bar
-    from validate.inputs import load_inputs
+    from twin.io.paths import Files
+    from validate.inputs import declare_inputs, load_inputs
 
+    declare_inputs(Files(), args)
     meas, machine, sc, _ = load_inputs(args)
     model, _ = model_for(meas, machine.name, sc, args.effects, args.set, args.mesh, args.seed,
                          progress=progress_bar(f"{machine.name} / measured inputs"))

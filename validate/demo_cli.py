@@ -7,9 +7,13 @@ from pathlib import Path
 
 from twin.cli.options import add_model_options
 from twin.cli.cmd_simulate import simulate_with_progress
-from twin.io.atomic import atomic_write
+from twin.io.atomic import atomic_write, output_folder
+from twin.io.paths import Files
 
 MACHINE, SCENARIO = "cframe-vmc", "spindle-heat-cool-9000"
+RUN_FILES = (f"{SCENARIO}.nc", "drift.png", "temperature-3d.png")
+STORY_FILES = ("measurement/spindle-test.csv", "measurement/spindle-test.toml", "report/index.html",
+               "report/diagnosis.json")
 
 
 def add_demo_parser(sub) -> None:
@@ -23,11 +27,20 @@ def add_demo_parser(sub) -> None:
 
 
 def run_demo(args) -> int:
+    from twin.api import machine_by_name
+    from twin.model import model_spec
+
+    model_spec(machine_by_name(MACHINE), args.effects, args.set)   # bad --effects / --set: before any folder
+    out = Files().folder(args.output, "-o", RUN_FILES + (() if args.no_story else STORY_FILES))
+    with output_folder(out):
+        _run_demo(out, args)
+    return 0
+
+
+def _run_demo(out: Path, args) -> None:
     from twin.io.results import write_netcdf
     from twin.plotting import plot_field_3d, plot_result
 
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
     print(f"demo: {MACHINE} runs {SCENARIO} (9000 rpm for 120 min, then 70 min stopped), mesh {args.mesh}")
     ds, result = simulate_with_progress(MACHINE, SCENARIO, args)
     write_netcdf(ds, out / f"{SCENARIO}.nc")
@@ -49,4 +62,3 @@ def run_demo(args) -> int:
         from validate.demo_story import run_story
 
         run_story(out, args.mesh, args.seed, print)
-    return 0

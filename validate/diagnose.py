@@ -182,7 +182,7 @@ def format_values(values: dict[str, dict[str, float]]) -> dict[str, dict[str, st
 def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: str = "coarse", mm=None,
              candidates: list[str] | None = None, min_explained: float = 0.5, bic_margin: float = 10.0,
              pair_threshold: float = 0.8, pair_pool: int = 4, error_resolution: str | None = None,
-             model_error: np.ndarray | None = None, calibrate_expansion: bool = True) -> Diagnosis:
+             model_error: np.ndarray | None = None, calibrate_expansion: bool = True, progress=None) -> Diagnosis:
     """Rank the effects missing from ``spec`` by how much of the residual of ``ds`` they explain.
 
     ``ds``: a measurement Dataset (twin schema: ``temperature`` [degC], ``probe`` [um]);
@@ -196,9 +196,19 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     for several measurements of one scenario and model). ``calibrate_expansion``: fit the thermal
     expansion coefficient of every material of the machine as a free nuisance parameter with the
     baseline and with every candidate (material data are uncertain by a few %, and a missing
-    effect must explain what they cannot).
+    effect must explain what they cannot). ``progress(done, total)`` is called after each stage
+    (the baseline, the error estimate, each candidate, each pair); ``total`` grows when pairs are
+    tried.
     """
     spec = spec or default_spec(machine)
+    pool = candidates if candidates is not None else [e for e in applicable_effects(machine) if e not in spec.effects]
+    stages = {"done": 0, "total": 2 + len(pool)}
+
+    def stage():
+        stages["done"] += 1
+        if progress is not None:
+            progress(stages["done"], stages["total"])
+
     stacked = stack(ds, GROUPS)
     meas, names, groups = stacked.values, stacked.names, stacked.groups
     t_meas = np.asarray(ds["time"].values, float)
@@ -212,11 +222,13 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     base = interp(observed)
     nuisance = [interp(n) for n in responses]
     r = meas - base
+    stage()
     sigma = noise_levels(meas, groups, spec)
     err = model_error
     if err is None and error_resolution:
         finer = Engine(machine, scenario, error_resolution, sensors=sensors)
         err = rms(interp(finer.observe(spec)) - base, axis=0)
+    stage()
     w = channel_weights(r, groups, sigma, err)
     d = Diagnosis(t_meas, names, groups, meas, base, w, rms(r, axis=0), spec=spec)
     d.model_error_rms, d.error_resolution = err, error_resolution
@@ -230,13 +242,21 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, resolution: s
     d.expansion_fit = lambda g: {m: float(c)
                                  for m, c in zip(materials, fitter.nuisance_coefficients(g))}
     d.expansion = d.expansion_fit(np.zeros_like(r))
-    pool = candidates if candidates is not None else [e for e in applicable_effects(machine) if e not in spec.effects]
-    fits = [f for f in (fitter.fit_single(e) for e in pool) if f is not None]
+    fits = []
+    for e in pool:
+        fits.append(fitter.fit_single(e))
+        stage()
+    fits = [f for f in fits if f is not None]
     fits.sort(key=lambda f: f.sse)
     sse0 = fitter.sse(np.zeros_like(r))
     if fits and 1 - fits[0].sse / sse0 < pair_threshold:
         top = fits[:pair_pool]
-        pairs = [fitter.fit_pair(a, b) for i, a in enumerate(top) for b in top[i + 1:]]
+        couples = [(a, b) for i, a in enumerate(top) for b in top[i + 1:]]
+        stages["total"] += len(couples)
+        pairs = []
+        for a, b in couples:
+            pairs.append(fitter.fit_pair(a, b))
+            stage()
         n_eff = effective_samples(fitter.residual_after(fits[0].response))
         fits += [p for p in pairs if _pair_significant(p, top, n_eff, min_explained, bic_margin)]
         fits.sort(key=lambda f: f.sse)

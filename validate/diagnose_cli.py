@@ -8,11 +8,13 @@ import json
 
 import numpy as np
 
-from twin.io.atomic import atomic_write_text
+from twin import limits
 from twin.cli.options import add_measurement_options, add_model_options
 from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
-from validate.inputs import load_inputs
+from twin.io.atomic import atomic_write_text, output_folder
+from twin.io.paths import Files
+from validate.inputs import declare_inputs, load_inputs
 
 
 def add_diagnose_parser(subparsers) -> None:
@@ -52,10 +54,23 @@ def run_diagnose(args) -> int:
     from validate.apply import apply_top, format_before_after
     from validate.diagnose import diagnose, diagnosis_json, format_diagnosis
 
+    from twin.cli.progress import progress_bar
+
+    files = Files()
+    declare_inputs(files, args)
+    if args.json:
+        files.output(args.json, "--json", (".json",))
+    if args.report:
+        files.folder(args.report, "--report", ("index.html",))
     meas, machine, sc, spec = load_inputs(args)
+    error_mesh = error_resolution(args, machine)
     mm = mesh_machine(machine, args.mesh)
+    limits.check_run_size(sc, mm.nheat)
+    if error_mesh:
+        limits.check_run_size(sc, mesh_machine(machine, error_mesh).nheat)
     try:
-        d = diagnose(meas, machine, sc, spec, mm=mm, error_resolution=error_resolution(args, machine))
+        d = diagnose(meas, machine, sc, spec, mm=mm, error_resolution=error_mesh,
+                     progress=progress_bar(f"diagnose {machine.name}", "fit"))
     except ValueError as err:
         if isinstance(err, InputError):
             raise
@@ -71,8 +86,14 @@ def run_diagnose(args) -> int:
                 print(f"\nApplied {d.candidates[0]['effect']} ({' '.join(extra)}):")
                 print(format_before_after(d, after, calibrated))
     if args.json:
-        atomic_write_text(args.json, json.dumps(diagnosis_json(d), indent=2))
+        try:
+            text = json.dumps(diagnosis_json(d), indent=2, allow_nan=False)
+        except ValueError:
+            raise InputError(args.json, "--json", "the diagnosis holds NaN or infinite values; not written") from None
+        atomic_write_text(args.json, text, "--json")
     if args.report:
         from validate.report import write_report
-        print(f"report: {write_report(d, machine, args.report, after, calibrated=calibrated)}")
+
+        with output_folder(args.report):
+            print(f"report: {write_report(d, machine, args.report, after, calibrated=calibrated)}")
     return 0

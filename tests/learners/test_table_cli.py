@@ -98,10 +98,11 @@ def test_bad_tables_raise_input_error_naming_file_and_column(tmp_path, case, col
     with pytest.raises(InputError) as err:
         load_table(path, "drift_z")
     assert err.value.source == path and err.value.field == column
-    # the CLI surfaces the same error, whichever side the bad table is on
+    # the CLI surfaces the same error, whichever side the bad table is on (a missing file is named
+    # by the option that gave it)
     with pytest.raises(InputError) as err2:
         run_learn(_args("--train", good, "--test", path, "--target", "drift_z", "--learner", "mlr"))
-    assert err2.value.source == path and err2.value.field == column
+    assert err2.value.source == path and err2.value.field == ("--test" if column == "file" else column)
 
 
 def test_unknown_names_and_missing_input(tmp_path):

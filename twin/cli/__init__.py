@@ -5,25 +5,53 @@ imports them.
 
 Bad input prints one line ``error: <file>: <field>: <message>`` on stderr and exits with code 2;
 no partial output file is left behind (results are written to a temporary file, then renamed).
+An option that takes one value refuses a second one (argparse would silently keep the last).
+Ctrl-C and SIGTERM stop the command, remove its temporary file and say in one line which outputs
+are complete (exit code 130 and 143).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 from importlib.metadata import entry_points
 
 from twin.errors import InputError
+from twin.io import atomic
 
 COMMAND_GROUP = "thermal_twin.commands"
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the program is so that every cleanup (``finally``) runs."""
+
+
+class _Once(argparse._StoreAction):
+    """``store`` that refuses a second value: ``--seed 1 --seed 2`` is an error, not seed 2."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = namespace.__dict__.setdefault("_options_given", set())
+        if option_string is not None and self.dest in seen:
+            raise argparse.ArgumentError(self, f"given more than once (again as {values!r}); give it once")
+        seen.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class _Parser(argparse.ArgumentParser):
-    """Usage errors as one line ``error: command line: ...`` and exit code 2, like bad input."""
+    """Usage errors as one line ``error: command line: <option>: <message>`` and exit code 2, like
+    bad input; single-valued options refuse to be repeated."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.register("action", None, _Once)
+        self.register("action", "store", _Once)
 
     def error(self, message):
-        self.exit(2, f"error: command line: {self.prog}: {message}\n")
+        field, sep, rest = message.partition(": ") if message.startswith("argument ") else ("", "", message)
+        field = field.removeprefix("argument ") if sep else self.prog
+        self.exit(2, f"error: command line: {field}: {rest if sep else message}\n")
 
 
 def registered_commands() -> list:
@@ -44,7 +72,36 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _terminate(signum, frame):
+    raise Terminated()
+
+
+def _interrupted(err: KeyboardInterrupt) -> int:
+    done = atomic.completed()
+    whole = f"{', '.join(map(str, done))} complete, nothing else written" if done else "no output written"
+    fresh_line = "\n" if sys.stderr.isatty() else ""   # after a progress bar
+    print(f"{fresh_line}interrupted: {whole}", file=sys.stderr)
+    return 143 if isinstance(err, Terminated) else 130
+
+
 def main(argv: list[str] | None = None) -> int:
+    atomic.forget_completed()
+    previous = None
+    if signal.getsignal(signal.SIGTERM) is not signal.SIG_IGN:   # an ignored SIGTERM stays ignored
+        try:
+            previous = signal.signal(signal.SIGTERM, _terminate)
+        except ValueError:  # not the main thread: leave signals alone
+            pass
+    try:
+        return _main(argv)
+    except KeyboardInterrupt as err:
+        return _interrupted(err)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -55,9 +112,6 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
     except BrokenPipeError:  # the reader (e.g. `| head`) went away: stop writing, quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0

@@ -2,6 +2,10 @@
 
 import sys
 
-from twin.cli import main
+try:
+    from twin.cli import main
+except KeyboardInterrupt:   # Ctrl-C while the command line itself is still loading
+    print("interrupted: no output written", file=sys.stderr)
+    sys.exit(130)
 
 sys.exit(main())

@@ -13,10 +13,12 @@ def add_parser(sub) -> None:
 
 def _machines() -> None:
     from geometries import MACHINES, build_machine
+    from twin import limits
 
     for name in sorted(MACHINES):
         m = build_machine(name)
         print(f"{name}: {m.description}\n  parts: {', '.join(p.name for p in m.parts)}\n"
+              f"  maximum spindle speed: {limits.max_speed(m):g} rpm\n"
               f"  mesh resolutions: {', '.join(f'{k} ({v * 1e3:g} mm)' for k, v in m.resolutions.items())}\n"
               f"  default effects: {', '.join(m.default_effects)}\n  roles: {', '.join(m.roles)}")
 

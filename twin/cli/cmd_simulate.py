@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from twin.cli.options import add_model_options, solver_options
+from twin.cli.options import add_model_options, declare_scenario, solver_options
 from twin.cli.progress import progress_bar
-from twin.errors import InputError
-from twin.io.atomic import atomic_write, check_writable
+from twin.io.atomic import atomic_write
+from twin.io.fields import SUFFIXES as FIELD_SUFFIXES
+from twin.io.paths import NETCDF_SUFFIXES, Files
 
 
 def add_parser(sub) -> None:
@@ -29,24 +30,21 @@ def simulate_with_progress(machine: str, scenario: str, args):
 
 
 def run(args) -> int:
+    from twin.api import machine_by_name
     from twin.io.results import write_netcdf
 
-    out = Path(args.output)
-    check_writable(out)
-    if args.field:
-        from twin.io.fields import SUFFIXES
-
-        check_writable(Path(args.field))
-        if Path(args.field).suffix not in SUFFIXES:
-            raise InputError(args.field, "--field", f"unknown field format; use {' or '.join(SUFFIXES)}")
+    machine_by_name(args.machine)
+    files = Files()
+    declare_scenario(files, args.scenario)
+    out = files.output(args.output, "-o", NETCDF_SUFFIXES)
+    field_path = files.output(args.field, "--field", FIELD_SUFFIXES) if args.field else None
     ds, result = simulate_with_progress(args.machine, args.scenario, args)
-    write_netcdf(ds, out)
-    if args.field:
+    write_netcdf(ds, out, "-o")
+    if field_path:
         from twin.io.fields import write_temperature_field
 
-        field_path = Path(args.field)
         atomic_write(field_path, lambda tmp: write_temperature_field(result.mm, result.hottest_field, tmp,
-                                                                     result.hottest_time))
+                                                                     result.hottest_time), "--field")
         print(f"wrote {field_path}: temperature field at the hottest moment, t = {result.hottest_time / 60:.0f} min")
     peak = abs(ds.drift).max("time")
     print(f"wrote {out}: {len(ds.time)} samples, {result.mm.nnodes} nodes; peak |drift| "

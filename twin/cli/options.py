@@ -1,8 +1,24 @@
-"""Command-line options shared by every command that builds a model or reads a measurement."""
+"""Command-line options shared by every command that builds a model or reads a measurement, and
+the declaration of a command's files before its work starts (:class:`twin.io.paths.Files`)."""
 
 from __future__ import annotations
 
 import argparse
+
+from twin import limits
+
+
+def seed(text: str) -> int:
+    """argparse type of ``--seed``: an integer from 0 to 2**32 - 1 (:func:`twin.limits.check_seed`)."""
+    try:
+        return limits.check_seed(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
+def add_seed_option(p: argparse.ArgumentParser, help: str = "seed of the instrument noise") -> None:
+    """--seed N (0 to 2**32 - 1, default 0)."""
+    p.add_argument("--seed", type=seed, default=0, help=f"{help} (0 to 2**32-1, default 0)")
 
 
 def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default", mesh_help: str = "mesh resolution",
@@ -12,10 +28,10 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
     commands that pass them on: :func:`solver_options`)."""
     p.add_argument("--effects", help=effects_help)
     p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE",
-                   help="set a parameter with its unit, e.g. spindle_motor.power=120W (repeatable)")
+                   help="set a parameter with its unit, e.g. spindle_motor.power=120W (repeatable, once per parameter)")
     p.add_argument("--mesh", default=mesh_default, choices=["coarse", "default", "fine"],
                    help=f"{mesh_help} (default {mesh_default})")
-    p.add_argument("--seed", type=int, default=0, help="seed of the instrument noise")
+    add_seed_option(p)
     if solvers:
         p.add_argument("--solver", default="auto", choices=["auto", "direct", "iterative", "rom"],
                        help="linear solvers: auto (direct factorisation up to 30k nodes, iterative above), "
@@ -40,3 +56,10 @@ def add_measurement_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--machine", help="the measured machine (default: the one the measurement names: a result's "
                                      "'machine' attribute or the mapping's machine key)")
     p.add_argument("--scenario", help="drive the twin by this scenario instead of the measured inputs")
+
+
+def declare_scenario(files, scenario: str) -> None:
+    """Declare the scenario's file (a bundled name's file, or the path) as an input of the command."""
+    from twin.scenario import scenario_path
+
+    files.input(scenario_path(scenario), "scenario", "scenario file")

@@ -6,7 +6,8 @@ import sys
 
 
 def progress_bar(label: str, unit: str = "step"):
-    """A ``progress(done, total)`` callback drawing a tqdm bar on stderr (only on a terminal)."""
+    """A ``progress(done, total)`` callback drawing a tqdm bar on stderr (only on a terminal);
+    ``total`` may grow between calls (a diagnosis that goes on to try pairs)."""
     from tqdm import tqdm
 
     bar = {"tqdm": None}
@@ -15,6 +16,8 @@ def progress_bar(label: str, unit: str = "step"):
         if bar["tqdm"] is None:
             bar["tqdm"] = tqdm(total=total, desc=label, unit=unit, leave=False, file=sys.stderr,
                                disable=not sys.stderr.isatty())
+        if total != bar["tqdm"].total:
+            bar["tqdm"].total = total
         bar["tqdm"].update(done - bar["tqdm"].n)
         if done >= total:
             bar["tqdm"].close()

@@ -1,45 +1,90 @@
 """Output files appear whole or not at all: write to a temporary file beside the target, rename.
 
 Every command that writes a result (NetCDF, pictures, JSON, CSV, HTML) goes through here, so an
-error or an interrupt never leaves a half-written file under the requested name.
+error or an interrupt (Ctrl-C, or SIGTERM, which ``twin``'s entry point turns into an interrupt)
+never leaves a half-written file under the requested name nor a temporary ``.twin-*`` file
+beside it. The target is checked like every output (:func:`twin.io.paths.output_file`): a
+directory, a device (``/dev/null``) or another non-regular file is never replaced. A failure to
+write (disk full, permission) is an :class:`twin.errors.InputError` naming the file.
+
+The paths written since :func:`forget_completed` are listed by :func:`completed`, so that an
+interrupted command can say which of its outputs are whole.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
 from pathlib import Path
 from typing import Callable
 
 from twin.errors import InputError
+from twin.io.paths import output_file
+
+_completed: list[Path] = []
 
 
 def check_writable(path: str | os.PathLike, field: str = "output") -> Path:
-    """Raise :class:`InputError` naming ``path`` unless its folder exists and is writable."""
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(str(path), field, f"folder {str(folder)!r} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise InputError(str(path), field, f"folder {str(folder)!r} is not writable")
-    return path
+    """Raise :class:`InputError` naming ``path`` unless it can be written as an output
+    (:func:`twin.io.paths.output_file`; commands declare their files to :class:`twin.io.paths.Files`)."""
+    return output_file(path, field)
 
 
 def atomic_write(path: str | os.PathLike, write: Callable[[str], object], field: str = "output") -> Path:
     """Call ``write(tmp)`` on a temporary path in the target's folder, then rename it to ``path``."""
-    path = check_writable(path, field)
-    fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
+    path = output_file(path, field)
+    tmp = None
     try:
+        fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent)
+        os.close(fd)
         write(tmp)
         os.chmod(tmp, 0o644)
+        output_file(path, field)   # still a regular file (or nothing) right before the rename
         os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+        tmp = None
+    except OSError as err:
+        raise InputError(str(path), field, f"could not be written ({getattr(err, 'strerror', None) or err})") from None
+    finally:
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
+    _completed.append(path)
     return path
 
 
 def atomic_write_text(path: str | os.PathLike, text: str, field: str = "output") -> Path:
     """Write ``text`` (UTF-8) to ``path`` atomically."""
     return atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"), field)
+
+
+def completed() -> list[Path]:
+    """The files :func:`atomic_write` finished since :func:`forget_completed`, in order."""
+    return list(_completed)
+
+
+def forget_completed() -> None:
+    """Start a new list of finished files (the CLI calls it when a command starts)."""
+    _completed.clear()
+
+
+@contextlib.contextmanager
+def output_folder(path: str | os.PathLike):
+    """Create the folder ``path`` (its parent must exist) for the ``with`` block; if the block
+    fails or is interrupted and the folder is still empty, remove it again (a failed command
+    leaves no half-made folder). An existing folder is used as it is and never removed."""
+    path = Path(path)
+    created = not path.exists()
+    if created:
+        try:
+            path.mkdir()
+        except OSError as err:
+            raise InputError(str(path), "output", f"cannot create the folder ({err.strerror or err})") from None
+    try:
+        yield path
+    except BaseException:
+        if created:
+            try:
+                path.rmdir()   # only when empty
+            except OSError:
+                pass
+        raise

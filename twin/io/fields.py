@@ -17,7 +17,7 @@ def write_temperature_field(mm, field: np.ndarray, path, time_s: float) -> Path:
     import meshio
 
     path = Path(path)
-    if path.suffix not in SUFFIXES:
+    if path.suffix.lower() not in SUFFIXES:
         raise InputError(str(path), "--field", f"unknown field format {path.suffix!r}; use {' or '.join(SUFFIXES)}")
     node_values = np.asarray(field)[: mm.nnodes]
     # meshio's hexahedron numbers corners counter-clockwise per face; scikit-fem's order differs

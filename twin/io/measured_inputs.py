@@ -47,7 +47,9 @@ def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = No
     Time is shifted to start at 0; the spindle steps come from :func:`speed_steps`, snapped to a
     grid of ``sample_interval`` [s] (default: the median logging interval); the room air is a
     ``table`` ambient through every sample; the machine starts uniform at the mean measured
-    temperature of the first sample (the room air when no temperatures were logged).
+    temperature of the first sample (the room air when no temperatures were logged). The
+    scenario is marked ``extra["logged"]``: its speeds are a log's, with a log's tolerance over the
+    machine's maximum (:func:`twin.limits.check_scenario`).
     """
     src = ds.attrs.get("source", "measurement")
     for var in ("spindle_speed", "ambient_temperature"):
@@ -69,4 +71,4 @@ def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = No
             prev = end
     ambient = Ambient("table", times=tuple(t), temperatures=tuple(np.asarray(ds.ambient_temperature.values, float)))
     t_init = float(np.mean(ds.temperature.values[0])) if "temperature" in ds else None
-    return Scenario(name, tuple(steps), ambient, dt, t_init, "driven by measured inputs", src)
+    return Scenario(name, tuple(steps), ambient, dt, t_init, "driven by measured inputs", src, {"logged": True})

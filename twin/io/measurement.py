@@ -41,14 +41,19 @@ kept as logged. Every problem raises :class:`twin.errors.InputError` naming file
 from __future__ import annotations
 
 import csv
+import io
+import os
 import tomllib
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
+from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text
+from twin.io.results import read_result
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
@@ -64,42 +69,83 @@ def probe_names(machine) -> list[str]:
     return [p.name for p in machine.probes] if machine is not None else list(FIVE_PROBES)
 
 
+def mapping_path(path: str | Path, mapping: str | Path | None = None) -> Path | None:
+    """The column mapping a measurement at ``path`` is read with: ``mapping``, else for a CSV the
+    file beside it with the same stem and ``.toml`` (None for a NetCDF file)."""
+    if mapping:
+        return Path(mapping)
+    return None if _is_netcdf(Path(path)) else Path(path).with_suffix(".toml")
+
+
+def _is_netcdf(path: Path) -> bool:
+    return path.suffix.lower() in NETCDF_SUFFIXES
+
+
 def read_measurement(path: str | Path, mapping: str | Path | None = None, machine=None) -> xr.Dataset:
     """Read a twin NetCDF result as is, or a CSV with its TOML mapping (see module docstring).
 
     ``machine`` (a :class:`geometries.base.Machine` or a name) places named sites and evaluates
-    the five probes; by default the mapping's ``machine`` key.
+    the five probes; by default the mapping's ``machine`` key (a result's ``machine`` attribute).
+    Values are checked against physical limits (:mod:`twin.limits`): temperatures above absolute
+    zero and plausible, spindle speeds within the machine's maximum, sensor positions on the
+    machine; a measurement needs at least one temperature or probe channel.
     """
-    path = Path(path)
-    if not path.exists():
-        raise InputError(str(path), "file", "no such measurement file")
-    if path.suffix.lower() in (".nc", ".nc4", ".netcdf"):
-        try:
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                ds = ds.load()
-        except (OSError, ValueError) as err:
-            raise InputError(str(path), "file", f"not a readable NetCDF file ({type(err).__name__})") from None
-        if "time" not in ds.coords:
-            raise InputError(str(path), "time", "missing time coordinate")
-        _check_time(np.asarray(ds["time"].values, dtype=float), str(path), "time")
-        return ds
-    mapping = Path(mapping) if mapping else path.with_suffix(".toml")
-    if not mapping.exists():
-        raise InputError(str(mapping), "file", f"no column mapping for {path.name} (a TOML file naming each column's role and unit)")
+    path = input_file(path, "measurement", "measurement file")
+    if _is_netcdf(path):
+        if mapping:
+            raise InputError(str(mapping), "--mapping", "a NetCDF measurement has no column mapping")
+        ds = read_result(path, "measurement")
+        src = str(path)
+        _check_time(np.asarray(ds["time"].values, dtype=float), src, "time")
+        mach = _machine(machine, {"machine": ds.attrs.get("machine")}, src, "the measurement is of")
+        _check_netcdf_values(ds, mach, src)
+        return _with_channels(ds, src)
+    given, mapping = mapping, mapping_path(path, mapping)
+    if not given and not os.path.lexists(mapping):
+        raise InputError(str(mapping), "--mapping", f"no column mapping for {path.name} (a TOML file naming each "
+                                                    "column's role and unit)")
+    text = read_text(mapping, "--mapping", "column mapping")
     try:
-        spec = tomllib.loads(mapping.read_text())
+        spec = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise InputError(str(mapping), "toml", f"malformed TOML: {err}") from None
-    return _from_csv(path, mapping, spec, machine)
+    return _with_channels(_from_csv(path, mapping, spec, machine), str(path))
 
 
-def _machine(machine, spec: dict, src: str):
+def _with_channels(ds: xr.Dataset, src: str) -> xr.Dataset:
+    if "temperature" not in ds and "probe" not in ds:
+        raise InputError(src, "channels", "no temperature or probe channel: nothing to compare the twin with")
+    return ds
+
+
+def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
+    """Physical limits of a NetCDF measurement's inputs and sensors (the CSV reader checks its
+    columns as it reads them)."""
+    if "spindle_speed" in ds:
+        limits.check_speeds(ds.spindle_speed.values, mach, src, "spindle_speed", logged=True)
+    if "ambient_temperature" in ds:
+        limits.check_temperatures(ds.ambient_temperature.values, src, "ambient_temperature")
+    if "probe" in ds and "probe_id" in ds.coords:
+        um = ds.probe.transpose("time", "probe_id").values
+        for i, name in enumerate(ds.probe_id.values):
+            limits.check_displacements(um[:, i] * 1e-6, src, f"probe:{name}")
+    if "temperature" in ds and "sensor" in ds.coords:
+        temp = ds.temperature.transpose("time", "sensor").values
+        for i, name in enumerate(ds.sensor.values):
+            limits.check_temperatures(temp[:, i], src, f"temperature:{name}", "structure")
+            if mach is not None and {"x", "y", "z"} <= set(ds.coords):
+                part = str(ds.part.values[i]) if "part" in ds.coords else ""
+                xyz = (float(ds.x.values[i]), float(ds.y.values[i]), float(ds.z.values[i]))
+                limits.check_position(mach, xyz, part, src, f"sensor {name}")
+
+
+def _machine(machine, spec: dict, src: str, named_by: str = "the mapping names"):
     named = spec.get("machine")
     if named is not None and not isinstance(named, str):
         raise InputError(src, "machine", f"expected a machine name, got {named!r}")
     given = machine if isinstance(machine, str) or machine is None else machine.name
     if given is not None and named is not None and given != named:
-        raise InputError(src, "machine", f"the mapping names machine {named!r}, the command line {given!r}")
+        raise InputError(src, "machine", f"{named_by} machine {named!r}, the command line {given!r}")
     if machine is not None and not isinstance(machine, str):
         return machine
     name = given or named
@@ -114,11 +160,17 @@ def _machine(machine, spec: dict, src: str):
 
 
 def _read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
-    with open(path, newline="") as fh:
-        rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
+    text = read_text(path, "measurement", "measurement file")
+    try:
+        rows = [r for r in csv.reader(io.StringIO(text, newline="")) if r and any(c.strip() for c in r)]
+    except csv.Error as err:
+        raise InputError(str(path), "file", f"not a readable CSV file ({err})") from None
     if len(rows) < 3:
         raise InputError(str(path), "file", "needs a header row and at least two data rows")
     header = [h.strip() for h in rows[0]]
+    twice = [h for h in header if header.count(h) > 1]
+    if twice:
+        raise InputError(str(path), twice[0], "two columns have this name")
     for i, r in enumerate(rows[1:], start=2):
         if len(r) != len(header):
             raise InputError(str(path), f"line {i}", f"has {len(r)} fields, the header has {len(header)}")
@@ -195,6 +247,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             raise InputError(msrc, key + ".unit", "missing")
         factor = _factor(entry["unit"], ROLES[role], msrc, key + ".unit")
         values = _column(path, rows, header.index(name), name) * factor
+        _check_values(values, role, mach, src, name)
         if role in ("time", "spindle_speed", "ambient_temperature"):
             if role in single:
                 raise InputError(msrc, key, f"a second column with role {role}")
@@ -219,13 +272,28 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     return _dataset(t, single, sensors, probes, mach, src)
 
 
+def _check_values(values: np.ndarray, role: str, mach, src: str, column: str) -> None:
+    """Physical limits of one CSV column in SI units (:mod:`twin.limits`)."""
+    if not np.all(np.isfinite(values)):
+        raise InputError(src, column, "a value overflows its unit's range")
+    if role == "spindle_speed":
+        limits.check_speeds(values, mach, src, column, logged=True)
+    elif role == "ambient_temperature":
+        limits.check_temperatures(values, src, column, "air")
+    elif role == "temperature":
+        limits.check_temperatures(values, src, column, "structure")
+    elif role == "probe":
+        limits.check_displacements(values, src, column)
+
+
 def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: str):
     if "site" in entry:
         if mach is None:
             raise InputError(msrc, key + ".site", "a named site needs a machine (top-level machine = \"...\")")
         site = entry["site"]
-        if site not in [p.name for p in mach.points]:
-            raise InputError(msrc, key + ".site", f"machine {mach.name} has no site {site!r}; known: {', '.join(mach.sensor_sites)}")
+        sites = list(mach.sensor_sites) + list(mach.air_sites)
+        if site not in sites:
+            raise InputError(msrc, key + ".site", f"machine {mach.name} has no sensor site {site!r}; known: {', '.join(sites)}")
         p = mach.point(site)
         return (str(entry.get("name", site)), tuple(p.xyz), p.part, values)
     try:
@@ -234,7 +302,10 @@ def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: st
         raise InputError(msrc, f"{key}.{err.args[0]}", "a temperature column needs site = NAME or x, y, z") from None
     except UnitError as err:
         raise InputError(msrc, key, str(err)) from None
-    return (str(entry.get("name", name)), xyz, str(entry.get("part", "")), values)
+    part = str(entry.get("part", ""))
+    if mach is not None:
+        limits.check_position(mach, xyz, part, msrc, key)
+    return (str(entry.get("name", name)), xyz, part, values)
 
 
 def _dataset(t, single, sensors, probes, mach, src) -> xr.Dataset:

@@ -19,9 +19,12 @@ import os
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
+from twin.errors import InputError
 from twin.io.atomic import atomic_write
+from twin.io.paths import input_file
 from twin.observe.base import variable
 
 
@@ -79,6 +82,49 @@ def solver_attrs(info: dict) -> dict:
     return {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()}
 
 
-def write_netcdf(ds: xr.Dataset, path: str | os.PathLike) -> Path:
-    """Write ``ds`` to ``path`` atomically (see :mod:`twin.io.atomic`)."""
-    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
+def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, field: str = "output") -> Path:
+    """Write ``ds`` to ``path`` atomically (see :mod:`twin.io.atomic`); a Dataset with NaN or inf
+    in a numeric variable is refused (:class:`twin.errors.InputError`), never written."""
+    check_finite(ds, str(path))
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"), field)
+
+
+def check_finite(ds: xr.Dataset, source: str) -> None:
+    """Raise :class:`twin.errors.InputError` naming the first numeric variable or coordinate of
+    ``ds`` that holds NaN or inf (and where along time)."""
+    for name, var in {**ds.coords, **ds.data_vars}.items():
+        values = var.values
+        if values.dtype.kind not in "fc" or np.all(np.isfinite(values)):
+            continue
+        where = ""
+        if "time" in var.dims and "time" in ds.coords:
+            bad = (~np.isfinite(var.transpose("time", ...).values)).reshape(len(ds.time), -1).any(axis=1)
+            where = f" from t = {float(ds.time.values[np.flatnonzero(bad)[0]]):g} s"
+        raise InputError(source, str(name), f"holds NaN or infinite values{where}")
+
+
+def read_result(path: str | os.PathLike, field: str = "file", required: tuple[str, ...] = (),
+                min_samples: int = 2) -> xr.Dataset:
+    """Load a NetCDF result or measurement, checked: a readable regular file
+    (:func:`twin.io.paths.input_file`), a strictly increasing ``time`` coordinate with at least
+    ``min_samples`` samples, every ``required`` variable present, no NaN or inf anywhere
+    (:class:`twin.errors.InputError` naming file and variable)."""
+    path = input_file(path, field, "NetCDF file")
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            ds = ds.load()
+    except Exception as err:  # noqa: BLE001 - any reader failure is a bad file for the user
+        raise InputError(str(path), field, f"not a readable NetCDF file ({type(err).__name__})") from None
+    if "time" not in ds.coords or "time" not in ds.dims:
+        raise InputError(str(path), "time", "missing time coordinate; is this a twin result?")
+    if ds.sizes["time"] < min_samples:
+        raise InputError(str(path), "time", f"{ds.sizes['time']} sample(s); at least {min_samples} are needed")
+    t = np.asarray(ds["time"].values)
+    if t.dtype.kind in "fiu" and np.any(np.diff(t) <= 0):
+        i = int(np.flatnonzero(np.diff(t) <= 0)[0])
+        raise InputError(str(path), "time", f"time is not increasing at sample {i + 2} ({t[i]:g} -> {t[i + 1]:g} s)")
+    missing = [v for v in required if v not in ds]
+    if missing:
+        raise InputError(str(path), missing[0], "missing variable; is this a twin result?")
+    check_finite(ds, str(path))
+    return ds

@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from twin.errors import InputError
 from twin.fem.assembly import assemble_heat
 from twin.fem.mesh import mesh_machine
 from twin.observe.base import Observer
@@ -175,7 +176,9 @@ class PreparedTwin:
                                               for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
         self.run_info = {"solver": self.options.solver, "solver_method": self.method, "device": self.options.device,
                          **info, **(self._elastic.info() if self._elastic is not None else {})}
-        return loads, {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        readings = {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        check_finite(readings, times, scenario.source or scenario.name)
+        return loads, readings
 
     def run_batch(self, cases, observers, theta: float = 0.5, progress=None, bound: bool = True) -> tuple[LoadSet, dict, dict]:
         """Many (scenario, spec) cases at once, vectorised in the reduced model and as multiple
@@ -183,3 +186,14 @@ class PreparedTwin:
         {key: (n_t, k, cases)}, info). Observers must be linear (rows only)."""
         from twin.physics.batch import run_batch
         return run_batch(self, cases, observers, theta, progress, bound)
+
+
+def check_finite(readings: dict, times: np.ndarray, source: str) -> None:
+    """Raise :class:`twin.errors.InputError` naming the first observer whose readings hold NaN or
+    inf, and when they begin: a result never passes them off as numbers."""
+    for key, values in readings.items():
+        bad = ~np.isfinite(values)
+        if bad.any():
+            n = int(np.flatnonzero(bad.any(axis=1))[0])
+            raise InputError(source, key, f"the run produced NaN or infinite values from t = {times[n]:g} s on; "
+                                          "no result is written (an input beyond what the model can represent?)")

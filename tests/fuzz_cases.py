@@ -1,0 +1,388 @@
+"""The bad inputs of the fuzz suite (``tests/test_fuzz_inputs.py``), generated from tables.
+
+Each :class:`tests.fuzz_files.Case` is one command line run in a fresh folder holding good copies
+of the files it needs, one thing made bad, and the error it must give: the source (a path, ``{d}``
+standing for the case's folder, or ``command line``) and a part of the field. The bad paths of
+every file argument come from ``tests/fuzz_files.py``; this module adds the bad contents and
+options. Add a command, an option or a file format by adding rows:
+
+* :data:`SCENARIO_EDITS`, :data:`MAPPING_EDITS`, :data:`CSV_EDITS`, :data:`RESULT_EDITS`,
+  :data:`TABLE_EDITS` - bad contents of each file kind, each run through the commands that read it;
+* :data:`OPTION_CASES` - bad option values and repeated options, per command.
+
+Later issues add theirs as rows: dataset specs (a ``twin dataset`` row in
+``fuzz_files.INPUTS`` and a table of spec edits here), axis scenarios (more
+:data:`SCENARIO_EDITS`), camera settings (:data:`OPTION_CASES`) and custom effects
+(``--effects-file``: an ``INPUTS`` row and its edits).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tests.fuzz_files import (CLI, COMPARE, COMPARE_NC, DEMO, DIAGNOSE, FOLDERS, INPUTS, LEARN, MAPPING, OUTPUTS,
+                              PLOT, SCENARIO, SIM, TEXT, Case, bad_input_paths, bad_output_folders,
+                              bad_output_paths, measurement_csv, netcdf_bytes, result_dataset, swap, table_csv)
+
+
+# ------------------------------------------------------------------------- bad scenario files
+def _sc(old: str, new: str, count: int = 1) -> str:
+    assert old in SCENARIO, old
+    return SCENARIO.replace(old, new, count)
+
+
+AMBIENT = '[ambient]\ntemperature = "20 degC"'
+DAILY = '[ambient]\nkind = "daily"\nmean = "20 degC"\namplitude = "3 K"'
+TABLE = '[ambient]\nkind = "table"\ntimes = ["0 h", "1 h"]\ntemperatures = ["20 degC", "21 degC"]'
+SPEED = 'speed = "6000 rpm"'
+DURATION = 'duration = "10 min"'
+INTERVAL = 'sample_interval = "60 s"'
+
+# (id, scenario text, field)
+SCENARIO_EDITS = [
+    ("ambient-below-absolute-zero", _sc('"20 degC"', '"-300 degC"'), "ambient.temperature"),
+    ("ambient-1e6-degC", _sc('"20 degC"', '"1e6 degC"'), "ambient.temperature"),
+    ("ambient-implausible", _sc('"20 degC"', '"85 degC"'), "ambient.temperature"),
+    ("ambient-no-unit", _sc('"20 degC"', '"20"'), "ambient.temperature"),
+    ("ambient-kelvin-unit", _sc('"20 degC"', '"293 K"'), "ambient.temperature"),
+    ("ambient-nan", _sc('"20 degC"', '"nan degC"'), "ambient.temperature"),
+    ("ambient-overflow", _sc('"20 degC"', '"1e400 degC"'), "ambient.temperature"),
+    ("ambient-number", _sc('"20 degC"', '20'), "ambient.temperature"),
+    ("ambient-bool", _sc('"20 degC"', 'true'), "ambient.temperature"),
+    ("initial-below-absolute-zero", _sc(INTERVAL, INTERVAL + '\ninitial_temperature = "-300 degC"'), "initial_temperature"),
+    ("initial-1e6", _sc(INTERVAL, INTERVAL + '\ninitial_temperature = "1e6 degC"'), "initial_temperature"),
+    ("initial-no-unit", _sc(INTERVAL, INTERVAL + '\ninitial_temperature = "20"'), "initial_temperature"),
+    ("daily-negative-amplitude", _sc(AMBIENT, DAILY.replace('"3 K"', '"-3 K"')), "ambient.amplitude"),
+    ("daily-huge-amplitude", _sc(AMBIENT, DAILY.replace('"3 K"', '"300 K"')), "ambient.amplitude"),
+    ("daily-mean-below-zero", _sc(AMBIENT, DAILY.replace('"20 degC"', '"-300 degC"')), "ambient.mean"),
+    ("daily-missing-amplitude", _sc(AMBIENT, DAILY.replace('\namplitude = "3 K"', '')), "ambient.amplitude"),
+    ("daily-amplitude-in-degC", _sc(AMBIENT, DAILY.replace('"3 K"', '"3 degC"')), "ambient.amplitude"),
+    ("table-times-decrease", _sc(AMBIENT, TABLE.replace('"0 h", "1 h"', '"1 h", "0 h"')), "ambient.times"),
+    ("table-length-mismatch", _sc(AMBIENT, TABLE.replace('"20 degC", "21 degC"', '"20 degC"')), "ambient.temperatures"),
+    ("table-below-absolute-zero", _sc(AMBIENT, TABLE.replace('"21 degC"', '"-300 degC"')), "ambient.temperatures"),
+    ("table-time-no-unit", _sc(AMBIENT, TABLE.replace('"1 h"', '"1"')), "ambient.times[1]"),
+    ("table-times-not-a-list", _sc(AMBIENT, TABLE.replace('["0 h", "1 h"]', '"0 h"')), "ambient.times"),
+    ("ambient-unknown-kind", _sc(AMBIENT, '[ambient]\nkind = "weekly"'), "ambient.kind"),
+    ("ambient-unknown-key", _sc(AMBIENT, AMBIENT + '\ncolour = "red"'), "ambient.colour"),
+    ("ambient-missing", _sc(AMBIENT + "\n", ""), "ambient"),
+    ("ambient-not-a-table", _sc(AMBIENT + "\n", "").replace(INTERVAL, INTERVAL + '\nambient = "20 degC"'), "ambient"),
+    ("speed-1e6-rpm", _sc(SPEED, 'speed = "1e6 rpm"'), "spindle[0].speed"),
+    ("speed-1e300-krpm", _sc(SPEED, 'speed = "1e300 krpm"'), "spindle[0].speed"),
+    ("speed-beyond-machine", _sc(SPEED, 'speed = "9001 rpm"'), "spindle[0].speed"),
+    ("speed-negative", _sc(SPEED, 'speed = "-5 rpm"'), "spindle[0].speed"),
+    ("speed-no-unit", _sc(SPEED, 'speed = "6000"'), "spindle[0].speed"),
+    ("speed-wrong-unit", _sc(SPEED, 'speed = "6000 W"'), "spindle[0].speed"),
+    ("speed-inf", _sc(SPEED, 'speed = "inf rpm"'), "spindle[0].speed"),
+    ("speed-missing", _sc(SPEED + "\n", ""), "spindle[0].speed"),
+    ("duration-1e300-s", _sc(DURATION, 'duration = "1e300 s"'), "spindle"),
+    ("duration-zero", _sc(DURATION, 'duration = "0 s"'), "spindle[0].duration"),
+    ("duration-negative", _sc(DURATION, 'duration = "-10 min"'), "spindle[0].duration"),
+    ("duration-not-a-multiple", _sc(DURATION, 'duration = "90 s"'), "spindle[0].duration"),
+    ("duration-missing", _sc(DURATION + "\n", ""), "spindle[0].duration"),
+    ("interval-1-ns", _sc(INTERVAL, 'sample_interval = "1e-9 s"'), "sample_interval"),
+    ("interval-zero", _sc(INTERVAL, 'sample_interval = "0 s"'), "sample_interval"),
+    ("interval-negative", _sc(INTERVAL, 'sample_interval = "-1 s"'), "sample_interval"),
+    ("interval-no-unit", _sc(INTERVAL, 'sample_interval = "60"'), "sample_interval"),
+    ("unknown-top-key", _sc("sample_interval", "sampel_interval"), "sampel_interval"),
+    ("unknown-step-key", _sc(SPEED, SPEED + '\nfeed = "1 m/min"'), "spindle[0].feed"),
+    ("spindle-missing", SCENARIO.split("[[spindle]]")[0], "spindle"),
+    ("spindle-not-steps", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + "\nspindle = 3"), "spindle"),
+    ("spindle-empty", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + "\nspindle = []"), "spindle"),
+    ("spindle-step-not-a-table", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + '\nspindle = ["a"]'),
+     "spindle[0]"),
+    ("malformed-toml", SCENARIO.replace("[ambient]", "[ambient"), "toml"),
+    ("duplicate-key", _sc(INTERVAL, INTERVAL + "\n" + INTERVAL), "toml"),
+]
+
+# the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)
+SCENARIO_EDITS_VIA_MEASUREMENT = ["ambient-below-absolute-zero", "speed-beyond-machine", "speed-1e300-krpm",
+                                  "interval-1-ns", "duration-1e300-s", "malformed-toml", "unknown-top-key"]
+
+# ------------------------------------------------------------------ bad measurement mappings
+def _map(old: str, new: str) -> str:
+    assert old in MAPPING, old
+    return MAPPING.replace(old, new, 1)
+
+
+MOTOR = '[columns.T_motor]\nrole = "temperature"\nsite = "motor"\nunit = "degC"'
+
+
+def _at(x, y, z, part=None):
+    return MOTOR.replace('site = "motor"', f'x = "{x}"\ny = "{y}"\nz = "{z}"' + (f'\npart = "{part}"' if part else ""))
+
+
+# (id, mapping text, field); the source is the mapping
+MAPPING_EDITS = [
+    ("unknown-machine", _map('"cframe-vmc"', '"vmc-9000"'), "machine"),
+    ("machine-not-a-name", _map('"cframe-vmc"', '3'), "machine"),
+    ("unknown-top-key", "colour = 'red'\n" + MAPPING, "colour"),
+    ("no-columns", 'machine = "cframe-vmc"\n', "columns"),
+    ("unknown-role", _map('role = "spindle_speed"', 'role = "speeed"'), "columns.spindle_rpm.role"),
+    ("unit-missing", _map('role = "time"\nunit = "s"', 'role = "time"'), "columns.t_s.unit"),
+    ("unit-wrong", _map(MOTOR, MOTOR.replace('"degC"', '"rpm"')), "columns.T_motor.unit"),
+    ("unit-kelvin", _map(MOTOR, MOTOR.replace('"degC"', '"K"')), "columns.T_motor.unit"),
+    ("unit-not-a-string", _map(MOTOR, MOTOR.replace('"degC"', '1')), "columns.T_motor.unit"),
+    ("unknown-column-key", _map(MOTOR, MOTOR + '\ncolour = "red"'), "columns.T_motor.colour"),
+    ("site-not-a-sensor-site", _map('site = "motor"', 'site = "tool"'), "columns.T_motor.site"),
+    ("site-unknown", _map('site = "motor"', 'site = "nowhere"'), "columns.T_motor.site"),
+    ("position-outside-machine", _map(MOTOR, _at("5 m", "5 m", "5 m")), "columns.T_motor"),
+    ("position-unknown-part", _map(MOTOR, _at("0 m", "0 m", "0.2 m", "plinth")), "columns.T_motor"),
+    ("position-not-on-part", _map(MOTOR, _at("0 m", "0 m", "0.2 m", "motor")), "columns.T_motor"),
+    ("position-missing-z", _map(MOTOR, _at("0 m", "0 m", "0.2 m").replace('\nz = "0.2 m"', "")), "columns.T_motor.z"),
+    ("position-no-unit", _map(MOTOR, _at("0", "0 m", "0.2 m")), "columns.T_motor"),
+    ("probe-unknown", _map('probe = "X1"', 'probe = "W1"'), "columns.probe_X1_um.probe"),
+    ("probe-twice", _map('probe = "X2"', 'probe = "X1"'), "columns.probe_X2_um.probe"),
+    ("column-not-in-csv", MAPPING + '[columns.ghost]\nrole = "temperature"\nsite = "motor"\nunit = "degC"\n',
+     "columns.ghost"),
+    ("second-time-column", _map('role = "ambient_temperature"\nunit = "degC"', 'role = "time"\nunit = "s"'),
+     "columns.room_degC"),
+    ("column-not-a-table", _map('[columns.t_s]\nrole = "time"\nunit = "s"', '[columns]\nt_s = "time"'), "columns.t_s"),
+    ("malformed-toml", MAPPING.replace("[columns.t_s]", "[columns.t_s"), "toml"),
+]
+
+# ----------------------------------------------------------------------- bad measurement CSVs
+def _set(col: str, value, rows=slice(5, 6)):
+    def edit(cols):
+        a = np.array(cols[col], dtype=object)
+        a[rows] = value
+        cols[col] = a
+    return edit
+
+
+def _add(col: str, delta: float):
+    def edit(cols):
+        cols[col] = cols[col] + delta
+    return edit
+
+
+def _csv(edit) -> str:
+    return measurement_csv(edit)
+
+
+def _lines(fn) -> str:
+    lines = TEXT["m.csv"].splitlines()
+    return "\n".join(fn(lines)) + "\n"
+
+
+# (id, CSV text, field); the source is the CSV
+CSV_EDITS = [
+    ("speed-negative", _csv(_set("spindle_rpm", -100.0)), "spindle_rpm"),
+    ("speed-absurd", _csv(_set("spindle_rpm", 1e6)), "spindle_rpm"),
+    ("speed-1e300", _csv(_set("spindle_rpm", 1e300)), "spindle_rpm"),
+    ("speed-beyond-machine", _csv(_set("spindle_rpm", 12000.0)), "spindle_rpm"),
+    ("temperature-1e300", _csv(_set("T_motor", 1e300)), "T_motor"),
+    ("temperature-below-absolute-zero", _csv(_set("T_motor", -300.0)), "T_motor"),
+    ("temperature-in-kelvin", _csv(_add("T_motor", 273.15)), "T_motor"),
+    ("room-implausible", _csv(_set("room_degC", 85.0)), "room_degC"),
+    ("nan-cell", _csv(_set("T_motor", "nan")), "T_motor"),
+    ("empty-cell", _csv(_set("T_motor", "")), "T_motor"),
+    ("inf-cell", _csv(_set("T_motor", "inf")), "T_motor"),
+    ("overflow-cell", _csv(_set("T_motor", "1e400")), "T_motor"),
+    ("non-numeric", _csv(_set("T_motor", "warm")), "T_motor"),
+    ("time-not-increasing", _csv(_set("t_s", 60.0, slice(5, 6))), "t_s"),
+    ("time-gap", _csv(lambda c: c.__setitem__("t_s", np.where(c["t_s"] > 600, c["t_s"] + 3600, c["t_s"]))), "t_s"),
+    ("probe-beyond-range", _csv(_set("probe_X1_um", 1e6)), "probe_X1_um"),
+    ("one-data-row", _lines(lambda ls: ls[:2]), "file"),
+    ("header-only", _lines(lambda ls: ls[:1]), "file"),
+    ("ragged-row", _lines(lambda ls: ls[:4] + [ls[4] + ",1"] + ls[5:]), "line 5"),
+    ("unmapped-column", _lines(lambda ls: [ls[0] + ",junk"] + [x + ",0" for x in ls[1:]]), "junk"),
+    ("duplicate-column", _lines(lambda ls: [ls[0] + ",T_motor"] + [x + ",20" for x in ls[1:]]), "T_motor"),
+]
+CSV_EDITS_VIA_DIAGNOSE = ["speed-negative", "temperature-in-kelvin", "nan-cell", "time-gap", "duplicate-column"]
+
+# the measurement holds no channel: only time, spindle speed and room air (CSV and mapping)
+INPUTS_ONLY_CSV = _lines(lambda ls: [",".join(x.split(",")[:3]) for x in ls])
+INPUTS_ONLY_MAPPING = MAPPING.split("[columns.T_")[0]
+
+# ------------------------------------------------------------------- bad results (NetCDF)
+def _nc(edit):
+    """A callable giving the NetCDF bytes of the good result after ``edit(ds) -> ds``."""
+    return lambda: netcdf_bytes(edit(result_dataset()))
+
+
+def _put(var, value, index=(3, 0)):
+    def edit(ds):
+        a = ds[var].values.copy()
+        a[index] = value
+        ds[var] = (ds[var].dims, a, ds[var].attrs)
+        return ds
+    return edit
+
+
+def _shift_sensor(ds):
+    ds = ds.assign_coords(x=("sensor", [5.0, 0.0, 0.0]))
+    return ds
+
+
+# (id, make bytes, field for plot or None when plot accepts it, field for compare or None)
+RESULT_EDITS = [
+    ("nan-temperature", _nc(_put("temperature", np.nan)), "temperature", "temperature"),
+    ("inf-drift", _nc(_put("drift", np.inf)), "drift", "drift"),
+    ("missing-drift", _nc(lambda ds: ds.drop_vars("drift")), "drift", None),
+    ("one-sample", _nc(lambda ds: ds.isel(time=[0])), "time", "time"),
+    ("no-time", _nc(lambda ds: ds.isel(time=0)), "time", "time"),
+    ("time-backwards", _nc(lambda ds: ds.assign_coords(time=ds.time.values[::-1].copy())), "time", "time"),
+    ("inputs-only", _nc(lambda ds: ds[["spindle_speed", "ambient_temperature"]]), "drift", "channels"),
+    ("unknown-machine", _nc(lambda ds: ds.assign_attrs(machine="vmc-9000")), None, "machine"),
+    ("temperature-1e300", _nc(_put("temperature", 1e300)), None, "temperature:motor"),
+    ("speed-negative", _nc(_put("spindle_speed", -10.0, 3)), None, "spindle_speed"),
+    ("sensor-outside-machine", _nc(_shift_sensor), None, "sensor motor"),
+    ("probe-unit-mistake", _nc(_put("probe", 5e4)), None, "probe:X1"),
+    ("not-netcdf", lambda: b"time,T\n0,20\n", "result", "measurement"),
+]
+
+# ------------------------------------------------------------------------- bad learning tables
+def _row(i, j, value):
+    return lambda rows: rows[i].__setitem__(j, value)
+
+
+def _column(j, value):
+    def edit(rows):
+        for r in rows[1:]:
+            r[j] = value
+    return edit
+
+
+# (id, which table, text, field)
+TABLE_EDITS = [
+    ("constant-target", "train.csv", table_csv(edit=_column(5, "1.5")), "drift_z"),
+    ("constant-target-in-test", "test.csv", table_csv(seed=1, edit=_column(5, "1.5")), "drift_z"),
+    ("constant-input", "train.csv", table_csv(edit=_column(3, "20.0")), "T3"),
+    ("nan", "train.csv", table_csv(edit=_row(7, 3, "nan")), "T3"),
+    ("inf", "train.csv", table_csv(edit=_row(7, 3, "inf")), "T3"),
+    ("non-numeric", "train.csv", table_csv(edit=_row(5, 2, "warm")), "T2"),
+    ("empty-cell", "test.csv", table_csv(seed=1, edit=_row(5, 1, "")), "T1"),
+    ("time-not-increasing", "train.csv", table_csv(edit=_row(4, 0, "5")), "time"),
+    ("too-few-rows", "train.csv", table_csv(n=2), "rows"),
+    ("missing-target", "train.csv", table_csv(edit=lambda rows: [r.pop() for r in rows]), "drift_z"),
+    ("duplicate-column", "train.csv", table_csv(edit=lambda rows: rows[0].__setitem__(2, "T1")), "T1"),
+    ("test-missing-input", "test.csv", table_csv(seed=1, edit=lambda rows: [r.pop(2) for r in rows]), "T2"),
+    ("ragged-row", "train.csv", table_csv(edit=lambda rows: rows[6].append("1")), "line 7"),
+    ("header-only", "train.csv", "time,T1,T2,T3,T4,drift_z\n", "rows"),
+]
+
+# ---------------------------------------------------------------------- bad options per command
+_SET = "--set"
+# (id, argv, source, field)
+OPTION_CASES = [
+    # simulate
+    ("simulate:unknown-machine", swap(SIM, "cframe-vmc", "vmc-9000"), CLI, "machine"),
+    ("simulate:unknown-scenario", swap(SIM, "{d}/short.toml", "no-such-scenario"), CLI, "scenario"),
+    ("simulate:unknown-effect", SIM + ["--effects", "+warp_drive"], CLI, "--effects warp_drive"),
+    ("simulate:remove-absent-effect", SIM + ["--effects=-electrical_cabinet"], CLI, "--effects electrical_cabinet"),
+    ("simulate:effects-empty", SIM + ["--effects", ","], CLI, "--effects"),
+    ("simulate:effects-twice", SIM + ["--effects=-floor", "--effects=-floor"], CLI, "--effects"),
+    ("simulate:set-malformed", SIM + [_SET, "power"], CLI, "--set power"),
+    ("simulate:set-unknown-parameter", SIM + [_SET, "spindle_motor.colour=3W"], CLI, "--set spindle_motor.colour"),
+    ("simulate:set-unknown-effect", SIM + [_SET, "warp.x=1W"], CLI, "--set warp.x"),
+    ("simulate:set-no-unit", SIM + [_SET, "spindle_motor.power=3"], CLI, "--set spindle_motor.power"),
+    ("simulate:set-wrong-unit", SIM + [_SET, "spindle_motor.power=3 K"], CLI, "--set spindle_motor.power"),
+    ("simulate:set-below-bounds", SIM + [_SET, "spindle_motor.power=-3 W"], CLI, "--set spindle_motor.power"),
+    ("simulate:set-nan", SIM + [_SET, "spindle_motor.power=nan W"], CLI, "--set spindle_motor.power"),
+    ("simulate:set-inf", SIM + [_SET, "spindle_motor.power=inf W"], CLI, "--set spindle_motor.power"),
+    ("simulate:set-overflow", SIM + [_SET, "spindle_motor.power=1e400 W"], CLI, "--set spindle_motor.power"),
+    ("simulate:set-effect-off", SIM + [_SET, "electrical_cabinet.power=50W"], CLI, "--set electrical_cabinet.power"),
+    ("simulate:set-twice", SIM + [_SET, "spindle_motor.power=100W", _SET, "spindle_motor.power=200W"], CLI,
+     "--set spindle_motor.power"),
+    ("simulate:seed-negative", SIM + ["--seed", "-1"], CLI, "--seed"),
+    ("simulate:seed-huge", SIM + ["--seed", str(2**40)], CLI, "--seed"),
+    ("simulate:seed-not-integer", SIM + ["--seed", "1.5"], CLI, "--seed"),
+    ("simulate:seed-twice", SIM + ["--seed", "1", "--seed", "2"], CLI, "--seed"),
+    ("simulate:mesh-unknown", swap(SIM, "coarse", "huge"), CLI, "--mesh"),
+    ("simulate:mesh-twice", SIM + ["--mesh", "default"], CLI, "--mesh"),
+    ("simulate:o-twice", SIM + ["-o", "{d}/other.nc"], CLI, "-o"),
+    ("simulate:field-twice", SIM + ["--field", "{d}/a.vtu", "--field", "{d}/b.vtu"], CLI, "--field"),
+    ("simulate:field-is-output", SIM + ["--field", "{d}/out.nc"], "{d}/out.nc", "--field"),
+    ("simulate:o-missing", SIM[:3], CLI, "twin simulate"),
+    ("simulate:unknown-option", SIM + ["--frobnicate"], CLI, "twin"),
+    # plot
+    ("plot:o-twice", PLOT + ["-o", "{d}/b.png"], CLI, "-o"),
+    ("plot:o-missing", PLOT[:2], CLI, "twin plot"),
+    ("plot:pgf-needs-latex", swap(PLOT, "{d}/pic.png", "{d}/pic.pgf"), "{d}/pic.pgf", "-o"),
+    # compare
+    ("compare:conflicting-machine", COMPARE + ["--machine", "vmc-9000"], "{d}/m.toml", "machine"),
+    ("compare:mesh-unknown", swap(COMPARE, "coarse", "huge"), CLI, "--mesh"),
+    ("compare:unknown-effect", COMPARE + ["--effects", "+warp"], CLI, "--effects warp"),
+    ("compare:set-twice", COMPARE + [_SET, "spindle_motor.power=1W", _SET, "spindle_motor.power=2W"], CLI,
+     "--set spindle_motor.power"),
+    ("compare:seed-negative", COMPARE + ["--seed", "-1"], CLI, "--seed"),
+    ("compare:mapping-twice", COMPARE + ["--mapping", "{d}/m.toml", "--mapping", "{d}/m.toml"], CLI, "--mapping"),
+    ("compare:mapping-missing", COMPARE, "{d}/m.toml", "--mapping"),   # files: m.toml removed
+    ("compare:unknown-scenario", COMPARE + ["--scenario", "no-such-scenario"], CLI, "scenario"),
+    ("compare:scenario-shorter", COMPARE + ["--scenario", "{d}/short.toml"], "{d}/short.toml", "duration"),
+    ("compare:netcdf-with-mapping", COMPARE_NC + ["--mapping", "{d}/m.toml"], "{d}/m.toml", "--mapping"),
+    ("compare:inputs-only", COMPARE, "{d}/m.csv", "channels"),
+    # diagnose
+    ("diagnose:error-mesh-same", swap(DIAGNOSE, "none", "coarse"), CLI, "--error-mesh"),
+    ("diagnose:error-mesh-unknown", swap(DIAGNOSE, "none", "huge"), CLI, "--error-mesh"),
+    ("diagnose:json-twice", DIAGNOSE + ["--json", "{d}/e.json"], CLI, "--json"),
+    ("diagnose:report-twice", DIAGNOSE + ["--report", "{d}/r2"], CLI, "--report"),
+    ("diagnose:json-in-report", swap(DIAGNOSE, "{d}/d.json", "{d}/report/index.json"), "{d}/report/index.json", "--json"),
+    ("diagnose:seed-huge", DIAGNOSE + ["--seed", str(2**33)], CLI, "--seed"),
+    ("diagnose:set-unknown", DIAGNOSE + [_SET, "spindle_motor.colour=1W"], CLI, "--set spindle_motor.colour"),
+    # learn
+    ("learn:train-twice", LEARN + ["--train", "{d}/test.csv"], CLI, "--train"),
+    ("learn:test-twice", LEARN + ["--test", "{d}/test.csv"], "{d}/test.csv", "--test"),
+    ("learn:target-missing", LEARN[:5] + LEARN[7:], CLI, "twin learn"),
+    ("learn:unknown-learner", swap(LEARN, "mlr", "mlr,nope"), CLI, "learner"),
+    ("learn:learner-empty", swap(LEARN, "mlr", ","), CLI, "--learner"),
+    ("learn:unknown-selector", LEARN + ["--select", "nope:2"], CLI, "--select"),
+    ("learn:select-count-not-integer", LEARN + ["--select", "correlation:x"], CLI, "--select"),
+    ("learn:select-count-zero", LEARN + ["--select", "correlation:0"], CLI, "--select"),
+    ("learn:select-takes-no-count", LEARN + ["--select", "all:2"], CLI, "--select"),
+    ("learn:select-more-than-inputs", LEARN + ["--select", "correlation:9"], CLI, "--select"),
+    ("learn:unknown-input", LEARN + ["--inputs", "T1,T9"], "{d}/train.csv", "T9"),
+    ("learn:target-among-inputs", LEARN + ["--inputs", "T1,drift_z"], CLI, "--inputs"),
+    ("learn:unknown-time-column", LEARN + ["--time-column", "clock"], "{d}/train.csv", "clock"),
+    ("learn:seed-negative", LEARN + ["--seed", "-1"], CLI, "--seed"),
+    ("learn:select-twice", LEARN + ["--select", "all", "--select", "all"], CLI, "--select"),
+    ("learn:too-few-rows-for-learner", swap(LEARN, "mlr", "combination"), "{d}/train.csv", "combination"),
+    # demo
+    ("demo:bad-set", DEMO + [_SET, "spindle_motor.power=3"], CLI, "--set spindle_motor.power"),
+    ("demo:unknown-effect", DEMO + ["--effects", "+warp"], CLI, "--effects warp"),
+    ("demo:seed-negative", DEMO + ["--seed", "-1"], CLI, "--seed"),
+    ("demo:mesh-unknown", swap(DEMO, "coarse", "huge"), CLI, "--mesh"),
+    ("demo:o-twice", DEMO + ["-o", "{d}/other"], CLI, "-o"),
+    # list
+    ("list:unknown-what", ["list", "gizmos"], CLI, "what"),
+    ("list:machine-without-effects", ["list", "machines", "--machine", "cframe-vmc"], CLI, "--machine"),
+    ("list:unknown-machine", ["list", "effects", "--machine", "vmc-9000"], CLI, "machine"),
+    ("top:unknown-command", ["frobnicate"], CLI, "command"),
+]
+
+# files an option case needs changed (id -> files)
+OPTION_FILES = {
+    "compare:mapping-missing": {"m.toml": None},
+    "compare:scenario-shorter": {"short.toml": SCENARIO.replace('duration = "20 min"', 'duration = "10 min"')},
+    "compare:inputs-only": {"m.csv": INPUTS_ONLY_CSV, "m.toml": INPUTS_ONLY_MAPPING},
+    "learn:too-few-rows-for-learner": {"train.csv": table_csv(n=5)},
+}
+
+
+def all_cases() -> list[Case]:
+    """Every case of the tables above."""
+    cases = [c for row in INPUTS for c in bad_input_paths(*row)]
+    cases += [c for row in OUTPUTS for c in bad_output_paths(*row)]
+    cases += [c for row in FOLDERS for c in bad_output_folders(*row)]
+    for cid, text, fld in SCENARIO_EDITS:
+        cases.append(Case(f"simulate.scenario:{cid}", SIM, "{d}/short.toml", fld, files={"short.toml": text}))
+        if cid in SCENARIO_EDITS_VIA_MEASUREMENT:
+            for name, argv in (("compare", COMPARE), ("diagnose", DIAGNOSE)):
+                cases.append(Case(f"{name}.scenario:{cid}", argv + ["--scenario", "{d}/short.toml"], "{d}/short.toml",
+                                  fld, files={"short.toml": text}))
+    for cid, text, fld in MAPPING_EDITS:
+        cases.append(Case(f"compare.mapping:{cid}", COMPARE, "{d}/m.toml", fld, files={"m.toml": text}))
+    for cid, text, fld in CSV_EDITS:
+        cases.append(Case(f"compare.csv:{cid}", COMPARE, "{d}/m.csv", fld, files={"m.csv": text}))
+        if cid in CSV_EDITS_VIA_DIAGNOSE:
+            cases.append(Case(f"diagnose.csv:{cid}", DIAGNOSE, "{d}/m.csv", fld, files={"m.csv": text}))
+    for cid, make, plot_field, compare_field in RESULT_EDITS:
+        if plot_field is not None:
+            cases.append(Case(f"plot.result:{cid}", PLOT, "{d}/r.nc", plot_field, files={"r.nc": make}))
+        if compare_field is not None:
+            cases.append(Case(f"compare.netcdf:{cid}", COMPARE_NC, "{d}/r.nc", compare_field, files={"r.nc": make}))
+    for cid, name, text, fld in TABLE_EDITS:
+        cases.append(Case(f"learn.table:{cid}", LEARN, f"{{d}}/{name}", fld, files={name: text}))
+    for cid, argv, source, fld in OPTION_CASES:
+        cases.append(Case(cid, argv, source, fld, files=OPTION_FILES.get(cid, {})))
+    return cases

@@ -1,0 +1,113 @@
+"""The input-checking layer: physical limits (twin/limits.py) and files (twin/io/paths.py)."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+from geometries import MACHINES, build_machine
+from twin import limits
+from twin.errors import InputError
+from twin.io.atomic import output_folder
+from twin.io.paths import Files, read_text, same_file
+
+
+def test_absolute_zero_is_the_lowest_temperature():
+    """T >= -273.15 degC (0 K); just above is still refused as implausible, not as impossible."""
+    with pytest.raises(InputError, match="below absolute zero"):
+        limits.check_temperatures(-273.16, "s", "f", "structure")
+    with pytest.raises(InputError, match="plausible"):
+        limits.check_temperatures(-273.15, "s", "f", "structure")
+    assert limits.check_temperatures([-40.0, 200.0], "s", "f", "structure").tolist() == [-40.0, 200.0]
+    with pytest.raises(InputError, match="kelvin"):      # 20 degC logged as 293.15 K
+        limits.check_temperatures(np.array([293.15, 293.2]), "s", "f", "structure")
+    with pytest.raises(InputError, match="not a finite"):
+        limits.check_temperatures([20.0, np.nan], "s", "f")
+
+
+def test_speed_limit_is_the_machines():
+    m = build_machine("cframe-vmc")
+    assert limits.max_speed(m) == 9000.0
+    limits.check_speeds([0.0, 9000.0], m, "s", "f")
+    limits.check_speeds(9000.0 * 1.05, m, "s", "f", logged=True)
+    for bad in (9000.5, -1.0, np.inf):
+        with pytest.raises(InputError):
+            limits.check_speeds(bad, m, "s", "f")
+    assert limits.max_speed(None) == limits.UNDECLARED_MAX_SPEED
+
+
+def test_a_scenario_from_a_log_keeps_the_logs_tolerance():
+    from twin.scenario import Ambient, Scenario
+
+    m = build_machine("cframe-vmc")
+    steps = ((600.0, 9400.0),)
+    with pytest.raises(InputError, match="maximum of 9000 rpm"):
+        limits.check_scenario(Scenario("typed", steps, Ambient("constant")), m)
+    limits.check_scenario(Scenario("measured", steps, Ambient("constant"), extra={"logged": True}), m)
+
+
+@pytest.mark.parametrize("name", sorted(MACHINES))
+def test_every_sensor_site_and_probe_target_lies_on_its_part(name):
+    """The position check accepts every point a machine names (so it refuses only what is off)."""
+    m = build_machine(name)
+    for p in m.points:
+        limits.check_position(m, p.xyz, "" if p.part == "air" else p.part, "s", p.name)
+
+
+def test_run_size_is_steps_times_nodes():
+    from twin.scenario import Ambient, Scenario
+
+    sc = Scenario("s", ((3600.0, 0.0),), Ambient("constant"), 1.0)     # 3600 steps
+    limits.check_run_size(sc, int(limits.MAX_NODE_STEPS // 3600))
+    with pytest.raises(InputError, match="node-steps"):
+        limits.check_run_size(sc, int(limits.MAX_NODE_STEPS // 3600) + 1)
+    with pytest.raises(InputError, match="time steps"):
+        limits.check_steps(2e6, 1.0, "s", "f")
+
+
+def test_seed_range():
+    assert limits.check_seed("0") == 0 and limits.check_seed(str(2**32 - 1)) == 2**32 - 1
+    for bad in ("-1", str(2**32), "1.5", "x"):
+        with pytest.raises(ValueError):
+            limits.check_seed(bad)
+
+
+def test_an_output_is_never_an_input_in_either_order(tmp_path):
+    a = tmp_path / "a.csv"
+    a.write_text("x\n")
+    os.link(a, tmp_path / "b.csv")
+    files = Files()
+    files.output(tmp_path / "b.csv", "-o", (".csv",))
+    with pytest.raises(InputError, match="never replaces an input") as err:
+        files.input(a, "--train")
+    assert err.value.source == str(tmp_path / "b.csv") and err.value.field == "-o"
+    assert same_file(a, tmp_path / "b.csv") and not same_file(a, tmp_path / "c.csv")
+    files = Files()
+    files.output(tmp_path / "c.csv", "-o")
+    with pytest.raises(InputError, match="also the output of -o"):
+        files.output(tmp_path / "c.csv", "--json")
+
+
+def test_text_inputs_are_utf8_with_or_without_a_bom(tmp_path):
+    p = tmp_path / "s.toml"
+    p.write_bytes("\ufeffname = 'caf\u00e9'\n".encode("utf-8"))
+    assert read_text(p) == "name = 'café'\n"
+    p.write_bytes("name = 'caf\u00e9'\n".encode("latin-1"))
+    with pytest.raises(InputError, match="not UTF-8 .* line 1"):
+        read_text(p, "scenario")
+
+
+def test_a_made_folder_is_removed_when_the_command_fails_and_kept_when_it_existed(tmp_path):
+    made = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        with output_folder(made):
+            assert made.is_dir()
+            raise KeyboardInterrupt
+    assert not made.exists()
+    made.mkdir()
+    with pytest.raises(RuntimeError):
+        with output_folder(made):
+            raise RuntimeError
+    assert made.is_dir()

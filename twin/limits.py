@@ -1,0 +1,176 @@
+"""Physical limits of what a user may ask for, in one place.
+
+Every number that crosses a boundary (a scenario, a measurement, a command-line option) is
+finite (:mod:`twin.units` refuses NaN and inf) and, through this module, physically possible and
+affordable. Each check raises :class:`twin.errors.InputError` ``(source, field, message)``.
+
+* Temperatures [degC] above absolute zero (-273.15 degC) and within a plausible range: room air
+  :data:`AIR_RANGE` (-40 to 60 degC), a machine's structure :data:`STRUCTURE_RANGE` (-40 to
+  200 degC; a log in kelvin under a degC mapping reads 290-300 "degC" and is refused with a hint).
+* Spindle speeds [rpm] from 0 to the machine's maximum (``Machine.max_speed``; machines that do
+  not declare one: :data:`UNDECLARED_MAX_SPEED`); a measured log may exceed it by
+  :data:`LOGGED_SPEED_MARGIN` (controller overshoot, encoder noise).
+* Run sizes: at most :data:`MAX_STEPS` time steps (duration / sample interval) and at most
+  :data:`MAX_NODE_STEPS` node-steps (steps x temperature nodes): a run beyond them would take
+  days or terabytes, so it is refused with the size it implies.
+* Probe readings [m] within :data:`PROBE_RANGE` (10 mm) of their zero: thermal drift is tens of
+  micrometres, a reading of metres is a unit mistake.
+* Positions [m]: a sensor glued to the machine lies inside one of its parts (inside the named
+  part when one is given); a sensor in the air (part ``"air"``) within :data:`AIR_REACH` of it.
+* Seeds: integers from 0 to 2**32 - 1 (stored in the result's attributes, reproducible).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from twin.errors import InputError
+
+ABSOLUTE_ZERO = -273.15                 # degC
+AIR_RANGE = (-40.0, 60.0)               # degC: room air round a machine tool
+STRUCTURE_RANGE = (-40.0, 200.0)        # degC: anything a sensor on a machine tool reads
+UNDECLARED_MAX_SPEED = 60000.0          # rpm: the fastest spindles in machine tools
+LOGGED_SPEED_MARGIN = 0.05              # a measured speed may exceed the maximum by 5 %
+MAX_STEPS = 1_000_000                   # time steps of one run
+MAX_NODE_STEPS = 2e10                   # steps x temperature nodes of one run
+PROBE_RANGE = 0.01                      # m: the measuring range of a displacement probe (10 mm)
+AIR_REACH = 10.0                        # m: how far from the machine an air sensor may sit
+MAX_SEED = 2**32 - 1
+
+
+def check_temperatures(values, source: str, field: str, kind: str = "air") -> np.ndarray:
+    """``values`` [degC] (a number or an array) checked: finite, above absolute zero, within
+    :data:`AIR_RANGE` (``kind="air"``) or :data:`STRUCTURE_RANGE` (``kind="structure"``)."""
+    v = np.asarray(values, dtype=float)
+    lo, hi = AIR_RANGE if kind == "air" else STRUCTURE_RANGE
+    what = "room air" if kind == "air" else "a machine-tool structure"
+    bad = np.flatnonzero(~np.isfinite(v.ravel()))
+    if bad.size:
+        raise InputError(source, field, f"{_where(v, bad[0])}is not a finite number")
+    flat = v.ravel()
+    below = np.flatnonzero(flat < ABSOLUTE_ZERO)
+    if below.size:
+        raise InputError(source, field, f"{_where(v, below[0])}{flat[below[0]]:g} degC is below absolute zero "
+                                        f"({ABSOLUTE_ZERO} degC)")
+    out = np.flatnonzero((flat < lo) | (flat > hi))
+    if out.size:
+        x = flat[out[0]]
+        hint = (" (it looks like kelvin: convert to degC)" if 233.15 <= x <= 473.15 else "")
+        raise InputError(source, field, f"{_where(v, out[0])}{x:g} degC is outside the plausible range of {what} "
+                                        f"({lo:g} to {hi:g} degC){hint}")
+    return v
+
+
+def _where(v: np.ndarray, i: int) -> str:
+    return f"value #{i + 1}: " if v.ndim and v.size > 1 else ""
+
+
+def max_speed(machine) -> float:
+    """The machine's maximum spindle speed [rpm] (``Machine.max_speed``, else
+    :data:`UNDECLARED_MAX_SPEED`)."""
+    declared = getattr(machine, "max_speed", None) if machine is not None else None
+    return float(declared) if declared else UNDECLARED_MAX_SPEED
+
+
+def check_speeds(values, machine, source: str, field: str, logged: bool = False) -> np.ndarray:
+    """Spindle speeds [rpm] checked: finite, not negative, at most the machine's maximum (plus
+    :data:`LOGGED_SPEED_MARGIN` for a measured log, ``logged=True``)."""
+    v = np.asarray(values, dtype=float)
+    flat = v.ravel()
+    bad = np.flatnonzero(~np.isfinite(flat))
+    if bad.size:
+        raise InputError(source, field, f"{_where(v, bad[0])}is not a finite number")
+    neg = np.flatnonzero(flat < 0)
+    if neg.size:
+        raise InputError(source, field, f"{_where(v, neg[0])}{flat[neg[0]]:g} rpm: a spindle speed is not "
+                                        "negative (give the magnitude for reverse rotation)")
+    top = max_speed(machine)
+    limit = top * (1 + LOGGED_SPEED_MARGIN) if logged else top
+    fast = np.flatnonzero(flat > limit)
+    if fast.size:
+        name = getattr(machine, "name", None)
+        whose = f"machine {name}'s maximum of {top:g} rpm" if name else f"the limit of {top:g} rpm"
+        raise InputError(source, field, f"{_where(v, fast[0])}{flat[fast[0]]:g} rpm is beyond {whose}")
+    return v
+
+
+def check_displacements(values, source: str, field: str) -> np.ndarray:
+    """Displacement-probe readings [m] checked: finite and within :data:`PROBE_RANGE` of zero."""
+    v = np.asarray(values, dtype=float)
+    flat = v.ravel()
+    bad = np.flatnonzero(~np.isfinite(flat) | (np.abs(flat) > PROBE_RANGE))
+    if bad.size:
+        x = flat[bad[0]]
+        what = "is not a finite number" if not np.isfinite(x) else (
+            f"{x * 1e3:g} mm is beyond a displacement probe's range of +-{PROBE_RANGE * 1e3:g} mm (check the unit)")
+        raise InputError(source, field, f"{_where(v, bad[0])}{what}")
+    return v
+
+
+def check_steps(duration: float, sample_interval: float, source: str, field: str) -> int:
+    """The number of time steps duration / sample interval [s], refused beyond :data:`MAX_STEPS`."""
+    steps = duration / sample_interval
+    if not np.isfinite(steps) or steps > MAX_STEPS:
+        raise InputError(source, field, f"the run would take {steps:.3g} time steps (duration {duration:.6g} s / "
+                                        f"sample interval {sample_interval:.6g} s); at most {MAX_STEPS:.0e} are "
+                                        "affordable: shorten the run or lengthen sample_interval")
+    return int(round(steps))
+
+
+def check_run_size(scenario, nodes: int, field: str = "duration") -> None:
+    """Refuse a run of ``scenario`` on ``nodes`` temperature nodes beyond :data:`MAX_STEPS` time
+    steps or :data:`MAX_NODE_STEPS` node-steps, with the size it implies."""
+    source = scenario.source or scenario.name
+    steps = check_steps(scenario.duration, scenario.sample_interval, source, field)
+    size = float(steps) * float(nodes)
+    if size > MAX_NODE_STEPS:
+        raise InputError(source, field, f"{steps} time steps on a mesh of {nodes} nodes are {size:.3g} node-steps; "
+                                        f"at most {MAX_NODE_STEPS:.0e} are affordable (a coarser --mesh, a "
+                                        "longer sample_interval or a shorter run)")
+
+
+def check_scenario(scenario, machine) -> None:
+    """A scenario against a machine: every spindle step within the machine's speed limit (with
+    :data:`LOGGED_SPEED_MARGIN` when the scenario was built from a log, ``extra["logged"]``)."""
+    source = scenario.source or scenario.name
+    logged = bool(scenario.extra.get("logged"))
+    for i, (_, speed) in enumerate(scenario.steps):
+        check_speeds(speed, machine, source, "spindle_speed" if logged else f"spindle[{i}].speed", logged)
+
+
+def check_position(machine, xyz, part: str, source: str, field: str) -> None:
+    """A sensor position [m] checked against the machine: in the air (``part == "air"``) within
+    :data:`AIR_REACH` of its parts, else inside a box of ``part`` (any part when empty)."""
+    p = np.asarray(xyz, dtype=float)
+    if not np.all(np.isfinite(p)):
+        raise InputError(source, field, "position is not finite")
+    names = [q.name for q in machine.parts]
+    if part and part != "air" and part not in names:
+        raise InputError(source, field, f"machine {machine.name} has no part {part!r}; known: {', '.join(names)} "
+                                        "(or air)")
+    boxes = [(q.name, b) for q in machine.parts for b in q.boxes]
+    lo = np.min([b.lo for _, b in boxes], axis=0)
+    hi = np.max([b.hi for _, b in boxes], axis=0)
+    where = f"({', '.join(f'{c:.4g}' for c in p)}) m"
+    if part == "air":
+        if np.any(p < lo - AIR_REACH) or np.any(p > hi + AIR_REACH):
+            raise InputError(source, field, f"{where} is more than {AIR_REACH:g} m from machine {machine.name}")
+        return
+    inside = [name for name, b in boxes if np.all(p >= np.asarray(b.lo) - 1e-9) and np.all(p <= np.asarray(b.hi) + 1e-9)]
+    if part and part not in inside:
+        raise InputError(source, field, f"{where} is not on part {part} of machine {machine.name}"
+                                        + (f" (it lies in {', '.join(inside)})" if inside else ""))
+    if not inside:
+        span = ", ".join(f"{a} {l:.3g}..{h:.3g}" for a, l, h in zip("xyz", lo, hi))
+        raise InputError(source, field, f"{where} is outside machine {machine.name} (its parts span {span} m)")
+
+
+def check_seed(text) -> int:
+    """A noise seed: an integer from 0 to :data:`MAX_SEED` (raises ValueError otherwise)."""
+    try:
+        seed = int(str(text).strip())
+    except ValueError:
+        raise ValueError(f"{text!r} is not an integer") from None
+    if not 0 <= seed <= MAX_SEED:
+        raise ValueError(f"{seed} is outside 0..{MAX_SEED}")
+    return seed
