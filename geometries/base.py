@@ -85,6 +85,35 @@ class Probe:
     fixture: str
 
 
+@dataclass(frozen=True)
+class CameraPose:
+    """Where a thermal camera stands: ``position`` and ``target`` [m], ``up`` (a direction: the
+    image's up), the part it is aimed at (``subject``, where the virtual spots go) and why."""
+
+    name: str
+    position: Vec3
+    target: Vec3
+    up: Vec3 = (0.0, 0.0, 1.0)
+    subject: str = ""
+    description: str = ""
+
+    @property
+    def distance(self) -> float:
+        """|target - position| [m]."""
+        return float(np.linalg.norm(np.subtract(self.target, self.position)))
+
+
+@dataclass(frozen=True)
+class Finish:
+    """The surface finish (an :class:`geometries.finishes.Emissivity`) of the exterior of
+    ``parts``, only inside ``within`` when given (a taped patch). Later finishes win where they
+    overlap, as parts do."""
+
+    emissivity: object
+    parts: tuple[str, ...]
+    within: Box | None = None
+
+
 @dataclass
 class Machine:
     """A parametric machine: parts, surfaces, points, probes, its mesh spacings and its contract.
@@ -92,7 +121,9 @@ class Machine:
     ``roles`` binds role names of :data:`geometries.regions.ROLES` to regions of this machine (the
     places effects address); ``default_effects`` names the effects a model of this machine has
     unless the user says otherwise; ``air_sites`` are points in the air round the machine where
-    sensors read the air temperature (not glued to a part).
+    sensors read the air temperature (not glued to a part). ``camera_poses`` are the named places
+    a thermal camera looks from; ``finishes`` the surface finishes (emissivities) it sees, in
+    order (a part no finish covers is painted, :data:`geometries.finishes.DEFAULT`).
     """
 
     name: str
@@ -109,6 +140,8 @@ class Machine:
     roles: dict = field(default_factory=dict)
     default_effects: tuple[str, ...] = ()
     air_sites: list[str] = field(default_factory=list)
+    camera_poses: list[CameraPose] = field(default_factory=list)
+    finishes: list[Finish] = field(default_factory=list)
 
     def __post_init__(self):
         check_roles(self.name, self.roles)
@@ -136,6 +169,12 @@ class Machine:
             if s.name == name:
                 return s
         raise KeyError(f"machine {self.name!r} has no surface {name!r}")
+
+    def camera_pose(self, name: str) -> CameraPose:
+        for p in self.camera_poses:
+            if p.name == name:
+                return p
+        raise KeyError(f"machine {self.name!r} has no camera pose {name!r}")
 
     def with_materials(self, materials: dict[str, Material]) -> "Machine":
         """A copy whose parts use ``materials[old.name]`` in place of their material."""

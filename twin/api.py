@@ -7,6 +7,9 @@ from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
 from twin.io.results import to_dataset
 from twin.model import ModelSpec, model_spec
+from twin.observe import standard_observers
+from twin.observe.camera import CameraConfig
+from twin.observe.camera import cameras as camera_observers
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
 
@@ -20,14 +23,17 @@ def machine_by_name(name: str):
 
 def simulate(machine: str, scenario: str | Scenario, effects: str | None = None, settings: list[str] | None = None,
              resolution: str = "default", seed: int = 0, theta: float = 0.5, progress=None,
-             sensors: list | None = None, materials: dict | None = None) -> tuple:
+             sensors: list | None = None, materials: dict | None = None, cameras: list | None = None) -> tuple:
     """Simulate by names; returns (Dataset, RunResult). ``effects`` edits the machine's default
-    set (``"+a,-b"``) or replaces it (``"a,b"``)."""
+    set (``"+a,-b"``) or replaces it (``"a,b"``). ``cameras`` (pose names or
+    :class:`twin.observe.camera.CameraConfig`) add thermal cameras to those of the scenario."""
     m = machine_by_name(machine)
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     spec: ModelSpec = model_spec(m, effects, settings)
+    configs = list(sc.cameras) + [c if isinstance(c, CameraConfig) else CameraConfig(pose=c) for c in cameras or ()]
+    observers = standard_observers(m, sensors) + camera_observers(m, configs) if configs else None
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
-                            mm=mesh_machine(m, resolution))
+                            mm=mesh_machine(m, resolution), observers=observers)
     return to_dataset(result, seed, resolution), result

@@ -16,6 +16,9 @@ A scenario file::
     speed = "9000 rpm"
     duration = "120 min"
 
+    [camera]                            # optional thermal camera(s): see twin.camera_config
+    pose = "carrier-front"
+
 Unknown keys, missing keys, wrong units and non-positive durations raise
 :class:`twin.errors.InputError` naming the file and the key.
 """
@@ -28,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
 from twin.units import UnitError, parse_quantity
 
@@ -69,6 +73,7 @@ class Scenario:
     description: str = ""
     source: str = ""
     extra: dict = field(default_factory=dict)
+    cameras: tuple = ()  # twin.observe.camera.CameraConfig, from the [camera] section
 
     @property
     def duration(self) -> float:
@@ -166,6 +171,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     t0 = top.get("initial_temperature", "temperature")
     ambient = _ambient(top.get("ambient", required=True), source)
     raw_steps = top.get("spindle", required=True)
+    cameras = cameras_from_toml(top.get("camera"), source, _Reader)
     top.finish()
     if not isinstance(raw_steps, list) or not raw_steps:
         raise InputError(source, "spindle", "expected one or more [[spindle]] steps")
@@ -180,7 +186,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
         if abs(duration / dt - round(duration / dt)) > 1e-6:
             raise InputError(source, f"spindle[{i}].duration", f"must be a multiple of the sample interval ({dt:g} s)")
         steps.append((duration, speed))
-    return Scenario(name, tuple(steps), ambient, dt, t0, description, source)
+    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras)
 
 
 def _ambient(table, source: str) -> Ambient:

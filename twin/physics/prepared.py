@@ -41,7 +41,7 @@ class PreparedTwin:
         self._heat_cache = {layout_key(self.mm): self.heat}
         self._adjoints: dict[tuple, np.ndarray] = {}
         self._couplings: dict[tuple, sp.csr_matrix] = {}
-        self._rows: dict[tuple, np.ndarray] = {}
+        self._rows: dict[tuple, sp.csr_matrix] = {}
         self.factorisations: dict[tuple, tuple] = {}
 
     @property
@@ -83,15 +83,16 @@ class PreparedTwin:
         """The load set of ``spec`` for ``scenario`` on this mesh (heat matrices from the cache)."""
         return build_loads(self.mm, scenario, spec, self.heat, self.materials, self._heat_cache)
 
-    def _rows_of(self, observer, loads) -> np.ndarray:
-        if not observer.layout_cached:
-            rows = observer.rows(self, loads)
-        else:
-            key = (observer.cache_key(), layout_key(loads.mm))
-            if key not in self._rows:
-                self._rows[key] = observer.rows(self, loads)
-            rows = self._rows[key]
-        return np.zeros((0, loads.mm.nheat)) if rows is None else np.asarray(rows)
+    def _rows_of(self, observer, loads) -> sp.csr_matrix:
+        """The observer's rows on the layout of ``loads`` as a sparse matrix (cached per layout)."""
+        key = (observer.cache_key(), layout_key(loads.mm))
+        if observer.layout_cached and key in self._rows:
+            return self._rows[key]
+        rows = observer.rows(self, loads)
+        rows = sp.csr_matrix((0, loads.mm.nheat)) if rows is None else sp.csr_matrix(rows)
+        if observer.layout_cached:
+            self._rows[key] = rows
+        return rows
 
     def run(self, scenario, spec, observers, theta: float = 0.5, on_step=None) -> tuple[LoadSet, dict]:
         """Integrate ``scenario`` with the effects of ``spec``, observed by ``observers``.
@@ -104,16 +105,23 @@ class PreparedTwin:
         if len(set(keys)) != len(keys):
             raise ValueError(f"observer keys must be unique in a run, got {keys}")
         loads = self.loads(scenario, spec)
-        blocks = [self._rows_of(o, loads) for o in observers]
-        outputs = sp.csr_matrix(np.vstack(blocks)) if blocks else sp.csr_matrix((0, loads.mm.nheat))
         times = scenario.times()
+        steps = {o.key: o.sample_steps(times) for o in observers}
+        dense = [o for o in observers if steps[o.key] is None]
+        blocks = [self._rows_of(o, loads) for o in dense]
+        outputs = sp.vstack(blocks, format="csr") if blocks else sp.csr_matrix((0, loads.mm.nheat))
+        sampled = [_Sampled(o, self._rows_of(o, loads), steps[o.key]) for o in observers if steps[o.key] is not None]
         dt = scenario.sample_interval
         h, air, s = loads.signals(times[:-1] + theta * dt)
         T0 = np.full(loads.mm.nheat, scenario.start_temperature)
         for o in observers:
             o.start(T0)
+        for s_ in sampled:
+            s_.record(0, T0)
 
         def step(n, T):
+            for s_ in sampled:
+                s_.record(n, T)
             for o in observers:
                 o.on_step(n, times[n], T)
             if on_step is not None:
@@ -121,5 +129,22 @@ class PreparedTwin:
 
         out = integrate(loads.system, T0, dt, len(times) - 1, h, air, s, outputs, theta, step,
                         self.factorisations, loads.operator_key)
-        bounds = np.cumsum([0] + [len(b) for b in blocks])
-        return loads, {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        bounds = np.cumsum([0] + [b.shape[0] for b in blocks])
+        readings = {o.key: out[:, a:b] for o, a, b in zip(dense, bounds[:-1], bounds[1:])}
+        readings.update({s_.observer.key: s_.raw for s_ in sampled})
+        return loads, {o.key: readings[o.key] for o in observers}
+
+
+class _Sampled:
+    """The raw block of an observer that records only at ``steps`` (indices of output instants):
+    R @ T at those steps, one row per sample, in the observer's ``raw_dtype``."""
+
+    def __init__(self, observer, rows: sp.csr_matrix, steps: np.ndarray):
+        self.observer, self.rows = observer, rows
+        self.slot = {int(n): i for i, n in enumerate(np.asarray(steps, dtype=int))}
+        self.raw = np.empty((len(self.slot), rows.shape[0]), dtype=observer.raw_dtype)
+
+    def record(self, n: int, T: np.ndarray) -> None:
+        i = self.slot.get(n)
+        if i is not None:
+            self.raw[i] = self.rows @ T
