@@ -33,6 +33,8 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     spec: ModelSpec = model_spec(m, effects, settings)
     configs = list(sc.cameras) + [c if isinstance(c, CameraConfig) else CameraConfig(pose=c) for c in cameras or ()]
+    for c in configs:
+        c.check(sc)
     observers = standard_observers(m, sensors) + camera_observers(m, configs) if configs else None
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
                             mm=mesh_machine(m, resolution), observers=observers)

@@ -72,6 +72,7 @@ class CameraConfig:
     room_temperature: float | None = None
     room_humidity: float = 0.30
     wall_distance: float = 5.0
+    air_path: bool = True
     sensor: Microbolometer = field(default_factory=Microbolometer)
     edge_rays: int = 3
     backend: str = "auto"
@@ -83,6 +84,17 @@ class CameraConfig:
         """The field an error about ``key`` names: ``camera.<key>`` (``camera[i].<key>``) in a
         scenario file, the option itself (``--camera``) on the command line."""
         return self.where + key if self.where.endswith(".") else self.where
+
+    def check(self, scenario) -> None:
+        """Raise :class:`InputError` unless the frame interval is a whole multiple of the
+        scenario's sample interval."""
+        if self.frame_interval is None:
+            return
+        ratio = self.frame_interval / scenario.sample_interval
+        if ratio < 1 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
+            raise InputError(self.source, self.field("frame_interval"),
+                             f"{self.frame_interval:g} s must be a whole multiple of the scenario's sample interval "
+                             f"({scenario.sample_interval:g} s)")
 
     @property
     def label(self) -> str:
@@ -155,12 +167,7 @@ class ThermalCamera(Observer):
         every instant when the frame interval is None."""
         if len(times) < 2 or self.config.frame_interval is None:
             return np.arange(len(times))
-        ratio = self.config.frame_interval / (times[1] - times[0])
-        if ratio < 1 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
-            raise InputError(self.config.source, self.config.field("frame_interval"),
-                             f"{self.config.frame_interval:g} s must be a whole multiple of the scenario's "
-                             f"sample interval ({times[1] - times[0]:g} s)")
-        return np.arange(0, len(times), int(round(ratio)))
+        return np.arange(0, len(times), max(1, int(round(self.config.frame_interval / (times[1] - times[0])))))
 
     def settings(self, scenario) -> ObjectSettings:
         """The camera's object settings, the room defaults resolved against ``scenario``."""
@@ -192,9 +199,10 @@ class ThermalCamera(Observer):
         for a in range(0, len(t), BLOCK):
             b = slice(a, min(a + BLOCK, len(t)))
             T = np.asarray(raw[b], dtype=float)
-            tau = air_transmission(depth[None, :], air[b, None], c.room_humidity)
+            tau = air_transmission(depth[None, :], air[b, None], c.room_humidity) if c.air_path else 1.0
+            tau_wall = air_transmission(c.wall_distance, air[b], c.room_humidity) if c.air_path else 1.0
             w_rays = scene_radiance(table, T, eps[None, :], room[b, None], tau, air[b, None])
-            w_wall = scene_radiance(table, room[b], 1.0, room[b], air_transmission(c.wall_distance, air[b], c.room_humidity), air[b])
+            w_wall = scene_radiance(table, room[b], 1.0, room[b], tau_wall, air[b])
             signal = (A @ w_rays.T).T + bg[None, :] * w_wall[:, None]
             counts[b] = chain.counts(signal.reshape(-1, H, W))
             thermo[b] = lut[counts[b]]
@@ -218,7 +226,7 @@ class ThermalCamera(Observer):
                 "intrinsics": c.intrinsics.as_dict(), "band_um": [c.band[0] * 1e6, c.band[1] * 1e6],
                 "frame_interval_s": float(np.diff(ctx.times[self.sample_steps(ctx.times)][:2]).sum()), "settings": self.settings(ctx.scenario).as_dict(),
                 "scene": {"room_temperature_degC": c.room_temperature, "room_humidity": c.room_humidity,
-                          "wall_distance_m": c.wall_distance},
+                          "wall_distance_m": c.wall_distance, "air_path": c.air_path},
                 "sensor": c.sensor.as_dict(), "edge_rays": c.edge_rays, "rays": int(len(self.view.ray_pixel)),
                 "counts_stored": bool(getattr(self, "_counts_stored", c.store_counts))}
         return {self.name("camera"): json.dumps(info)}
