@@ -180,7 +180,7 @@ class ThermalCamera(Observer):
     def frames(self, raw: np.ndarray, ctx: RunContext):
         """(frame times [s], thermogram (n, H, W) [degC] float32, counts uint16, true surface
         temperature float32 [degC], look-up table (2^bits,) [degC], settings) of ``raw``."""
-        c, view = self.config, self.view
+        c, view = self.config, self.geometry(ctx.loads.mm)  # rows may come from the twin's cache
         H, W = c.intrinsics.shape
         t = ctx.times[self.sample_steps(ctx.times)]
         air = np.asarray(ctx.scenario.ambient_temperature(t), dtype=float)

@@ -22,7 +22,8 @@ sigma dL/dT(T_ref):
 The banding and drift defaults are plausible values for an uncooled camera, not measured on an
 S65; the NETD and the accuracy are the seed's. All draws come from one seeded generator in a
 fixed order (fixed patterns, offset series, then frame by frame), so frames are bit-identical for
-the same seed and independent of how the frames are processed in blocks.
+the same seed and independent of how the frames are processed in blocks. The per-frame noise is
+drawn in single precision (it is 1e-3 of a count at most; twice as fast).
 """
 
 from __future__ import annotations
@@ -103,13 +104,14 @@ class SensorChain:
         n = len(signal)
         k = slice(self.next, self.next + n)
         self.next += n
-        noise_k = np.empty((n, H, W))
+        noise_k = np.empty((n, H, W), dtype=np.float32)
+        normal = self.rng.standard_normal
         for i in range(n):
-            frame = p.netd * self.rng.standard_normal((H, W))
-            frame += p.row_temporal * self.rng.standard_normal((H, 1)) + p.column_temporal * self.rng.standard_normal((1, W))
-            frame += p.frame_temporal * self.rng.standard_normal()
+            frame = normal((H, W), dtype=np.float32) * np.float32(p.netd)
+            frame += (p.row_temporal * normal((H, 1)) + p.column_temporal * normal((1, W))
+                      + p.frame_temporal * normal()).astype(np.float32)
             noise_k[i] = frame
-        noise_k += self.fixed[None] + self.offset[k][:, None, None]
+        noise_k += (self.fixed[None] + self.offset[k][:, None, None]).astype(np.float32)
         c = np.rint(self.zero + self.gain * (signal + self.kelvin * noise_k))
         return np.clip(c, 0, self.top).astype(np.uint16)
 
