@@ -267,3 +267,59 @@ def test_grid_caster_matches_trimesh_ray_triangle():
         emb = cast(surface, origin, dirs, "embree")
         assert np.array_equal(emb.index >= 0, hit) and np.allclose(emb.distance[hit], grid.distance[hit], atol=1e-9)
     assert isinstance(trimesh.__version__, str)
+
+
+def test_scenario_camera_section_and_cli_errors(tmp_path):
+    """A [camera] section is read with units; an unknown key, a missing unit, an emissivity out
+    of (0, 1], a frame interval that is not a multiple of the sample interval and an unknown pose
+    each give one error naming file and field, exit code 2 and no output file."""
+    from twin.cli import main
+    from twin.scenario import load_scenario
+
+    base = ('sample_interval = "60 s"\n[ambient]\nkind = "constant"\ntemperature = "20 degC"\n'
+            '[[spindle]]\nspeed = "9000 rpm"\nduration = "2 min"\n')
+    good = tmp_path / "good.toml"
+    good.write_text(base + '[camera]\npose = "spindle-front"\nresolution = [32, 24]\nifov = "1.5 mrad"\n'
+                           'frame_interval = "2 min"\n[camera.settings]\nemissivity = 0.9\nrelative_humidity = "40 %"\n')
+    cam = load_scenario(str(good)).cameras[0]
+    assert (cam.intrinsics.width, cam.emissivity, cam.relative_humidity, cam.frame_interval) == (32, 0.9, 0.4, 120.0)
+    cases = {"unknown": ('[camera]\nzoom = 2\n', "camera.zoom"),
+             "unit": ('[camera]\nifov = 1.5\n', "camera.ifov"),
+             "emissivity": ('[[camera]]\n[camera.settings]\nemissivity = 1.2\n', "camera[0].settings.emissivity"),
+             "interval": ('[camera]\nframe_interval = "90 s"\n', "camera.frame_interval")}
+    for name, (text, field) in cases.items():
+        path = tmp_path / f"{name}.toml"
+        path.write_text(base + text)
+        out = tmp_path / f"{name}.nc"
+        assert main(["simulate", "cframe-vmc", str(path), "-o", str(out), "--mesh", "coarse"]) == 2
+        assert not out.exists()
+    out = tmp_path / "pose.nc"
+    assert main(["simulate", "cframe-vmc", str(good), "-o", str(out), "--mesh", "coarse", "--camera", "nope"]) == 2
+    assert not out.exists()
+
+
+def test_error_messages_name_the_field(tmp_path, capsys):
+    from twin.cli import main
+
+    path = tmp_path / "bad.toml"
+    path.write_text('[ambient]\nkind = "constant"\ntemperature = "20 degC"\n[[spindle]]\nspeed = "0 rpm"\n'
+                    'duration = "1 min"\n[camera]\n[camera.sensor]\nnetd = "-1 K"\n')
+    assert main(["simulate", "cframe-vmc", str(path), "-o", str(tmp_path / "x.nc")]) == 2
+    assert f"error: {path}: camera.sensor.netd: must not be negative" in capsys.readouterr().err
+    assert main(["simulate", "cframe-vmc", "spindle-duty-cycle", "-o", str(tmp_path / "y.nc"), "--camera", "nope"]) == 2
+    assert "error: command line: --camera: machine cframe-vmc has no camera pose 'nope'" in capsys.readouterr().err
+
+
+def test_a_new_camera_on_a_prepared_twin_reuses_the_cached_rows():
+    """Rows are cached per pose and layout; a second camera object on the same prepared twin
+    still packages its frames (it builds its view for the data), identical to the first."""
+    from twin.io.results import to_dataset
+    from twin.physics.prepared import PreparedTwin
+
+    m = _plate(1.0)
+    twin = PreparedTwin(m, build_mesh(m, 0.25))
+    sc = Scenario("static", ((20.0, 0.0),), Ambient("constant", mean=30.0), sample_interval=10.0)
+    first = [to_dataset(run(m, sc, ModelSpec(()), prepared=twin, observers=[ThermalCamera(m, _config())]), 1)
+             for _ in range(2)]
+    assert len(twin._rows) == 1
+    assert np.array_equal(first[0].thermogram.values, first[1].thermogram.values)

@@ -214,8 +214,7 @@ class ThermalCamera(Observer):
     def data(self, raw, ctx):
         from twin.observe.camera_output import camera_variables
 
-        t, thermo, counts, true, lut, settings = self.frames(raw, ctx)
-        self._settings = settings
+        t, thermo, counts, true, lut, _ = self.frames(raw, ctx)
         return camera_variables(self, t, thermo, counts, true, lut)
 
     def attrs(self, raw, ctx) -> dict:
@@ -224,7 +223,8 @@ class ThermalCamera(Observer):
                 "pose": {"name": p.name, "position_m": list(p.position), "target_m": list(p.target), "up": list(p.up),
                          "description": p.description, "subject": p.subject},
                 "intrinsics": c.intrinsics.as_dict(), "band_um": [c.band[0] * 1e6, c.band[1] * 1e6],
-                "frame_interval_s": float(np.diff(ctx.times[self.sample_steps(ctx.times)][:2]).sum()), "settings": self.settings(ctx.scenario).as_dict(),
+                "frame_interval_s": float(np.diff(ctx.times[self.sample_steps(ctx.times)][:2]).sum()),
+                "settings": self.settings(ctx.scenario).as_dict(),
                 "scene": {"room_temperature_degC": c.room_temperature, "room_humidity": c.room_humidity,
                           "wall_distance_m": c.wall_distance, "air_path": c.air_path},
                 "sensor": c.sensor.as_dict(), "edge_rays": c.edge_rays, "rays": int(len(self.view.ray_pixel)),
