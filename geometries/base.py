@@ -85,6 +85,35 @@ class Probe:
     fixture: str
 
 
+@dataclass(frozen=True)
+class CameraPose:
+    """Where a thermal camera stands: ``position`` and ``target`` [m], ``up`` (a direction: the
+    image's up), the part it is aimed at (``subject``, where the virtual spots go) and why."""
+
+    name: str
+    position: Vec3
+    target: Vec3
+    up: Vec3 = (0.0, 0.0, 1.0)
+    subject: str = ""
+    description: str = ""
+
+    @property
+    def distance(self) -> float:
+        """|target - position| [m]."""
+        return float(np.linalg.norm(np.subtract(self.target, self.position)))
+
+
+@dataclass(frozen=True)
+class Finish:
+    """The surface finish (an :class:`geometries.finishes.Emissivity`) of the exterior of
+    ``parts``, only inside ``within`` when given (a taped patch). Later finishes win where they
+    overlap, as parts do."""
+
+    emissivity: object
+    parts: tuple[str, ...]
+    within: Box | None = None
+
+
 @dataclass
 class Machine:
     """A parametric machine: parts, surfaces, points, probes, its mesh spacings and its contract.
@@ -111,6 +140,8 @@ class Machine:
     default_effects: tuple[str, ...] = ()
     air_sites: list[str] = field(default_factory=list)
     max_speed: float | None = None
+    camera_poses: list[CameraPose] = field(default_factory=list)
+    finishes: list[Finish] = field(default_factory=list)
 
     def __post_init__(self):
         check_roles(self.name, self.roles)
@@ -138,6 +169,12 @@ class Machine:
             if s.name == name:
                 return s
         raise KeyError(f"machine {self.name!r} has no surface {name!r}")
+
+    def camera_pose(self, name: str) -> CameraPose:
+        for p in self.camera_poses:
+            if p.name == name:
+                return p
+        raise KeyError(f"machine {self.name!r} has no camera pose {name!r}")
 
     def with_materials(self, materials: dict[str, Material]) -> "Machine":
         """A copy whose parts use ``materials[old.name]`` in place of their material."""

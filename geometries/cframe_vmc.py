@@ -13,7 +13,8 @@ is the line x = y = 0. The carrier is modelled at one Z position (the test posit
 
 from __future__ import annotations
 
-from geometries.base import Box, Machine, Part, Point, Probe, Surface, material
+from geometries.base import Box, CameraPose, Finish, Machine, Part, Point, Probe, Surface, material
+from geometries.finishes import GROUND_STEEL, MACHINE_PAINT, MASKING_TAPE
 from geometries.regions import Band, Facing, Named, Parts, Union
 
 NAME = "cframe-vmc"
@@ -128,7 +129,40 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         roles=roles(col_top),
         default_effects=DEFAULT_EFFECTS,
         max_speed=MAX_SPEED,
+        camera_poses=camera_poses(nose, tip),
+        finishes=finishes(nose, hb),
     )
+
+
+def camera_poses(nose: float, tip: float) -> list[CameraPose]:
+    """Where a thermal camera looks from. ``carrier-front`` is the seeds' view (seed 000 L4146,
+    seed 001 L213): about 1.5 m in front of the spindle carrier, whose front face (0.36 x 0.45 m)
+    then fills the S65's 24 x 18 deg field (0.63 x 0.47 m at 1.5 m)."""
+    carrier_front = (0.0, -0.12, 1.325)  # centre of the carrier's front face [m]
+    bar = (0.0, -0.02, 0.5 * (nose + tip) + 0.05)
+    return [
+        CameraPose("carrier-front", (0.0, -0.12 - 1.5, 1.325), carrier_front, subject="carrier",
+                   description="the seeds' view: the spindle carrier's front face from 1.5 m"),
+        CameraPose("spindle-front", (0.0, bar[1] - 1.5, bar[2]), bar, subject="test_bar",
+                   description="spindle nose and test bar from 1.5 m (the shiny mandrel with its taped band)"),
+        CameraPose("machine-front", (0.0, -6.0, 1.0), (0.0, 0.2, 0.95), subject="column",
+                   description="the whole machine from the front, 6 m away"),
+        CameraPose("machine-iso", (2.6, -4.2, 2.4), (0.0, 0.2, 0.95), subject="column",
+                   description="the whole machine from the front right, above"),
+    ]
+
+
+def finishes(nose: float, hb: float) -> list[Finish]:
+    """Painted castings and motor, bare ground steel on the spindle nose and the test mandrel,
+    masking tape (the seeds' emissivity 0.95) on the carrier's front face and on a band of the
+    mandrel 20-100 mm below the nose (seed 000 L4140: tape on the rotating test bar)."""
+    castings = ("bed", "saddle", "table", "column", "carrier", "motor")
+    return [
+        Finish(MACHINE_PAINT, castings),
+        Finish(GROUND_STEEL, ("spindle", "front_bearing", "rear_bearing", "test_bar")),
+        Finish(MASKING_TAPE, ("carrier",), Box((-0.19, -0.1205, 1.095), (0.19, -0.1195, 1.555))),
+        Finish(MASKING_TAPE, ("test_bar",), Box((-hb - 1e-3, -hb - 1e-3, nose - 0.10), (hb + 1e-3, hb + 1e-3, nose - 0.02))),
+    ]
 
 
 def roles(col_top: float) -> dict:

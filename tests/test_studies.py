@@ -99,3 +99,20 @@ def test_machine_b_gra_groups_and_selection():
         assert degree[f"T{i}"] == pytest.approx(1 / (1 + abs(liu(y) - liu(X[:, i - 1]))), rel=1e-12)
     assert sel["best_per_group"] == [max(GROUPS[g], key=lambda i: degree[f"T{i}"]) for g in GROUPS]
     assert len(rows) == 77 and len(sel["gra_fcm"]) == 5
+
+
+def test_camera_mode_spots_from_frames(tmp_path):
+    """Seed 001's pipeline from camera frames on short runs: 525 spots on the carrier, their
+    apparent-temperature rises as candidates, the study's rows and frames figure."""
+    from validate.studies.camera_figures import plot_frames
+    from validate.studies.learner_data import build_camera_data
+
+    d = build_camera_data(tmp_path, resolution="coarse", train=TRAIN, test=TEST)
+    assert len(d.candidates) == 525 and d.candidates[0] == "spot-001" and d.info["subject"] == "carrier"
+    assert d.X_train.shape == (51, len(d.sites) + 525) and np.allclose(d.X_train[0], 0.0)
+    spots = d.X_train[:, d.candidate_columns]
+    assert spots[-1].mean() > 0.3  # the carrier warms by tenths of a kelvin in 50 min at 9000 rpm
+    rows, extra = study_seed001.run_study(d, learner_names=["mlr"], axes=("Z",))
+    assert np.isfinite(rows[0]["test_rmse"]) and all(n.startswith("spot-") for n in extra["Z"]["inputs"])
+    assert "thermal camera" in study_seed001.markdown(rows, extra, d)
+    assert plot_frames(tmp_path / "frames.png", d, extra["Z"]["inputs"]).stat().st_size > 10000

@@ -8,6 +8,9 @@ from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
 from twin.io.results import to_dataset
 from twin.model import ModelSpec, model_spec
+from twin.observe import standard_observers
+from twin.observe.camera import CameraConfig
+from twin.observe.camera import cameras as camera_observers
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
 
@@ -21,20 +24,26 @@ def machine_by_name(name: str):
 
 def simulate(machine: str, scenario: str | Scenario, effects: str | None = None, settings: list[str] | None = None,
              resolution: str = "default", seed: int = 0, theta: float = 0.5, progress=None,
-             sensors: list | None = None, materials: dict | None = None, solver=None) -> tuple:
+             sensors: list | None = None, materials: dict | None = None, solver=None,
+             cameras: list | None = None) -> tuple:
     """Simulate by names; returns (Dataset, RunResult). ``effects`` edits the machine's default
     set (``"+a,-b"``) or replaces it (``"a,b"``); ``solver``: a
-    :class:`twin.physics.solvers.SolverOptions` or a solver name (default: chosen by size).
-    Everything is checked before the run starts: names, units, the scenario's speeds against the
-    machine's maximum and the run's size (:mod:`twin.limits`)."""
+    :class:`twin.physics.solvers.SolverOptions` or a solver name (default: chosen by size);
+    ``cameras`` (pose names or :class:`twin.observe.camera.CameraConfig`) add thermal cameras to
+    those of the scenario. Everything is checked before the run starts: names, units, the
+    scenario's speeds against the machine's maximum and the run's size (:mod:`twin.limits`)."""
     m = machine_by_name(machine)
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     spec: ModelSpec = model_spec(m, effects, settings)
     limits.check_scenario(sc, m)
+    configs = list(sc.cameras) + [c if isinstance(c, CameraConfig) else CameraConfig(pose=c) for c in cameras or ()]
+    for c in configs:
+        c.check(sc)
     mm = mesh_machine(m, resolution)
     limits.check_run_size(sc, mm.nheat)
+    observers = standard_observers(m, sensors) + camera_observers(m, configs) if configs else None
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors, mm=mm,
-                            solver=solver)
+                            solver=solver, observers=observers)
     return to_dataset(result, seed, resolution), result

@@ -16,6 +16,9 @@ A scenario file::
     speed = "9000 rpm"
     duration = "120 min"
 
+    [camera]                            # optional thermal camera(s): see twin.camera_config
+    pose = "carrier-front"
+
 Unknown keys, missing keys, wrong units, non-positive durations, impossible temperatures (below
 absolute zero or outside the plausible range of room air), a negative amplitude and runs too long
 to afford raise :class:`twin.errors.InputError` naming the file and the key
@@ -33,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from twin import limits
+from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
 from twin.io.paths import read_text
 from twin.units import UnitError, parse_quantity
@@ -75,6 +79,7 @@ class Scenario:
     description: str = ""
     source: str = ""
     extra: dict = field(default_factory=dict)
+    cameras: tuple = ()  # twin.observe.camera.CameraConfig, from the [camera] section
 
     @property
     def duration(self) -> float:
@@ -181,6 +186,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
         limits.check_temperatures(t0, source, "initial_temperature", "structure")
     ambient = _ambient(top.get("ambient", required=True), source)
     raw_steps = top.get("spindle", required=True)
+    cameras = cameras_from_toml(top.get("camera"), source, _Reader)
     top.finish()
     if not isinstance(raw_steps, list) or not raw_steps:
         raise InputError(source, "spindle", "expected one or more [[spindle]] steps")
@@ -198,7 +204,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     total = sum(d for d, _ in steps)
     # name the culprit: the interval when the durations would be affordable at 1 s, else the durations
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
-    return Scenario(name, tuple(steps), ambient, dt, t0, description, source)
+    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras)
 
 
 def _ambient(table, source: str) -> Ambient:

@@ -20,7 +20,8 @@ def _machines() -> None:
         print(f"{name}: {m.description}\n  parts: {', '.join(p.name for p in m.parts)}\n"
               f"  maximum spindle speed: {limits.max_speed(m):g} rpm\n"
               f"  mesh resolutions: {', '.join(f'{k} ({v * 1e3:g} mm)' for k, v in m.resolutions.items())}\n"
-              f"  default effects: {', '.join(m.default_effects)}\n  roles: {', '.join(m.roles)}")
+              f"  default effects: {', '.join(m.default_effects)}\n  roles: {', '.join(m.roles)}\n"
+              f"  camera poses: {', '.join([p.name for p in m.camera_poses] + ['overview-front'])}")
 
 
 def _effects(machine_name: str | None) -> None:

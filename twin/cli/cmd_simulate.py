@@ -17,6 +17,8 @@ def add_parser(sub) -> None:
     p.add_argument("scenario", help="a bundled scenario name or a path to a TOML file")
     p.add_argument("-o", "--output", required=True, help="result file (.nc)")
     p.add_argument("--field", metavar="FILE", help="also write the temperature field at the hottest moment (.vtu or .xdmf)")
+    p.add_argument("--camera", metavar="NAME[,NAME]", help="add thermal cameras at the machine's named poses "
+                   "(e.g. carrier-front; overview-front for any machine): frames every 10 s in the result")
     add_model_options(p, solvers=True)
     p.set_defaults(func=run)
 
@@ -24,9 +26,11 @@ def add_parser(sub) -> None:
 def simulate_with_progress(machine: str, scenario: str, args):
     """``twin.api.simulate`` with the CLI's model options and a progress bar; (Dataset, RunResult)."""
     from twin.api import simulate
+    from twin.camera_config import cameras_from_option
 
     return simulate(machine, scenario, args.effects, args.set, args.mesh, args.seed,
-                    progress=progress_bar(f"{machine} / {Path(scenario).stem}"), solver=solver_options(args))
+                    progress=progress_bar(f"{machine} / {Path(scenario).stem}"), solver=solver_options(args),
+                    cameras=cameras_from_option(getattr(args, "camera", None)))
 
 
 def run(args) -> int:
@@ -49,4 +53,8 @@ def run(args) -> int:
     peak = abs(ds.drift).max("time")
     print(f"wrote {out}: {len(ds.time)} samples, {result.mm.nnodes} nodes; peak |drift| "
           + ", ".join(f"{a} {float(peak.sel(axis=a)):.1f} um" for a in ds.axis.values))
+    for cam in (o for o in result.observers if o.key.startswith("camera")):
+        thermo = ds[cam.name("thermogram")]
+        print(f"  camera {cam.config.label}: {thermo.shape[0]} frames of {thermo.shape[2]} x {thermo.shape[1]} px "
+              f"(variable {thermo.name}; export with `twin frames {out}`)")
     return 0

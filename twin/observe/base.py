@@ -13,6 +13,12 @@ displacement, q = G u = G K^-1 C (T - T_ref): their rows are (C^T lam)^T with on
 K lam = G^T per observer, computed once by the prepared twin (:mod:`twin.physics.prepared`).
 
 Observers that are not linear in T (a snapshot of the hottest field) use :meth:`Observer.on_step`.
+
+An observer that records only some instants (a camera taking a frame every N output steps) says
+which in :meth:`Observer.sample_steps`; the twin then keeps its rows apart, records R @ T only at
+those steps (in ``raw_dtype``) and hands it a raw block with one row per sample. Its rows may be a
+scipy sparse matrix (a camera's pixel operator has ~8 entries per row), which the twin never
+densifies.
 """
 
 from __future__ import annotations
@@ -48,13 +54,20 @@ class Observer:
 
     key: str = ""
     layout_cached: bool = True
+    raw_dtype = np.float64  # dtype of the raw block of a sampled observer (see sample_steps)
 
     def cache_key(self) -> tuple:
         """Identity of the rows for the twin's cache: observers with equal keys share rows."""
         return (type(self).__name__, self.key)
 
     def rows(self, twin, loads) -> np.ndarray | None:
-        """(k, n_heat) rows on the temperature dofs of ``loads.mm``; None for step-hook observers."""
+        """(k, n_heat) rows (dense or scipy sparse) on the temperature dofs of ``loads.mm``; None
+        for step-hook observers."""
+        return None
+
+    def sample_steps(self, times: np.ndarray) -> np.ndarray | None:
+        """Indices into the run's output instants ``times`` [s] at which this observer records;
+        None (the default) records every instant in the twin's stacked output operator."""
         return None
 
     def start(self, T0: np.ndarray) -> None:

@@ -55,7 +55,7 @@ class PreparedTwin:
         self._heat_cache = {layout_key(self.mm): self.heat}
         self._adjoints: dict[tuple, np.ndarray] = {}
         self._couplings: dict[tuple, sp.csr_matrix] = {}
-        self._rows: dict[tuple, np.ndarray] = {}
+        self._rows: dict[tuple, sp.csr_matrix] = {}
         self.factorisations: dict[tuple, tuple] = {}
         self.reduced: dict[tuple, object] = {}
         self.method = self.options.resolve(self.mm.nheat)   # the full-order method: direct | iterative
@@ -101,15 +101,16 @@ class PreparedTwin:
         """The load set of ``spec`` for ``scenario`` on this mesh (heat matrices from the cache)."""
         return build_loads(self.mm, scenario, spec, self.heat, self.materials, self._heat_cache)
 
-    def _rows_of(self, observer, loads) -> np.ndarray:
-        if not observer.layout_cached:
-            rows = observer.rows(self, loads)
-        else:
-            key = (observer.cache_key(), layout_key(loads.mm))
-            if key not in self._rows:
-                self._rows[key] = observer.rows(self, loads)
-            rows = self._rows[key]
-        return np.zeros((0, loads.mm.nheat)) if rows is None else np.asarray(rows)
+    def _rows_of(self, observer, loads) -> sp.csr_matrix:
+        """The observer's rows on the layout of ``loads`` as a sparse matrix (cached per layout)."""
+        key = (observer.cache_key(), layout_key(loads.mm))
+        if observer.layout_cached and key in self._rows:
+            return self._rows[key]
+        rows = observer.rows(self, loads)
+        rows = sp.csr_matrix((0, loads.mm.nheat)) if rows is None else sp.csr_matrix(rows)
+        if observer.layout_cached:
+            self._rows[key] = rows
+        return rows
 
     def stepper(self):
         """The full-order heat stepper of this twin (its caches persist across runs)."""
@@ -137,17 +138,24 @@ class PreparedTwin:
         :attr:`run_info` then describes the solvers and the error of every output.
         """
         loads = self.loads(scenario, spec)
-        outputs, bounds = self.output_rows(observers, loads)
         times = scenario.times()
+        nsteps = len(times) - 1
+        steps = {o.key: o.sample_steps(times) for o in observers}
+        dense = [o for o in observers if steps[o.key] is None]
+        outputs, bounds = self.output_rows(dense, loads)
+        sampled = [_Sampled(o, self._rows_of(o, loads), steps[o.key]) for o in observers if steps[o.key] is not None]
         dt = scenario.sample_interval
         h, air, s = loads.signals(times[:-1] + theta * dt)
         T0 = np.full(loads.mm.nheat, scenario.start_temperature)
         for o in observers:
             o.start(T0)
+        for s_ in sampled:
+            s_.record(0, T0)
         hooks = [o for o in observers if type(o).on_step is not Observer.on_step]
-        nsteps = len(times) - 1
 
         def step(n, T):
+            for s_ in sampled:
+                s_.record(n, T)
             for o in hooks:
                 o.on_step(n, times[n], T)
             if on_step is not None:
@@ -155,15 +163,15 @@ class PreparedTwin:
             if progress is not None:
                 progress(n, nsteps)
 
-        needs_field = bool(hooks) or on_step is not None
+        needs_field = bool(hooks) or bool(sampled) or on_step is not None
+        per_output = lambda values: {o.key: values[a:b].tolist() for o, a, b in zip(dense, bounds[:-1], bounds[1:])}
         if self.options.solver == "rom":
             from twin.physics.rom import reduced_model
             rom = reduced_model(self, loads, outputs, h)
             out, info = rom.integrate(scenario.start_temperature, dt, nsteps, h, air, s, theta,
                                       step if needs_field else None, progress)
             for name, key in (("_estimate", "rom_error_estimate"), ("_bound", "rom_error_bound")):
-                values = info.pop(name)
-                info[key] = {o.key: values[a:b].tolist() for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+                info[key] = per_output(info.pop(name))
         else:
             stepper = self.stepper()
             hook = step if needs_field else ((lambda n, T: progress(n, nsteps)) if progress is not None else None)
@@ -171,12 +179,13 @@ class PreparedTwin:
                             self.factorisations, loads.operator_key, stepper)
             info = stepper.info()
             if stepper.method == "iterative":
-                bound = output_bounds(outputs, mass_weights(loads.system.M), float(stepper.rho_sum))
-                info["solver_error_bound"] = {o.key: bound[a:b].tolist()
-                                              for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+                info["solver_error_bound"] = per_output(
+                    output_bounds(outputs, mass_weights(loads.system.M), float(stepper.rho_sum)))
         self.run_info = {"solver": self.options.solver, "solver_method": self.method, "device": self.options.device,
                          **info, **(self._elastic.info() if self._elastic is not None else {})}
-        readings = {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+        readings = {o.key: out[:, a:b] for o, a, b in zip(dense, bounds[:-1], bounds[1:])}
+        readings.update({s_.observer.key: s_.raw for s_ in sampled})
+        readings = {o.key: readings[o.key] for o in observers}
         check_finite(readings, times, scenario.source or scenario.name)
         return loads, readings
 
@@ -197,3 +206,19 @@ def check_finite(readings: dict, times: np.ndarray, source: str) -> None:
             n = int(np.flatnonzero(bad.any(axis=1))[0])
             raise InputError(source, key, f"the run produced NaN or infinite values from t = {times[n]:g} s on; "
                                           "no result is written (an input beyond what the model can represent?)")
+
+
+class _Sampled:
+    """The raw block of an observer that records only at ``steps`` (indices of output instants):
+    R @ T at those steps, one row per sample, in the observer's ``raw_dtype``."""
+
+    def __init__(self, observer, rows: sp.csr_matrix, steps: np.ndarray):
+        self.observer, self.rows = observer, rows
+        self.slot = {int(n): i for i, n in enumerate(np.asarray(steps, dtype=int))}
+        self.raw = np.empty((len(self.slot), rows.shape[0]), dtype=observer.raw_dtype)
+
+    def record(self, n: int, T: np.ndarray) -> None:
+        i = self.slot.get(n)
+        if i is not None:
+            self.raw[i] = self.rows @ T
+>>>>>>> camera

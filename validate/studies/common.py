@@ -26,24 +26,34 @@ PRESETS = {
 
 
 def parse_args(name: str, doc: str, argv=None) -> argparse.Namespace:
-    """``[--quick] [-o DIR] [--seed N]``; the default folder is ``validate-out/<name>/``."""
+    """``[--quick] [-o DIR] [--seed N] [--camera [POSE]]``; the default folder is
+    ``validate-out/<name>/``."""
     p = argparse.ArgumentParser(prog=f"python -m validate.studies.{name}", description=doc.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="coarse mesh (smoke run); default: the default mesh")
-    p.add_argument("-o", "--output", default=f"validate-out/{name}", help="output folder (default %(default)s)")
+    p.add_argument("-o", "--output", help=f"output folder (default validate-out/{name}, or validate-out/{name}-camera "
+                                          "with --camera)")
     p.add_argument("--seed", type=int, default=0, help="noise seed and random_state (default 0)")
-    return p.parse_args(argv)
+    p.add_argument("--camera", nargs="?", const="carrier-front", metavar="POSE",
+                   help="take the inputs from a thermal camera at POSE (default carrier-front): seed 001's 525 "
+                        "virtual spots on the frames, instead of the dense surface-sensor grid")
+    args = p.parse_args(argv)
+    args.output = args.output or f"validate-out/{name}{'-camera' if args.camera else ''}"
+    return args
 
 
 def start(name: str, doc: str, argv=None):
     """Common start of a study's ``main``: parse the options, create the output folder and build
     (or read cached) training and test data. Returns (args, output folder, StudyData)."""
-    from validate.studies.learner_data import build_data
+    from validate.studies.learner_data import build_camera_data, build_data
 
     args = parse_args(name, doc, argv)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     print(f"simulating (or reading cached runs) in {out} ...", flush=True)
-    return args, out, build_data(out, resolution="coarse" if args.quick else "default", seed=args.seed)
+    resolution = "coarse" if args.quick else "default"
+    if args.camera:
+        return args, out, build_camera_data(out, resolution=resolution, pose=args.camera, seed=args.seed)
+    return args, out, build_data(out, resolution=resolution, seed=args.seed)
 
 
 def preset(name: str, seed: int = 0, **override):

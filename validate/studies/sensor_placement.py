@@ -1,6 +1,6 @@
 """Sensor-placement check: gm0n-fcm's 4 sensors against intuitive, random and truth-greedy sets.
 
-``python -m validate.studies.sensor_placement [--quick] [-o DIR]`` uses the seed-001 runs of
+``python -m validate.studies.sensor_placement [--quick] [-o DIR] [--camera [POSE]]`` uses the seed-001 runs of
 :mod:`validate.studies.learner_data` (train ``spindle-heat-cool-9000``, test ``spindle-duty-cycle``, Z
 drift [um], measured temperature rises [degC]) and scores, with ``mlr`` and ``anfis-fcm``, these
 4-sensor sets:
@@ -15,7 +15,8 @@ drift [um], measured temperature rises [degC]) and scores, with ``mlr`` and ``an
   the *test-set* RMSE of least squares (= ``mlr``) trained on the training run; it uses the known
   truth of the test run, so it is a lower bound that no real selection can reach.
 
-Writes ``placement.md``, ``placement.csv`` and ``placement.png``.
+Writes ``placement.md``, ``placement.csv`` and ``placement.png``. With ``--camera`` the candidates
+are seed 001's 525 spots on the thermal-camera frames (the intuitive sites stay the glued sensors).
 """
 
 from __future__ import annotations
@@ -148,8 +149,9 @@ def main(argv=None) -> int:
     write_csv(out / "placement_draws.csv", raw)
     table = markdown_table(rows, COLUMNS, HEADERS)
     i = data.info
+    kind = (f"spots on the `{i['pose']}` camera's frames" if i.get("mode") == "camera" else "grid")
     text = (f"# Sensor placement on `{i['machine']}` (mesh `{i['mesh']}`), Z drift\n\n"
-            f"Train `{i['train']}`, test `{i['test']}`; {i['n_grid']} grid candidates. The greedy oracle "
+            f"Train `{i['train']}`, test `{i['test']}`; {i['n_grid']} {kind} candidates. The greedy oracle "
             "uses the test run's truth and is a lower bound, not a method.\n\n" + table + "\n\n" + reading(rows) + "\n")
     (out / "placement.md").write_text(text)
     plot(out / "placement.png", rows)

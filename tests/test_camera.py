@@ -1,0 +1,325 @@
+"""The thermal camera against closed forms: radiometry, pinhole geometry, footprint, occlusion,
+noise statistics, determinism, and the count look-up round trip through a file.
+
+Scenes are boxes on tiny meshes with 32 x 24 pixel cameras; a uniform field comes from a model
+with no effects and the room at the start temperature (nothing heats or cools anything).
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from geometries.base import Box, CameraPose, Finish, Machine, Part, material
+from geometries.finishes import Emissivity
+from twin.fem.mesh import build_mesh
+from twin.model import ModelSpec
+from twin.observe.camera import CameraConfig, ThermalCamera
+from twin.observe.camera_geometry import (Intrinsics, camera_frame, footprint_directions, pixel_directions, project,
+                                          temperature_rows, view_machine)
+from twin.observe.microbolometer import Microbolometer
+from twin.observe.radiometry import RadianceTable, band_radiance
+from twin.scenario import Ambient, Scenario
+from twin.simulate import run
+
+SMALL = Intrinsics(width=32, height=24)
+BAND = (7.5e-6, 13e-6)
+POSE = CameraPose("front", (0.0, -1.5, 0.5), (0.0, 0.0, 0.5))
+
+
+def _machine(parts, finishes, spacing=0.25):
+    return Machine(name="scene", parts=parts, surfaces=[], points=[], probes=[], tool_point="", workpiece_point="",
+                   sensor_sites=[], resolutions={"coarse": spacing}, finishes=finishes)
+
+
+def _plate(emissivity=1.0):
+    """A steel plate 2 m x 2 m, 2 cm thick, its front face at y = 0, centred on the camera axis."""
+    plate = Part("plate", material("steel"), (Box((-1.0, 0.0, -0.5), (1.0, 0.02, 1.5)),))
+    return _machine([plate], [Finish(Emissivity("test", emissivity, "test"), ("plate",))])
+
+
+def _frames(machine, config, t0=35.0, nframes=3, seed=0):
+    """Run a uniform scene at t0 [degC] and package the camera: (dataset, camera, result)."""
+    from twin.io.results import to_dataset
+
+    sc = Scenario("static", ((10.0 * (nframes - 1), 0.0),), Ambient("constant", mean=t0), sample_interval=10.0)
+    cam = ThermalCamera(machine, config)
+    mm = build_mesh(machine, machine.resolutions["coarse"])
+    r = run(machine, sc, ModelSpec(()), mm=mm, observers=[cam])
+    return to_dataset(r, seed), cam, r
+
+
+def _config(**kw):
+    base = dict(position=POSE.position, target=POSE.target, intrinsics=SMALL, air_path=False,
+                sensor=Microbolometer().noiseless(), emissivity=1.0, distance=0.0)
+    return CameraConfig(**{**base, **kw})
+
+
+def test_band_radiance_series_matches_quadrature_and_stefan_boltzmann():
+    """Widger-Woodall series = numerical integral of Planck's law; whole spectrum = sigma T^4 / pi."""
+    from scipy.integrate import quad
+
+    from twin.observe.radiometry import C_LIGHT, H_PLANCK, K_BOLTZMANN, SIGMA
+
+    for t in (-20.0, 30.0, 300.0):
+        T = t + 273.15
+        planck = lambda lam: 2 * H_PLANCK * C_LIGHT ** 2 / lam ** 5 / np.expm1(H_PLANCK * C_LIGHT / (lam * K_BOLTZMANN * T))
+        ref = quad(planck, *BAND, epsabs=0, epsrel=1e-12)[0]
+        assert band_radiance(t, BAND) == pytest.approx(ref, rel=1e-10)
+        assert band_radiance(t, (1e-9, np.inf)) == pytest.approx(SIGMA * T ** 4 / np.pi, rel=1e-12)
+    table = RadianceTable(BAND)
+    x = np.linspace(-30, 200, 777)
+    assert np.abs(table.temperature(table.radiance(x)) - x).max() < 1e-6
+
+
+def test_black_plate_without_air_reads_its_temperature():
+    """e = 1, no air path, no noise: T_app = L^-1(L(T)) = T, to the 14-bit step (0.011 K at 30 degC)."""
+    ds, cam, _ = _frames(_plate(1.0), _config())
+    on = ds.part_true.values == 0
+    assert on.all()  # the plate fills the view
+    assert np.abs(ds.thermogram.values - 35.0).max() < 0.01
+    assert np.abs(ds.surface_temperature_true.values - 35.0).max() < 0.006
+
+
+def test_grey_plate_reads_the_inverse_of_the_mixed_radiance():
+    """Scene e = 0.3 at T = 35 degC reflecting a room at T_r = 10 degC, camera set to e = 1:
+    T_app = L^-1(e L(T) + (1 - e) L(T_r)); with e and T_r set right it reads T (within the count
+    step divided by e)."""
+    e, T, Tr = 0.3, 35.0, 10.0
+    table = RadianceTable(BAND)
+    expected = table.temperature(e * table.radiance(T) + (1 - e) * table.radiance(Tr))
+    ds, _, _ = _frames(_plate(e), _config(room_temperature=Tr))
+    assert expected < T - 10  # a shiny part looks much colder than it is
+    assert np.abs(ds.thermogram.values - expected).max() < 0.01
+    ds, _, _ = _frames(_plate(e), _config(room_temperature=Tr, emissivity=e, reflected_temperature=Tr))
+    step = 1.0 / (e * 16383 / (table.radiance(120.0) - table.radiance(-40.0)) * table.slope(T))
+    assert np.abs(ds.thermogram.values - T).max() < 0.5 * step + 1e-3
+
+
+def test_air_path_compensated_by_matching_settings():
+    """With an air path (FLIR model) and the camera told the true distance, air and humidity, a
+    black plate reads T: W = tau L(T) + (1 - tau) L(T_air) inverted with the same tau, up to the
+    path-length difference of off-axis pixels (d / cos) and the count step."""
+    ds, _, _ = _frames(_plate(1.0), _config(air_path=True, distance=1.5, air_temperature=20.0,
+                                            room_temperature=20.0, room_humidity=0.3), t0=35.0)
+    # the scenario's room air is 35 degC (uniform scene); the camera's air temperature 20 degC
+    # is therefore wrong by 15 K and the reading off by (1 - tau)(L(35) - L(20)) / (tau L'(35))
+    table = RadianceTable(BAND)
+    from twin.observe.radiometry import air_transmission
+
+    tau = float(air_transmission(1.5, 20.0, 0.3))
+    bias = (1 - tau) * (table.radiance(35.0) - table.radiance(20.0)) / (tau * table.slope(35.0))
+    centre = ds.thermogram.values[:, 11:13, 15:17]
+    assert np.abs(centre - (35.0 + bias)).max() < 0.01
+    ds, _, _ = _frames(_plate(1.0), _config(air_path=True, distance=1.5, air_temperature=35.0), t0=35.0)
+    assert np.abs(ds.thermogram.values[:, 11:13, 15:17] - 35.0).max() < 0.01
+
+
+def test_point_lands_on_its_pinhole_pixel_and_depth_is_the_ray_length():
+    """A 2 cm cube at a known point is seen by pixel (floor u, floor v) of u = W/2 + (X-C).r /
+    ((X-C).f s_u), v = H/2 + (X-C).d / ((X-C).f s_v); its depth is the ray's length to the face."""
+    centre = np.array([0.17, -0.4, 0.62])
+    cube = Part("cube", material("steel"), (Box(tuple(centre - 0.01), tuple(centre + 0.01)),))
+    plate = _plate().parts[0]
+    m = _machine([plate, cube], [], spacing=0.01)
+    r, d, f = camera_frame(POSE.position, POSE.target, POSE.up)
+    su, sv = SMALL.pitch
+    c = centre - np.array(POSE.position)
+    u_closed = SMALL.width / 2 + (c @ r) / ((c @ f) * su)
+    v_closed = SMALL.height / 2 + (c @ d) / ((c @ f) * sv)
+    u, v = project(POSE, SMALL, centre[None, :])
+    assert u[0] == pytest.approx(u_closed) and v[0] == pytest.approx(v_closed)
+    view = view_machine(build_mesh(m, 0.25), m, POSE, SMALL, edge_rays=1)
+    iu, iv = int(math.floor(u[0])), int(math.floor(v[0]))
+    assert view.part[iv, iu] == 1
+    assert (view.part == 1).sum() == 1  # 2 cm at 1.1 m is smaller than a pixel (2.4 cm)
+    ray = pixel_directions(POSE, SMALL, np.array([iu]), np.array([iv]))[0]
+    front = centre[1] - 0.01
+    assert view.depth[iv, iu] == pytest.approx((front - POSE.position[1]) / ray[1], rel=1e-12)
+
+
+def test_pixel_footprint_is_ifov_times_distance():
+    """n x n footprint rays of the on-axis direction hit a plate at distance d on a square grid
+    of side IFOV d (midpoints: spacing IFOV d / n)."""
+    d, n, ifov = 1.5, 5, 1.5e-3
+    m = _plate()
+    from twin.observe.raycast import cast, outer_surface
+
+    r, _, f = camera_frame(POSE.position, POSE.target, POSE.up)
+    dirs = footprint_directions(f[None, :], r, ifov, n)
+    hits = cast(outer_surface(build_mesh(m, 0.25)), np.array(POSE.position), dirs, "grid")
+    assert (hits.index >= 0).all()
+    x = np.unique(np.round(hits.point[:, 0], 12))
+    z = np.unique(np.round(hits.point[:, 2], 12))
+    assert len(x) == len(z) == n
+    assert n * np.diff(x).mean() == pytest.approx(ifov * d, rel=1e-9)
+    assert n * np.diff(z).mean() == pytest.approx(ifov * d, rel=1e-9)
+
+
+def test_a_part_behind_another_is_hidden():
+    """A block in front of the plate: its pixels see the block, and their rows touch no
+    temperature dof of the plate (there is a gap, so no shared nodes)."""
+    block = Part("block", material("steel"), (Box((-0.1, -0.3, 0.4), (0.1, -0.1, 0.6)),))
+    m = _machine([_plate().parts[0], block], [], spacing=0.1)
+    mm = build_mesh(m, 0.1)
+    view = view_machine(mm, m, POSE, SMALL, edge_rays=1)
+    on_block = view.part.ravel() == 1
+    assert on_block.sum() > 4 and (view.part == 0).sum() > 100
+    rows = temperature_rows(view, mm)
+    plate_dofs = np.unique(mm.heat_t[:, mm.cells_of("plate")])
+    block_rays = np.flatnonzero(on_block[view.ray_pixel[view.hit]])
+    assert rows[block_rays][:, plate_dofs].nnz == 0
+    assert np.all(view.depth.ravel()[on_block] < 1.5 - 0.1 + 1e-9)
+
+
+def test_temporal_noise_of_a_static_scene_is_the_netd():
+    """200 frames of a black plate at 30 degC: the temporal standard deviation per pixel is the
+    NETD (5 %); with the temporal banding on it is sqrt(NETD^2 + s_tv^2 + s_th^2 + s_t^2) (3-D noise)."""
+    netd = Microbolometer(fixed_pattern=0.0, row_fixed=0.0, column_fixed=0.0, row_temporal=0.0,
+                          column_temporal=0.0, frame_temporal=0.0, offset=0.0, drift=0.0)
+    ds, _, _ = _frames(_plate(1.0), _config(sensor=netd), t0=30.0, nframes=200)
+    std = ds.thermogram.values.astype(float).std(axis=0, ddof=1)
+    assert np.sqrt(np.mean(std ** 2)) == pytest.approx(0.08, rel=0.05)
+    banded = Microbolometer(offset=0.0, drift=0.0, frame_temporal=0.01)
+    ds, _, _ = _frames(_plate(1.0), _config(sensor=banded), t0=30.0, nframes=200)
+    std = ds.thermogram.values.astype(float).std(axis=0, ddof=1)
+    expected = math.sqrt(0.08 ** 2 + 0.01 ** 2 + 0.01 ** 2 + 0.01 ** 2)
+    assert np.sqrt(np.mean(std ** 2)) == pytest.approx(expected, rel=0.05)
+
+
+def test_frames_are_bit_identical_for_the_same_seed(tmp_path):
+    """Same seed, same frames (bit for bit); another seed, other noise. The counts come back
+    exactly from the stored thermogram through the camera's look-up table."""
+    import xarray as xr
+
+    from twin.io.results import write_netcdf
+    from twin.io.thermography import camera_counts
+
+    cfg = _config(sensor=Microbolometer(), air_path=True, distance=None, emissivity=0.95)
+    a, cam, r = _frames(_plate(0.9), cfg, nframes=4, seed=3)
+    b, _, _ = _frames(_plate(0.9), cfg, nframes=4, seed=3)
+    c, _, _ = _frames(_plate(0.9), cfg, nframes=4, seed=4)
+    assert np.array_equal(a.thermogram.values, b.thermogram.values)
+    assert not np.array_equal(a.thermogram.values, c.thermogram.values)
+    counts = cam.frames(r.readings["camera"], r.context(3))[2]
+    write_netcdf(a, tmp_path / "a.nc")
+    with xr.open_dataset(tmp_path / "a.nc") as back:
+        assert "counts" not in back
+        assert np.array_equal(camera_counts(back), counts)
+        assert np.abs(back.thermogram.values - a.thermogram.values).max() < 0.006
+
+
+def test_sampled_observer_records_the_dense_rows_at_its_steps():
+    """An observer that samples every 3rd output instant gets exactly those rows of R @ T."""
+    from geometries import build_machine
+    from twin.fem.mesh import mesh_machine
+    from twin.observe import TemperatureSensors, sensor_points
+
+    class Every3(TemperatureSensors):
+        key = "every3"
+
+        def sample_steps(self, times):
+            return np.arange(0, len(times), 3)
+
+    m = build_machine("cframe-vmc")
+    sc = Scenario("short", ((70.0, 9000.0),), Ambient("constant", mean=20.0), sample_interval=10.0)
+    dense, every = TemperatureSensors(sensor_points(m)), Every3(sensor_points(m))
+    r = run(m, sc, mm=mesh_machine(m, "coarse"), observers=[dense, every])
+    assert r.readings["every3"].shape == (3, len(dense.points))
+    assert np.array_equal(r.readings["every3"], r.readings["temperature"][::3])
+
+
+def test_grid_caster_matches_trimesh_ray_triangle():
+    """The grid caster and trimesh's Moller-Trumbore intersector (fed every triangle) agree on
+    the first hit of random rays at a coarse C-frame machine; Embree too when installed."""
+    import trimesh
+    from trimesh.ray.ray_triangle import ray_triangle_id
+
+    from geometries import build_machine
+    from twin.fem.mesh import mesh_machine
+    from twin.observe.raycast import cast, embree_available, outer_surface
+
+    m = build_machine("cframe-vmc")
+    surface = outer_surface(mesh_machine(m, "coarse"))
+    rng = np.random.default_rng(1)
+    origin = np.array([0.3, -2.0, 1.4])
+    dirs = np.column_stack([rng.uniform(-0.3, 0.2, 60), np.ones(60), rng.uniform(-0.6, 0.2, 60)])
+    grid = cast(surface, origin, dirs, "grid")
+    verts, faces = surface.triangles()
+    tris = verts[faces]
+
+    class Everything:  # an r-tree stand-in that offers every triangle to every ray
+        bounds = np.concatenate([verts.min(axis=0), verts.max(axis=0)])
+
+        def intersection(self, bounds):
+            return range(len(tris))
+
+    o = np.repeat(origin[None, :], len(dirs), axis=0)
+    unit = dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
+    tri, ray, loc = ray_triangle_id(tris, o, unit, tree=Everything(), multiple_hits=True)
+    first = np.full(len(dirs), np.inf)
+    for t_, r_, p_ in zip(tri, ray, loc):
+        first[r_] = min(first[r_], np.linalg.norm(p_ - origin))
+    assert np.array_equal(np.isfinite(first), grid.index >= 0) and (grid.index >= 0).sum() > 20
+    hit = grid.index >= 0
+    assert np.allclose(grid.distance[hit], first[hit], rtol=0, atol=1e-9)
+    if embree_available():  # (facet indices may differ on a ray through an edge; the distance may not)
+        emb = cast(surface, origin, dirs, "embree")
+        assert np.array_equal(emb.index >= 0, hit) and np.allclose(emb.distance[hit], grid.distance[hit], atol=1e-9)
+    assert isinstance(trimesh.__version__, str)
+
+
+def test_scenario_camera_section_and_cli_errors(tmp_path):
+    """A [camera] section is read with units; an unknown key, a missing unit, an emissivity out
+    of (0, 1], a frame interval that is not a multiple of the sample interval and an unknown pose
+    each give one error naming file and field, exit code 2 and no output file."""
+    from twin.cli import main
+    from twin.scenario import load_scenario
+
+    base = ('sample_interval = "60 s"\n[ambient]\nkind = "constant"\ntemperature = "20 degC"\n'
+            '[[spindle]]\nspeed = "9000 rpm"\nduration = "2 min"\n')
+    good = tmp_path / "good.toml"
+    good.write_text(base + '[camera]\npose = "spindle-front"\nresolution = [32, 24]\nifov = "1.5 mrad"\n'
+                           'frame_interval = "2 min"\n[camera.settings]\nemissivity = 0.9\nrelative_humidity = "40 %"\n')
+    cam = load_scenario(str(good)).cameras[0]
+    assert (cam.intrinsics.width, cam.emissivity, cam.relative_humidity, cam.frame_interval) == (32, 0.9, 0.4, 120.0)
+    cases = {"unknown": ('[camera]\nzoom = 2\n', "camera.zoom"),
+             "unit": ('[camera]\nifov = 1.5\n', "camera.ifov"),
+             "emissivity": ('[[camera]]\n[camera.settings]\nemissivity = 1.2\n', "camera[0].settings.emissivity"),
+             "interval": ('[camera]\nframe_interval = "90 s"\n', "camera.frame_interval")}
+    for name, (text, field) in cases.items():
+        path = tmp_path / f"{name}.toml"
+        path.write_text(base + text)
+        out = tmp_path / f"{name}.nc"
+        assert main(["simulate", "cframe-vmc", str(path), "-o", str(out), "--mesh", "coarse"]) == 2
+        assert not out.exists()
+    out = tmp_path / "pose.nc"
+    assert main(["simulate", "cframe-vmc", str(good), "-o", str(out), "--mesh", "coarse", "--camera", "nope"]) == 2
+    assert not out.exists()
+
+
+def test_error_messages_name_the_field(tmp_path, capsys):
+    from twin.cli import main
+
+    path = tmp_path / "bad.toml"
+    path.write_text('[ambient]\nkind = "constant"\ntemperature = "20 degC"\n[[spindle]]\nspeed = "0 rpm"\n'
+                    'duration = "1 min"\n[camera]\n[camera.sensor]\nnetd = "-1 K"\n')
+    assert main(["simulate", "cframe-vmc", str(path), "-o", str(tmp_path / "x.nc")]) == 2
+    assert f"error: {path}: camera.sensor.netd: must not be negative" in capsys.readouterr().err
+    assert main(["simulate", "cframe-vmc", "spindle-duty-cycle", "-o", str(tmp_path / "y.nc"), "--camera", "nope"]) == 2
+    assert "error: command line: --camera: machine cframe-vmc has no camera pose 'nope'" in capsys.readouterr().err
+
+
+def test_a_new_camera_on_a_prepared_twin_reuses_the_cached_rows():
+    """Rows are cached per pose and layout; a second camera object on the same prepared twin
+    still packages its frames (it builds its view for the data), identical to the first."""
+    from twin.io.results import to_dataset
+    from twin.physics.prepared import PreparedTwin
+
+    m = _plate(1.0)
+    twin = PreparedTwin(m, build_mesh(m, 0.25))
+    sc = Scenario("static", ((20.0, 0.0),), Ambient("constant", mean=30.0), sample_interval=10.0)
+    first = [to_dataset(run(m, sc, ModelSpec(()), prepared=twin, observers=[ThermalCamera(m, _config())]), 1)
+             for _ in range(2)]
+    assert len(twin._rows) == 1
+    assert np.array_equal(first[0].thermogram.values, first[1].thermogram.values)

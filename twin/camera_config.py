@@ -1,0 +1,229 @@
+"""Thermal cameras from the user: ``--camera NAME[,NAME]`` and a scenario's ``[camera]`` section.
+
+A scenario may hold one ``[camera]`` table or a ``[[camera]]`` list; every value carries its unit::
+
+    [camera]
+    pose = "carrier-front"              # a pose of the machine (`overview-front` works for any), or:
+    # position = ["0 m", "-1.62 m", "1.325 m"]; target = [...]; up = [0, 0, 1]
+    name = "carrier"                    # optional; names the variables when there are several cameras
+    resolution = [320, 240]             # pixels (width, height)
+    field_of_view = ["24 deg", "18 deg"]
+    ifov = "1.5 mrad"
+    band = ["7.5 um", "13 um"]
+    frame_interval = "10 s"             # a whole multiple of the sample interval (default: every sample)
+    edge_rays = 3                       # n x n rays in pixels at edges (1: centre rays only)
+    store_counts = false                # also store the 14-bit counts (they are recoverable anyway)
+
+    [camera.settings]                   # what the thermographer types into the camera
+    emissivity = 0.95
+    reflected_temperature = "20 degC"   # default: the room air at the start
+    distance = "1.5 m"                  # default: the pose's distance to its target
+    air_temperature = "20 degC"         # default: the room air at the start
+    relative_humidity = "30 %"
+
+    [camera.scene]                      # the truth the camera looks at
+    room_temperature = "20 degC"        # radiant temperature of the surroundings (default: the room air)
+    relative_humidity = "30 %"
+    wall_distance = "5 m"
+
+    [camera.sensor]                     # the microbolometer (defaults: FLIR ThermaCAM S65, seed 001)
+    netd = "0.08 K"                     # also fixed_pattern, row_fixed, column_fixed, row_temporal,
+    offset = "0.5 K"                    # column_temporal, frame_temporal, drift (K), drift_time,
+    accuracy = "2 K"                    # reference_temperature, bits, range = ["-40 degC", "120 degC"]
+
+Unknown keys, missing units and values out of range raise :class:`twin.errors.InputError` naming
+the file and the key (``camera[1].settings.emissivity``).
+"""
+
+from __future__ import annotations
+
+import math
+
+from twin.errors import InputError
+from twin.observe.camera import CameraConfig
+from twin.observe.camera_geometry import Intrinsics
+from twin.observe.microbolometer import Microbolometer
+from twin.units import UnitError, parse_quantity
+
+_NOISE = ("netd", "fixed_pattern", "row_fixed", "column_fixed", "row_temporal", "column_temporal",
+          "frame_temporal", "offset", "drift", "accuracy")
+
+
+def cameras_from_option(text: str | None) -> list[CameraConfig]:
+    """``--camera NAME[,NAME]``: cameras at the machine's named poses, default settings."""
+    if text is None:
+        return []
+    names = [n.strip() for n in text.split(",")]
+    if not all(names):
+        raise InputError("command line", "--camera", f"expected NAME[,NAME], got {text!r}")
+    return [CameraConfig(pose=n, source="command line", where="--camera") for n in names]
+
+
+def cameras_from_toml(value, source: str, reader) -> tuple[CameraConfig, ...]:
+    """The cameras of a scenario's ``camera`` key (a table or a list of tables); ``reader`` is the
+    scenario's unit-checking table reader class."""
+    if value is None:
+        return ()
+    tables = value if isinstance(value, list) else [value]
+    if not tables:
+        raise InputError(source, "camera", "expected a [camera] table or [[camera]] tables")
+    many = isinstance(value, list)
+    return tuple(_camera(t, source, f"camera[{i}]." if many else "camera.", reader) for i, t in enumerate(tables))
+
+
+def _camera(table, source: str, prefix: str, reader) -> CameraConfig:
+    r = reader(table, source, prefix)
+    kw = {"source": source, "where": prefix}
+    pose = r.get("pose")
+    position, target = _vector(r, "position"), _vector(r, "target")
+    up = r.get("up")
+    if (position is None) != (target is None):
+        raise InputError(source, prefix + ("target" if target is None else "position"), "position and target go together")
+    if position is not None:
+        if pose is not None:
+            raise InputError(source, prefix + "pose", "give a pose or a position and a target, not both")
+        kw.update(position=position, target=target)
+        if up is not None:
+            if not (isinstance(up, list) and len(up) == 3 and all(isinstance(x, (int, float)) for x in up)):
+                raise InputError(source, prefix + "up", "expected three numbers, a direction")
+            kw["up"] = tuple(float(x) for x in up)
+    elif up is not None:
+        raise InputError(source, prefix + "up", "goes with position and target")
+    if pose is not None:
+        kw["pose"] = _text(pose, source, prefix + "pose")
+    name = r.get("name")
+    if name is not None:
+        kw["name"] = _text(name, source, prefix + "name")
+    kw["intrinsics"] = _intrinsics(r, source, prefix)
+    band = _pair(r, "band", "length")
+    if band is not None:
+        if not 0 < band[0] < band[1]:
+            raise InputError(source, prefix + "band", "needs 0 < lower < upper wavelength")
+        kw["band"] = band
+    interval = r.positive("frame_interval", "time")
+    if interval is not None:
+        kw["frame_interval"] = interval
+    edge = r.get("edge_rays")
+    if edge is not None:
+        kw["edge_rays"] = _integer(edge, source, prefix + "edge_rays", 1, 8)
+    counts = r.get("store_counts")
+    if counts is not None:
+        if not isinstance(counts, bool):
+            raise InputError(source, prefix + "store_counts", "expected true or false")
+        kw["store_counts"] = counts
+    kw.update(_settings(r.get("settings"), source, prefix + "settings.", reader))
+    kw.update(_scene(r.get("scene"), source, prefix + "scene.", reader))
+    sensor = r.get("sensor")
+    if sensor is not None:
+        kw["sensor"] = _sensor(sensor, source, prefix + "sensor.", reader)
+    r.finish()
+    return CameraConfig(**kw)
+
+
+def _intrinsics(r, source: str, prefix: str) -> Intrinsics:
+    kw = {}
+    res = r.get("resolution")
+    if res is not None:
+        if not (isinstance(res, list) and len(res) == 2):
+            raise InputError(source, prefix + "resolution", "expected [width, height] in pixels")
+        kw["width"], kw["height"] = (_integer(x, source, prefix + "resolution", 1, 8192) for x in res)
+    fov = _pair(r, "field_of_view", "angle")
+    if fov is not None:
+        if not all(0 < a < math.pi for a in fov):
+            raise InputError(source, prefix + "field_of_view", "each angle must lie between 0 and 180 deg")
+        kw["fov_h"], kw["fov_v"] = fov
+    ifov = r.positive("ifov", "angle")
+    if ifov is not None:
+        kw["ifov"] = ifov
+    return Intrinsics(**kw)
+
+
+def _settings(table, source: str, prefix: str, reader) -> dict:
+    if table is None:
+        return {}
+    r = reader(table, source, prefix)
+    kw = {"emissivity": _fraction(r, "emissivity", positive=True),
+          "reflected_temperature": r.get("reflected_temperature", "temperature"),
+          "distance": _non_negative(r, "distance", "length"),
+          "air_temperature": r.get("air_temperature", "temperature"),
+          "relative_humidity": _fraction(r, "relative_humidity")}
+    r.finish()
+    return {k: v for k, v in kw.items() if v is not None}
+
+
+def _scene(table, source: str, prefix: str, reader) -> dict:
+    if table is None:
+        return {}
+    r = reader(table, source, prefix)
+    kw = {"room_temperature": r.get("room_temperature", "temperature"),
+          "room_humidity": _fraction(r, "relative_humidity"),
+          "wall_distance": _non_negative(r, "wall_distance", "length")}
+    r.finish()
+    return {k: v for k, v in kw.items() if v is not None}
+
+
+def _sensor(table, source: str, prefix: str, reader) -> Microbolometer:
+    r = reader(table, source, prefix)
+    kw = {k: _non_negative(r, k, "temperature_difference") for k in _NOISE}
+    kw["drift_time"] = r.positive("drift_time", "time")
+    kw["reference_temperature"] = r.get("reference_temperature", "temperature")
+    bits = r.get("bits")
+    kw["bits"] = None if bits is None else _integer(bits, source, prefix + "bits", 8, 16)
+    span = _pair(r, "range", "temperature")
+    if span is not None and not span[0] < span[1]:
+        raise InputError(source, prefix + "range", "needs the lower temperature first")
+    kw["range"] = span
+    r.finish()
+    return Microbolometer(**{k: v for k, v in kw.items() if v is not None})
+
+
+def _fraction(r, key: str, positive: bool = False):
+    value = r.get(key, "dimensionless")
+    if value is not None and not (0 < value <= 1 if positive else 0 <= value <= 1):
+        raise InputError(r.source, r.prefix + key, f"must lie in {'(0' if positive else '[0'}, 1] (or 0-100 %), "
+                                                   f"got {r.table[key]!r}")
+    return value
+
+
+def _non_negative(r, key: str, dimension: str):
+    value = r.get(key, dimension)
+    if value is not None and value < 0:
+        raise InputError(r.source, r.prefix + key, f"must not be negative, got {r.table[key]!r}")
+    return value
+
+
+def _vector(r, key: str):
+    value = r.get(key)
+    if value is None:
+        return None
+    if not (isinstance(value, list) and len(value) == 3):
+        raise InputError(r.source, r.prefix + key, "expected three lengths, e.g. [\"0 m\", \"-1.5 m\", \"1.3 m\"]")
+    return tuple(_quantity(v, "length", r.source, f"{r.prefix}{key}[{i}]") for i, v in enumerate(value))
+
+
+def _pair(r, key: str, dimension: str):
+    value = r.get(key)
+    if value is None:
+        return None
+    if not (isinstance(value, list) and len(value) == 2):
+        raise InputError(r.source, r.prefix + key, "expected two quantities")
+    return tuple(_quantity(v, dimension, r.source, f"{r.prefix}{key}[{i}]") for i, v in enumerate(value))
+
+
+def _quantity(value, dimension: str, source: str, field: str) -> float:
+    try:
+        return parse_quantity(value, dimension)
+    except UnitError as err:
+        raise InputError(source, field, str(err)) from None
+
+
+def _integer(value, source: str, field: str, lo: int, hi: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+        raise InputError(source, field, f"expected a whole number from {lo} to {hi}, got {value!r}")
+    return int(value)
+
+
+def _text(value, source: str, field: str) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise InputError(source, field, "expected a name")
+    return value

@@ -1,0 +1,131 @@
+"""Thermal-camera frames out of a result: the counts, radiometric TIFFs, PNG/GIF sequences.
+
+* :func:`camera_names` lists a result's cameras (name and variable suffix);
+* :func:`camera_counts` gives a camera's 14-bit counts: the stored ``counts`` when present, else
+  recovered exactly from the thermogram through the camera's look-up table (the thermogram is
+  stored with integers finer than the table's steps, :mod:`twin.observe.camera_output`);
+* :func:`write_tiff_frames`: one 16-bit TIFF per frame in centikelvin (value = round(100 (T_app +
+  273.15))), each with a JSON sidecar of the frame time and the radiometric settings;
+* :func:`write_png_frames` and :func:`write_gif`: colour frames on one fixed scale for teaching.
+
+Files are written atomically (:mod:`twin.io.atomic`).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from twin.io.atomic import atomic_write, atomic_write_text
+
+
+def camera_names(ds) -> list[tuple[str, str]]:
+    """(name, variable suffix) of every camera in result ``ds``, in the run's order."""
+    out = []
+    for key, value in ds.attrs.items():
+        if key == "camera" or key.startswith("camera_"):
+            info = json.loads(value)
+            out.append((info["name"], info["suffix"]))
+    return out
+
+
+def camera_info(ds, suffix: str = "") -> dict:
+    """The camera's attributes: pose, intrinsics, band, settings, scene, sensor (JSON decoded)."""
+    return json.loads(ds.attrs["camera" + suffix])
+
+
+def camera_counts(ds, suffix: str = "") -> np.ndarray:
+    """(frames, H, W) uint16 counts of the camera with ``suffix``: stored, or lut^-1(thermogram)
+    (nearest look-up value; exact when the result says its counts are recoverable)."""
+    if "counts" + suffix in ds:
+        return ds["counts" + suffix].values
+    lut = ds["camera_lut" + suffix].values.astype(float)
+    enc = ds["thermogram" + suffix].encoding
+    if "scale_factor" in enc:  # read from a file: compare with the table as stored
+        q, off = float(enc["scale_factor"]), float(enc["add_offset"])
+        lut = off + q * np.rint((lut.astype(np.float32) - np.float32(off)) / np.float32(q))
+    t = ds["thermogram" + suffix].values.astype(float)
+    i = np.clip(np.searchsorted(lut, t), 1, len(lut) - 1)
+    nearer_below = np.abs(t - lut[i - 1]) <= np.abs(lut[i] - t)
+    return np.where(nearer_below, i - 1, i).astype(np.uint16)
+
+
+def centikelvin(t_degc: np.ndarray) -> np.ndarray:
+    """uint16 centikelvin of temperatures [degC] (0.01 K steps, 0 to 655.35 K)."""
+    return np.clip(np.rint((np.asarray(t_degc, dtype=float) + 273.15) * 100.0), 0, 65535).astype(np.uint16)
+
+
+def _frames(ds, suffix: str, every: int):
+    thermo = ds["thermogram" + suffix]
+    times = ds["frame_time" + suffix].values
+    idx = np.arange(0, len(times), every)
+    return thermo, times, idx
+
+
+def write_tiff_frames(ds, outdir, suffix: str = "", every: int = 1, prefix: str = "frame") -> list[Path]:
+    """16-bit centikelvin TIFFs ``{prefix}_{i:05d}.tiff`` with JSON sidecars; returns the TIFFs."""
+    from PIL import Image
+
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    info = camera_info(ds, suffix)
+    thermo, times, idx = _frames(ds, suffix, every)
+    paths = []
+    for i in idx:
+        path = outdir / f"{prefix}_{i:05d}.tiff"
+        image = Image.fromarray(centikelvin(thermo[i].values))  # uint16 -> mode "I;16"
+        atomic_write(path, lambda tmp: image.save(tmp, format="TIFF"))
+        sidecar = {"frame": int(i), "frame_time_s": float(times[i]), "units": "centikelvin (0.01 K), uint16",
+                   "value": "round(100 * (apparent temperature [degC] + 273.15))", "camera": info["name"],
+                   "settings": info["settings"], "band_um": info["band_um"], "intrinsics": info["intrinsics"],
+                   "pose": info["pose"], "machine": ds.attrs.get("machine"), "scenario": ds.attrs.get("scenario"),
+                   "seed": int(ds.attrs.get("seed", 0))}
+        atomic_write_text(path.with_suffix(".json"), json.dumps(sidecar, indent=1))
+        paths.append(path)
+    return paths
+
+
+def colour_scale(thermo) -> tuple[float, float]:
+    """(low, high) [degC]: the 1st and 99.5th percentiles over the first and last frames."""
+    ends = np.concatenate([thermo[0].values.ravel(), thermo[-1].values.ravel()])
+    lo, hi = np.percentile(ends, [1.0, 99.5])
+    return float(lo), float(max(hi, lo + 0.5))
+
+
+def rgb_frames(ds, suffix: str = "", every: int = 1, scale: int = 2, cmap: str = "inferno"):
+    """Yield (frame index, time [s], RGB uint8 image) of the thermogram on one colour scale, each
+    pixel ``scale`` x ``scale``, the time and scale written in the top-left corner."""
+    import matplotlib
+    from PIL import Image, ImageDraw
+
+    thermo, times, idx = _frames(ds, suffix, every)
+    lo, hi = colour_scale(thermo)
+    colours = (matplotlib.colormaps[cmap](np.linspace(0, 1, 256))[:, :3] * 255).astype(np.uint8)
+    for i in idx:
+        level = np.clip((thermo[i].values - lo) / (hi - lo) * 255, 0, 255).astype(np.uint8)
+        image = Image.fromarray(colours[level]).resize((level.shape[1] * scale, level.shape[0] * scale), Image.NEAREST)
+        ImageDraw.Draw(image).text((4, 2), f"t = {times[i] / 60:5.1f} min   {lo:.1f}-{hi:.1f} degC", fill=(255, 255, 255))
+        yield i, times[i], image
+
+
+def write_png_frames(ds, outdir, suffix: str = "", every: int = 1, prefix: str = "frame") -> list[Path]:
+    """Colour PNGs ``{prefix}_{i:05d}.png`` (:func:`rgb_frames`); returns their paths."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for i, _, image in rgb_frames(ds, suffix, every):
+        path = outdir / f"{prefix}_{i:05d}.png"
+        atomic_write(path, lambda tmp: image.save(tmp, format="PNG"))
+        paths.append(path)
+    return paths
+
+
+def write_gif(ds, path, suffix: str = "", every: int = 1, frame_ms: int = 80) -> Path:
+    """An animated GIF of the colour frames, ``frame_ms`` per frame."""
+    images = [image for _, _, image in rgb_frames(ds, suffix, every)]
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return atomic_write(path, lambda tmp: images[0].save(tmp, format="GIF", save_all=True,
+                                                         append_images=images[1:], duration=frame_ms, loop=0))
