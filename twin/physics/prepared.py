@@ -221,4 +221,3 @@ class _Sampled:
         i = self.slot.get(n)
         if i is not None:
             self.raw[i] = self.rows @ T
->>>>>>> camera
