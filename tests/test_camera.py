@@ -323,3 +323,30 @@ def test_a_new_camera_on_a_prepared_twin_reuses_the_cached_rows():
              for _ in range(2)]
     assert len(twin._rows) == 1
     assert np.array_equal(first[0].thermogram.values, first[1].thermogram.values)
+
+
+def test_a_camera_run_is_written_and_read_back_with_the_room_in_view(tmp_path):
+    """Pixels that see the room hold NaN in the geometry layers (declared by ``nan_means``); the
+    result file is written, read back by the checked reader, and ``twin frames`` exports it. NaN
+    in a variable without that declaration is still refused."""
+    import xarray as xr
+
+    from twin.cli import main
+    from twin.errors import InputError
+    from twin.io.results import check_finite, read_result, write_netcdf
+
+    ds, _, _ = _frames(_machine([Part("block", material("steel"), (Box((-0.2, 0.0, 0.3), (0.2, 0.2, 0.7)),))],
+                                [Finish(Emissivity("test", 0.9, "test"), ("block",))]), _config())
+    assert np.isnan(ds.emissivity_true.values).any() and np.isfinite(ds.emissivity_true.values).any()
+    path = write_netcdf(ds, tmp_path / "cam.nc")
+    back = read_result(path, "result")
+    assert np.array_equal(np.isnan(back.depth_true.values), np.isnan(ds.depth_true.values))
+    assert main(["frames", str(path), "-o", str(tmp_path / "frames")]) == 0
+    bad = xr.Dataset({"x": ("i", np.array([1.0, np.nan]))})
+    with pytest.raises(InputError, match="x: holds NaN"):
+        check_finite(bad, "bad.nc")
+    bad.x.attrs["nan_means"] = "nothing"
+    check_finite(bad, "ok.nc")
+    bad["x"] = ("i", np.array([1.0, np.inf]), {"nan_means": "nothing"})
+    with pytest.raises(InputError, match="x: holds NaN or infinite"):
+        check_finite(bad, "inf.nc")

@@ -91,10 +91,15 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, field: str = "output")
 
 def check_finite(ds: xr.Dataset, source: str) -> None:
     """Raise :class:`twin.errors.InputError` naming the first numeric variable or coordinate of
-    ``ds`` that holds NaN or inf (and where along time)."""
+    ``ds`` that holds NaN or inf (and where along time). A variable whose attribute ``nan_means``
+    declares what NaN stands for (a camera pixel that sees the room has no depth) may hold NaN
+    there, never inf."""
     for name, var in {**ds.coords, **ds.data_vars}.items():
         values = var.values
-        if values.dtype.kind not in "fc" or np.all(np.isfinite(values)):
+        if values.dtype.kind not in "fc":
+            continue
+        allowed = np.isnan(values) if "nan_means" in var.attrs else False
+        if np.all(np.isfinite(values) | allowed):
             continue
         where = ""
         if "time" in var.dims and "time" in ds.coords:

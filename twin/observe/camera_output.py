@@ -63,16 +63,17 @@ def camera_variables(cam, t, thermo, counts, true, lut) -> tuple[dict, dict]:
                                                       "the pixel (mean over its rays on the machine; room air elsewhere)"},
                                         kelvin),
         n("emissivity_true"): (pix, view.emissivity.astype(np.float32), {"units": "1", "long_name": "true emissivity "
-                                                                         "seen by the pixel (nan: the room)"}, flat),
+                                                                         "seen by the pixel", "nan_means": "the room"}, flat),
         n("part_true"): (pix, view.part.astype(np.int16), {"long_name": "part seen by the pixel's centre ray (-1: the room)",
                                                            "flag_values": np.arange(len(view.part_names), dtype=np.int16),
                                                            "flag_meanings": names}, flat),
         n("facet_true"): (pix, view.facet.astype(np.int32), {"long_name": "mesh facet hit by the pixel's centre ray "
                                                              "(-1: the room)"}, flat),
         n("depth_true"): (pix, view.depth.astype(np.float32), {"units": "m", "long_name": "distance along the centre "
-                                                               "ray to the surface (nan: the room)"}, flat),
+                                                               "ray to the surface", "nan_means": "the room"}, flat),
         n("view_angle_true"): (pix, view.view_angle.astype(np.float32), {"units": "deg", "long_name": "angle between "
-                                                                         "the centre ray and the surface normal"}, flat),
+                                                                         "the centre ray and the surface normal",
+                                                                         "nan_means": "the room"}, flat),
         n("coverage_true"): (pix, view.coverage.astype(np.float32), {"units": "1", "long_name": "share of the "
                                                                      "pixel's footprint on the machine"}, flat),
         n("camera_lut"): ((n("count"),), lut.astype(np.float32), {"units": "degC", "long_name": "apparent temperature "
