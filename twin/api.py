@@ -20,14 +20,22 @@ def machine_by_name(name: str):
 
 def simulate(machine: str, scenario: str | Scenario, effects: str | None = None, settings: list[str] | None = None,
              resolution: str = "default", seed: int = 0, theta: float = 0.5, progress=None,
-             sensors: list | None = None, materials: dict | None = None) -> tuple:
+             sensors: list | None = None, materials: dict | None = None, effects_file: str | None = None,
+             prepared=None) -> tuple:
     """Simulate by names; returns (Dataset, RunResult). ``effects`` edits the machine's default
-    set (``"+a,-b"``) or replaces it (``"a,b"``)."""
+    set (``"+a,-b"``) or replaces it (``"a,b"``); the effects of ``effects_file`` (a TOML file
+    of custom effects, :mod:`twin.effects.custom`) are registered and switched on as well.
+    ``prepared``: a :class:`twin.physics.prepared.PreparedTwin` of the machine on ``resolution``
+    (with ``materials``) to reuse."""
     m = machine_by_name(machine)
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
-    spec: ModelSpec = model_spec(m, effects, settings)
+    extra = ()
+    if effects_file:
+        from twin.effects.custom import load_effects_file
+        extra = tuple(load_effects_file(effects_file, m))
+    spec: ModelSpec = model_spec(m, effects, settings, extra)
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
-                            mm=mesh_machine(m, resolution))
+                            mm=None if prepared is not None else mesh_machine(m, resolution), prepared=prepared)
     return to_dataset(result, seed, resolution), result

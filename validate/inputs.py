@@ -1,30 +1,43 @@
-"""What ``twin compare`` and ``twin diagnose`` start from: the measurement, its machine, the
+"""What ``twin compare`` and ``twin diagnose`` start from: the measurement(s), their machine, the
 scenario that drives the twin, and the model, all checked before any simulation runs."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from twin.errors import InputError
 
 
-def measured_machine(meas, args):
+def measured_machine(meas, args, source: str | None = None):
     """The machine of a measurement: ``--machine``, else the one the measurement names (a result's
     ``machine`` attribute, a mapping's ``machine`` key); both given and different is an error."""
     from geometries import MACHINES
     from twin.api import machine_by_name
 
+    source = source or args.measurement
     named = meas.attrs.get("machine")
     if args.machine and named and args.machine != named:
-        raise InputError(args.measurement, "machine", f"the measurement is of {named!r}, --machine says {args.machine!r}")
+        raise InputError(source, "machine", f"the measurement is of {named!r}, --machine says {args.machine!r}")
     name = args.machine or named
     if not name:
-        raise InputError(args.measurement, "machine", "the measurement does not name its machine; give --machine "
-                                                      f"(known: {', '.join(sorted(MACHINES))})")
+        raise InputError(source, "machine", "the measurement does not name its machine; give --machine "
+                                            f"(known: {', '.join(sorted(MACHINES))})")
     return machine_by_name(name)
+
+
+def custom_effects(args, machine) -> tuple[str, ...]:
+    """Register the custom effects of ``--effects-file`` (if given) for ``machine``; their names."""
+    path = getattr(args, "effects_file", None)
+    if not path:
+        return ()
+    from twin.effects.custom import load_effects_file
+    return tuple(load_effects_file(path, machine))
 
 
 def load_inputs(args):
     """(measurement Dataset, machine, Scenario, ModelSpec) from the parsed arguments of a command
-    with the measurement and model options (:mod:`twin.cli.options`)."""
+    with the measurement and model options (:mod:`twin.cli.options`); the custom effects of
+    ``--effects-file`` are registered (and switched on only where ``--effects`` names them)."""
     from twin.io.measured_inputs import scenario_from_measurement
     from twin.io.measurement import read_measurement
     from twin.model import model_spec
@@ -34,6 +47,38 @@ def load_inputs(args):
     machine = measured_machine(meas, args)
     if args.mesh not in machine.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
+    custom_effects(args, machine)
     spec = model_spec(machine, args.effects, args.set)
     sc = load_scenario(args.scenario) if args.scenario else scenario_from_measurement(meas)
     return meas, machine, sc, spec
+
+
+def load_measurements(args):
+    """([(label, Dataset, Scenario)], machine, ModelSpec, custom effect names) for ``twin
+    diagnose MEAS [MEAS ...]``: every measurement must be of the same machine; ``--mapping`` and
+    ``--scenario`` need a single measurement."""
+    from twin.io.measured_inputs import scenario_from_measurement
+    from twin.io.measurement import read_measurement
+    from twin.model import model_spec
+    from twin.scenario import load_scenario
+
+    paths = list(args.measurements)
+    if len(paths) > 1 and (args.mapping or args.scenario):
+        raise InputError("command line", "--mapping" if args.mapping else "--scenario",
+                         "applies to a single measurement; give each CSV its own mapping next to it")
+    if len(set(paths)) != len(paths):
+        raise InputError("command line", "measurements", "a measurement is given twice")
+    runs, machine = [], None
+    for path in paths:
+        meas = read_measurement(path, args.mapping, args.machine)
+        m = measured_machine(meas, args, path)
+        if machine is not None and m.name != machine.name:
+            raise InputError(path, "machine", f"is of {m.name!r}, the first measurement of {machine.name!r}")
+        machine = m
+        sc = load_scenario(args.scenario) if args.scenario else scenario_from_measurement(meas)
+        runs.append((Path(path).name, meas, sc))
+    if args.mesh not in machine.resolutions:
+        raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
+    custom = custom_effects(args, machine)
+    spec = model_spec(machine, args.effects, args.set)
+    return runs, machine, spec, custom

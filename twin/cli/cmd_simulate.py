@@ -25,7 +25,8 @@ def simulate_with_progress(machine: str, scenario: str, args):
     from twin.api import simulate
 
     return simulate(machine, scenario, args.effects, args.set, args.mesh, args.seed,
-                    progress=progress_bar(f"{machine} / {Path(scenario).stem}"))
+                    progress=progress_bar(f"{machine} / {Path(scenario).stem}"),
+                    effects_file=getattr(args, "effects_file", None))
 
 
 def run(args) -> int:

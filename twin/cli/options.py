@@ -15,6 +15,9 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
     p.add_argument("--mesh", default=mesh_default, choices=["coarse", "default", "fine"],
                    help=f"{mesh_help} (default {mesh_default})")
     p.add_argument("--seed", type=int, default=0, help="seed of the instrument noise")
+    p.add_argument("--effects-file", metavar="FILE",
+                   help="TOML file of effects the library lacks (twin.effects.custom): simulate and compare switch "
+                        "them on, diagnose offers them as candidates")
 
 
 def add_measurement_options(p: argparse.ArgumentParser) -> None:
