@@ -25,7 +25,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 
-MAX_FACTORISATIONS = 16   # kept per cache; each is tens of MB on a default mesh
+MAX_FACTORISATIONS = 12   # kept per cache; each is tens of MB on a default mesh
 
 
 @dataclass
