@@ -52,6 +52,13 @@ def error_resolution(args, machine) -> str | None:
     return choice
 
 
+def suggested_effect(region: dict) -> str:
+    """A custom-effect TOML table for a localised region (``d.regions`` entry)."""
+    kind = "heat_source" if region["kind"] == "volume" else "heat_flux"
+    return (f'[effects.missing_heat]\nkind = "{kind}"\nregion = "{region["region"]}"\n'
+            f'power = "{region["power_W"]:.3g} W"\nschedule = "{region["schedule"]}"\n')
+
+
 def run_diagnose(args) -> int:
     """CLI body of ``twin diagnose``: prints the verdict and ranking (and before/after with --apply)."""
     from twin.fem.mesh import mesh_machine
@@ -68,14 +75,18 @@ def run_diagnose(args) -> int:
                       parameters=not args.no_parameters, progress=say)
     print(format_diagnosis(d))
     after = calibrated = None
-    if (args.apply or args.report) and d.fits:
+    named = d.verdict in ("explained", "partly_explained")
+    if (args.apply or args.report) and named:
         after, calibrated, extra = apply_top(d)
         if args.apply:
-            extra = [x.replace("FILE", args.effects_file) if x == "FILE" else x for x in extra]
+            extra = [args.effects_file if x == "FILE" else x for x in extra]
             print(f"\nApplied {d.candidates[0]['effect']} ({' '.join(extra)}):")
             print(format_before_after(d, after, calibrated))
     elif args.apply:
-        print("nothing to apply: no candidates")
+        print(f"\nnothing to apply: the verdict is {d.verdict}")
+        if d.regions:
+            print("the best region as a custom effect, to add with --effects-file (twin.effects.custom):\n"
+                  + suggested_effect(d.regions[0]))
     if args.json:
         atomic_write_text(args.json, json.dumps(diagnosis_json(d), indent=2))
     if args.report:

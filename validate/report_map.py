@@ -41,6 +41,17 @@ def _draw_region(ax, machine, name: str, colour, a: int, b: int) -> None:
             ax.add_patch(plt.Rectangle(*rect, fill=False, hatch="///", edgecolor=colour, lw=1.5))
 
 
+def _label_at(machine, name: str, a: int, b: int) -> tuple[float, float]:
+    """Where to write a region's rank: its part's centre, moved onto the face for a face region."""
+    part, _, direction = name.partition(".")
+    box = machine.part(part).boxes[0]
+    at = 0.5 * (np.asarray(box.lo) + np.asarray(box.hi))
+    if direction:
+        axis = AXES[direction[1]]
+        at[axis] = box.hi[axis] if direction[0] == "+" else box.lo[axis]
+    return float(at[a]), float(at[b])
+
+
 def region_map(d, machine, top: int = 5):
     """A matplotlib figure (see the module docstring)."""
     import matplotlib.pyplot as plt
@@ -64,8 +75,10 @@ def region_map(d, machine, top: int = 5):
     snorm = Normalize(0, max(float(values.max()) if len(values) else 0.0, 1e-9))
     for ax, (a, b, view) in zip(axes, ((0, 2, "front view (x-z)"), (1, 2, "side view (y-z, machine front on the left)"))):
         machine_outline(ax, machine, a, b)
-        for r in regions[::-1]:
+        for i, r in list(enumerate(regions, 1))[::-1]:
             _draw_region(ax, machine, r["region"], pcmap(pnorm(r["power_W"])), a, b)
+            ax.annotate(str(i), _label_at(machine, r["region"], a, b), fontsize=9, weight="bold", color="k",
+                        ha="center", va="center", zorder=5)
         if len(values):
             sc = ax.scatter(xyz[:, a], xyz[:, b], c=values, cmap="Greys", norm=snorm, s=45, edgecolor="k", zorder=4)
         ax.set_xlabel(f"{'xy'[a]} [m]")
