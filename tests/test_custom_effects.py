@@ -8,25 +8,13 @@ import json
 import numpy as np
 import pytest
 
-from geometries import build_machine
 from twin.cli import main
 from twin.effects import EFFECTS
 from twin.effects.custom import effects_from_dict, load_effects_file, register_custom, unregister_custom
 from twin.errors import InputError
-from twin.fem.mesh import mesh_machine
 from twin.scenario import Ambient, Scenario
 
 SC = Scenario("c", ((3600.0, 9000.0), (1800.0, 6000.0), (1800.0, 0.0)), Ambient("constant", mean=20.0), 300.0)
-
-
-@pytest.fixture(scope="module")
-def machine():
-    return build_machine("cframe-vmc")
-
-
-@pytest.fixture(scope="module")
-def mm(machine):
-    return mesh_machine(machine, "coarse")
 
 
 @pytest.fixture(autouse=True)

@@ -14,7 +14,6 @@ import pytest
 
 from geometries import build_machine
 from learners.metrics import rms
-from twin.fem.mesh import mesh_machine
 from twin.model import model_spec
 from twin.scenario import Ambient, Scenario
 from validate.diagnose import diagnose, diagnose_many, diagnosis_json, format_diagnosis
@@ -24,16 +23,6 @@ from validate.synthetic import truth_measurement, truth_twin
 # 75 min at 9000 rpm, then 45 min stopped, logged every minute
 SHORT = Scenario("short-heat-cool", ((4500.0, 9000.0), (2700.0, 0.0)), Ambient("constant", mean=20.0), 60.0)
 FAST = {"localise_steps": 30}
-
-
-@pytest.fixture(scope="module")
-def machine():
-    return build_machine("cframe-vmc")
-
-
-@pytest.fixture(scope="module")
-def mm(machine):
-    return mesh_machine(machine, "coarse")
 
 
 @pytest.fixture(scope="module")
@@ -235,7 +224,16 @@ def test_probes_only_and_what_the_missing_sensors_cost(machine, mm, truth):
     assert d.candidates[0]["effect"] == "spindle_bearings.front_power", format_diagnosis(d)
     gap = d.missing_channels[0]
     assert gap["group"] == "temperature" and gap["missing"] == 16 and gap["cost"] >= 1
+    assert gap["runner_up"] and -1 <= gap["corr_present"] <= 1 and -1 <= gap["corr_full"] <= 1
     assert "no temperature sensors" in format_diagnosis(d)
+    # temperatures only: no expansion to fit, the probes' absence stated; with no candidate to try
+    # the verdict is unexplained, the residual factor stated
+    temps = truth(None, ["spindle_bearings.front_power=210 W"])
+    temps = temps.drop_vars([v for v in temps.variables if set(temps[v].dims) & {"probe_id", "axis", "rotation"}])
+    d = diagnose(temps, machine, SHORT, model_spec(machine), mm=mm, candidates=[], parameters=False,
+                 localise_regions=False)
+    assert set(d.groups) == {"temperature"} and d.materials == [] and d.verdict == "unexplained"
+    assert d.missing_channels[0]["group"] == "probe" and d.missing_channels[0]["cost"] is None
 
 
 def test_several_measurements_fit_one_set_of_strengths(machine, mm, truth):

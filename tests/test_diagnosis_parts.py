@@ -7,10 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geometries import build_machine
 from geometries.regions import DIRECTIONS, Facing, Parts, partition, region_by_name
 from twin.effects import EFFECTS
-from twin.fem.mesh import mesh_machine
 from twin.model import ModelSpec, model_spec
 from twin.scenario import Ambient, Scenario
 from validate.fit import BoundedFitter, gauss_newton
@@ -67,16 +65,6 @@ def test_verdict_rule(factors, significant, after, expected):
     the significance of the top candidate, WITHIN = 3."""
     assert WITHIN == 3.0
     assert decide(factors, significant, after) == expected
-
-
-@pytest.fixture(scope="module")
-def machine():
-    return build_machine("cframe-vmc")
-
-
-@pytest.fixture(scope="module")
-def mm(machine):
-    return mesh_machine(machine, "coarse")
 
 
 def test_partition_names_every_part_and_its_faces(machine, mm):

@@ -171,7 +171,7 @@ class Evidence:
         outs = [r.observe_with_expansion(spec, materials) for r in self.records]
         model = self.flat([o for o, _ in outs])
         resp = np.array([self.flat([rs[k] for _, rs in outs]) for k in range(len(materials))])
-        return model, resp.reshape(len(materials), -1)
+        return model, resp.reshape(len(materials), model.size)
 
     @property
     def measured(self) -> np.ndarray:
