@@ -27,7 +27,7 @@ from validate.candidates import Candidate
 from validate.fit import BoundedFitter, gauss_newton
 
 
-@dataclass
+@dataclass(eq=False)
 class Fit:
     """Fitted candidate(s): values (SI) in the order of ``candidates``, the response g (flat), the
     weighted SSE after (nuisance fitted), and per member the local slope dg/dp (flat) used to
