@@ -159,3 +159,16 @@ def test_simulate_and_diagnose_take_an_effects_file(tmp_path, capsys):
     assert main(["simulate", "cframe-vmc", str(tmp_path / "s9000.toml"), "-o", str(tmp_path / "no.nc"),
                  "--effects-file", str(tmp_path / "bad.toml")]) == 2
     assert "bad.toml: effects.pump.power:" in capsys.readouterr().err and not (tmp_path / "no.nc").exists()
+
+
+def test_a_localised_region_becomes_a_custom_effect(machine, mm):
+    """The region names of the diagnosis's map are the custom effects' vocabulary: the table
+    ``twin diagnose --apply`` prints for the best region reads back as an effect on that region."""
+    import tomllib
+    from validate.diagnose_cli import suggested_effect
+    for region, kind in (("saddle", "volume"), ("column.+x", "surface")):
+        text = suggested_effect({"region": region, "kind": kind, "power_W": 83.6, "schedule": "spindle_on"})
+        (e,) = effects_from_dict(tomllib.loads(text), "suggested", machine)
+        (load,) = e.loads(mm, SC, e.defaults())
+        assert e.defaults()["power"] == pytest.approx(83.6) and e.schedule.kind == "spindle_on"
+        assert e.kind == ("heat_source" if kind == "volume" else "heat_flux") and len(load.power(np.array([0.0])))
