@@ -109,3 +109,36 @@ def check_roles(machine_name: str, roles: dict) -> None:
     if unknown:
         raise ValueError(f"machine {machine_name!r} declares unknown role(s) {', '.join(unknown)}; "
                          f"known: {', '.join(ROLES)}")
+
+
+# The region vocabulary users write (custom effects, the diagnosis's map): a part's name is its
+# cells (a volume) or, for a surface load, its faces open to the air and the floor; "part.+x" is
+# the part's outer faces whose outward normal is +x (any of DIRECTIONS).
+def region_by_name(machine, name: str, surface: bool) -> object:
+    """The region a user names: ``"column"`` (the part's cells, or its outer faces when
+    ``surface``) or ``"column.+x"`` (the part's outer faces facing +x; surface only). ValueError
+    naming the known parts and directions otherwise."""
+    part, _, direction = str(name).partition(".")
+    known = [p.name for p in machine.parts]
+    if part not in known:
+        raise ValueError(f"unknown part {part!r} of {machine.name}; known: {', '.join(known)}")
+    if not direction:
+        return Parts((part,))
+    if direction not in DIRECTIONS:
+        raise ValueError(f"{name!r}: direction {direction!r} is not one of {', '.join(DIRECTIONS)}")
+    if not surface:
+        raise ValueError(f"{name!r} is a set of faces; a volume load needs a part's name")
+    return Facing(Parts((part,)), direction)
+
+
+def partition(machine) -> dict[str, tuple[str, object]]:
+    """The machine's fixed partition into named regions, name -> (kind, region): each part's cells
+    (``"column"``, kind ``"volume"``) and each part's outer faces by direction (``"column.+x"``,
+    kind ``"surface"``). A face region may be empty on a mesh (a part buried in another); the
+    caller drops those."""
+    out: dict[str, tuple[str, object]] = {}
+    for p in machine.parts:
+        out[p.name] = ("volume", Parts((p.name,)))
+        for d in DIRECTIONS:
+            out[f"{p.name}.{d}"] = ("surface", Facing(Parts((p.name,)), d))
+    return out

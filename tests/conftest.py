@@ -56,3 +56,17 @@ def machine_coarse_run():
     from twin.simulate import run
 
     return run(build_machine("cframe-vmc"), load_scenario("spindle-duty-cycle"), resolution="coarse")
+
+
+@pytest.fixture(scope="session")
+def machine():
+    """The C-frame VMC (built once for the session)."""
+    from geometries import build_machine
+
+    return build_machine("cframe-vmc")
+
+
+@pytest.fixture(scope="session")
+def mm(machine):
+    """The C-frame VMC's coarse mesh (tests may override ``mm`` with their own)."""
+    return mesh_machine(machine, "coarse")

@@ -20,7 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from tests.fuzz_files import (CLI, COMPARE, COMPARE_NC, DEMO, DIAGNOSE, FOLDERS, INPUTS, LEARN, MAPPING, OUTPUTS,
+from tests.fuzz_files import (CLI, COMPARE, COMPARE_NC, DEMO, DIAGNOSE, EFFECTS_FILE, FOLDERS, INPUTS, LEARN, MAPPING,
+                              OUTPUTS,
                               PLOT, SCENARIO, SIM, TEXT, Case, bad_input_paths, bad_output_folders,
                               bad_output_paths, measurement_csv, netcdf_bytes, result_dataset, swap, table_csv)
 
@@ -337,6 +338,11 @@ OPTION_CASES = [
     ("learn:seed-negative", LEARN + ["--seed", "-1"], CLI, "--seed"),
     ("learn:select-twice", LEARN + ["--select", "all", "--select", "all"], CLI, "--select"),
     ("learn:too-few-rows-for-learner", swap(LEARN, "mlr", "combination"), "{d}/train.csv", "combination"),
+    ("diagnose:effects-file-twice", DIAGNOSE + ["--effects-file", "{d}/fx.toml", "--effects-file", "{d}/fx.toml"], CLI,
+     "--effects-file"),
+    ("diagnose:measurement-twice", DIAGNOSE[:2] + ["{d}/m.csv"] + DIAGNOSE[2:], CLI, "measurements"),
+    ("diagnose:mapping-with-two", DIAGNOSE[:2] + ["{d}/r.nc"] + DIAGNOSE[2:] + ["--mapping", "{d}/m.toml"], CLI,
+     "--mapping"),
     # demo
     ("demo:bad-set", DEMO + [_SET, "spindle_motor.power=3"], CLI, "--set spindle_motor.power"),
     ("demo:unknown-effect", DEMO + ["--effects", "+warp"], CLI, "--effects warp"),
@@ -348,6 +354,34 @@ OPTION_CASES = [
     ("list:machine-without-effects", ["list", "machines", "--machine", "cframe-vmc"], CLI, "--machine"),
     ("list:unknown-machine", ["list", "effects", "--machine", "vmc-9000"], CLI, "machine"),
     ("top:unknown-command", ["frobnicate"], CLI, "command"),
+]
+
+# ---------------------------------------------------------------------- bad custom-effect files
+_FX = SIM + ["--effects-file", "{d}/fx.toml"]
+
+
+def _fx(old: str, new: str) -> str:
+    assert old in EFFECTS_FILE, old
+    return EFFECTS_FILE.replace(old, new)
+
+
+EFFECTS_EDITS = [   # (id, text, field)
+    ("unknown-key", EFFECTS_FILE + 'colour = "red"\n', "effects.pump.colour"),
+    ("no-unit", _fx('"80 W"', "80"), "effects.pump.power"),
+    ("wrong-unit", _fx('"80 W"', '"80 K"'), "effects.pump.power"),
+    ("nan", _fx('"80 W"', '"nan W"'), "effects.pump.power"),
+    ("unknown-kind", _fx('"heat_source"', '"laser"'), "effects.pump.kind"),
+    ("unknown-part", _fx('"saddle"', '"gearbox"'), "effects.pump.region"),
+    ("unknown-direction", _fx('"saddle"', '"column.+w"'), "effects.pump.region"),
+    ("library-name", _fx("pump", "spindle_motor"), "effects.spindle_motor"),
+    ("bad-name", _fx("pump", '"2pump"'), "effects"),
+    ("no-tables", 'kind = "heat_source"\n', "effects"),
+    ("malformed", EFFECTS_FILE + "[[[\n", "toml"),
+    ("unknown-schedule", EFFECTS_FILE + 'schedule = "sometimes"\n', "effects.pump.schedule"),
+    ("window-backwards", EFFECTS_FILE + 'schedule = "windows"\nwindows = [["2 h", "1 h"]]\n', "effects.pump.windows"),
+    ("range-without-strength", EFFECTS_FILE + 'range = ["100 W", "200 W"]\n', "effects.pump.range"),
+    ("table-missing", EFFECTS_FILE + 'schedule = "table"\ntable = { file = "none.csv", time_unit = "min" }\n',
+     "file"),
 ]
 
 # files an option case needs changed (id -> files)
@@ -383,6 +417,9 @@ def all_cases() -> list[Case]:
             cases.append(Case(f"compare.netcdf:{cid}", COMPARE_NC, "{d}/r.nc", compare_field, files={"r.nc": make}))
     for cid, name, text, fld in TABLE_EDITS:
         cases.append(Case(f"learn.table:{cid}", LEARN, f"{{d}}/{name}", fld, files={name: text}))
+    for cid, text, fld in EFFECTS_EDITS:
+        cases.append(Case(f"simulate.effects-file:{cid}", _FX, "{d}/none.csv" if cid == "table-missing" else
+                          "{d}/fx.toml", fld, files={"fx.toml": text}))
     for cid, argv, source, fld in OPTION_CASES:
         cases.append(Case(cid, argv, source, fld, files=OPTION_FILES.get(cid, {})))
     return cases

@@ -115,8 +115,10 @@ def table_csv(n: int = 40, seed: int = 0, edit: Callable | None = None) -> str:
     return "\n".join(",".join(r) for r in rows) + "\n"
 
 
+EFFECTS_FILE = '[effects.pump]\nkind = "heat_source"\nregion = "saddle"\npower = "80 W"\n'
+
 TEXT = {"short.toml": SCENARIO, "m.csv": measurement_csv(), "m.toml": MAPPING, "train.csv": table_csv(),
-        "test.csv": table_csv(seed=1)}
+        "test.csv": table_csv(seed=1), "fx.toml": EFFECTS_FILE}
 
 
 def good_files() -> dict[str, bytes]:
@@ -203,6 +205,9 @@ INPUTS = [
     ("compare.netcdf", COMPARE_NC, "{d}/r.nc", "r.nc", False),
     ("diagnose.measurement", DIAGNOSE, "{d}/m.csv", "m.csv", True),
     ("diagnose.scenario", DIAGNOSE + ["--scenario", "{d}/short.toml"], "{d}/short.toml", "short.toml", True),
+    ("simulate.effects-file", SIM + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),
+    ("compare.effects-file", COMPARE + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),
+    ("diagnose.effects-file", DIAGNOSE + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),
     ("learn.train", LEARN, "{d}/train.csv", "train.csv", True),
     ("learn.test", LEARN, "{d}/test.csv", "test.csv", True),
 ]

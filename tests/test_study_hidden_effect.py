@@ -1,49 +1,79 @@
-"""The hidden-effect study's scoring and rendering (the study itself is a long run behind its own
-command: ``python -m validate.studies.hidden_effect``)."""
+"""The diagnosis study's cases, scoring and rendering (the study itself is a long run behind its
+own command: ``python -m validate.studies.hidden_effect``; one small case of each class runs in
+tests/test_diagnose.py)."""
 
 from __future__ import annotations
 
 import pytest
 
+from geometries import build_machine
 from validate.studies import hidden_effect as study
+from validate.studies.diagnosis_cases import CLASSES, all_cases, score
 
 
-def _row(hidden, scenario, rank, significant, true, fitted, plain, calibrated, after):
-    return study.score({
-        "hidden": hidden, "scenario": scenario, "rank": rank, "top": hidden if rank == 1 else "other",
-        "significant": significant, "parameter": "power", "unit": "W", "true": true, "fitted": fitted,
-        "probe_rmse_uncalibrated_um": plain, "probe_rmse_before_um": calibrated, "probe_rmse_after_um": after,
-        "temperature_rmse_before_K": 0.5, "temperature_rmse_after_K": 0.1,
-        "explained": 0.9, "delta_bic": 50.0, "confidence": 1.0,
-        "truth_mesh": "fine", "model_mesh": "default", "error_mesh": "coarse", "_reasoning": {}})
+def _row(cls, case, verdict, top, rank=None, err=float("nan"), conf=1.0, region_rank=None, plain=1.0, after=0.1):
+    return score({"class": cls, "case": case, "scenario": "s", "expected": "", "true": "", "fitted": "", "rank": rank,
+                  "verdict": verdict, "top": top, "top_kind": "effect", "top_confidence": conf, "explained": 0.9,
+                  "delta_bic": 50.0, "strength_error": err, "factor_temperature": 5.0, "factor_probe": 5.0,
+                  "probe_rmse_uncalibrated_um": plain, "probe_rmse_before_um": plain, "probe_rmse_after_um": after,
+                  "regions": "saddle table", "region_rank": region_rank, "nuisance_at_bound": "", "runs": 40,
+                  "seconds": 60.0, "message": "m", "candidates_ranked": top})
 
 
-def test_bar_and_failure_analysis_follow_the_numbers():
-    """score(): strength error |fitted/true - 1|, reduction 1 - after/plain (the bar) and
-    1 - after/calibrated (the effect's own share), pass only if all hold. The bar table counts
-    exactly the rows that meet each criterion; the failure analysis gives signal =
-    sqrt(plain^2 - floor^2) against the nothing-hidden (calibrated) floor of the scenario."""
-    nan = float("nan")
-    rows = [_row("spindle_motor", "s", 1, True, 60.0, 57.0, 1.0, 0.8, 0.1),
-            _row("test_bar_contact", "s", 1, True, 20.0, 12.0, 0.5, 0.4, 0.3),
-            _row("(none)", "s", None, False, nan, nan, 0.35, 0.3, nan)]
-    assert rows[0]["strength_error"] == pytest.approx(0.05) and rows[0]["probe_reduction"] == pytest.approx(0.9)
-    assert rows[0]["probe_reduction_effect"] == pytest.approx(0.875) and rows[0]["pass"]
-    assert not rows[1]["pass"] and rows[2]["pass"]
-    md = study.markdown(rows, False, "python -m validate.studies.hidden_effect")
-    assert "| hidden effect ranked first | 100% of 2 |" in md
-    assert "| fitted strength within 25 % | 50% |" in md and "| probe RMSE reduced >= 70 % (plain -> after) | 50% |" in md
-    assert "| nothing hidden -> nothing significant | 100% of 1 scenarios |" in md
-    assert "`fine` mesh" in md and "on\n`default`" not in md and "`default`; every" in md and "`coarse`" in md
+def test_cases_cover_every_class_and_every_uncertain_parameter():
+    """Every class is present; the parameter class has every declared uncertain parameter of the
+    machine's default effects, each off by 20-60 %, on at least one scenario, and several
+    scenarios per class."""
+    from twin.effects import EFFECTS
+    machine = build_machine("cframe-vmc")
+    cases = all_cases(machine)
+    assert {c.cls for c in cases} == set(CLASSES)
+    declared = {f"{e}.{u.name}" for e in machine.default_effects for u in EFFECTS[e].uncertain}
+    params = [c for c in cases if c.cls == "parameter"]
+    assert {c.expect[0][0] for c in params} == declared
+    for c in params:
+        name, value = c.expect[0]
+        effect, pname = name.split(".")
+        assert 0.2 - 1e-9 <= abs(value / EFFECTS[effect].parameter(pname).default - 1) <= 0.6 + 1e-9
+    for cls in CLASSES:
+        assert len({c.scenario for c in cases if c.cls == cls}) >= 2, cls
+    outside = [c for c in cases if c.cls == "outside"]
+    assert len({c.region for c in outside}) == 3
+    # the outside regions are heated by no library effect: none of them is a role's region
+    assert all(c.region not in ("spindle", "motor", "front_bearing", "rear_bearing") for c in outside)
+
+
+def test_scores_and_rates_follow_the_numbers():
+    """Per class: hidden/parameter/pair pass when named first with the verdict naming them and every
+    strength within 25 % (hidden: probe RMSE reduced >= 70 %); outside when unexplained or partly
+    explained, no library candidate at confidence > 0.5 and the true region in the top two; none
+    when nothing_missing. The rates table counts exactly those."""
+    rows = [_row("hidden", "a", "explained", "a", rank=1, err=0.05),
+            _row("hidden", "b", "explained", "c", rank=2, err=0.05),
+            _row("parameter", "p", "explained", "p", rank=1, err=0.3),
+            _row("outside", "o1", "unexplained", "x", conf=0.9, region_rank=2),
+            _row("outside", "o2", "partly_explained", "x", conf=0.8, region_rank=1),
+            _row("pair", "a+b", "explained", "a+b", rank=1, err=0.1),
+            _row("none", "(none)", "nothing_missing", "x"),
+            _row("none", "(none)", "explained", "x")]
+    assert [r["pass"] for r in rows] == [True, False, False, True, False, True, True, False]
+    rates = {(c, w.split(" (")[0]): rate for c, w, rate, bar, n in study.class_rates(rows)}
+    assert rates[("hidden", "hidden effect named first")] == 0.5
+    assert rates[("parameter", "fitted within 25 %")] == 0.0
+    assert rates[("outside", "no library candidate named with confidence > 0.5")] == 0.5
+    assert rates[("outside", "true region among the top two")] == 1.0
+    assert rates[("none", "verdict nothing_missing")] == 0.5
+    md = study.markdown(rows, "python -m validate.studies.hidden_effect", False)
+    assert "| outside | true region among the top two | 100% | 67% | 2 | **pass** |" in md
     fa = study.failure_analysis(rows)
-    assert "test_bar_contact" in fa and "spindle_motor" not in fa
-    assert "signal 0.4 um vs floor 0.3 um" in fa   # sqrt(plain 0.5^2 - floor 0.3^2) = 0.4
+    assert "hidden: b" in fa and "ranked 2 behind c" in fa and "library candidate x named with confidence 0.8" in fa
 
 
 @pytest.mark.parametrize("argv, needle", [
     (["--truth", "huge"], "unknown mesh resolution 'huge'"),
     (["--truth", "coarse", "--model", "default"], "coarser than --model"),
     (["--effects", "nonsense"], "unknown effects: nonsense"),
+    (["--classes", "hidden,weird"], "unknown class 'weird'"),
 ])
 def test_bad_options_are_one_clear_error(capsys, argv, needle):
     with pytest.raises(SystemExit) as e:

@@ -120,10 +120,12 @@ def applicable_effects(machine) -> list[str]:
     return sorted(name for name, e in EFFECTS.items() if e.applies_to(machine))
 
 
-def model_spec(machine, effects: str | None = None, settings: list[str] | None = None) -> ModelSpec:
+def model_spec(machine, effects: str | None = None, settings: list[str] | None = None,
+               extra: tuple[str, ...] = ()) -> ModelSpec:
     """The model of ``machine`` from CLI-style strings: ``effects="+a,-b"`` edits the machine's
-    default set, ``settings=["a.p=3 W"]``; every effect must apply to the machine."""
-    chosen = parse_effects(effects, tuple(machine.default_effects))
+    default set, ``settings=["a.p=3 W"]``; every effect must apply to the machine. ``extra``
+    effects (e.g. a user's custom effects) are switched on in addition."""
+    chosen = tuple(dict.fromkeys(parse_effects(effects, tuple(machine.default_effects)) + tuple(extra)))
     check_applicable(chosen, machine)
     return ModelSpec(chosen, parse_settings(settings, chosen))
 

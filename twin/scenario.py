@@ -255,3 +255,6 @@ def _list(r: _Reader, key: str, dimension: str, source: str) -> list[float]:
         except UnitError as err:
             raise InputError(source, f"{r.prefix}{key}[{i}]", str(err)) from None
     return out
+
+
+TableReader = _Reader   # the reader for other input files (custom effects) to share

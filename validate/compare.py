@@ -130,15 +130,18 @@ def format_compare(result: CompareResult, top: int = 8) -> str:
 
 
 def model_for(measured: xr.Dataset, machine: str, scenario=None, effects: str | None = None,
-              settings: list[str] | None = None, resolution: str = "default", seed: int = 0, progress=None):
+              settings: list[str] | None = None, resolution: str = "default", seed: int = 0, progress=None,
+              effects_file: str | None = None):
     """Simulate the twin at the measurement's sensor sites, driven by its inputs unless a scenario
-    (a name, a path or a Scenario) is given. Returns (model Dataset, RunResult)."""
+    (a name, a path or a Scenario) is given; the custom effects of ``effects_file`` are switched
+    on. Returns (model Dataset, RunResult)."""
     from twin.api import simulate
     from twin.io.measured_inputs import scenario_from_measurement, sensors_of
 
     sc = scenario if scenario else scenario_from_measurement(measured)
     sensors = sensors_of(measured) or None
-    return simulate(machine, sc, effects, settings, resolution, seed, progress=progress, sensors=sensors)
+    return simulate(machine, sc, effects, settings, resolution, seed, progress=progress, sensors=sensors,
+                    effects_file=effects_file)
 
 
 def add_compare_parser(subparsers) -> None:
@@ -158,6 +161,6 @@ def run_compare(args) -> int:
     declare_inputs(Files(), args)
     meas, machine, sc, _ = load_inputs(args)
     model, _ = model_for(meas, machine.name, sc, args.effects, args.set, args.mesh, args.seed,
-                         progress=progress_bar(f"{machine.name} / measured inputs"))
+                         progress=progress_bar(f"{machine.name} / measured inputs"), effects_file=args.effects_file)
     print(format_compare(compare(meas, model)))
     return 0

@@ -150,8 +150,8 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     mm = mesh_machine(machine, DIAGNOSE_MESH)
     sc_meas = scenario_from_measurement(meas)
     d = diagnose(meas, machine, sc_meas, model_spec(machine), mm=mm)
-    say(f"diagnose (twin diagnose {csv_path}): every library effect not in the model, fitted on the "
-        f"{DIAGNOSE_MESH} mesh ({d.runs} twin runs)")
+    say(f"diagnose (twin diagnose {csv_path}): every library effect not in the model and every uncertain "
+        f"parameter of its own, fitted on the {DIAGNOSE_MESH} mesh ({d.runs} twin runs)")
     for i, cand in enumerate(d.candidates[:3], 1):
         vals = _candidate_args(cand)
         say(f"  {i}. {cand['effect']:<24} explains {cand['explained']:5.1%}  confidence {cand['confidence']:.2f}  {vals}")

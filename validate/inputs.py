@@ -1,61 +1,74 @@
-"""What ``twin compare`` and ``twin diagnose`` start from: the measurement, its machine, the
+"""What ``twin compare`` and ``twin diagnose`` start from: the measurement(s), their machine, the
 scenario that drives the twin, and the model, all checked before any simulation runs."""
 
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import numpy as np
 
 from twin.errors import InputError
 
 
-def measured_machine(meas, args):
+def measured_machine(meas, args, source: str | None = None):
     """The machine of a measurement: ``--machine``, else the one the measurement names (a result's
     ``machine`` attribute, a mapping's ``machine`` key); both given and different is an error."""
     from geometries import MACHINES
     from twin.api import machine_by_name
 
+    source = source or args.measurement
     named = meas.attrs.get("machine")
     if args.machine and named and args.machine != named:
-        raise InputError(args.measurement, "machine", f"the measurement is of {named!r}, --machine says {args.machine!r}")
+        raise InputError(source, "machine", f"the measurement is of {named!r}, --machine says {args.machine!r}")
     name = args.machine or named
     if not name:
-        raise InputError(args.measurement, "machine", "the measurement does not name its machine; give --machine "
-                                                      f"(known: {', '.join(sorted(MACHINES))})")
+        raise InputError(source, "machine", "the measurement does not name its machine; give --machine "
+                                            f"(known: {', '.join(sorted(MACHINES))})")
     return machine_by_name(name)
 
 
+def measurement_paths(args) -> list[str]:
+    """The measurement file(s) of the command: ``args.measurements`` (diagnose) or ``args.measurement``."""
+    paths = getattr(args, "measurements", None)
+    return list(paths) if paths is not None else [args.measurement]
+
+
 def declare_inputs(files, args) -> None:
-    """Declare the measurement, its column mapping and a ``--scenario`` file as inputs of the
-    command (:class:`twin.io.paths.Files`: existing regular readable files, never an output)."""
+    """Declare the measurement(s), their column mappings, a ``--scenario`` file and an
+    ``--effects-file`` as inputs of the command (:class:`twin.io.paths.Files`: existing regular
+    readable files, never an output)."""
     from twin.cli.options import declare_scenario
     from twin.io.measurement import mapping_path
 
-    files.input(args.measurement, "measurement", "measurement file")
     given = getattr(args, "mapping", None)
-    mapping = mapping_path(args.measurement, given)
-    if given or (mapping is not None and os.path.lexists(mapping)):   # a missing default: the reader says so
-        files.input(mapping, "--mapping", "column mapping")
+    for path in measurement_paths(args):
+        files.input(path, "measurement", "measurement file")
+        mapping = mapping_path(path, given)
+        if given or (mapping is not None and os.path.lexists(mapping)):   # a missing default: the reader says so
+            files.input(mapping, "--mapping", "column mapping")
     if args.scenario:
         declare_scenario(files, args.scenario)
+    if getattr(args, "effects_file", None):
+        files.input(args.effects_file, "--effects-file", "effects file")
 
 
-def load_inputs(args):
-    """(measurement Dataset, machine, Scenario, ModelSpec) from the parsed arguments of a command
-    with the measurement and model options (:mod:`twin.cli.options`). A ``--scenario`` must
-    respect the machine's speed limit and last at least as long as the measurement."""
+def custom_effects(args, machine) -> tuple[str, ...]:
+    """Register the custom effects of ``--effects-file`` (if given) for ``machine``; their names."""
+    path = getattr(args, "effects_file", None)
+    if not path:
+        return ()
+    from twin.effects.custom import load_effects_file
+    return tuple(load_effects_file(path, machine))
+
+
+def measured_scenario(meas, args, machine):
+    """The scenario that drives the twin for ``meas``: ``--scenario`` (it must last at least as
+    long as the measurement) or the one built from the logged inputs; within the machine's limits."""
     from twin import limits
     from twin.io.measured_inputs import scenario_from_measurement
-    from twin.io.measurement import read_measurement
-    from twin.model import model_spec
     from twin.scenario import load_scenario
 
-    meas = read_measurement(args.measurement, getattr(args, "mapping", None), args.machine)
-    machine = measured_machine(meas, args)
-    if args.mesh not in machine.resolutions:
-        raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
-    spec = model_spec(machine, args.effects, args.set)
     if args.scenario:
         sc = load_scenario(args.scenario)
         t = np.asarray(meas.time.values, float)
@@ -65,4 +78,48 @@ def load_inputs(args):
     else:
         sc = scenario_from_measurement(meas)
     limits.check_scenario(sc, machine)
-    return meas, machine, sc, spec
+    return sc
+
+
+def load_inputs(args):
+    """(measurement Dataset, machine, Scenario, ModelSpec) from the parsed arguments of a command
+    with the measurement and model options (:mod:`twin.cli.options`); the custom effects of
+    ``--effects-file`` are registered (and switched on only where ``--effects`` names them)."""
+    from twin.io.measurement import read_measurement
+    from twin.model import model_spec
+
+    meas = read_measurement(args.measurement, getattr(args, "mapping", None), args.machine)
+    machine = measured_machine(meas, args)
+    if args.mesh not in machine.resolutions:
+        raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
+    custom_effects(args, machine)
+    spec = model_spec(machine, args.effects, args.set)
+    return meas, machine, measured_scenario(meas, args, machine), spec
+
+
+def load_measurements(args):
+    """([(label, Dataset, Scenario)], machine, ModelSpec, custom effect names) for ``twin
+    diagnose MEAS [MEAS ...]``: every measurement must be of the same machine; ``--mapping`` and
+    ``--scenario`` need a single measurement."""
+    from twin.io.measurement import read_measurement
+    from twin.model import model_spec
+
+    paths = measurement_paths(args)
+    if len(paths) > 1 and (args.mapping or args.scenario):
+        raise InputError("command line", "--mapping" if args.mapping else "--scenario",
+                         "applies to a single measurement; give each CSV its own mapping next to it")
+    if len({os.path.realpath(p) for p in paths}) != len(paths):
+        raise InputError("command line", "measurements", "a measurement is given twice")
+    runs, machine = [], None
+    for path in paths:
+        meas = read_measurement(path, args.mapping, args.machine)
+        m = measured_machine(meas, args, path)
+        if machine is not None and m.name != machine.name:
+            raise InputError(path, "machine", f"is of {m.name!r}, the first measurement of {machine.name!r}")
+        machine = m
+        runs.append((Path(path).name, meas, measured_scenario(meas, args, machine)))
+    if args.mesh not in machine.resolutions:
+        raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
+    custom = custom_effects(args, machine)
+    spec = model_spec(machine, args.effects, args.set)
+    return runs, machine, spec, custom

@@ -13,6 +13,7 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.io.atomic import atomic_write_text
+from validate.report_map import machine_outline as _machine_outline
 
 def _png(fig) -> str:
     buf = io.BytesIO()
@@ -67,42 +68,51 @@ def _candidate_text(c: dict, names: bool = True) -> str:
     return "; ".join(out)
 
 
-def _machine_outline(ax, machine, a: int, b: int) -> None:
-    import matplotlib.pyplot as plt
-
-    for part in machine.parts:
-        for box in part.boxes:
-            ax.add_patch(plt.Rectangle((box.lo[a], box.lo[b]), box.hi[a] - box.lo[a], box.hi[b] - box.lo[b],
-                                       fill=False, lw=0.5, color="grey"))
-
-
 def figures(d, machine, after: np.ndarray | None = None) -> dict[str, str]:
-    """Base64 PNGs keyed by title: worst channels measured vs model (phases shaded), the machine
-    with sensors coloured by residual RMSE [K] (before and, with ``after``, after adding the top
-    candidate), and the candidate ranking with fitted strengths and confidence."""
+    """Base64 PNGs keyed by title: per measurement the worst channels measured vs model (phases
+    shaded) and the machine with its sensors coloured by residual RMSE [K] (before and, with
+    ``after`` (flat, every record), after adding the top candidate); the candidate ranking; and,
+    when the diagnosis localised the missing heat, the map of the machine's regions."""
     import matplotlib
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import Normalize
-    from matplotlib.lines import Line2D
 
     out = {}
-    th = d.times / 3600
-    phases = d.phases
+    afters = d.evidence.split(after) if after is not None else [None] * len(d.evidence.records)
+    many = d.evidence.multiple
+    for rec, aft in zip(d.evidence.records, afters):
+        tag = f" ({rec.label})" if many else ""
+        out[f"Measured vs model, the worst channels{tag} (diagnosis mesh; dashed: after adding the top candidate)"] = \
+            _worst_channels(d, rec, aft)
+        if "temperature" in rec.groups and rec.sensor_points:
+            out[f"The machine with its temperature sensors coloured by residual RMSE{tag}"] = _sensor_map(d, rec, aft, machine)
+    if d.candidates:
+        out["Candidate ranking"] = _ranking(d)
+    if d.regions:
+        from validate.report_map import region_map
+        out["Where on the machine: regions coloured by the fitted heat input"] = _png(region_map(d, machine))
+    return out
+
+
+def _worst_channels(d, rec, after) -> str:
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    th = rec.times / 3600
     top = _candidate_text(d.candidates[0]) if d.candidates else ""
-    order = np.argsort(-d.baseline_rmse * d.weights)[:6]
+    base_rmse = rms(rec.measured - rec.model, axis=0)
+    order = np.argsort(-base_rmse * rec.weights)[:6]
     fig, axes = plt.subplots(len(order), 1, figsize=(8, 1.9 * len(order) + 0.6), sharex=True, squeeze=False)
     handles = []
     for i, (ax, k) in enumerate(zip(axes[:, 0], order)):
-        handles = _shade_phases(ax, phases, label=i == 0) or handles
-        ax.plot(th, d.measured[:, k], "k.", ms=2)
-        ax.plot(th, d.model[:, k], "C0-")
+        handles = _shade_phases(ax, rec.phases, label=i == 0) or handles
+        ax.plot(th, rec.measured[:, k], "k.", ms=2)
+        ax.plot(th, rec.model[:, k], "C0-")
         if after is not None:
             ax.plot(th, after[:, k], "C3--")
-        unit = "degC" if d.groups[k] == "temperature" else "um"
+        unit = "degC" if rec.groups[k] == "temperature" else "um"
         ax.set_ylabel(f"[{unit}]", fontsize=8)
-        ax.set_title(f"{d.channels[k]}: RMSE {d.baseline_rmse[k]:.3g}"
-                     + (f" -> {rms(d.measured[:, k] - after[:, k]):.3g}" if after is not None else "")
+        ax.set_title(f"{rec.channels[k]}: RMSE {base_rmse[k]:.3g}"
+                     + (f" -> {rms(rec.measured[:, k] - after[:, k]):.3g}" if after is not None else "")
                      + f" {'K' if unit == 'degC' else unit}", fontsize=8, loc="left")
     lines = [Line2D([], [], color="k", marker=".", ls="", label="measured"),
              Line2D([], [], color="C0", label="model")]
@@ -112,47 +122,55 @@ def figures(d, machine, after: np.ndarray | None = None) -> dict[str, str]:
     entries = lines + handles
     fig.tight_layout(rect=(0, 0.015 + 0.014 * -(-len(entries) // 3), 1, 1))
     fig.legend(handles=entries, loc="lower center", ncol=3, fontsize=7, bbox_to_anchor=(0.5, 0.0))
-    out["Measured vs model, the worst channels (diagnosis mesh; dashed: after adding the top candidate)"] = _png(fig)
+    return _png(fig)
 
-    temps = [i for i, g in enumerate(d.groups) if g == "temperature"]
-    if temps and d.sensor_points:
-        rows = [("before", d.baseline_rmse[temps])]
-        if after is not None:
-            rows.append(("after", rms(d.measured - after, axis=0)[temps]))
-        norm = Normalize(0, max(float(rows[0][1].max()), 1e-9))
-        fig, axes = plt.subplots(len(rows), 2, figsize=(10, 4.6 * len(rows)), squeeze=False, layout="constrained")
-        xyz = np.array([p.xyz for p in d.sensor_points])
-        for (what, values), axrow in zip(rows, axes):
-            for ax, (a, b, view) in zip(axrow, ((0, 2, "front view (x-z)"), (1, 2, "side view (y-z, machine front on the left)"))):
-                _machine_outline(ax, machine, a, b)
-                sc = ax.scatter(xyz[:, a], xyz[:, b], c=values, cmap="inferno_r", norm=norm, s=60, edgecolor="k", zorder=3)
-                for n, (x, z) in enumerate(zip(xyz[:, a], xyz[:, b]), 1):
-                    ax.annotate(str(n), (x, z), xytext=(5, 2), textcoords="offset points", fontsize=7, color="0.2")
-                ax.set_xlabel(f"{'xy'[a]} [m]")
-                ax.set_ylabel("z [m]")
-                ax.set_title(f"{what}: {view}", fontsize=9)
-                ax.set_aspect("equal")
-                ax.autoscale()
-        fig.colorbar(sc, ax=axes, label="residual RMSE of each temperature sensor [K]", shrink=0.7)
-        key = ", ".join(f"{n} {p.name}" for n, p in enumerate(d.sensor_points, 1))
-        fig.text(0.0, -0.01, "sensors: " + key + (f"\nafter: with {top}" if after is not None else ""), fontsize=7,
-                 va="top", wrap=True)
-        out["The machine with its temperature sensors coloured by residual RMSE"] = _png(fig)
 
-    if d.candidates:
-        c = d.candidates[:10][::-1]
-        fig, ax = plt.subplots(figsize=(8, 0.45 * len(c) + 1.2))
-        colours = ["C2" if (x is d.candidates[0] and d.significant) else "0.6" for x in c]
-        ax.barh([x["effect"] for x in c], [100 * x["explained"] for x in c], color=colours)
-        for y, x in enumerate(c):
-            ax.text(max(100 * x["explained"], 0) + 1, y, f"{_candidate_text(x, names=False)}, confidence {x['confidence']:.2f}",
-                    va="center", fontsize=7)
-        ax.set_xlim(0, 160)
-        ax.set_xticks(range(0, 101, 20))
-        ax.set_xlabel("share of the weighted residual the candidate explains at its fitted strength [%]")
-        ax.set_title("green: reported as missing (significant); grey: not significant", fontsize=8)
-        out["Candidate ranking"] = _png(fig)
-    return out
+def _sensor_map(d, rec, after, machine) -> str:
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import Normalize
+
+    top = _candidate_text(d.candidates[0]) if d.candidates else ""
+    temps = [i for i, g in enumerate(rec.groups) if g == "temperature"]
+    rows = [("before", rms(rec.measured - rec.model, axis=0)[temps])]
+    if after is not None:
+        rows.append(("after", rms(rec.measured - after, axis=0)[temps]))
+    norm = Normalize(0, max(float(rows[0][1].max()), 1e-9))
+    fig, axes = plt.subplots(len(rows), 2, figsize=(10, 4.6 * len(rows)), squeeze=False, layout="constrained")
+    points = rec.sensor_points
+    xyz = np.array([p.xyz for p in points])
+    for (what, values), axrow in zip(rows, axes):
+        for ax, (a, b, view) in zip(axrow, ((0, 2, "front view (x-z)"), (1, 2, "side view (y-z, machine front on the left)"))):
+            _machine_outline(ax, machine, a, b)
+            sc = ax.scatter(xyz[:, a], xyz[:, b], c=values, cmap="inferno_r", norm=norm, s=60, edgecolor="k", zorder=3)
+            for n, (x, z) in enumerate(zip(xyz[:, a], xyz[:, b]), 1):
+                ax.annotate(str(n), (x, z), xytext=(5, 2), textcoords="offset points", fontsize=7, color="0.2")
+            ax.set_xlabel(f"{'xy'[a]} [m]")
+            ax.set_ylabel("z [m]")
+            ax.set_title(f"{what}: {view}", fontsize=9)
+            ax.set_aspect("equal")
+            ax.autoscale()
+    fig.colorbar(sc, ax=axes, label="residual RMSE of each temperature sensor [K]", shrink=0.7)
+    key = ", ".join(f"{n} {p.name}" for n, p in enumerate(points, 1))
+    fig.text(0.0, -0.01, "sensors: " + key + (f"\nafter: with {top}" if after is not None else ""), fontsize=7,
+             va="top", wrap=True)
+    return _png(fig)
+
+
+def _ranking(d) -> str:
+    import matplotlib.pyplot as plt
+
+    c = d.candidates[:10][::-1]
+    fig, ax = plt.subplots(figsize=(8, 0.45 * len(c) + 1.2))
+    colours = ["C2" if (x is d.candidates[0] and d.significant) else "0.6" for x in c]
+    ax.barh([x["effect"] for x in c], [100 * x["explained"] for x in c], color=colours)
+    for y, x in enumerate(c):
+        ax.text(max(100 * x["explained"], 0) + 1, y, f"{_candidate_text(x, names=False)}, confidence {x['confidence']:.2f}",
+                va="center", fontsize=7)
+    ax.set_xlim(0, 160)
+    ax.set_xticks(range(0, 101, 20))
+    ax.set_xlabel("share of the weighted residual the candidate explains at its fitted value [%]")
+    ax.set_title(f"verdict {d.verdict}; green: the candidate the verdict names; grey: not significant", fontsize=8)
+    return _png(fig)
 
 
 _CSS = ("body{font-family:sans-serif;max-width:1100px;margin:1em auto;padding:0 1em}"
@@ -165,9 +183,14 @@ _CAPTIONS = {
                 "gives the channel's RMSE before -> after (temperatures in K, probes in um).",
     "The machine": "Each dot is a temperature sensor at its place on the machine (grey: the part outlines), "
                    "coloured by the RMSE of measured minus model; the numbers are keyed below the picture.",
-    "Candidate": "Each effect the model lacks, fitted to the residual; the bar is the share of the weighted "
-                 "residual it explains, the label its fitted strength and its confidence (the Schwarz "
-                 "weight of the candidate among all candidates and 'nothing missing').",
+    "Candidate": "Each effect the model lacks and each uncertain parameter of its own effects, fitted to the "
+                 "residual; the bar is the share of the weighted residual it explains, the label its fitted value "
+                 "and its confidence (the Schwarz weight of the candidate among all candidates and 'nothing "
+                 "missing').",
+    "Where": "A generic heat input (constant, or while the spindle turns) fitted alone on each region of the "
+             "machine's partition (each part, each part's outer faces by direction); the best regions are "
+             "coloured by their fitted power [W] (volumes filled, faces as thick edges or hatched when they face "
+             "the viewer), the temperature sensors by the residual RMSE left after the verdict's model [K].",
 }
 
 
@@ -189,7 +212,7 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     parts = [f"<html><head><meta charset='utf-8'><title>twin diagnose</title><style>{_CSS}</style></head><body>",
-             "<h1>Diagnosis: missing physical effects</h1>", f"<p><b>{html.escape(d.message)}</b></p>"]
+             "<h1>Diagnosis: what the model lacks</h1>", f"<p><b>{html.escape(d.message)}</b></p>"]
     parts += [block(t, x) for t, x in sections or []]
     parts.append(block("Ranking of the candidate effects", format_diagnosis(d)))
     if after is not None:

@@ -31,10 +31,18 @@ def short_scenario(sc: Scenario, factor: float) -> Scenario:
     return replace(sc, steps=steps, name=f"{sc.name}-x{factor:g}")
 
 
+def truth_twin(machine, resolution: str = "default", perturb: bool = True):
+    """A prepared twin of the truth (``machine`` built, on ``resolution``, perturbed materials) to
+    reuse for several truths of one machine."""
+    from twin.physics.prepared import PreparedTwin
+    return PreparedTwin(machine, resolution=resolution, materials=PERTURBED if perturb else None)
+
+
 def truth_measurement(machine: str, scenario: Scenario, effects: str | None = None, settings: list[str] | None = None,
-                      resolution: str = "default", seed: int = 1, perturb: bool = True):
-    """Simulate the truth and return the measurement Dataset on ``scenario``'s time grid."""
+                      resolution: str = "default", seed: int = 1, perturb: bool = True, prepared=None):
+    """Simulate the truth and return the measurement Dataset on ``scenario``'s time grid
+    (``prepared``: a :func:`truth_twin` to reuse)."""
     fine = replace(scenario, sample_interval=scenario.sample_interval / 2)
     ds, _ = simulate(machine, fine, effects=effects, settings=list(settings or []) + INSTRUMENT_SETTINGS,
-                     resolution=resolution, seed=seed, materials=PERTURBED if perturb else None)
+                     resolution=resolution, seed=seed, materials=PERTURBED if perturb else None, prepared=prepared)
     return ds.isel(time=slice(None, None, 2))

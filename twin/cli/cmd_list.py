@@ -28,12 +28,17 @@ def _effects(machine_name: str | None) -> None:
     from geometries import MACHINES, build_machine
     from twin.api import machine_by_name
     from twin.effects import EFFECTS
+    from twin.units import format_quantity
 
     def show(name, tag, where=""):
         e = EFFECTS[name]
         print(f"{name}{tag}: {e.summary}\n  reference: {e.reference}{where}")
         for p in e.parameters:
             print(f"    {p.describe()}")
+        for u in e.uncertain:
+            dim = e.parameter(u.name).dimension
+            print(f"    uncertain {u.name}: {format_quantity(u.lower, dim)} .. {format_quantity(u.upper, dim)} "
+                  f"({'linear' if u.linear else 'nonlinear'}): {u.why}")
 
     if machine_name is None:
         machines = [build_machine(n) for n in sorted(MACHINES)]

@@ -30,7 +30,8 @@ def simulate_with_progress(machine: str, scenario: str, args):
 
     return simulate(machine, scenario, args.effects, args.set, args.mesh, args.seed,
                     progress=progress_bar(f"{machine} / {Path(scenario).stem}"), solver=solver_options(args),
-                    cameras=cameras_from_option(getattr(args, "camera", None)))
+                    cameras=cameras_from_option(getattr(args, "camera", None)),
+                    effects_file=getattr(args, "effects_file", None))
 
 
 def run(args) -> int:
@@ -40,6 +41,8 @@ def run(args) -> int:
     machine_by_name(args.machine)
     files = Files()
     declare_scenario(files, args.scenario)
+    if args.effects_file:
+        files.input(args.effects_file, "--effects-file", "effects file")
     out = files.output(args.output, "-o", NETCDF_SUFFIXES)
     field_path = files.output(args.field, "--field", FIELD_SUFFIXES) if args.field else None
     ds, result = simulate_with_progress(args.machine, args.scenario, args)

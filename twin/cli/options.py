@@ -32,6 +32,9 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
     p.add_argument("--mesh", default=mesh_default, choices=["coarse", "default", "fine"],
                    help=f"{mesh_help} (default {mesh_default})")
     add_seed_option(p)
+    p.add_argument("--effects-file", metavar="FILE",
+                   help="TOML file of effects the library lacks (twin.effects.custom): simulate and compare switch "
+                        "them on, diagnose offers them as candidates")
     if solvers:
         p.add_argument("--solver", default="auto", choices=["auto", "direct", "iterative", "rom"],
                        help="linear solvers: auto (direct factorisation up to 30k nodes, iterative above), "

@@ -2,7 +2,7 @@
 
 from twin.effects import belt, drives, environment, room, spindle  # noqa: F401  (registration)
 from twin.effects.base import (EFFECTS, ContactConductance, Convection, Effect, HeatSource, Parameter, SurfaceHeatFlux,
-                               first_order_lag, register_effect, speed_power_law)
+                               Uncertain, first_order_lag, register_effect, speed_power_law)
 
 __all__ = ["EFFECTS", "ContactConductance", "Convection", "Effect", "HeatSource", "Parameter", "SurfaceHeatFlux",
-           "first_order_lag", "register_effect", "speed_power_law"]
+           "Uncertain", "first_order_lag", "register_effect", "speed_power_law"]

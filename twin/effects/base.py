@@ -49,6 +49,21 @@ class Parameter:
 
 
 @dataclass(frozen=True)
+class Uncertain:
+    """A parameter whose value is uncertain on a real machine: its plausible range [lower, upper]
+    (SI values of the parameter's dimension) and why. The diagnosis fits it like a missing effect
+    when the effect is in the model (:mod:`validate.candidates`). ``linear``: every observable is
+    affine in this parameter (a heat source's power); False for film coefficients, conductances
+    and anything that changes the operator or a signal's shape (fitted by Gauss-Newton)."""
+
+    name: str
+    lower: float
+    upper: float
+    why: str
+    linear: bool = False
+
+
+@dataclass(frozen=True)
 class HeatSource:
     label: str
     cells: np.ndarray
@@ -96,6 +111,7 @@ class Effect:
     roles: tuple[str, ...] = ()
     strength: str = ""      # the parameter that sets how strong the effect is (what a diagnosis fits)
     linear: bool = False    # is every observable's response linear in the strength (heat sources only)?
+    uncertain: tuple[Uncertain, ...] = ()   # parameters a real machine may have otherwise, with plausible ranges
 
     def missing_roles(self, machine) -> list[str]:
         """The roles this effect needs that ``machine`` does not declare."""
@@ -114,6 +130,10 @@ class Effect:
     def defaults(self) -> dict[str, float]:
         return {p.name: p.default for p in self.parameters}
 
+    def uncertainty(self, name: str) -> Uncertain | None:
+        """The declared :class:`Uncertain` range of parameter ``name`` (None if it is not declared)."""
+        return next((u for u in self.uncertain if u.name == name), None)
+
     def loads(self, mm, scenario, params: dict[str, float]) -> list:
         raise NotImplementedError
 
@@ -125,10 +145,25 @@ def register_effect(cls: type[Effect]) -> type[Effect]:
     """Class decorator: register one instance of ``cls`` under ``cls.name``."""
     if cls.name in EFFECTS:
         raise RuntimeError(f"effect {cls.name!r} registered twice")
-    if cls.strength and cls.strength not in {p.name for p in cls.parameters}:
-        raise RuntimeError(f"effect {cls.name!r}: strength {cls.strength!r} is not one of its parameters")
+    check_declarations(cls)
     EFFECTS[cls.name] = cls()
     return cls
+
+
+def check_declarations(cls) -> None:
+    """RuntimeError if ``cls``'s strength or an uncertain range does not fit its parameters: the
+    strength must be a parameter; each :class:`Uncertain` must name a parameter, lie within its
+    bounds and contain its default."""
+    params = {p.name: p for p in cls.parameters}
+    if cls.strength and cls.strength not in params:
+        raise RuntimeError(f"effect {cls.name!r}: strength {cls.strength!r} is not one of its parameters")
+    for u in cls.uncertain:
+        p = params.get(u.name)
+        if p is None:
+            raise RuntimeError(f"effect {cls.name!r}: uncertain {u.name!r} is not one of its parameters")
+        if not (p.lower <= u.lower <= p.default <= u.upper <= p.upper):
+            raise RuntimeError(f"effect {cls.name!r}: uncertain range of {u.name!r} [{u.lower:g}, {u.upper:g}] must "
+                               f"contain the default {p.default:g} and lie within [{p.lower:g}, {p.upper:g}]")
 
 
 def constant(value: float) -> Signal:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from twin.effects.base import Effect, Parameter, SurfaceHeatFlux, register_effect, speed_power_law
+from twin.effects.base import Effect, Parameter, SurfaceHeatFlux, Uncertain, register_effect, speed_power_law
 from twin.fem.regions import role_facets
 
 
@@ -44,6 +44,10 @@ class BeltDrive(Effect):
         Parameter("power", "power", 50.0, 0.0, 2000.0, "belt loss into the spindle pulley at the reference speed"),
         Parameter("reference_speed", "speed", 8000.0, 100.0, 60000.0, "speed at which the reference power holds"),
         Parameter("exponent", "dimensionless", 1.5, 0.5, 3.0, "speed exponent x (hysteresis 1, windage 3)"),
+    )
+    uncertain = (
+        Uncertain("power", 10.0, 200.0, "belt tension, wrap and belt type set the loss (93-98 % efficiency), and "
+                  "how much of it enters the pulley rather than the air", linear=True),
     )
     roles = ("spindle.belt_contact",)
     strength = "power"

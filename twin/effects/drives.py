@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import Convection, Effect, HeatSource, Parameter, constant, register_effect
+from twin.effects.base import Convection, Effect, HeatSource, Parameter, Uncertain, constant, register_effect
 from twin.fem.regions import role_cells, role_facets
 
 
@@ -29,6 +29,9 @@ class SpindleCoolant(Effect):
     parameters = (
         Parameter("conductance", "conductance", 20.0, 0.0, 500.0, "jacket conductance G = UA"),
         Parameter("offset", "temperature_difference", 0.0, -10.0, 10.0, "coolant minus room air temperature"),
+    )
+    uncertain = (
+        Uncertain("conductance", 5.0, 100.0, "jacket UA depends on the coolant flow and the jacket's fouling"),
     )
 
     def loads(self, mm, scenario, p):
@@ -58,6 +61,9 @@ class ZAxisHolding(Effect):
     roles = ("z_drive.top",)
     parameters = (
         Parameter("power", "power", 25.0, 0.0, 500.0, "holding losses into the column top P_hold"),
+    )
+    uncertain = (
+        Uncertain("power", 5.0, 150.0, "holding current (carrier mass, counterweight) and brake coil", linear=True),
     )
 
     def loads(self, mm, scenario, p):

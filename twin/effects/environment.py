@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from twin.effects.base import Convection, Effect, Parameter, constant, first_order_lag, register_effect
+from twin.effects.base import Convection, Effect, Parameter, Uncertain, constant, first_order_lag, register_effect
 from twin.fem.regions import role_facets
 
 
@@ -24,6 +24,10 @@ class AmbientConvection(Effect):
     roles = ("structure.skin",)
     parameters = (
         Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "combined natural-convection and radiation coefficient"),
+    )
+    uncertain = (
+        Uncertain("h", 4.0, 16.0, "free convection 2-5 W/(m2 K) by face size and orientation (Churchill-Chu) plus "
+                  "radiation 2-6 W/(m2 K) by emissivity (bare 0.3, painted 0.9)"),
     )
 
     def loads(self, mm, scenario, p):
@@ -51,6 +55,10 @@ class Floor(Effect):
         Parameter("conductance", "heat_transfer_coefficient", 20.0, 0.0, 1000.0, "contact conductance of the foot per unit area"),
         Parameter("lag", "time", 6 * 3600.0, 0.0, 7 * 86400.0, "time constant tau of the floor following the room"),
         Parameter("offset", "temperature_difference", 0.0, -10.0, 10.0, "floor minus lagged room temperature"),
+    )
+    uncertain = (
+        Uncertain("conductance", 2.0, 200.0, "levelling feet on a slab (a few W/(m2 K)) to a bed grouted onto its "
+                  "foundation (hundreds)"),
     )
 
     def loads(self, mm, scenario, p):

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import (Convection, Effect, Parameter, SurfaceHeatFlux, constant, first_order_lag,
+from twin.effects.base import (Convection, Effect, Parameter, SurfaceHeatFlux, Uncertain, constant, first_order_lag,
                                register_effect)
 from twin.fem.regions import facet_centres, role_facets
 
@@ -36,6 +36,10 @@ class ElectricalCabinet(Effect):
     parameters = (
         Parameter("power", "power", 40.0, 0.0, 1000.0, "heat reaching the column while the machine is powered"),
         Parameter("running_power", "power", 0.0, 0.0, 1000.0, "additional heat while the spindle turns"),
+    )
+    uncertain = (
+        Uncertain("power", 10.0, 400.0, "cabinet losses (drives, supply) and how much of them reaches the column",
+                  linear=True),
     )
 
     def loads(self, mm, scenario, p):
@@ -66,6 +70,9 @@ class AmbientStratification(Effect):
         Parameter("gradient", "temperature_gradient", 0.5, -5.0, 5.0, "air temperature rise per metre of height g"),
         Parameter("reference_height", "length", 1.0, 0.0, 3.0, "height z_ref where the air is at the room temperature"),
         Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)"),
+    )
+    uncertain = (
+        Uncertain("gradient", -0.5, 2.0, "halls range from well mixed to strongly layered (VDI 2078)", linear=True),
     )
     band = 0.1  # m
 
@@ -116,6 +123,9 @@ class DoorDraft(Effect):
         Parameter("duration", "time", 1200.0, 10.0, 86400.0, "duration of each opening"),
         Parameter("period", "time", 0.0, 0.0, 7 * 86400.0, "repeat interval (0: a single event)"),
     )
+    uncertain = (
+        Uncertain("h", 5.0, 40.0, "draft speed 0.5-4 m/s on a plate (flat-plate forced convection)"),
+    )
 
     def loads(self, mm, scenario, p):
         facets = role_facets(mm, "structure.front")
@@ -155,6 +165,9 @@ class SolarLoad(Effect):
         Parameter("sunrise", "time", 7 * 3600.0, 0.0, 86400.0, "time of day the sun reaches the faces"),
         Parameter("sunset", "time", 19 * 3600.0, 0.0, 86400.0, "time of day the sun leaves the faces"),
     )
+    uncertain = (
+        Uncertain("flux", 5.0, 300.0, "diffuse light to direct sun through a window", linear=True),
+    )
 
     def loads(self, mm, scenario, p):
         facets = role_facets(mm, "structure.rear")
@@ -183,6 +196,9 @@ class FloorLag(Effect):
     parameters = (
         Parameter("conductance", "heat_transfer_coefficient", 20.0, 0.0, 1000.0, "foot conductance to the slow foundation h_s"),
         Parameter("lag", "time", 2 * 86400.0, 3600.0, 30 * 86400.0, "time constant tau_s of the foundation"),
+    )
+    uncertain = (
+        Uncertain("conductance", 2.0, 200.0, "levelling feet to a grouted bed, as the floor's"),
     )
 
     def loads(self, mm, scenario, p):

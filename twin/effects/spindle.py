@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, constant,
+from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, Uncertain, constant,
                                register_effect, speed_power_law)
 from twin.fem.regions import role_cells, role_facets, role_parts
 
@@ -35,6 +35,11 @@ class SpindleBearings(Effect):
         Parameter("rear_power", "power", 130.0, 0.0, 2000.0, "rear bearing heat at the reference speed"),
         _REF,
         Parameter("exponent", "dimensionless", 5.0 / 3.0, 0.5, 3.0, "speed exponent x (Palmgren viscous: 5/3)"),
+    )
+    uncertain = (
+        Uncertain("front_power", 50.0, 450.0, "bearing losses depend on preload, fit and lubricant (grease or "
+                  "oil-air); measured losses scatter by a factor of 2-3 about Palmgren's estimate", linear=True),
+        Uncertain("rear_power", 40.0, 400.0, "as the front bearing: preload, fit and lubricant", linear=True),
     )
 
     def loads(self, mm, scenario, p):
@@ -67,6 +72,10 @@ class SpindleMotor(Effect):
         _REF,
         Parameter("exponent", "dimensionless", 1.0, 0.0, 3.0, "speed exponent x"),
     )
+    uncertain = (
+        Uncertain("power", 15.0, 240.0, "the share of a motor's losses that reaches the structure depends on its "
+                  "fan and flange: a factor of 4 either way", linear=True),
+    )
 
     def loads(self, mm, scenario, p):
         return [HeatSource(self.name, role_cells(mm, "spindle.motor"),
@@ -97,6 +106,10 @@ class SpindleForcedConvection(Effect):
         _REF,
         Parameter("exponent", "dimensionless", 2.0 / 3.0, 0.0, 2.0, "speed exponent x (Becker: 2/3)"),
     )
+    uncertain = (
+        Uncertain("h_reference", 50.0, 450.0, "Becker's correlation holds for a smooth cylinder in still air; tool "
+                  "holders, flats and the air flow round the spindle nose change h by a factor of 2-3"),
+    )
 
     def loads(self, mm, scenario, p):
         return [Convection(self.name, role_facets(mm, "spindle.rotating"),
@@ -124,6 +137,10 @@ class TestBarContact(Effect):
     roles = ("test_bar.seat", "test_bar.body")
     parameters = (
         Parameter("conductance", "conductance", 20.0, 0.1, 1000.0, "conductance G of the bar's seat in the spindle"),
+    )
+    uncertain = (
+        Uncertain("conductance", 1.0, 200.0, "clamping force, surface finish and a holder between bar and spindle: "
+                  "1 to 200 W/K (Yovanovich)"),
     )
 
     def loads(self, mm, scenario, p):

@@ -87,6 +87,40 @@ def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.
     return out
 
 
+def integrate_responses(system: HeatSystem, dt: float, nsteps: int, h: np.ndarray, patterns: np.ndarray,
+                        signals: np.ndarray, outputs: sp.spmatrix, theta: float = 1.0, stepper=None,
+                        operator_key: tuple = ()) -> np.ndarray:
+    """Responses of ``outputs`` to extra heat inputs, all at once: J patterns b_j (columns of
+    ``patterns`` (n, J), each integrating to 1) driven by signals s_j(t) [W] (``signals``
+    (nsteps, J) at t_n + theta dt), on the operators of ``system`` with film coefficients ``h``.
+
+    The heat equation is linear in its sources, so the response to an added source is the
+    solution X_j of the same scheme with zero start, no air and that source alone:
+
+        (M + theta dt A_n) X^(n+1) = (M - (1 - theta) dt A_n) X^n + dt b s_n,   X^0 = 0,
+
+    solved for the J columns with one operator per step from ``stepper`` (a CPU stepper of
+    :mod:`twin.physics.solvers`; default a direct one), whose cache :func:`integrate` shares
+    (same keys). Returns (nsteps+1, nout, J).
+    """
+    stepper = stepper if stepper is not None else DirectStepper()
+    if stepper.xp is not np:
+        raise ValueError("integrate_responses runs on the CPU")
+    stepper.begin(nsteps, system)
+    X = np.zeros(patterns.shape)
+    out = np.zeros((nsteps + 1, outputs.shape[0], patterns.shape[1]))
+    for n in range(nsteps):
+        key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
+        op = stepper.operator(key, system, dt, theta, h[n])
+        rhs = stepper.rhs_operator(op) @ X + dt * patterns * signals[n]
+        if stepper.method == "direct":   # column by column: SuperLU's multi-right-hand side is ~10x slower here
+            X = np.column_stack([op[0].solve(rhs[:, j]) for j in range(rhs.shape[1])])
+        else:
+            X = stepper.solve(op, rhs, X)
+        out[n + 1] = outputs @ X
+    return out
+
+
 def steady_state(system: HeatSystem, h: np.ndarray, air: np.ndarray, s: np.ndarray) -> np.ndarray:
     """Solve (K + sum h_k H_k) T = F s + sum h_k T_air,k r_k for constant signals."""
     A = system.K + sum((hk * Hk for hk, Hk in zip(h, system.H)), sp.csr_matrix(system.K.shape))

@@ -46,6 +46,14 @@ class LoadSet:
         return h, air, s
 
 
+def source_pattern(mm, src) -> np.ndarray:
+    """The load vector b (n_heat,) of a :class:`HeatSource` (uniform over its cells) or a
+    :class:`SurfaceHeatFlux` (uniform over its facets), normalised to sum 1 so that b s(t) puts
+    s(t) watts into the structure."""
+    b = volume_vector(mm, src.cells) if isinstance(src, HeatSource) else assemble_facets(mm, src.facets).r
+    return b / b.sum()
+
+
 def layout_key(mm) -> tuple:
     """Identifies a temperature layout: the number of temperature dofs and the cells' dof map."""
     return (mm.nheat, hash(np.ascontiguousarray(mm.heat_t).tobytes()))
@@ -98,11 +106,7 @@ def build_loads(mm, scenario, spec, heat=None, materials: dict | None = None,
     n = mm.nheat
     F = np.zeros((n, len(sources)))
     for j, src in enumerate(sources):
-        if isinstance(src, HeatSource):
-            b = volume_vector(mm, src.cells)
-        else:
-            b = assemble_facets(mm, src.facets).r
-        F[:, j] = b / b.sum()
+        F[:, j] = source_pattern(mm, src)
     H, r, areas = [], np.zeros((n, len(convs))), np.zeros(len(convs))
     for j, c in enumerate(convs):
         if isinstance(c, ContactConductance):

@@ -33,8 +33,8 @@ from twin.fem.assembly import assemble_heat
 from twin.fem.mesh import mesh_machine
 from twin.observe.base import Observer
 from twin.physics.elastic import ElasticSolver
-from twin.physics.heat import integrate
-from twin.physics.loads import LoadSet, build_loads, layout_key
+from twin.physics.heat import integrate, integrate_responses
+from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
 from twin.physics.solvers import DirectStepper, IterativeStepper, as_options, mass_weights, output_bounds
 
 
@@ -127,6 +127,27 @@ class PreparedTwin:
         blocks = [sp.csr_matrix(self._rows_of(o, loads)) for o in observers]
         outputs = sp.vstack(blocks).tocsr() if blocks else sp.csr_matrix((0, loads.mm.nheat))
         return outputs, np.cumsum([0] + [b.shape[0] for b in blocks])
+
+    def responses(self, scenario, spec, observers, sources, times: np.ndarray | None = None,
+                  theta: float = 1.0) -> dict:
+        """How every observer's raw readings respond to each of ``sources`` (heat sources or
+        surface fluxes with their power signals [W]) added to the model ``spec``: {observer key:
+        (n_t, k, J)} on ``times`` (a uniform grid from 0 [s]; default the scenario's), zero at
+        t = 0 (:func:`twin.physics.heat.integrate_responses`: all J at once, on the operators of
+        ``spec``, on the CPU with this twin's heat solver). ``theta`` 1 (implicit Euler) by
+        default: no ringing when the grid is coarse."""
+        loads = self.loads(scenario, spec)
+        outputs, bounds = self.output_rows(observers, loads)
+        times = scenario.times() if times is None else np.asarray(times, float)
+        dt = float(times[1] - times[0])
+        mid = times[:-1] + theta * dt
+        h, _, _ = loads.signals(mid)
+        patterns = np.column_stack([source_pattern(loads.mm, s) for s in sources])
+        signals = np.column_stack([s.power(mid) for s in sources])
+        stepper = self.stepper() if self.options.device == "cpu" else IterativeStepper(self.options.heat_tol)
+        out = integrate_responses(loads.system, dt, len(times) - 1, h, patterns, signals, outputs, theta,
+                                  stepper, loads.operator_key)
+        return {o.key: out[:, a:b, :] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
 
     def run(self, scenario, spec, observers, theta: float = 0.5, on_step=None, progress=None) -> tuple[LoadSet, dict]:
         """Integrate ``scenario`` with the effects of ``spec``, observed by ``observers``.

@@ -170,6 +170,9 @@ def theta_operators(system, dt: float, theta: float, h: np.ndarray) -> tuple[sp.
     return (system.M + theta * dt * A).tocsr(), (system.M - (1.0 - theta) * dt * A).tocsr()
 
 
+MAX_FACTORISATIONS = 12   # kept per cache; each is tens of MB on a default mesh
+
+
 class DirectStepper:
     """Sparse LU per distinct operator, cached in ``factorisations`` (kept by the caller)."""
 
@@ -181,6 +184,8 @@ class DirectStepper:
 
     def operator(self, key, system, dt, theta, h):
         if key not in self.cache:
+            while len(self.cache) >= MAX_FACTORISATIONS:   # oldest first: a fit that varies h makes many
+                self.cache.pop(next(iter(self.cache)))
             lhs, rhs_op = theta_operators(system, dt, theta, h)
             self.cache[key] = (spla.splu(lhs.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                                          options={"SymmetricMode": True}), rhs_op)

@@ -1,0 +1,146 @@
+"""The diagnosis's parts, each against a closed form: bounded least squares with a bounded
+nuisance, Gauss-Newton, the verdict rule, the region partition, the response of the observables
+to added heat inputs (superposition), and the declared uncertain parameters (linear or not)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geometries.regions import DIRECTIONS, Facing, Parts, partition, region_by_name
+from twin.effects import EFFECTS
+from twin.model import ModelSpec, model_spec
+from twin.scenario import Ambient, Scenario
+from validate.fit import BoundedFitter, gauss_newton
+from validate.verdict import WITHIN, decide
+
+
+def _problem(seed=0, n=400):
+    rng = np.random.default_rng(seed)
+    u, v = rng.standard_normal(n), rng.standard_normal(n)
+    return u, v, rng
+
+
+def test_bounded_nuisance_recovers_or_sits_at_its_bound():
+    """r = 2 u + 0.05 v: with the nuisance band +-0.1 the fit is the ordinary least-squares
+    solution (x, c) = (2, 0.05) exactly; with the band +-0.02 the nuisance sits at +0.02, is
+    flagged at its bound, and x is the least-squares solution with c pinned there,
+    x = u.(r - 0.02 v) / u.u."""
+    u, v, _ = _problem()
+    r = 2 * u + 0.05 * v
+    wide = BoundedFitter(r, np.ones_like(r), v[None, :], [-0.1], [0.1])
+    x, c, sse = wide.solve(u[:, None], [-10], [10])
+    assert x[0] == pytest.approx(2.0, abs=1e-9) and c[0] == pytest.approx(0.05, abs=1e-9) and sse < 1e-15
+    assert not wide.at_bound(c)[0]
+    tight = BoundedFitter(r, np.ones_like(r), v[None, :], [-0.02], [0.02])
+    x, c, _ = tight.solve(u[:, None], [-10], [10])
+    assert c[0] == pytest.approx(0.02, abs=1e-9) and tight.at_bound(c)[0]
+    assert x[0] == pytest.approx(u @ (r - 0.02 * v) / (u @ u), rel=1e-9)
+    # the residual after a response g is r - g - c v with c refitted within the band
+    np.testing.assert_allclose(tight.residual_after(2 * u), r - 2 * u - 0.02 * v, atol=1e-9)
+
+
+def test_gauss_newton_finds_a_bounded_nonlinear_parameter():
+    """y(p) = exp(-p t) - 1 sampled on t in [0, 1], truth p = 1.7: bounded Gauss-Newton from
+    p = 0.5 reaches it (noise-free), and with the upper bound at 1.2 stops at the bound."""
+    t = np.linspace(0, 1, 200)
+    ev = lambda p: np.exp(-p[0] * t) - 1
+    r = ev([1.7])
+    f = BoundedFitter(r, np.ones_like(r))
+    p, g, sse, _ = gauss_newton(f, ev, np.array([0.5]), np.array([0.0]), np.array([5.0]), np.array([False]), {}, 8)
+    assert p[0] == pytest.approx(1.7, rel=1e-4) and sse < 1e-10
+    p, *_ = gauss_newton(f, ev, np.array([0.5]), np.array([0.0]), np.array([1.2]), np.array([False]), {}, 8)
+    assert p[0] == pytest.approx(1.2)
+
+
+@pytest.mark.parametrize("factors,significant,after,expected", [
+    ({"temperature": 1.2, "probe": 2.9}, False, None, "nothing_missing"),
+    ({"temperature": 1.2, "probe": 2.9}, True, {"temperature": 1.0, "probe": 1.0}, "nothing_missing"),
+    ({"temperature": 20.0, "probe": 2.0}, True, {"temperature": 1.3, "probe": 0.7}, "explained"),
+    ({"temperature": 20.0, "probe": 2.0}, True, {"temperature": 5.0, "probe": 0.7}, "partly_explained"),
+    ({"temperature": 3.5}, False, {"temperature": 3.4}, "unexplained"),
+])
+def test_verdict_rule(factors, significant, after, expected):
+    """The four verdicts from the residual factors (residual / sqrt(noise^2 + model error^2)) and
+    the significance of the top candidate, WITHIN = 3."""
+    assert WITHIN == 3.0
+    assert decide(factors, significant, after) == expected
+
+
+def test_partition_names_every_part_and_its_faces(machine, mm):
+    """Each part's cells and its outer faces by direction; the region names resolve to the same
+    regions a user writes; volume parts tile the machine (every cell in exactly one part)."""
+    from twin.fem.regions import region_cells, region_facets
+    p = partition(machine)
+    assert len(p) == 7 * len(machine.parts)
+    assert p["column"] == ("volume", Parts(("column",))) and p["column.+x"] == ("surface", Facing(Parts(("column",)), "+x"))
+    assert region_by_name(machine, "column.+x", surface=True) == p["column.+x"][1]
+    cells = np.concatenate([region_cells(mm, r) for k, r in p.values() if k == "volume"])
+    assert len(cells) == len(np.unique(cells)) == mm.mesh.t.shape[1]
+    faces = region_facets(mm, p["column.+x"][1])
+    normals = mm.mesh.p[0, mm.mesh.facets[:, faces]]
+    assert len(faces) and np.allclose(normals, 0.25)          # the column's right side, x = +0.25 m
+    for bad, surface in (("columnn", True), ("column.+w", True), ("column.+x", False)):
+        with pytest.raises(ValueError):
+            region_by_name(machine, bad, surface)
+    assert set(DIRECTIONS) == {"+x", "-x", "+y", "-y", "+z", "-z"}
+
+
+def test_added_heat_responses_are_exact_superposition(machine, mm):
+    """The theta-scheme is linear in its sources, so the response of every observable to an added
+    source b s(t), computed alone from a zero start (PreparedTwin.responses), equals the run with
+    the source minus the run without it, to round-off, for every column at once."""
+    from twin.effects import HeatSource, SurfaceHeatFlux
+    from twin.effects.custom import effects_from_dict, register_custom, unregister_custom
+    from twin.fem.regions import region_cells, region_facets
+    from twin.observe import FiveProbeTestBar, TemperatureSensors, sensor_points
+    from twin.physics.prepared import PreparedTwin
+    sc = Scenario("sup", ((1800.0, 9000.0), (1200.0, 0.0)), Ambient("constant", mean=20.0), 300.0)
+    twin = PreparedTwin(machine, mm)
+    spec = model_spec(machine)
+    on = lambda t: 40.0 * (sc.spindle_speed(t) > 0)
+    sources = [HeatSource("s", region_cells(mm, Parts(("saddle",))), lambda t: 25.0 * np.ones(np.shape(t))),
+               SurfaceHeatFlux("c", region_facets(mm, Facing(Parts(("column",)), "+x")), on)]
+    obs = [TemperatureSensors(sensor_points(machine)), FiveProbeTestBar()]
+    resp = twin.responses(sc, spec, obs, sources, theta=1.0)
+    data = {"effects": {"sup_a": {"kind": "heat_source", "region": "saddle", "power": "25 W"},
+                        "sup_b": {"kind": "heat_flux", "region": "column.+x", "power": "40 W", "schedule": "spindle_on"}}}
+    names = register_custom(effects_from_dict(data, "test", machine))
+    try:
+        _, base = twin.run(sc, spec, obs, theta=1.0)
+        for j, name in enumerate(names):
+            _, with_ = twin.run(sc, ModelSpec(spec.effects + (name,), spec.params), obs, theta=1.0)
+            for key in ("temperature", "probes"):
+                diff = (with_[key] - with_[key][0]) - (base[key] - base[key][0])
+                scale = np.abs(diff).max()
+                assert scale > 0
+                np.testing.assert_allclose(resp[key][:, :, j], diff, atol=1e-9 * scale)
+    finally:
+        unregister_custom(names)
+
+
+UNCERTAIN = [(e, u.name) for e in sorted(EFFECTS) for u in EFFECTS[e].uncertain]
+
+
+@pytest.mark.parametrize("effect,name", UNCERTAIN)
+def test_uncertain_parameters_are_declared_linear_or_not_truthfully(machine, mm, effect, name):
+    """Every declared uncertain parameter lies in its parameter's bounds with the default inside,
+    and its linearity declaration holds both ways on heat loads: a linear one makes every heat
+    source's power affine in it, P(2 p) - 2 P(p) + P(0) = 0 (a linear heat equation then gives
+    affine observables), a nonlinear one changes a film coefficient, a conductance or a signal's
+    shape."""
+    from twin.effects import ContactConductance, Convection
+    eff = EFFECTS[effect]
+    u, par = eff.uncertainty(name), eff.parameter(name)
+    assert par.lower <= u.lower <= par.default <= u.upper <= par.upper and u.why
+    if not eff.applies_to(machine):
+        return
+    sc = Scenario("u", ((1800.0, 6000.0), (1800.0, 0.0)), Ambient("daily", mean=20.0, amplitude=2.0,
+                                                                   start_time_of_day=11 * 3600.0), 300.0)
+    t = sc.times()
+    p = {**eff.defaults(), "start": 600.0} if effect == "door_draft" else eff.defaults()
+    zero, a, b = (eff.loads(mm, sc, {**p, name: k * u.upper / 2}) for k in (0, 1, 2))
+    operator = any(isinstance(x, (Convection, ContactConductance)) for x in a)
+    affine = all(np.allclose(y.power(t) - 2 * x.power(t) + z.power(t), 0, atol=1e-9 * (1 + np.abs(y.power(t)).max()))
+                 for z, x, y in zip(zero, a, b) if hasattr(x, "power"))
+    assert u.linear == (not operator and affine)

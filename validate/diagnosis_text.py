@@ -1,0 +1,148 @@
+"""A diagnosis in words and JSON: the reasoning per channel and phase, the printed ranking, and the
+``--json`` document."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from validate.channels import GROUPS as CHANNEL_GROUPS
+
+
+def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
+    """Where a candidate's response g (flat) explains the residual r: per channel and per phase.
+
+    With weighted squares e = (w r)^2 before and (w (r - g))^2 after (nuisance fitted to each), for
+    a set S of samples (a channel's column, or a phase's rows over every channel of its record):
+
+    * ``share``: sum_S e_before / SSE_0, the part of the baseline residual lying in S;
+    * ``explained``: 1 - sum_S e_after / sum_S e_before, the fraction of it removed (negative:
+      the candidate makes S worse).
+
+    ``channels``: the ``top_channels`` channels carrying the largest explained share
+    (share x explained), i.e. the evidence for the candidate; ``phases``: every phase.
+    """
+    ev = d.evidence
+    before = ev.split((d.residual_after(np.zeros_like(response)) * d.weights_flat) ** 2)
+    after = ev.split((d.residual_after(response) * d.weights_flat) ** 2)
+    total = float(sum(b.sum() for b in before)) or 1.0
+
+    def cell(b, a):
+        sb = float(b.sum())
+        return {"share": sb / total, "explained": (1 - float(a.sum()) / sb) if sb > 0 else 0.0}
+
+    names = ev.channel_names()
+    chans, phases, k = [], [], 0
+    for rec, b, a in zip(ev.records, before, after):
+        for j in range(b.shape[1]):
+            chans.append({"channel": names[k], **cell(b[:, j], a[:, j])})
+            k += 1
+        for p in rec.phases:
+            sel = (rec.times >= p.start) & (rec.times < p.end)
+            if sel.any():
+                label = f"{p.label} [{rec.label}]" if ev.multiple else p.label
+                phases.append({"kind": p.kind, "phase": label, "start_h": p.start / 3600, "end_h": p.end / 3600,
+                               **cell(b[sel], a[sel])})
+    chans.sort(key=lambda x: -x["share"] * x["explained"])
+    return {"channels": chans[:top_channels], "phases": phases}
+
+
+def _params_text(c: dict) -> str:
+    return ", ".join(f"{e}.{p}={v}" for e, vals in c["parameters"].items() for p, v in vals.items())
+
+
+def _unit(group: str) -> str:
+    return CHANNEL_GROUPS[group][1]
+
+
+def format_diagnosis(d, top: int = 8) -> str:
+    """A readable summary: the residual against noise and model error, the nuisance, the ranking,
+    the regions and the verdict."""
+    names, groups = d.channels, d.groups
+    base, err = d.baseline_rmse, d.model_error_rms
+    lines = [f"Measurements: {', '.join(r.label for r in d.evidence.records)}; {len(names)} channels, "
+             f"effective samples {d.n_eff:.0f}, {d.runs} twin runs", "Baseline RMSE per channel:"]
+    for g in ("temperature", "probe"):
+        idx = [i for i, k in enumerate(groups) if k == g]
+        if idx:
+            lines.append(f"  {g} [{_unit(g)}]: " + ", ".join(f"{names[i].split(':', 1)[1]} {base[i]:.3g}" for i in idx))
+            if err is not None:
+                lines.append(f"    mesh error estimate ({d.error_resolution} vs the diagnosing mesh): "
+                             + ", ".join(f"{names[i].split(':', 1)[1]} {err[i]:.3g}" for i in idx))
+    for g, f in d.residual_factor.items():
+        noise, e = d.levels[g]
+        after = d.residual_factor_after.get(g)
+        lines.append(f"  {g}: residual {f:.1f}x noise and model error (noise {noise:.2g} {_unit(g)}, model error "
+                     f"{e:.2g} {_unit(g)})" + (f"; {after:.1f}x after the top candidate" if after is not None else ""))
+    if d.nuisance_baseline:
+        lines.append("Nuisance (thermal expansion within each material's band), baseline: " + _nuisance_text(d.nuisance_baseline))
+        if d.nuisance is not d.nuisance_baseline and d.verdict in ("explained", "partly_explained"):
+            lines.append("  with the top candidate: " + _nuisance_text(d.nuisance))
+    for gap in d.missing_channels:
+        lines.append("Channels: " + gap["note"])
+    lines.append("")
+    head = f"{'rank':>4}  {'candidate':<44} {'kind':<9} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
+    lines += [head, "-" * len(head)]
+    for i, c in enumerate(d.candidates[:top], 1):
+        lines.append(f"{i:>4}  {c['effect']:<44} {c['kind']:<9} {c['explained']:>8.1%} {c['delta_bic']:>8.1f} "
+                     f"{c['confidence']:>5.2f}  {_params_text(c)}")
+        if i <= 3:
+            lines += _reasoning_lines(c)
+    if d.regions:
+        lines += ["", "Where on the machine a generic heat input explains the residual best:"]
+        lines += [f"  {r['region']:<22} {r['power_W']:>8.3g} W {r['schedule'].replace('_', ' '):<11} explains "
+                  f"{r['explained']:.0%}" for r in d.regions]
+    lines += ["", d.message]
+    return "\n".join(lines)
+
+
+def _nuisance_text(nuisance: dict) -> str:
+    return ", ".join(f"{m} {v['change']:+.1%} (band +-{v['band']:.0%}{', AT ITS BOUND' if v['at_bound'] else ''})"
+                     for m, v in nuisance.items())
+
+
+def _reasoning_lines(c: dict, pad: str = " " * 6) -> list[str]:
+    """The why of one candidate: channels and phases it explains (share of residual, explained)."""
+    why = c.get("reasoning", {})
+    out = []
+    if why.get("channels"):
+        out.append(pad + "channels (explained/share of residual): " + ", ".join(
+            f"{x['channel']} {x['explained']:.0%}/{x['share']:.0%}" for x in why["channels"]))
+    for kind in ("spindle", "ambient"):
+        cells = [x for x in why.get("phases", []) if x["kind"] == kind]
+        if cells:
+            out.append(pad + f"{kind} phases: " + ", ".join(
+                f"{x['phase']} ({x['start_h']:.1f}-{x['end_h']:.1f} h) {x['explained']:.0%}/{x['share']:.0%}"
+                for x in cells))
+    if c.get("indistinguishable_from"):
+        out.append(pad + "cannot be told apart from: " + ", ".join(c["indistinguishable_from"]))
+    return out
+
+
+def diagnosis_json(d) -> dict:
+    """The ``--json`` document (README, "twin diagnose")."""
+    names = d.channels
+    units = {c: _unit(g) for c, g in zip(names, d.groups)}
+    err = d.model_error_rms
+    return {
+        "verdict": d.verdict,
+        "significant": d.significant,
+        "message": d.message,
+        "measurements": [r.label for r in d.evidence.records],
+        "baseline": {"rmse": {c: float(v) for c, v in zip(names, d.baseline_rmse)}, "units": units},
+        "residual_factor": d.residual_factor,
+        "residual_factor_after": d.residual_factor_after,
+        "levels": {g: {"noise": n, "model_error": e, "unit": _unit(g)} for g, (n, e) in d.levels.items()},
+        "nuisance": d.nuisance,
+        "nuisance_baseline": d.nuisance_baseline,
+        "effective_samples": d.n_eff,
+        "calibration": {"expansion": d.expansion,
+                        "rmse": {c: float(v) for c, v in zip(names, d.calibrated_rmse)}},
+        "model_error_rms": (None if err is None else
+                            {"resolution": d.error_resolution, "rmse": {c: float(v) for c, v in zip(names, err)}}),
+        "missing_channels": d.missing_channels,
+        "phases": [{"measurement": r.label, "kind": p.kind, "phase": p.label, "start_s": p.start, "end_s": p.end}
+                   for r in d.evidence.records for p in r.phases],
+        "candidates": [{k: v for k, v in c.items() if k != "values_si"} for c in d.candidates],
+        "regions": d.regions,
+        "twin_runs": d.runs,
+    }

@@ -1,0 +1,206 @@
+"""The evidence a diagnosis weighs: one or several measurements held against one model.
+
+A :class:`Record` is one measurement: its channels (any subset of the temperature sensors and
+the ISO 230-3 probes, :mod:`validate.channels`), the scenario that drives the twin, and an
+:class:`validate.signatures.Engine` observing the twin at exactly those channels on the
+measurement's time grid. :class:`Evidence` stacks the records into flat vectors (record by
+record, each (n_t, n_ch) block row-major), so one set of strengths is fitted to all of them
+together: a spindle test and an ambient test separate effects that one run cannot.
+
+Weights (per record and channel group g, so that temperatures and probes count alike):
+
+    w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)),   s_g = max(RMS of the group's baseline residual, sigma_g),
+
+m_g the group's channel count in the record, e_c the channel's estimated discretisation error
+(0 without an estimate) and sigma_g the group's noise level: the median over its channels of
+sqrt(mean(diff(y)^2) / 2), floored by half the instrument's quantisation step.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from learners.metrics import rms
+from twin.errors import InputError
+from twin.model import ModelSpec
+from validate.channels import input_phases, resampler, stack
+from validate.signatures import Engine
+
+GROUPS = ("temperature", "probe")   # the channel groups a diagnosis fits (validate.channels)
+
+
+def sensor_points(ds, machine) -> list:
+    """Sensor sites of a measurement: the machine's named points, or the Dataset's x, y, z."""
+    from geometries.base import Point
+    if "temperature" not in ds:
+        return []
+    names = {p.name for p in machine.points}
+    out = []
+    for i, s in enumerate(ds["sensor"].values):
+        s = str(s)
+        if s in names and "x" not in ds.coords:
+            out.append(machine.point(s))
+        else:
+            part = str(ds["part"].values[i]) if "part" in ds.coords else ""
+            out.append(Point(s, (float(ds["x"].values[i]), float(ds["y"].values[i]), float(ds["z"].values[i])), part))
+    return out
+
+
+def noise_levels(y: np.ndarray, groups: list[str], spec: ModelSpec) -> dict[str, float]:
+    """Group noise sigma_g: median over channels of sqrt(mean(diff(y)^2)/2), floored at half the
+    instrument's quantisation step (K or um)."""
+    floors = {"temperature": 0.5 * spec.params["temperature_sensor"]["quantisation"],
+              "probe": 0.5 * spec.params["probe"]["resolution"] * 1e6}
+    d = np.sqrt(np.mean(np.diff(y, axis=0) ** 2, axis=0) / 2) if len(y) > 1 else np.zeros(y.shape[1])
+    g = np.array(groups)
+    return {k: max(float(np.median(d[g == k])), floors[k], 1e-12) for k in GROUPS if np.any(g == k)}
+
+
+def channel_weights(residual: np.ndarray, groups: list[str], sigma: dict[str, float],
+                    model_error: np.ndarray | None = None) -> np.ndarray:
+    """w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)), s_g = max(group residual RMS, sigma_g), e_c the
+    RMS of the estimated model (discretisation) error of channel c (0 without an estimate)."""
+    g = np.array(groups)
+    w = np.zeros(len(groups))
+    e = np.zeros(len(groups)) if model_error is None else np.asarray(model_error, float)
+    for k, s in sigma.items():
+        m = g == k
+        r = max(float(rms(residual[:, m])), s)
+        w[m] = 1.0 / (np.sqrt(r ** 2 + e[m] ** 2) * np.sqrt(m.sum()))
+    return w
+
+
+def effective_samples(res: np.ndarray) -> float:
+    """AR(1) effective sample size N (1 - rho) / (1 + rho), rho pooled lag-1 autocorrelation."""
+    x = res - res.mean(axis=0)
+    num = float(np.sum(x[1:] * x[:-1]))
+    den = float(np.sum(x * x)) or 1.0
+    rho = min(max(num / den, 0.0), 0.999)
+    return max(res.size * (1 - rho) / (1 + rho), 2.0)
+
+
+@dataclass
+class Record:
+    """One measurement held against the model: channels (n_ch) on its time grid (n_t) [s from its
+    start], the engine observing the twin there, and (after :meth:`Evidence.baseline`) the
+    baseline model, weights, noise levels and the model-error estimate per channel."""
+
+    label: str
+    ds: object
+    scenario: object
+    engine: Engine
+    times: np.ndarray
+    channels: list[str]
+    groups: list[str]
+    measured: np.ndarray
+    columns: np.ndarray          # the engine's output columns of the channels
+    phases: list = field(default_factory=list)
+    model: np.ndarray | None = None
+    weights: np.ndarray | None = None
+    noise: dict = field(default_factory=dict)
+    model_error: np.ndarray | None = None
+
+    def __post_init__(self):
+        self.interp = resampler(self.engine.times, self.times)
+
+    @property
+    def sensor_points(self) -> list:
+        return self.engine.sensors
+
+    def observe(self, spec: ModelSpec) -> np.ndarray:
+        """(n_t, n_ch) the model's channels (sensor lag and bias, no noise) on the record's grid."""
+        return self.interp(self.engine.observe(spec)[:, self.columns])
+
+    def observe_with_expansion(self, spec: ModelSpec, materials: list[str]):
+        """:meth:`observe` and the response (k, n_t, n_ch) to a unit relative change of each
+        material's expansion coefficient, from one run."""
+        out, resp = self.engine.observe_with_expansion(spec, materials)
+        return self.interp(out[:, self.columns]), np.array([self.interp(r[:, self.columns]) for r in resp])
+
+
+def make_record(label: str, ds, scenario, machine, twin) -> Record:
+    """A :class:`Record` of measurement ``ds`` driven by ``scenario`` on the prepared ``twin``;
+    InputError when it has neither temperatures nor probes, or when it outlasts the scenario."""
+    stacked = stack(ds, GROUPS)
+    if not stacked.names:
+        raise InputError(label, "channels", "the measurement has neither temperature sensors nor probes to diagnose")
+    t = np.asarray(ds["time"].values, float)
+    t = t - t[0]
+    engine = Engine(machine, scenario, mm=twin.mm, sensors=sensor_points(ds, machine), prepared=twin)
+    names = [f"temperature:{p.name}" for p in engine.sensors] + [f"probe:{n}" for n in engine.probe_names]
+    missing = [c for c in stacked.names if c not in names]
+    if missing:
+        raise InputError(label, missing[0], "the machine has no such probe")
+    columns = np.array([names.index(c) for c in stacked.names], int)
+    try:
+        rec = Record(label, ds, scenario, engine, t, stacked.names, stacked.groups, stacked.values, columns)
+    except ValueError as err:
+        raise InputError(label, "time", str(err)) from None
+    rec.phases = input_phases(ds, t, scenario)
+    return rec
+
+
+class Evidence:
+    """Records stacked into flat vectors (see the module docstring)."""
+
+    def __init__(self, records: list[Record]):
+        self.records = records
+        self.sizes = [r.measured.size for r in records]
+        self.offsets = np.concatenate([[0], np.cumsum(self.sizes)]).astype(int)
+
+    @property
+    def multiple(self) -> bool:
+        return len(self.records) > 1
+
+    def flat(self, blocks) -> np.ndarray:
+        """One flat vector from per-record (n_t, n_ch) blocks."""
+        return np.concatenate([np.asarray(b, float).ravel() for b in blocks]) if blocks else np.zeros(0)
+
+    def split(self, vector: np.ndarray) -> list[np.ndarray]:
+        """Per-record (n_t, n_ch) blocks of a flat vector."""
+        return [vector[a:b].reshape(r.measured.shape) for r, a, b in zip(self.records, self.offsets[:-1], self.offsets[1:])]
+
+    def observe(self, spec: ModelSpec) -> np.ndarray:
+        """The model's channels of every record, flat."""
+        return self.flat([r.observe(spec) for r in self.records])
+
+    def observe_with_expansion(self, spec: ModelSpec, materials: list[str]):
+        """(flat model, (k, N) flat expansion responses)."""
+        outs = [r.observe_with_expansion(spec, materials) for r in self.records]
+        model = self.flat([o for o, _ in outs])
+        resp = np.array([self.flat([rs[k] for _, rs in outs]) for k in range(len(materials))])
+        return model, resp.reshape(len(materials), model.size)
+
+    @property
+    def measured(self) -> np.ndarray:
+        return self.flat([r.measured for r in self.records])
+
+    def group_mask(self, group: str) -> np.ndarray:
+        """Flat boolean mask of the samples of channel group ``group``."""
+        return self.flat([np.broadcast_to(np.array(r.groups) == group, r.measured.shape) for r in self.records]) > 0
+
+    def channel_names(self) -> list[str]:
+        """Channel names over all records; with several records each ends in ``@label``."""
+        if not self.multiple:
+            return list(self.records[0].channels)
+        return [f"{c}@{r.label}" for r in self.records for c in r.channels]
+
+    def per_channel(self, vector: np.ndarray, reduce=lambda x: rms(x, axis=0)) -> np.ndarray:
+        """A per-channel statistic (default RMS over time) of a flat vector, channels in the order of
+        :meth:`channel_names`."""
+        return np.concatenate([reduce(b) for b in self.split(vector)]) if self.records else np.zeros(0)
+
+    @property
+    def runs(self) -> int:
+        return sum(r.engine.runs for r in self.records)
+
+    def effective_samples(self, residual_flat: np.ndarray) -> float:
+        """Sum over records of :func:`effective_samples` of each record's residual."""
+        return float(sum(effective_samples(b) for b in self.split(residual_flat)))
+
+    def groups(self) -> list[str]:
+        """The channel groups present, in :data:`GROUPS` order."""
+        present = {g for r in self.records for g in r.groups}
+        return [g for g in GROUPS if g in present]

@@ -1,0 +1,124 @@
+"""The verdict of a diagnosis, from numbers: is the residual above noise and model error, and does
+a candidate explain it?
+
+Per channel group g (temperatures in K, probes in um), over every channel of every measurement:
+
+    factor_g = RMS_g(residual) / sqrt(sigma_g^2 + e_g^2),
+
+the residual with the bounded nuisance fitted, sigma_g the instruments' noise level
+(:func:`validate.evidence.noise_levels`) and e_g the RMS over the group's channels of the
+diagnosing model's estimated discretisation error (0 without an estimate). A factor of 1 is a
+residual the size of noise and model error; ``WITHIN`` (3) is the largest factor still called
+that. Then, with the top candidate (:mod:`validate.diagnose`'s significance test: >= 10 BIC units
+better than "nothing missing" and >= 50 % of the weighted residual explained):
+
+* ``nothing_missing``: every group's factor <= ``WITHIN`` (a candidate that would fit part of
+  such a residual removes no more than the model gets wrong anyway; it is named, not reported);
+* ``explained``: a significant candidate leaves every group's factor <= ``WITHIN``;
+* ``partly_explained``: a significant candidate, but some group's factor stays above ``WITHIN``
+  after it (how much remains, and where, is stated);
+* ``unexplained``: some group's factor is above ``WITHIN`` and no library candidate explains it.
+
+A residual above ``WITHIN`` is never called noise: the factor is stated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from learners.metrics import rms
+
+WITHIN = 3.0
+VERDICTS = ("explained", "partly_explained", "unexplained", "nothing_missing")
+
+
+def group_levels(evidence, model_error_flat: np.ndarray | None) -> dict[str, tuple[float, float]]:
+    """group -> (noise sigma_g, model error e_g) over every record."""
+    out = {}
+    for g in evidence.groups():
+        sig = [r.noise[g] for r in evidence.records if g in r.noise]
+        noise = float(np.sqrt(np.mean(np.square(sig)))) if sig else 0.0
+        err = 0.0
+        if model_error_flat is not None:
+            e = model_error_flat[evidence.group_mask(g)]
+            err = float(rms(e)) if e.size else 0.0
+        out[g] = (noise, err)
+    return out
+
+
+def residual_factors(evidence, residual_flat: np.ndarray, levels: dict) -> dict[str, float]:
+    """group -> RMS of the residual over the group / sqrt(noise^2 + model error^2)."""
+    out = {}
+    for g, (noise, err) in levels.items():
+        res = residual_flat[evidence.group_mask(g)]
+        out[g] = float(rms(res) / max(np.hypot(noise, err), 1e-300))
+    return out
+
+
+def decide(factors: dict[str, float], significant: bool, after: dict[str, float] | None) -> str:
+    """The verdict word (module docstring). A residual within noise and model error is
+    ``nothing_missing`` even when a candidate would fit some of it: what it would remove is no
+    larger than what the model gets wrong anyway."""
+    if not any(f > WITHIN for f in factors.values()):
+        return "nothing_missing"
+    if significant:
+        return "explained" if after is not None and all(f <= WITHIN for f in after.values()) else "partly_explained"
+    return "unexplained"
+
+
+def worst_channels(evidence, residual_flat: np.ndarray, levels: dict, top: int = 3) -> list[tuple[str, float]]:
+    """The channels whose residual RMS most exceeds their group's noise and model error:
+    [(channel, factor)], worst first."""
+    names = evidence.channel_names()
+    per = evidence.per_channel(residual_flat)
+    groups = [g for r in evidence.records for g in r.groups]
+    ratio = [v / max(np.hypot(*levels[g]), 1e-300) for v, g in zip(per, groups)]
+    order = np.argsort(ratio)[::-1][:top]
+    return [(names[i], float(ratio[i])) for i in order]
+
+
+def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) -> str:
+    """When the weighted residual is largest: 'record: a-b h' of the phase holding most of it."""
+    best, where = -1.0, ""
+    for rec, res, w in zip(evidence.records, evidence.split(residual_flat), evidence.split(weights_flat)):
+        e = ((res * w) ** 2).sum(axis=1)
+        for p in (p for p in rec.phases if p.kind == "spindle") or ():
+            sel = (rec.times >= p.start) & (rec.times < p.end)
+            share = float(e[sel].sum())
+            if share > best:
+                best = share
+                where = (f"{rec.label + ': ' if evidence.multiple else ''}{p.label} "
+                         f"({p.start / 3600:.1f}-{p.end / 3600:.1f} h)")
+    return where
+
+
+def _factors_text(factors: dict[str, float], levels: dict) -> str:
+    unit = {"temperature": "K", "probe": "um"}
+    return ", ".join(f"{g} {f:.1f}x (noise {levels[g][0]:.2g} {unit[g]}, model error {levels[g][1]:.2g} {unit[g]})"
+                     for g, f in factors.items())
+
+
+def message(verdict: str, top: dict | None, factors: dict, after: dict | None, levels: dict,
+            where: list[tuple[str, float]], when: str, regions: list[dict]) -> str:
+    """One paragraph saying the verdict with its numbers."""
+    fac = _factors_text(factors, levels)
+    if verdict == "nothing_missing":
+        best = (f"; the best candidate {top['effect']} would explain {top['explained']:.0%} (dBIC "
+                f"{top['delta_bic']:.1f}), not significant" if top else "")
+        return f"nothing_missing: the residual is within noise and model error ({fac}){best}"
+    if verdict in ("explained", "partly_explained"):
+        head = (f"{verdict}: {top['statement']} explains {top['explained']:.0%} of the weighted residual, "
+                f"confidence {top['confidence']:.2f}")
+        if verdict == "explained":
+            return head + f"; residual after it within noise and model error ({_factors_text(after, levels)})"
+        left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
+        return (head + f"; what remains is still above noise and model error ({_factors_text(after, levels)}), "
+                f"worst at {left}" + (f"; a heat input on {regions[0]['region']} would explain "
+                                      f"{regions[0]['explained']:.0%} of it" if regions else ""))
+    left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
+    best = (f"the best library candidate {top['effect']} explains only {top['explained']:.0%} "
+            f"(dBIC {top['delta_bic']:.1f})" if top else "there are no library candidates")
+    reg = (f"; a generic heat input fits best on {regions[0]['region']} ({regions[0]['power_W']:.3g} W "
+           f"{regions[0]['schedule'].replace('_', ' ')}, explains {regions[0]['explained']:.0%})" if regions else "")
+    return (f"unexplained: the residual is far above noise and model error ({fac}); {best}: the cause is "
+            f"probably outside the library; worst at {left}, mostly during {when}{reg}")
