@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import time
 
+from threadpoolctl import threadpool_limits
+
 from twin.dataset.plan import Case
 from twin.dataset.runner import _prepared, simulate_case
 
@@ -30,7 +32,8 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30) -> d
     prepare, per_step, seconds = 0.0, {}, 0.0
     for key, members in groups.items():
         t0 = time.perf_counter()
-        _prepared(*key)
+        with threadpool_limits(limits=1):
+            _prepared(*key)
         simulate_case(members[0].record, "calibration", calibration_steps)   # warm-up: adjoints, factorisations
         t1 = time.perf_counter()
         simulate_case(members[0].record, "calibration", calibration_steps)

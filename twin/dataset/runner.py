@@ -28,7 +28,8 @@ _local = threading.local()
 
 
 def _prepared(machine_name: str, mesh: str, solver: str):
-    """This worker's PreparedTwin of (machine, mesh, solver), built on first use."""
+    """This worker's PreparedTwin of (machine, mesh, solver), built on first use (call it under
+    the thread limits of :func:`simulate_case`)."""
     cache = _local.__dict__.setdefault("twins", {})
     key = (machine_name, mesh, solver)
     if key not in cache:
@@ -40,6 +41,16 @@ def _prepared(machine_name: str, mesh: str, solver: str):
 
 
 def simulate_case(record: dict, case_hash: str = "", max_steps: int | None = None):
+    """:func:`_simulate_case` with BLAS and OpenMP held to one thread: a case computes the same
+    bits on every worker (a pool process, a Dask worker that sets its own thread counts, this
+    process), and the workers of a pool do not oversubscribe the cores."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1):
+        return _simulate_case(record, case_hash, max_steps)
+
+
+def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = None):
     """Run one case record (:mod:`twin.dataset.plan`) on this worker's prepared twin; returns
     (Dataset, RunResult). The Dataset carries ``case_hash``, ``dataset_family`` and
     ``dataset_draw`` attributes and a scalar ``case`` coordinate (the hash), so that
@@ -184,6 +195,7 @@ def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
     :func:`build_case`} of the cases built now. A failing case stops the build (cancelling the
     cases not started) and its error is raised; finished files stay."""
     out_dir = Path(folder) / CASES
+    created = not out_dir.exists()
     out_dir.mkdir(exist_ok=True)
     remove_temporaries(out_dir)
     todo = [c for c in cases if not is_whole(out_dir / c.file, c.hash)]
@@ -201,6 +213,8 @@ def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
         for f in futures:
             f.cancel()
         _stop(pool)
+        if created and not any(out_dir.iterdir()):
+            out_dir.rmdir()
         raise
     return done
 
