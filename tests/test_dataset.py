@@ -284,3 +284,25 @@ def test_the_output_folder_never_replaces_the_spec(tmp_path):
     spec = write_spec(tmp_path)
     shutil.copy(spec, tmp_path / "index.csv")
     assert main(["dataset", str(tmp_path / "index.csv"), "-o", str(tmp_path), "--dry-run"]) == 2
+
+
+def test_reduced_model_cases_are_bit_identical_and_carry_no_wall_times(tmp_path):
+    spec = load_spec(write_spec(tmp_path, SPEC.replace('seed = 3', 'seed = 3\nsolver = "rom"')))
+    case = plan(spec)[:1]
+    outs = []
+    for name in ("a", "b"):
+        out = tmp_path / name
+        out.mkdir()
+        build(case, out)
+        outs.append(file_bytes(out))
+    assert outs[0] == outs[1]
+    with xr.open_dataset(tmp_path / "a" / "cases" / case[0].file, engine="h5netcdf") as ds:
+        assert ds.attrs["solver"] == "rom" and "rom_offline_s" not in ds.attrs
+
+
+def test_the_bundled_example_plans_100_cases():
+    from twin.scenario import SCENARIO_DIR
+
+    spec = load_spec(SCENARIO_DIR / "datasets" / "spindle-ambient-100.toml")
+    cases = plan(spec)
+    assert len(cases) == 100 and {c.split for c in cases} == {"train", "validation", "test"}
