@@ -156,7 +156,14 @@ BAD = [
     ('amplitude = ["0 K", "3 K"]', 'amplitude = ["0 K", "-3 K"]', "scenarios[0].ambient.amplitude", "reversed"),
     ('idle_probability = 0.3', 'idle_probability = 1.3', "scenarios[0].spindle.idle_probability", "from 0 to 1"),
     ('file = "ref.toml"', 'file = "missing.toml"', "scenarios[1].file", "no scenario"),
+    ('file = "ref.toml"', 'file = "no-such-scenario"', "scenarios[1].file", "no scenario"),
     ('cases = 2', 'cases = 0', "scenarios[0].cases", "from 1"),
+    ('seed = 3', 'seed = 3\n[observers]\ncameras = ["nowhere"]', "observers.cameras[0]", "no camera pose"),
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["roof"], spacing = "100 mm" }',
+     "observers.surface_grid.parts[0]", "no part"),
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["carrier"], spacing = "1 mm" }',
+     "observers.surface_grid.spacing", "from 5 mm"),
+    ('family = "duty"', 'family = "reference"', "scenarios[1].family", "named twice"),
     ("test = 0.5", "test = 0.4", "splits", "add up to"),
     ("seed = 3", "seed = -3", "seed", "outside"),
 ]
@@ -363,3 +370,13 @@ def test_ar_temp_runs_take_no_lag_pair_across_a_run_boundary():
     rc = r - r.mean()
     within = (rc[1:20] @ rc[:19] + rc[21:] @ rc[20:39]) / (rc @ rc)
     assert two.phi_ == pytest.approx(within) and np.allclose(two.coef_, one.coef_)
+
+
+def test_a_surface_grid_adds_dense_virtual_sensors(tmp_path):
+    text = SPEC.replace("seed = 3", 'seed = 3\n[observers]\nsurface_grid = { parts = ["carrier"], spacing = "200 mm" }')
+    spec = load_spec(write_spec(tmp_path, text))
+    case = plan(spec)[:1]
+    build(case, tmp_path)
+    with xr.open_dataset(tmp_path / "cases" / case[0].file, engine="h5netcdf") as ds:
+        names = [str(n) for n in ds["sensor"].values]
+    assert len(names) > 16 and any(n.startswith("carrier:") for n in names)

@@ -69,7 +69,7 @@ from twin.errors import InputError
 from twin.io.paths import read_text
 from twin.model import model_spec
 from twin.observe.instruments import INSTRUMENTS
-from twin.scenario import load_scenario, scenario_path
+from twin.scenario import SCENARIO_DIR, load_scenario
 from twin.units import CANONICAL, UnitError, format_quantity, parse_quantity
 
 SOLVERS = ("auto", "direct", "iterative", "rom")
@@ -391,8 +391,8 @@ def _families(items: list, source: str, folder: Path, machines: dict) -> list[Fa
 
 
 def _file_family(name, cases, file, source, folder, field, machines) -> Family:
-    bundled = scenario_path(file) if not file.endswith(".toml") and "/" not in file else None
-    path = bundled if bundled is not None and bundled.is_file() else folder / file
+    bundled = SCENARIO_DIR / f"{file}.toml"
+    path = bundled if not file.endswith(".toml") and "/" not in file and bundled.is_file() else folder / file
     if not path.is_file():
         raise InputError(source, field, f"no scenario {file!r} (a bundled name or a path relative to the spec)")
     sc = load_scenario(path)   # checked now; errors name the scenario file
