@@ -4,26 +4,30 @@ Usage::
 
     twin learn --train A [--train A2 ...] --test B [--test C ...] --target NAME --learner L1,L2,...
                [--select METHOD[:K]] [--inputs NAMES|all] [--time-column NAME] [-o scores.csv] [--seed N]
-    twin learn --dataset DIR --split NAME [--train-split NAME] --target NAME --learner L1,L2,...
+    twin learn --dataset DIR --split NAME [--train-split NAME] --target NAME --learner L1,L2,... [--segments N]
 
 Every training table is one run (CSV or twin NetCDF, see :mod:`learners.table`); runs stay
 separate groups (:mod:`learners.runs`): pooled learners see all rows, time-ordered learners each
 run's own sequence. The selector picks inputs on all training rows (``--select correlation:4``;
 default ``all``), each learner is fitted on the selected inputs and scored on every test table
 (which must carry the same input columns), each predicted from its own start, with
-:func:`learners.metrics.score_all`. ``--dataset DIR`` adds the built cases of a ``twin dataset``
-folder: those of ``--train-split`` (default ``train``) as training runs, those of ``--split``
-(default ``test``) as one test set, scored on the residuals of all its runs together. One row per learner and test set is printed as an aligned text
-table; ``-o`` writes the same rows as CSV (to a temporary file in the same folder, then renamed, so
-no half-written file is left). ``--seed`` is given to every learner and selector that has a
+:func:`learners.metrics.score_all` and the 95th percentile of |residual|. ``--dataset DIR`` adds
+the built cases of a ``twin dataset`` folder: those of ``--train-split`` (default ``train``) as
+training runs, those of ``--split`` (default ``test``) as one test set, scored on the residuals
+of all its runs together. ``--segments N`` adds a row per time segment (each run cut into N equal
+parts; segment k pooled over the runs).
+
+One row per learner and test set (and segment) is printed as an aligned text table; ``-o``
+writes the same rows as CSV (to a temporary file in the same folder, then renamed, so no
+half-written file is left). ``--seed`` is given to every learner and selector that has a
 ``random_state``. Bad names and bad tables raise :class:`twin.errors.InputError`, as do
 degenerate problems (:func:`learners.table.check_problem`: the target among the inputs, a
 constant target or input, a selector asking for more inputs than there are), a learner or
 selector that refuses the data with a ``ValueError`` (too few rows for it, too many grid rules,
 ...) and predictions that are not finite; the ``twin`` entry point turns it into
 ``error: <file>: <field>: <message>`` and exit status 2. ``--train`` and ``--test`` may be
-repeated, each file once. Every file is checked before any learner is fitted; ``-o`` never replaces an
-input (:class:`twin.io.paths.Files`).
+repeated, each file once. Every file is checked before any learner is fitted; ``-o`` never
+replaces an input (:class:`twin.io.paths.Files`).
 """
 
 from __future__ import annotations
@@ -34,7 +38,7 @@ import time
 
 import numpy as np
 
-from learners.metrics import score_all
+from learners.metrics import abs_residual_percentile, score_all
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.runs import dataset_runs, fit_runs
 from learners.table import Table, check_problem, load_table
@@ -45,9 +49,9 @@ from twin.io.paths import Files
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
-COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "improvement_pct", "mre_pct",
+COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "p95_abs_residual", "improvement_pct", "mre_pct",
            "inputs", "fit_time_s"]
-_HEADINGS = ["learner", "test file", "RMSE", "NSE", "R", "max|res|", "improv. %", "MRE %", "inputs", "fit s"]
+_HEADINGS = ["learner", "test file", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "inputs", "fit s"]
 
 
 def add_learn_parser(subparsers):
@@ -74,10 +78,25 @@ def add_learn_parser(subparsers):
     p.add_argument("--inputs", default="all", metavar="NAMES|all",
                    help="comma-separated candidate inputs (default: all but time and target)")
     p.add_argument("--time-column", default="time", metavar="NAME", help="time column in s (default time)")
+    p.add_argument("--segments", type=_segments, default=1, metavar="N",
+                   help="also score each test set's N time segments (each run cut into N equal parts, "
+                        "segment k pooled over the runs); default 1: whole runs only")
     p.add_argument("-o", "--output", metavar="FILE", help="also write the scores as CSV")
     add_seed_option(p, "random_state for learners and selectors")
     p.set_defaults(func=run_learn)
     return p
+
+
+def _segments(text):
+    import argparse
+
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number of segments, got {text!r}") from None
+    if not 1 <= n <= 100:
+        raise argparse.ArgumentTypeError(f"must be from 1 to 100, got {n}")
+    return n
 
 
 def _split_names(text, option):
@@ -135,13 +154,22 @@ def _text_table(rows):
                             else (f"{r[c]:.2f}" if np.isfinite(r[c]) else "nan") for c in COLUMNS]
                            for r in rows]
     widths = [max(len(row[i]) for row in cells) for i in range(len(COLUMNS))]
-    numeric = {2, 3, 4, 5, 6, 7, 9}
+    numeric = {2, 3, 4, 5, 6, 7, 8, 10}
     lines = []
     for row in cells:
         parts = [cell.rjust(w) if i in numeric else cell.ljust(w) for i, (cell, w) in enumerate(zip(row, widths))]
         lines.append("  ".join(parts).rstrip())
     lines.insert(1, "  ".join("-" * w for w in widths))
     return "\n".join(lines)
+
+
+def _segments_of(label: str, lengths: list[int], n: int):
+    """(label, [slice per run]) of the whole runs, then, for ``n > 1``, of each time segment k:
+    rows ``[k len / n, (k + 1) len / n)`` of every run."""
+    yield label, [slice(None)] * len(lengths)
+    if n > 1:
+        for k in range(n):
+            yield f"{label} [segment {k + 1}/{n}]", [slice(k * m // n, (k + 1) * m // n) for m in lengths]
 
 
 def _write_csv(path, rows):
@@ -224,9 +252,14 @@ def run_learn(args) -> int:
             if not np.all(np.isfinite(pred)):
                 raise InputError(str(path), name, "the learner's predictions are not finite (it diverged on "
                                                   "these data); no scores are written")
-            scores = score_all(np.concatenate([tab.y for tab in tabs]), pred)
-            rows.append({"learner": name, "test": str(path), **{k: float(v) for k, v in scores.items()},
-                         "inputs": ";".join(used), "fit_time_s": float(fit_s)})
+            truth = [tab.y for tab in tabs]
+            parts = np.split(pred, np.cumsum([len(y) for y in truth])[:-1])
+            for label, pick in _segments_of(str(path), [len(y) for y in truth], args.segments):
+                z = np.concatenate([y[s] for y, s in zip(truth, pick)])
+                p = np.concatenate([q[s] for q, s in zip(parts, pick)])
+                rows.append({"learner": name, "test": label, **{k: float(v) for k, v in score_all(z, p).items()},
+                             "p95_abs_residual": abs_residual_percentile(z, p), "inputs": ";".join(used),
+                             "fit_time_s": float(fit_s)})
         progress(done, len(learners))
     print(_text_table(rows))
     if args.output:

@@ -324,9 +324,13 @@ def test_learn_trains_on_several_runs_and_on_a_dataset_split(built, capsys):
     assert main(["learn", "--train", files[0], "--train", files[1], "--test", files[2], *common]) == 0
     text = capsys.readouterr().out
     assert all(name in text for name in ("mlr", "gm1n", "ar-temp"))
-    assert main(["learn", "--dataset", str(out), "--split", "test", *common]) == 0
+    scores = out.parent / "scores.csv"
+    assert main(["learn", "--dataset", str(out), "--split", "test", "--segments", "2", "-o", str(scores), *common]) == 0
     n_test = sum(c.split == "test" for c in cases)
     assert f"[test: {n_test} runs]" in capsys.readouterr().out
+    board = pd.read_csv(scores)
+    assert len(board) == 3 * 3 and board["test"].str.endswith("[segment 2/2]").sum() == 3
+    assert (board["p95_abs_residual"] <= board["max_abs_residual"] + 1e-12).all() and (board["fit_time_s"] >= 0).all()
     # a time-ordered learner that fits one sequence refuses several runs, in one line
     assert main(["learn", "--train", files[0], "--train", files[1], "--test", files[2], "--target", "drift:Z",
                  "--select", "correlation:2", "--learner", "gm11"]) == 2
