@@ -66,23 +66,39 @@ class ARTemp(RegressorMixin, BaseEstimator):
     def __init__(self, initial_residual="zero"):
         self.initial_residual = initial_residual
 
+    time_ordered = True   # rows are one run's samples in time order (learners.runs)
+
     def fit(self, X, y):
+        return self.fit_runs([(X, y)])
+
+    def fit_runs(self, runs):
+        """Fit on several runs ``[(X, y), ...]``: the regression on all rows, the lag-1
+        autocorrelation of the residuals over consecutive rows of the same run only;
+        ``last_residual_`` is the last run's."""
         if self.initial_residual not in ("zero", "last"):
             raise ValueError(f"initial_residual must be 'zero' or 'last', got {self.initial_residual!r}")
+        lengths = [len(np.asarray(y_).ravel()) for _, y_ in runs]
+        if len(runs) == 1:
+            X, y = runs[0]
+        else:
+            X = np.vstack([np.asarray(X_, dtype=float) for X_, _ in runs])
+            y = np.concatenate([np.asarray(y_, dtype=float).ravel() for _, y_ in runs])
         X, y = check_fit_data(self, X, y, min_samples=3)
         A = np.column_stack([np.ones(len(y)), X])
         beta = np.linalg.lstsq(A, y, rcond=None)[0]
         r = y - A @ beta
         rc = r - r.mean()
         g0 = float(rc @ rc) / len(r)
-        g1 = float(rc[1:] @ rc[:-1]) / len(r)
+        same_run = np.ones(len(r) - 1, dtype=bool)   # pair (t-1, t) within one run
+        same_run[np.cumsum(lengths)[:-1] - 1] = False
+        g1 = float(rc[1:][same_run] @ rc[:-1][same_run]) / len(r)
         phi = g1 / g0 if g0 > 1e-300 else 0.0
         self.intercept_ = float(beta[0])
         self.coef_ = beta[1:].copy()
         self.phi_ = float(phi)
         self.innovation_variance_ = float(g0 * (1.0 - phi ** 2))
         self.rss_regression_ = float(r @ r)
-        innov = r[1:] - phi * r[:-1]
+        innov = (r[1:] - phi * r[:-1])[same_run]
         self.rss_ar_ = float(innov @ innov)
         self.last_residual_ = float(r[-1])
         self.arx_intercept_ = self.intercept_ * (1.0 - phi)

@@ -1,25 +1,33 @@
-"""``twin learn``: fit thermal-error learners on one table and score them on others.
+"""``twin learn``: fit thermal-error learners on one or more runs and score them on others.
 
 Usage::
 
-    twin learn --train A --test B [--test C ...] --target NAME --learner L1,L2,...
+    twin learn --train A [--train A2 ...] --test B [--test C ...] --target NAME --learner L1,L2,...
                [--select METHOD[:K]] [--inputs NAMES|all] [--time-column NAME] [-o scores.csv] [--seed N]
+    twin learn --dataset DIR --split NAME [--train-split NAME] --target NAME --learner L1,L2,... [--segments N]
 
-The training table is loaded (CSV or twin NetCDF, see :mod:`learners.table`), the selector picks
-inputs on it (``--select correlation:4``; default ``all``), each learner is fitted on the selected
-inputs and scored on every test table (which must carry the same input columns) with
-:func:`learners.metrics.score_all`. One row per learner and test set is printed as an aligned text
-table; ``-o`` writes the same rows as CSV (to a temporary file in the same folder, then renamed, so
-no half-written file is left). ``--seed`` is given to every learner and selector that has a
+Every training table is one run (CSV or twin NetCDF, see :mod:`learners.table`); runs stay
+separate groups (:mod:`learners.runs`): pooled learners see all rows, time-ordered learners each
+run's own sequence. The selector picks inputs on all training rows (``--select correlation:4``;
+default ``all``), each learner is fitted on the selected inputs and scored on every test table
+(which must carry the same input columns), each predicted from its own start, with
+:func:`learners.metrics.score_all` and the 95th percentile of |residual|. ``--dataset DIR`` adds
+the built cases of a ``twin dataset`` folder: those of ``--train-split`` (default ``train``) as
+training runs, those of ``--split`` (default ``test``) as one test set, scored on the residuals
+of all its runs together. ``--segments N`` adds a row per time segment (each run cut into N equal
+parts; segment k pooled over the runs).
+
+One row per learner and test set (and segment) is printed as an aligned text table; ``-o``
+writes the same rows as CSV (to a temporary file in the same folder, then renamed, so no
+half-written file is left). ``--seed`` is given to every learner and selector that has a
 ``random_state``. Bad names and bad tables raise :class:`twin.errors.InputError`, as do
 degenerate problems (:func:`learners.table.check_problem`: the target among the inputs, a
 constant target or input, a selector asking for more inputs than there are), a learner or
 selector that refuses the data with a ``ValueError`` (too few rows for it, too many grid rules,
 ...) and predictions that are not finite; the ``twin`` entry point turns it into
-``error: <file>: <field>: <message>`` and exit status 2. ``--train`` takes one table (a second
-``--train`` is refused rather than silently replacing the first); ``--test`` may be repeated,
-each file once. Every file is checked before any learner is fitted; ``-o`` never replaces an
-input (:class:`twin.io.paths.Files`).
+``error: <file>: <field>: <message>`` and exit status 2. ``--train`` and ``--test`` may be
+repeated, each file once. Every file is checked before any learner is fitted; ``-o`` never
+replaces an input (:class:`twin.io.paths.Files`).
 """
 
 from __future__ import annotations
@@ -30,9 +38,10 @@ import time
 
 import numpy as np
 
-from learners.metrics import score_all
+from learners.metrics import abs_residual_percentile, score_all
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
-from learners.table import check_problem, load_table
+from learners.runs import dataset_runs, fit_runs
+from learners.table import Table, check_problem, load_table
 from twin.cli.options import add_seed_option
 from twin.errors import InputError
 from twin.io.atomic import atomic_write
@@ -40,20 +49,26 @@ from twin.io.paths import Files
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
-COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "improvement_pct", "mre_pct",
+COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "p95_abs_residual", "improvement_pct", "mre_pct",
            "inputs", "fit_time_s"]
-_HEADINGS = ["learner", "test file", "RMSE", "NSE", "R", "max|res|", "improv. %", "MRE %", "inputs", "fit s"]
+_HEADINGS = ["learner", "test file", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "inputs", "fit s"]
 
 
 def add_learn_parser(subparsers):
     """Add the ``learn`` sub-command to an argparse ``subparsers`` object; returns its parser."""
     p = subparsers.add_parser(
-        "learn", help="fit thermal-error learners on one table and score them on others",
+        "learn", help="fit thermal-error learners on one or more runs and score them on others",
         description="Fit thermal-error learners on a training table and score them (RMSE, NSE, R, "
                     "max|res|, improvement %, MRE %) on one or more test tables.")
-    p.add_argument("--train", required=True, metavar="FILE", help="training table (CSV or NetCDF), given once")
-    p.add_argument("--test", required=True, action="append", metavar="FILE",
+    p.add_argument("--train", action="append", default=[], metavar="FILE",
+                   help="training run (CSV or NetCDF); repeat for several runs (each file once)")
+    p.add_argument("--test", action="append", default=[], metavar="FILE",
                    help="test table; repeat for several (each file once)")
+    p.add_argument("--dataset", metavar="DIR", help="a twin dataset folder: train on its --train-split cases, "
+                                                     "score on its --split cases")
+    p.add_argument("--split", default="test", metavar="NAME", help="the dataset split to score on (default test)")
+    p.add_argument("--train-split", default="train", metavar="NAME",
+                   help="the dataset split to train on (default train)")
     p.add_argument("--target", required=True, metavar="NAME",
                    help="target column (CSV) or address such as drift:Z (NetCDF)")
     p.add_argument("--learner", required=True, metavar="L1,L2",
@@ -63,10 +78,25 @@ def add_learn_parser(subparsers):
     p.add_argument("--inputs", default="all", metavar="NAMES|all",
                    help="comma-separated candidate inputs (default: all but time and target)")
     p.add_argument("--time-column", default="time", metavar="NAME", help="time column in s (default time)")
+    p.add_argument("--segments", type=_segments, default=1, metavar="N",
+                   help="also score each test set's N time segments (each run cut into N equal parts, "
+                        "segment k pooled over the runs); default 1: whole runs only")
     p.add_argument("-o", "--output", metavar="FILE", help="also write the scores as CSV")
     add_seed_option(p, "random_state for learners and selectors")
     p.set_defaults(func=run_learn)
     return p
+
+
+def _segments(text):
+    import argparse
+
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number of segments, got {text!r}") from None
+    if not 1 <= n <= 100:
+        raise argparse.ArgumentTypeError(f"must be from 1 to 100, got {n}")
+    return n
 
 
 def _split_names(text, option):
@@ -124,13 +154,22 @@ def _text_table(rows):
                             else (f"{r[c]:.2f}" if np.isfinite(r[c]) else "nan") for c in COLUMNS]
                            for r in rows]
     widths = [max(len(row[i]) for row in cells) for i in range(len(COLUMNS))]
-    numeric = {2, 3, 4, 5, 6, 7, 9}
+    numeric = {2, 3, 4, 5, 6, 7, 8, 10}
     lines = []
     for row in cells:
         parts = [cell.rjust(w) if i in numeric else cell.ljust(w) for i, (cell, w) in enumerate(zip(row, widths))]
         lines.append("  ".join(parts).rstrip())
     lines.insert(1, "  ".join("-" * w for w in widths))
     return "\n".join(lines)
+
+
+def _segments_of(label: str, lengths: list[int], n: int):
+    """(label, [slice per run]) of the whole runs, then, for ``n > 1``, of each time segment k:
+    rows ``[k len / n, (k + 1) len / n)`` of every run."""
+    yield label, [slice(None)] * len(lengths)
+    if n > 1:
+        for k in range(n):
+            yield f"{label} [segment {k + 1}/{n}]", [slice(k * m // n, (k + 1) * m // n) for m in lengths]
 
 
 def _write_csv(path, rows):
@@ -148,11 +187,15 @@ def _declare_files(args) -> Files:
     """Every file of the command checked before any work: tables readable, each test once, the
     scores not an input."""
     files = Files()
-    files.input(args.train, "--train", "table")
-    for path in args.test:
-        if args.test.count(path) > 1:
-            raise InputError(path, "--test", "given more than once")
-        files.input(path, "--test", "table")
+    if not args.train and not args.dataset:
+        raise InputError("command line", "--train", "give one or more --train runs or a --dataset")
+    if not args.test and not args.dataset:
+        raise InputError("command line", "--test", "give one or more --test tables or a --dataset")
+    for option, paths in (("--train", args.train), ("--test", args.test)):
+        for path in paths:
+            if paths.count(path) > 1:
+                raise InputError(path, option, "given more than once")
+            files.input(path, option, "table")
     if args.output:
         files.output(args.output, "-o", (".csv",))
     return files
@@ -163,7 +206,7 @@ def run_learn(args) -> int:
     from twin.cli.progress import progress_bar
 
     seed = args.seed
-    _declare_files(args)
+    files = _declare_files(args)
     learner_names = _split_names(args.learner, "--learner")
     learners = {name: _seeded(make_learner(name), seed) for name in learner_names}
     selector, n_select = _make_selector(args.select, seed)
@@ -171,13 +214,27 @@ def run_learn(args) -> int:
     if inputs and args.target in inputs:
         raise InputError("command line", "--inputs", f"the target {args.target} is also an input")
 
-    train = load_table(args.train, args.target, inputs=inputs, time_column=args.time_column, field="--train")
-    check_problem(train, args.train, args.target, n_select=n_select)
-    tests = [(path, load_table(path, args.target, inputs=train.input_names, time_column=args.time_column,
-                               field="--test")) for path in args.test]
-    for path, tab in tests:
-        check_problem(tab, path, args.target, training=False)
-    with _as_input_error(args.train, args.select):
+    train_paths = list(args.train)
+    test_sets = [(str(path), [path]) for path in args.test]
+    if args.dataset:
+        train_paths += [files.input(p, "--dataset", "table") for p in dataset_runs(args.dataset, args.train_split)]
+        runs = [files.input(p, "--dataset", "table") for p in dataset_runs(args.dataset, args.split)]
+        test_sets.append((f"{args.dataset} [{args.split}: {len(runs)} runs]", runs))
+    first = load_table(train_paths[0], args.target, inputs=inputs, time_column=args.time_column, field="--train")
+    runs = [first] + [load_table(path, args.target, inputs=first.input_names, time_column=args.time_column,
+                                 field="--train") for path in train_paths[1:]]
+    train = Table(np.concatenate([r.time for r in runs]), np.vstack([r.X for r in runs]),
+                  np.concatenate([r.y for r in runs]), first.input_names)
+    train_label = str(train_paths[0]) if len(train_paths) == 1 else f"{len(train_paths)} training runs"
+    check_problem(train, train_label, args.target, n_select=n_select)
+    tests = []
+    for label, paths in test_sets:
+        tabs = [load_table(path, args.target, inputs=train.input_names, time_column=args.time_column,
+                           field="--test") for path in paths]
+        for path, tab in zip(paths, tabs):
+            check_problem(tab, path, args.target, training=False)
+        tests.append((label, tabs))
+    with _as_input_error(train_label, args.select):
         selector.fit(train.X, train.y)
     cols = list(selector.selected_)
     used = [train.input_names[i] for i in cols]
@@ -186,18 +243,23 @@ def run_learn(args) -> int:
     progress = progress_bar("learn", "fit")
     for done, (name, est) in enumerate(learners.items(), start=1):
         start = time.perf_counter()
-        with _as_input_error(args.train, name):
-            est.fit(train.X[:, cols], train.y)
+        with _as_input_error(train_label, name):
+            fit_runs(est, [(r.X[:, cols], r.y) for r in runs], name)
         fit_s = time.perf_counter() - start
-        for path, tab in tests:
+        for path, tabs in tests:
             with _as_input_error(path, name):
-                pred = est.predict(tab.X[:, cols])
+                pred = np.concatenate([est.predict(tab.X[:, cols]) for tab in tabs])   # each run from its start
             if not np.all(np.isfinite(pred)):
                 raise InputError(str(path), name, "the learner's predictions are not finite (it diverged on "
                                                   "these data); no scores are written")
-            scores = score_all(tab.y, pred)
-            rows.append({"learner": name, "test": str(path), **{k: float(v) for k, v in scores.items()},
-                         "inputs": ";".join(used), "fit_time_s": float(fit_s)})
+            truth = [tab.y for tab in tabs]
+            parts = np.split(pred, np.cumsum([len(y) for y in truth])[:-1])
+            for label, pick in _segments_of(str(path), [len(y) for y in truth], args.segments):
+                z = np.concatenate([y[s] for y, s in zip(truth, pick)])
+                p = np.concatenate([q[s] for q, s in zip(parts, pick)])
+                rows.append({"learner": name, "test": label, **{k: float(v) for k, v in score_all(z, p).items()},
+                             "p95_abs_residual": abs_residual_percentile(z, p), "inputs": ";".join(used),
+                             "fit_time_s": float(fit_s)})
         progress(done, len(learners))
     print(_text_table(rows))
     if args.output:

@@ -100,6 +100,7 @@ class Combination(RegressorMixin, BaseEstimator):
     Attributes: ``estimators_`` (fitted members), ``alpha_train_`` (alpha(N), N = ``window_start_``..n),
     ``alpha_coefs_``/``beta_coefs_`` (global fit over the training set, t = 1..n), ``n_train_``.
     """
+    time_ordered = True   # rows are one run's samples in time order (learners.runs)
 
     def __init__(self, members=("ar-temp", "lssvm"), degree=2, random_state=None):
         self.members = members

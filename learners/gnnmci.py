@@ -92,19 +92,29 @@ class GNNMCI(BaseEstimator, RegressorMixin):
         self.weight_bound = weight_bound
         self.random_state = random_state
 
+    time_ordered = True   # rows are one run's samples in time order (learners.runs)
+
     def fit(self, X, y):
-        Xa, ya = check_series(X, y, model="GNNMCI(1,N)")
+        return self.fit_runs([(X, y)])
+
+    def fit_runs(self, runs):
+        """Fit on several runs ``[(X, y), ...]``: the fitness sums every run's squared error, each
+        run accumulated and started from its own first value; ``y0_`` and ``w21_`` use the mean
+        first value."""
+        checked = [check_series(X, y, model="GNNMCI(1,N)") for X, y in runs]
+        Xa, ya = np.vstack([c[0] for c in checked]), np.concatenate([c[1] for c in checked])
         n, p = Xa.shape
         if n < p + 3:
             raise InputError("data", "rows", f"GNNMCI(1,N) with {p} inputs needs at least {p + 3} rows, got {n}")
         sx = np.max(np.abs(Xa), axis=0)
         sx[sx == 0.0] = 1.0
         sy = float(np.max(np.abs(ya))) or 1.0
-        Xs_ago, ys = ago(Xa / sx), ya / sy
+        scaled = [(ago(x / sx), y / sy) for x, y in checked]
+        start = float(np.mean([y[0] for _, y in checked]))
 
         def fitness(w):
-            pred = iago(gnnmci_forward(w[0], w[1:-1], w[-1], Xs_ago, ys[0]))
-            return float(np.sum((pred - ys) ** 2))
+            return float(sum(np.sum((iago(gnnmci_forward(w[0], w[1:-1], w[-1], xg, ys[0])) - ys) ** 2)
+                             for xg, ys in scaled))
 
         bound = float(self.weight_bound)
         lower = np.r_[0.0, np.full(p + 1, -bound)]
@@ -115,8 +125,8 @@ class GNNMCI(BaseEstimator, RegressorMixin):
         self.w11_ = float(w[0])
         self.w2_ = w[1:-1] * sy / sx
         self.w2u_ = float(w[-1] * sy)
-        self.w21_ = -float(ya[0])
-        self.y0_ = float(ya[0]) if self.y0 is None else float(self.y0)
+        self.w21_ = -start
+        self.y0_ = start if self.y0 is None else float(self.y0)
         self.fitness_ = res.fun
         self.n_evaluations_ = res.n_evaluations
         self.n_features_in_ = p

@@ -121,7 +121,7 @@ def gm0n_coefficients(X, y, alpha=0.0) -> np.ndarray:
     return theta
 
 
-def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = 1e-6, n_grid: int = 49):
+def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = 1e-6, n_grid: int = 49, start=None):
     """Least squares of a simulated grey response, by variable projection over the development coefficient.
 
     ``simulate(a, coef, y0)`` returns the predicted raw series (length n) and must be affine in
@@ -130,6 +130,8 @@ def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = 1e-6,
     ``r0 = simulate(a, 0, y[0])`` and ``A[:, j] = simulate(a, e_j, 0)``; the SSE is then minimised
     over ``log a`` in ``[log a_min, log a_max]``: a log-spaced grid of ``n_grid`` values, refined by
     bounded Brent between the neighbours of the best grid point. Returns ``(a, coef, sse)``.
+    ``start``: the initial value(s) given to ``simulate`` for ``r0`` (default ``y[0]``; an array
+    of each run's first value when ``y`` holds several runs).
     """
     from scipy.optimize import minimize_scalar
 
@@ -139,7 +141,7 @@ def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = 1e-6,
     def solve(log_a):
         a = float(np.exp(log_a))
         with np.errstate(over="ignore", invalid="ignore"):
-            r0 = simulate(a, np.zeros(n_coef), y[0])
+            r0 = simulate(a, np.zeros(n_coef), y[0] if start is None else start)
             A = np.column_stack([simulate(a, e, 0.0) for e in eye])
         if not (np.all(np.isfinite(A)) and np.all(np.isfinite(r0))):
             return a, np.zeros(n_coef), np.inf
@@ -242,6 +244,8 @@ class GM11(BaseEstimator, RegressorMixin):
     ``y0_``, ``n_train_``, ``n_features_in_``.
     """
 
+    time_ordered = True   # rows are one run's samples in time order (learners.runs)
+
     def __init__(self, y0=None):
         self.y0 = y0
 
@@ -329,7 +333,12 @@ class GM1N(BaseEstimator, RegressorMixin):
         (``fit_method="response"`` searches ``0 < a <= 20``).
 
     Fitted: ``a_``, ``b_`` (N-1,), ``coef_`` = ``b_`` (influence ranking, thesis L3400), ``y0_``.
+
+    Several runs (:meth:`fit_runs`): each run is accumulated and simulated from its own first
+    value, the residuals of all runs are fitted together; ``y0_`` is then the mean first value.
     """
+
+    time_ordered = True   # rows are one run's samples in time order (learners.runs)
 
     def __init__(self, response="difference", y0=None, fit_method="response"):
         self.response = response
@@ -337,32 +346,44 @@ class GM1N(BaseEstimator, RegressorMixin):
         self.fit_method = fit_method
 
     def fit(self, X, y):
-        Xa, ya = check_series(X, y, model="GM(1,N)")
+        return self.fit_runs([(X, y)])
+
+    def fit_runs(self, runs):
+        """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
+        checked = [check_series(X, y, model="GM(1,N)") for X, y in runs]
         if self.response not in ("difference", "whitened"):
             raise InputError("parameters", "response", f"unknown GM(1,N) response {self.response!r}; "
                                                        "use 'difference' or 'whitened'")
         if self.fit_method not in FIT_METHODS:
             raise InputError("parameters", "fit_method", f"unknown GM(1,N) fit_method {self.fit_method!r}; "
                                                          f"use one of {FIT_METHODS}")
-        n, p = Xa.shape
+        p = checked[0][0].shape[1]
+        if any(Xa.shape[1] != p for Xa, _ in checked):
+            raise InputError("data", "X", "GM(1,N): the runs have different numbers of inputs")
+        n = sum(Xa.shape[0] for Xa, _ in checked)
         if n < p + 2:
             raise InputError("data", "rows", f"GM(1,N) with {p} inputs needs at least {p + 2} rows, got {n}")
-        X_ago = ago(Xa)
+        X_agos = [ago(Xa) for Xa, _ in checked]
+        starts = np.array([ya[0] for _, ya in checked])
         if self.fit_method == "equation":
-            z1 = background(ago(ya))
-            B = np.column_stack([-z1, X_ago[1:]])
-            theta, *_ = np.linalg.lstsq(B, ya[1:], rcond=None)
+            B = np.vstack([np.column_stack([-background(ago(ya)), Xg[1:]]) for (_, ya), Xg in zip(checked, X_agos)])
+            theta, *_ = np.linalg.lstsq(B, np.concatenate([ya[1:] for _, ya in checked]), rcond=None)
             a, b = float(theta[0]), theta[1:].copy()
-            check_growth(gm1n_retention(a, self.response), n, model="GM(1,N)", coef_name="a", coef=a,
-                         fit_method="equation")
+            check_growth(gm1n_retention(a, self.response), max(Xa.shape[0] for Xa, _ in checked), model="GM(1,N)",
+                         coef_name="a", coef=a, fit_method="equation")
         else:
             a_max = 2.0 if self.response == "difference" else 20.0
-            a, b, _ = response_ls_fit(lambda a_, b_, y0: gm1n_simulate(a_, b_, X_ago, y0, self.response),
-                                      ya, p, a_max=a_max)
+
+            def simulate(a_, b_, y0):
+                firsts = np.broadcast_to(y0, starts.shape)
+                return np.concatenate([gm1n_simulate(a_, b_, Xg, s, self.response) for Xg, s in zip(X_agos, firsts)])
+
+            a, b, _ = response_ls_fit(simulate, np.concatenate([ya for _, ya in checked]), p, a_max=a_max,
+                                      start=starts)
         self.a_ = float(a)
         self.b_ = np.asarray(b, dtype=float)
         self.coef_ = self.b_
-        self.y0_ = float(ya[0]) if self.y0 is None else float(self.y0)
+        self.y0_ = float(np.mean(starts)) if self.y0 is None else float(self.y0)
         self.n_features_in_ = p
         return self
 

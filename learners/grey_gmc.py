@@ -97,6 +97,7 @@ def gmc_retention(b1: float, response: str) -> float:
 
 class _GMCBase(BaseEstimator, RegressorMixin):
     """Shared validation and prediction of the GMC(1,N) estimators."""
+    time_ordered = True   # rows are one run's samples in time order (learners.runs)
 
     _name = "GMC(1,N)"
 

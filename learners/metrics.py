@@ -21,7 +21,7 @@ import numpy as np
 
 from twin.errors import InputError
 
-__all__ = ["rms", "rmse", "nse", "correlation", "max_abs_residual", "improvement", "mean_relative_error", "score_all"]
+__all__ = ["rms", "rmse", "nse", "correlation", "max_abs_residual", "abs_residual_percentile", "improvement", "mean_relative_error", "score_all"]
 
 
 def _pair(y_true, y_pred):
@@ -70,6 +70,13 @@ def max_abs_residual(y_true, y_pred) -> float:
     """Largest absolute residual max|Z - P| (the "±x µm" of the thesis tables)."""
     z, p = _pair(y_true, y_pred)
     return float(np.max(np.abs(z - p)))
+
+
+def abs_residual_percentile(y_true, y_pred, q: float = 95.0) -> float:
+    """The ``q``-th percentile of |Z - P| (linear interpolation; units of the data, µm): a
+    residual bound that one outlier does not set, beside :func:`max_abs_residual`."""
+    z, p = _pair(y_true, y_pred)
+    return float(np.percentile(np.abs(z - p), q))
 
 
 def improvement(y_true, y_pred) -> float:

@@ -322,7 +322,7 @@ OPTION_CASES = [
     ("diagnose:seed-huge", DIAGNOSE + ["--seed", str(2**33)], CLI, "--seed"),
     ("diagnose:set-unknown", DIAGNOSE + [_SET, "spindle_motor.colour=1W"], CLI, "--set spindle_motor.colour"),
     # learn
-    ("learn:train-twice", LEARN + ["--train", "{d}/test.csv"], CLI, "--train"),
+    ("learn:train-twice", LEARN + ["--train", "{d}/train.csv"], "{d}/train.csv", "--train"),   # a run once
     ("learn:test-twice", LEARN + ["--test", "{d}/test.csv"], "{d}/test.csv", "--test"),
     ("learn:target-missing", LEARN[:5] + LEARN[7:], CLI, "twin learn"),
     ("learn:unknown-learner", swap(LEARN, "mlr", "mlr,nope"), CLI, "learner"),

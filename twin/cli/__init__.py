@@ -1,4 +1,4 @@
-"""The ``twin`` command line: ``list``, ``simulate``, ``plot``, ``frames`` from the core, and every command a
+"""The ``twin`` command line: ``list``, ``simulate``, ``plot``, ``frames``, ``dataset`` from the core, and every command a
 layer above registers through the ``thermal_twin.commands`` entry-point group (``demo``,
 ``compare``, ``diagnose`` from :mod:`validate`, ``learn`` from :mod:`learners`): the core never
 imports them.
@@ -61,11 +61,11 @@ def registered_commands() -> list:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from twin.cli import cmd_frames, cmd_list, cmd_plot, cmd_simulate
+    from twin.cli import cmd_dataset, cmd_frames, cmd_list, cmd_plot, cmd_simulate
 
     parser = _Parser(prog="twin", description="thermal-twin: digital twin of CNC machine-tool thermal errors")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for module in (cmd_list, cmd_simulate, cmd_plot, cmd_frames):
+    for module in (cmd_list, cmd_simulate, cmd_plot, cmd_frames, cmd_dataset):
         module.add_parser(sub)
     for ep in registered_commands():
         ep.load()(sub)

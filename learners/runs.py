@@ -1,0 +1,64 @@
+"""Learners on several runs: each run keeps its own time sequence.
+
+A *run* is one table (one simulation or one measurement): rows in time order. Several runs are
+never simply stacked for a time-ordered learner (grey models, AR, GNNMCI, the combination, whose
+``time_ordered`` class attribute is True): the jump from one run's end to the next run's start is
+not a step in time. So:
+
+* a pooled learner (regressions, networks, ANFIS, LS-SVM) is fitted on all rows of all runs;
+* a time-ordered learner with a ``fit_runs([(X, y), ...])`` method (``gm1n``, ``ar-temp``,
+  ``gnnmci``) is fitted on the runs as separate sequences; one without it accepts one run only
+  (:class:`twin.errors.InputError` otherwise);
+* predictions are always made run by run, each from its own start.
+
+:func:`dataset_runs` lists the case files of one split of a ``twin dataset`` folder.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from twin.errors import InputError
+from twin.io.paths import read_text
+
+__all__ = ["is_time_ordered", "fit_runs", "dataset_runs"]
+
+
+def is_time_ordered(estimator) -> bool:
+    """Whether ``estimator`` reads its rows as one time sequence."""
+    return bool(getattr(estimator, "time_ordered", False))
+
+
+def fit_runs(estimator, runs: list, name: str = "learner"):
+    """Fit ``estimator`` on ``runs`` = [(X, y), ...] (module doc); returns it."""
+    if len(runs) == 1:
+        return estimator.fit(*runs[0])
+    if not is_time_ordered(estimator):
+        return estimator.fit(np.vstack([X for X, _ in runs]), np.concatenate([y for _, y in runs]))
+    if hasattr(estimator, "fit_runs"):
+        return estimator.fit_runs(runs)
+    raise InputError("command line", "--learner", f"{name} fits one run's time sequence and cannot be trained on "
+                                                  f"{len(runs)} runs (multi-run training: gm1n, ar-temp, gnnmci "
+                                                  "and every pooled learner); give it one training run")
+
+
+def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> list[Path]:
+    """The built case files of ``split`` in the dataset ``folder`` (its ``index.csv``), in index
+    order; an unknown split or a split without built cases is an :class:`InputError`."""
+    folder = Path(folder)
+    index = folder / "index.csv"
+    rows = list(csv.DictReader(read_text(index, field, "dataset index (index.csv)").splitlines()))
+    for key in ("file", "split", "built"):
+        if rows and key not in rows[0]:
+            raise InputError(str(index), key, "missing column; is this a twin dataset index?")
+    splits = sorted({r["split"] for r in rows})
+    if split not in splits:
+        raise InputError(str(index), "split", f"no split {split!r}; the dataset has {', '.join(splits) or 'none'}")
+    files = [folder / r["file"] for r in rows if r["split"] == split and r["built"] == "True"]
+    if not files:
+        raise InputError(str(index), "split", f"split {split!r} has no built case yet; build the dataset first "
+                                              "(twin dataset SPEC -o DIR)")
+    return files

@@ -1,0 +1,386 @@
+"""``twin dataset``: spec checks, the plan and its hashes, one file per case, index and card,
+resume after an interrupt, the pool and Dask giving identical files (issue 14).
+
+Everything runs on the coarse C-frame mesh with 10-minute scenarios sampled once a minute (a
+case takes well under a second)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import xarray as xr
+
+from twin.cli import main
+from twin.dataset import build, executor, is_whole, load_spec, plan, write_index
+from twin.dataset.spec import spec_from_dict
+
+SPEC = """\
+name = "tiny"
+description = "two random duty cycles and a reference scenario"
+machines = ["cframe-vmc"]
+mesh = "coarse"
+seed = 3
+
+[parameters]
+"spindle_motor.power" = { uniform = ["40 W", "80 W"] }
+"ambient_convection.h" = "7 W/m2K"
+
+[[scenarios]]
+family = "duty"
+cases = 2
+duration = "10 min"
+sample_interval = "60 s"
+[scenarios.spindle]
+step = ["2 min", "5 min"]
+speed = ["2000 rpm", "9000 rpm"]
+speed_step = "500 rpm"
+idle_probability = 0.3
+[scenarios.ambient]
+kind = "daily"
+mean = ["18 degC", "22 degC"]
+amplitude = ["0 K", "3 K"]
+coldest_at = ["0 h", "24 h"]
+
+[[scenarios]]
+family = "reference"
+file = "ref.toml"
+
+[splits]
+by = "case"
+train = 0.5
+test = 0.5
+"""
+
+REF = """\
+name = "ref"
+sample_interval = "60 s"
+[ambient]
+kind = "constant"
+temperature = "20 degC"
+[[spindle]]
+speed = "6000 rpm"
+duration = "10 min"
+"""
+
+
+def write_spec(folder: Path, text: str = SPEC) -> Path:
+    (folder / "ref.toml").write_text(REF)
+    path = folder / "tiny.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """The tiny dataset built in this process: (spec path, dataset folder, cases)."""
+    root = tmp_path_factory.mktemp("ds")
+    spec_path = write_spec(root)
+    spec = load_spec(spec_path)
+    cases = plan(spec)
+    out = root / "out"
+    out.mkdir()
+    build(cases, out)
+    write_index(spec, cases, out)
+    return spec_path, out, cases
+
+
+def file_bytes(folder: Path) -> dict:
+    return {p.name: p.read_bytes() for p in sorted((folder / "cases").glob("*.nc"))}
+
+
+# --- the plan -----------------------------------------------------------------------------------
+
+def test_plan_counts_hashes_and_draws_are_deterministic(tmp_path):
+    spec_path = write_spec(tmp_path)
+    a, b = plan(load_spec(spec_path)), plan(load_spec(spec_path))
+    assert len(a) == 3 and [c.hash for c in a] == [c.hash for c in b]
+    assert len({c.hash for c in a}) == 3
+    assert [c.info["family"] for c in a] == ["duty", "duty", "reference"]
+    assert sorted(c.split for c in a if c.info["family"] == "duty") == ["test", "train"]
+    duty = a[0].record["scenario"]
+    total = sum(float(s["duration"].split()[0]) for s in duty["spindle"])
+    assert total == 600.0 and all(float(s["speed"].split()[0]) % 500 == 0 for s in duty["spindle"])
+    assert 40 <= a[0].info["spindle_motor.power [W]"] <= 80 and a[0].info["ambient_convection.h [W/m2K]"] == 7
+
+
+def test_a_changed_spec_changes_only_the_cases_it_touches(tmp_path):
+    base = {c.info["family"] + str(c.info["draw"]): c.hash for c in plan(load_spec(write_spec(tmp_path)))}
+    more = plan(load_spec(write_spec(tmp_path, SPEC.replace("cases = 2", "cases = 3"))))
+    assert {c.info["family"] + str(c.info["draw"]): c.hash for c in more if c.info["draw"] < 2} == base
+    assert len(more) == 4
+    # a new range for the duty family's room changes the duty cases only
+    other = plan(load_spec(write_spec(tmp_path, SPEC.replace('mean = ["18 degC", "22 degC"]', 'mean = "21 degC"'))))
+    changed = {c.info["family"] for c in other if c.hash != base[c.info["family"] + str(c.info["draw"])]}
+    assert changed == {"duty"}
+    # splits are metadata: never part of a hash
+    split = plan(load_spec(write_spec(tmp_path, SPEC.replace("train = 0.5\ntest = 0.5", "train = 1.0"))))
+    assert {c.hash for c in split} == set(base.values()) and {c.split for c in split} == {"train"}
+
+
+def test_a_grid_crosses_every_draw_with_the_same_scenarios(tmp_path):
+    text = SPEC.replace('"7 W/m2K"', '{ grid = ["6 W/m2K", "10 W/m2K"] }')
+    cases = plan(load_spec(write_spec(tmp_path, text)))
+    assert len(cases) == 6
+    duty = [c for c in cases if c.info["family"] == "duty"]
+    assert duty[0].record["scenario"] == duty[2].record["scenario"]
+    assert {c.info["ambient_convection.h [W/m2K]"] for c in duty} == {6.0, 10.0}
+
+
+def test_splits_by_family(tmp_path):
+    text = SPEC.replace('by = "case"\ntrain = 0.5\ntest = 0.5', 'by = "family"\ntrain = ["duty"]\ntest = ["reference"]')
+    cases = plan(load_spec(write_spec(tmp_path, text)))
+    assert {(c.info["family"], c.split) for c in cases} == {("duty", "train"), ("reference", "test")}
+
+
+BAD = [
+    ('mesh = "coarse"', 'mesh = "coarse"\ncolour = "red"', "colour", "unknown key"),
+    ('machines = ["cframe-vmc"]', 'machines = ["lathe"]', "machines[0]", "unknown machine"),
+    ('mesh = "coarse"', 'mesh = "huge"', "mesh", "unknown resolution"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ uniform = ["40 W", "80 K"] }', "parameters.spindle_motor.power.uniform[1]",
+     "wrong unit"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ uniform = ["80 W", "40 W"] }', "parameters.spindle_motor.power.uniform",
+     "reversed range"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ uniform = ["40 W", "8000 W"] }', "parameters.spindle_motor.power.uniform",
+     "outside the bounds"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W", "-1 W"] }', "parameters.spindle_motor.power.normal",
+     "standard deviation"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ gauss = ["60 W", "1 W"] }', "parameters.spindle_motor.power", "expected one of"),
+    ('"spindle_motor.power"', '"spindle_motor.volume"', "parameters.spindle_motor.volume", "unknown parameter"),
+    ('speed = ["2000 rpm", "9000 rpm"]', 'speed = ["2000 rpm", "12000 rpm"]', "scenarios[0].spindle.speed", "maximum"),
+    ('duration = "10 min"', 'duration = "10 kg"', "scenarios[0].duration", "wrong unit"),
+    ('duration = "10 min"', 'duration = "90 s"', "scenarios[0].duration", "multiple of the sample interval"),
+    ('amplitude = ["0 K", "3 K"]', 'amplitude = ["0 K", "-3 K"]', "scenarios[0].ambient.amplitude", "reversed"),
+    ('idle_probability = 0.3', 'idle_probability = 1.3', "scenarios[0].spindle.idle_probability", "from 0 to 1"),
+    ('file = "ref.toml"', 'file = "missing.toml"', "scenarios[1].file", "no scenario"),
+    ('file = "ref.toml"', 'file = "no-such-scenario"', "scenarios[1].file", "no scenario"),
+    ('cases = 2', 'cases = 0', "scenarios[0].cases", "from 1"),
+    ('seed = 3', 'seed = 3\n[observers]\ncameras = ["nowhere"]', "observers.cameras[0]", "no camera pose"),
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["roof"], spacing = "100 mm" }',
+     "observers.surface_grid.parts[0]", "no part"),
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["carrier"], spacing = "1 mm" }',
+     "observers.surface_grid.spacing", "from 5 mm"),
+    ('family = "duty"', 'family = "reference"', "scenarios[1].family", "named twice"),
+    ("test = 0.5", "test = 0.4", "splits", "add up to"),
+    ("seed = 3", "seed = -3", "seed", "outside"),
+]
+
+
+@pytest.mark.parametrize("old,new,field,message", BAD, ids=[b[2] + ":" + b[3] for b in BAD])
+def test_a_bad_spec_is_one_clear_error_and_nothing_is_written(tmp_path, capsys, old, new, field, message):
+    assert old in SPEC
+    spec = write_spec(tmp_path, SPEC.replace(old, new, 1))
+    out = tmp_path / "out"
+    assert main(["dataset", str(spec), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {spec}: {field}: ") and message in err, err
+    assert not out.exists()
+
+
+def test_spec_errors_name_the_file_in_library_use():
+    with pytest.raises(Exception, match=r"^x\.toml: machines: missing$"):
+        spec_from_dict({"scenarios": []}, "x.toml")
+
+
+# --- building ------------------------------------------------------------------------------------
+
+def test_one_whole_file_per_case_index_and_card_agree(built):
+    spec_path, out, cases = built
+    files = sorted(p.name for p in (out / "cases").iterdir())
+    assert files == sorted(c.file for c in cases)
+    index = pd.read_csv(out / "index.csv")
+    parquet = pd.read_parquet(out / "index.parquet")
+    pd.testing.assert_frame_equal(index, parquet, check_dtype=False)
+    assert list(index["hash"]) == [c.hash for c in cases] and index["built"].all()
+    for row in index.itertuples():
+        with xr.open_dataset(out / row.file, engine="h5netcdf") as ds:
+            assert ds.attrs["case_hash"] == row.hash and str(ds["case"].values) == row.hash
+            assert ds.attrs["seed"] == row.seed and ds.attrs["dataset_family"] == row.family
+    card = json.loads((out / "card.json").read_text())
+    assert card["counts"]["planned"] == card["counts"]["built"] == 3
+    assert card["spec"] == spec_path.read_text() and card["package_version"]
+    roles = {s["name"]: s["role"] for s in card["schema"]}
+    assert roles["drift"] == "truth" and roles["temperature"] == "measured" and roles["spindle_speed"] == "input"
+    units = {s["name"]: s["units"] for s in card["schema"]}
+    assert units["drift"] == "um" and units["temperature"] == "degC"
+    readme = (out / "README.md").read_text()
+    assert "# Dataset tiny" in readme and "| drift |" in readme and "```toml" in readme
+
+
+def test_open_mfdataset_reads_every_case(built):
+    _, out, cases = built
+    with xr.open_mfdataset(str(out / "cases" / "*.nc"), combine="nested", concat_dim="case",
+                           engine="h5netcdf") as ds:
+        assert ds.sizes["case"] == len(cases) and set(ds["case"].values) == {c.hash for c in cases}
+        assert ds["drift"].dims == ("case", "time", "axis")
+
+
+def test_a_rerun_skips_finished_cases(built):
+    _, out, cases = built
+    before = {p: p.stat().st_mtime_ns for p in (out / "cases").iterdir()}
+    assert build(cases, out) == {}
+    assert {p: p.stat().st_mtime_ns for p in (out / "cases").iterdir()} == before
+
+
+def test_a_killed_and_resumed_run_equals_an_uninterrupted_one(built, tmp_path):
+    _, reference, cases = built
+    out = tmp_path / "out"
+    out.mkdir()
+
+    def stop_after_first(done, total):
+        if done == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        build(cases, out, progress=stop_after_first)
+    left = list((out / "cases").iterdir())
+    assert len(left) == 1 and is_whole(left[0], left[0].stem)      # whole files only, no temporary
+    (out / "cases" / ".twin-abc.nc").write_bytes(b"half")          # what a SIGKILL could leave
+    (out / "cases" / cases[1].file).write_bytes(b"not a netcdf")   # a corrupt file is rebuilt
+    assert len(build(cases, out)) == 2
+    assert file_bytes(out) == file_bytes(reference)
+
+
+def test_the_pool_and_dask_write_identical_files(built, tmp_path):
+    _, reference, cases = built
+    for name, scheduler, jobs in (("pool", None, 2), ("dask", "local-threads", 1)):
+        out = tmp_path / name
+        out.mkdir()
+        with executor(scheduler, jobs) as pool:
+            assert len(build(cases, out, pool)) == len(cases)
+        assert file_bytes(out) == file_bytes(reference), name
+
+
+# --- the command ---------------------------------------------------------------------------------
+
+def test_dry_run_prints_the_plan_and_writes_nothing(built, tmp_path, capsys):
+    spec_path, _, _ = built
+    out = tmp_path / "new"
+    assert main(["dataset", str(spec_path), "-o", str(out), "--dry-run", "--jobs", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "3 case(s) planned" in text and "estimated time:" in text and "per step" in text
+    assert not out.exists()
+
+
+def test_max_cases_then_the_rest_and_a_changed_spec(built, tmp_path, capsys):
+    spec_path, reference, cases = built
+    root = tmp_path
+    spec = write_spec(root)
+    out = root / "out"
+    assert main(["dataset", str(spec), "-o", str(out), "--max-cases", "1", "--jobs", "1"]) == 0
+    index = pd.read_csv(out / "index.csv")
+    assert list(index["built"]) == [True, False, False]
+    assert main(["dataset", str(spec), "-o", str(out), "--jobs", "1"]) == 0
+    assert "built 2 case(s)" in capsys.readouterr().out
+    assert file_bytes(out) == file_bytes(reference)
+    # the reference family's scenario changes: one case is new, its old file is stale
+    (root / "ref.toml").write_text(REF.replace("6000 rpm", "7000 rpm"))
+    spec.write_text(SPEC)
+    assert main(["dataset", str(spec), "-o", str(out), "--jobs", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "built 1 case(s)" in text and "2 already there" in text and "1 case file(s) from an earlier spec kept" in text
+    assert main(["dataset", str(spec), "-o", str(out), "--jobs", "1", "--prune"]) == 0
+    assert "removed" in capsys.readouterr().out
+    assert len(list((out / "cases").glob("*.nc"))) == 3
+
+
+def test_the_output_folder_never_replaces_the_spec(tmp_path):
+    spec = write_spec(tmp_path)
+    shutil.copy(spec, tmp_path / "index.csv")
+    assert main(["dataset", str(tmp_path / "index.csv"), "-o", str(tmp_path), "--dry-run"]) == 2
+
+
+def test_reduced_model_cases_are_bit_identical_and_carry_no_wall_times(tmp_path):
+    spec = load_spec(write_spec(tmp_path, SPEC.replace('seed = 3', 'seed = 3\nsolver = "rom"')))
+    case = plan(spec)[:1]
+    outs = []
+    for name in ("a", "b"):
+        out = tmp_path / name
+        out.mkdir()
+        build(case, out)
+        outs.append(file_bytes(out))
+    assert outs[0] == outs[1]
+    with xr.open_dataset(tmp_path / "a" / "cases" / case[0].file, engine="h5netcdf") as ds:
+        assert ds.attrs["solver"] == "rom" and "rom_offline_s" not in ds.attrs
+
+
+def test_the_bundled_example_plans_100_cases():
+    from twin.scenario import SCENARIO_DIR
+
+    spec = load_spec(SCENARIO_DIR / "datasets" / "spindle-ambient-100.toml")
+    cases = plan(spec)
+    assert len(cases) == 100 and {c.split for c in cases} == {"train", "validation", "test"}
+
+
+# --- learners on many runs -----------------------------------------------------------------------
+
+def test_learn_trains_on_several_runs_and_on_a_dataset_split(built, capsys):
+    _, out, cases = built
+    files = [str(out / "cases" / c.file) for c in cases]
+    common = ["--target", "drift:Z", "--select", "correlation:2", "--learner", "mlr,gm1n,ar-temp"]
+    assert main(["learn", "--train", files[0], "--train", files[1], "--test", files[2], *common]) == 0
+    text = capsys.readouterr().out
+    assert all(name in text for name in ("mlr", "gm1n", "ar-temp"))
+    scores = out.parent / "scores.csv"
+    assert main(["learn", "--dataset", str(out), "--split", "test", "--segments", "2", "-o", str(scores), *common]) == 0
+    n_test = sum(c.split == "test" for c in cases)
+    assert f"[test: {n_test} runs]" in capsys.readouterr().out
+    board = pd.read_csv(scores)
+    assert len(board) == 3 * 3 and board["test"].str.endswith("[segment 2/2]").sum() == 3
+    assert (board["p95_abs_residual"] <= board["max_abs_residual"] + 1e-12).all() and (board["fit_time_s"] >= 0).all()
+    # a time-ordered learner that fits one sequence refuses several runs, in one line
+    assert main(["learn", "--train", files[0], "--train", files[1], "--test", files[2], "--target", "drift:Z",
+                 "--select", "correlation:2", "--learner", "gm11"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "gm11 fits one run's time sequence" in err
+    assert main(["learn", "--dataset", str(out), "--split", "nope", *common]) == 2
+    assert "no split 'nope'" in capsys.readouterr().err
+
+
+def test_gm1n_on_two_runs_sees_each_runs_own_sequence():
+    """Two runs generated by GM(1,N)'s own difference equation (closed form: the model reproduces
+    its own data exactly, learners.grey): fitted as runs, a and b come back; stacked as one
+    sequence they do not (the jump between the runs is no step in time)."""
+    import numpy as np
+
+    from learners.grey import GM1N, ago, gm1n_simulate
+
+    rng = np.random.default_rng(0)
+    runs = []
+    for _ in range(2):
+        X = np.cumsum(rng.uniform(0.0, 0.2, (60, 2)), axis=0)
+        runs.append((X, gm1n_simulate(0.08, np.array([0.3, -0.1]), ago(X), 0.0)))
+    fitted = GM1N().fit_runs(runs)
+    assert fitted.a_ == pytest.approx(0.08, rel=1e-4) and np.allclose(fitted.b_, [0.3, -0.1], rtol=1e-4)
+    stacked = GM1N().fit(np.vstack([r[0] for r in runs]), np.concatenate([r[1] for r in runs]))
+    assert abs(stacked.a_ - 0.08) > 1e-3
+
+
+def test_ar_temp_runs_take_no_lag_pair_across_a_run_boundary():
+    import numpy as np
+
+    from learners.ar_temp import ARTemp
+
+    rng = np.random.default_rng(1)
+    X = rng.normal(size=(40, 2))
+    y = X @ [1.0, -2.0] + rng.normal(size=40)
+    one, same = ARTemp().fit(X, y), ARTemp().fit_runs([(X, y)])
+    assert one.phi_ == same.phi_ and np.array_equal(one.coef_, same.coef_)
+    two = ARTemp().fit_runs([(X[:20], y[:20]), (X[20:], y[20:])])
+    r = y - two.intercept_ - X @ two.coef_
+    rc = r - r.mean()
+    within = (rc[1:20] @ rc[:19] + rc[21:] @ rc[20:39]) / (rc @ rc)
+    assert two.phi_ == pytest.approx(within) and np.allclose(two.coef_, one.coef_)
+
+
+def test_a_surface_grid_adds_dense_virtual_sensors(tmp_path):
+    text = SPEC.replace("seed = 3", 'seed = 3\n[observers]\nsurface_grid = { parts = ["carrier"], spacing = "200 mm" }')
+    spec = load_spec(write_spec(tmp_path, text))
+    case = plan(spec)[:1]
+    build(case, tmp_path)
+    with xr.open_dataset(tmp_path / "cases" / case[0].file, engine="h5netcdf") as ds:
+        names = [str(n) for n in ds["sensor"].values]
+    assert len(names) > 16 and any(n.startswith("carrier:") for n in names)

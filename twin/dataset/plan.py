@@ -1,0 +1,159 @@
+"""A spec expanded into cases, each a plain record named by the hash of its content.
+
+Cases: every machine x every grid point of the parameters x every draw ``i`` of every family, in
+that order within a family (families in the spec's order). Every draw comes from its own numpy
+Generator, seeded by the spec's ``seed`` and a key of names, never by position in the plan:
+
+* the scenario of draw ``i`` of family ``f``: key (``f``, ``i``, "scenario");
+* a drawn parameter ``p``: key (``f``, ``i``, ``p``);
+* the instrument-noise seed: key (``f``, ``i``, "noise");
+* the split rank (``by = "case"``): key (``f``, ``i``, machine, grid point, "split").
+
+So draw ``i`` of a family is the same scenario and the same parameter draws for every machine
+and grid point (a grid compares like with like), and changing one family, one parameter or the
+number of draws changes only the cases it touches: the others keep their records and hashes.
+
+A case record holds everything that defines its result file (machine, mesh, solver, effects,
+settings with units, the scenario as TOML data with units, observers, noise seed, package and
+format version); its hash is the SHA-256 of the record's canonical JSON (first 16 hex digits).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from twin.dataset.spec import DatasetSpec, DutyCycle
+from twin.io.results import package_version
+from twin.scenario import scenario_from_dict
+from twin.units import CANONICAL
+
+FORMAT = 1   # the dataset format: a change to what a case file holds bumps it (and every hash)
+
+
+@dataclass(frozen=True)
+class Case:
+    """One planned case: its ``record`` (what defines the file), its ``hash``, the index row
+    ``info`` (parameters in SI with the unit in the column name) and its ``split``."""
+
+    record: dict
+    hash: str
+    info: dict
+    split: str
+
+    @property
+    def file(self) -> str:
+        """The case's file name inside the dataset's ``cases/`` folder."""
+        return f"{self.hash}.nc"
+
+
+def rng(seed: int, *key) -> np.random.Generator:
+    """A Generator seeded by ``seed`` and the names in ``key`` (stable across runs and platforms)."""
+    words = [int.from_bytes(hashlib.sha256(str(k).encode()).digest()[:4], "little") for k in key]
+    return np.random.Generator(np.random.PCG64(np.random.SeedSequence(seed, spawn_key=words)))
+
+
+def case_hash(record: dict) -> str:
+    """The first 16 hex digits of the SHA-256 of ``record``'s canonical JSON."""
+    text = json.dumps(record, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _q(value: float, dimension: str) -> str:
+    """An SI value as an exact quantity string ("1234.5 s") for the scenario data."""
+    return f"{float(value)!r} {CANONICAL[dimension]}"
+
+
+def duty_cycle(gen: DutyCycle, name: str, r: np.random.Generator) -> dict:
+    """Scenario TOML data drawn from a generator family: steps of drawn duration (whole sample
+    intervals, the last one cut to the duration) and speed (0 rpm with ``idle_probability``,
+    rounded to ``speed_step``), and a drawn room."""
+    dt, total = gen.sample_interval, int(round(gen.duration / gen.sample_interval))
+    steps, done = [], 0
+    while done < total:
+        n = min(max(1, int(round(gen.step.sample(r) / dt))), total - done)
+        idle = r.uniform() < gen.idle_probability
+        speed = gen.speed.sample(r)
+        if gen.speed_step:
+            speed = min(round(speed / gen.speed_step) * gen.speed_step, gen.speed.upper)
+        steps.append({"speed": _q(0.0 if idle else max(speed, 0.0), "speed"), "duration": _q(n * dt, "time")})
+        done += n
+    ambient = {"kind": gen.ambient_kind}
+    for key in sorted(gen.ambient):
+        dist = gen.ambient[key]
+        ambient[key] = _q(dist.sample(r), dist.dimension)
+    return {"name": name, "sample_interval": _q(dt, "time"), "ambient": ambient, "spindle": steps}
+
+
+def _scenario_info(data: dict) -> dict:
+    """Index columns that describe a scenario (SI, from its TOML data)."""
+    sc = scenario_from_dict(json.loads(json.dumps(data)), "plan")
+    d = np.array([s[0] for s in sc.steps])
+    v = np.array([s[1] for s in sc.steps])
+    a = sc.ambient
+    return {"duration [s]": sc.duration, "sample_interval [s]": sc.sample_interval, "steps": len(sc.steps),
+            "mean_speed [rpm]": float(np.sum(d * v) / np.sum(d)), "max_speed [rpm]": float(v.max()),
+            "running_fraction": float(np.sum(d[v > 0]) / np.sum(d)), "ambient": a.kind,
+            "ambient_mean [degC]": a.mean if a.kind != "table" else float(np.mean(a.temperatures)),
+            "ambient_amplitude [K]": a.amplitude, "ambient_coldest_at [s]": a.coldest_at if a.kind == "daily" else 0.0}
+
+
+def plan(spec: DatasetSpec) -> list[Case]:
+    """Every case of ``spec`` in plan order (module doc)."""
+    grid_keys = [k for k, d in spec.parameters.items() if d.kind == "grid"]
+    grid = list(itertools.product(*(spec.parameters[k].values for k in grid_keys)))
+    observers = {"sensors": "machine", "surface_grid": spec.surface_grid, "cameras": list(spec.cameras)}
+    cases = []
+    for family in spec.families:
+        draws = []
+        for i in range(family.cases):
+            if family.generator is not None:
+                scenario = duty_cycle(family.generator, f"{family.name}-{i:04d}", rng(spec.seed, family.name, i, "scenario"))
+            else:
+                scenario = json.loads(json.dumps(family.data))   # a deep copy
+            params = {k: d.sample(rng(spec.seed, family.name, i, k)) for k, d in spec.parameters.items()
+                      if d.kind != "grid"}
+            noise = int(rng(spec.seed, family.name, i, "noise").integers(0, 2**32))
+            draws.append((i, scenario, params, noise, _scenario_info(scenario)))
+        for machine in spec.machines:
+            for g, point in enumerate(grid):
+                for i, scenario, params, noise, sc_info in draws:
+                    values = {**params, **dict(zip(grid_keys, point))}
+                    settings = [f"{k}={values[k]!r} {CANONICAL[spec.parameters[k].dimension]}" for k in sorted(values)]
+                    record = {"format": FORMAT, "package_version": package_version(), "machine": machine,
+                              "mesh": spec.mesh, "solver": spec.solver, "theta": 0.5, "effects": spec.effects,
+                              "settings": settings, "family": family.name, "draw": i, "scenario": scenario,
+                              "observers": observers, "seed": noise}
+                    info = {"machine": machine, "family": family.name, "draw": i, "grid_point": g, "seed": noise,
+                            "scenario": scenario.get("name", family.file), **sc_info,
+                            **{f"{k} [{CANONICAL[spec.parameters[k].dimension]}]": values[k] for k in sorted(values)}}
+                    cases.append((record, info))
+    splits = assign_splits(spec, [c[1] for c in cases])
+    return [Case(rec, case_hash(rec), info, split) for (rec, info), split in zip(cases, splits)]
+
+
+def assign_splits(spec: DatasetSpec, infos: list[dict]) -> list[str]:
+    """The split of every case: by family (the spec's lists), or by case: within each family the
+    cases ranked by a seeded uniform key, the first ``round(fraction n)`` to the first split and
+    so on (exact counts per family; a split is metadata, never part of a case's hash)."""
+    if spec.split_by == "family":
+        where = {f: name for name, fams in spec.splits.items() for f in fams}
+        return [where[i["family"]] for i in infos]
+    out = [""] * len(infos)
+    by_family: dict[str, list[int]] = {}
+    for j, i in enumerate(infos):
+        by_family.setdefault(i["family"], []).append(j)
+    names = list(spec.splits)
+    fractions = np.cumsum([spec.splits[n] for n in names])
+    for fam, members in by_family.items():
+        keys = [rng(spec.seed, fam, infos[j]["draw"], infos[j]["machine"], infos[j]["grid_point"], "split").uniform()
+                for j in members]
+        order = [members[k] for k in np.argsort(keys, kind="stable")]
+        bounds = np.round(fractions * len(order)).astype(int)
+        for rank, j in enumerate(order):
+            out[j] = names[int(np.searchsorted(bounds, rank, side="right"))]
+    return out

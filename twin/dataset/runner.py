@@ -1,0 +1,248 @@
+"""Build a plan's cases: one task per case on a local process pool, in this process, or on a Dask
+distributed cluster, all through :func:`build_case` and a ``concurrent.futures`` executor.
+
+Each worker (a process, or a thread of a Dask worker) keeps one
+:class:`twin.physics.prepared.PreparedTwin` per (machine, mesh, solver) and reuses it for every
+case it runs: the mesh, the assembled matrices, the factorisations and the elastic adjoints are
+built once per worker, not once per case.
+
+Each case is written atomically (:func:`twin.io.results.write_netcdf`) to ``cases/<hash>.nc``; a
+finished case is a whole file whose ``case_hash`` attribute is its name, so a rerun skips it and
+an interrupted run leaves only whole files (and a temporary ``.twin-*`` file at most, which the
+next run removes).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import contextlib
+import json
+import threading
+import time
+from pathlib import Path
+
+from twin.dataset.plan import Case
+
+CASES = "cases"   # the folder of the case files inside a dataset folder
+TIMINGS = ("rom_offline_s",)   # run attributes that are wall times: left out, a case file is its inputs' function
+COMPRESSION = {"zlib": True, "complevel": 4, "shuffle": True}   # deterministic (gzip), lossless
+_local = threading.local()
+
+
+def _prepared(machine_name: str, mesh: str, solver: str):
+    """This worker's PreparedTwin of (machine, mesh, solver), built on first use (call it under
+    the thread limits of :func:`simulate_case`)."""
+    cache = _local.__dict__.setdefault("twins", {})
+    key = (machine_name, mesh, solver)
+    if key not in cache:
+        from geometries import build_machine
+        from twin.physics.prepared import PreparedTwin
+
+        cache[key] = PreparedTwin(build_machine(machine_name), resolution=mesh, solver=solver)
+    return cache[key]
+
+
+def simulate_case(record: dict, case_hash: str = "", max_steps: int | None = None):
+    """:func:`_simulate_case` with BLAS and OpenMP held to one thread: a case computes the same
+    bits on every worker (a pool process, a Dask worker that sets its own thread counts, this
+    process), and the workers of a pool do not oversubscribe the cores."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1):
+        return _simulate_case(record, case_hash, max_steps)
+
+
+def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = None):
+    """Run one case record (:mod:`twin.dataset.plan`) on this worker's prepared twin; returns
+    (Dataset, RunResult). The Dataset carries ``case_hash``, ``dataset_family`` and
+    ``dataset_draw`` attributes and a scalar ``case`` coordinate (the hash), so that
+    ``xarray.open_mfdataset(..., combine="nested", concat_dim="case")`` labels the cases.
+    ``max_steps`` cuts the scenario after that many time steps (for a calibration run). Wall
+    times (:data:`TIMINGS`) are left out of the attributes, so that the same record always gives
+    the same bytes; numeric variables are written gzip-compressed (:data:`COMPRESSION`)."""
+    from twin import limits
+    from twin.io.results import to_dataset
+    from twin.model import model_spec
+    from twin.observe import sensor_points, standard_observers
+    from twin.observe.camera import cameras as camera_observers
+    from twin.observe.sensor_grid import surface_sensor_grid
+    from twin.scenario import scenario_from_dict
+    from twin.simulate import run
+
+    twin = _prepared(record["machine"], record["mesh"], record["solver"])
+    machine = twin.machine
+    family = record["family"]
+    data = json.loads(json.dumps(record["scenario"]))
+    cams = [{"pose": p} for p in record["observers"]["cameras"]]
+    if cams:
+        own = data.get("camera", [])
+        data["camera"] = (own if isinstance(own, list) else [own]) + cams
+    sc = scenario_from_dict(data, f"dataset:{family}", default_name=family)
+    if max_steps is not None:
+        sc = _truncated(sc, max_steps)
+    spec = model_spec(machine, record["effects"], record["settings"])
+    limits.check_scenario(sc, machine)
+    limits.check_run_size(sc, twin.mm.nheat)
+    grid = record["observers"]["surface_grid"]
+    sensors = None
+    if grid:
+        sensors = sensor_points(machine) + surface_sensor_grid(machine, tuple(grid["parts"]), grid["spacing"])
+    for c in sc.cameras:
+        c.check(sc)
+    observers = standard_observers(machine, sensors) + camera_observers(machine, list(sc.cameras))
+    result = run(machine, sc, spec, theta=record["theta"], prepared=twin, observers=observers)
+    ds = to_dataset(result, record["seed"], record["mesh"])
+    for key in TIMINGS:
+        ds.attrs.pop(key, None)
+    ds.attrs.update(case_hash=case_hash, dataset_family=family, dataset_draw=record["draw"])
+    ds = ds.assign_coords(case=((), case_hash, {"long_name": "case hash (the file's name)"}))
+    for var in ds.data_vars.values():
+        if var.dtype.kind in "fiu" and var.ndim >= 1:
+            var.encoding.update(COMPRESSION)
+    return ds, result
+
+
+def _truncated(sc, max_steps: int):
+    """``sc`` cut after ``max_steps`` time steps [of its sample interval]."""
+    from dataclasses import replace
+
+    left, steps = max_steps * sc.sample_interval, []
+    for duration, speed in sc.steps:
+        if left <= 0:
+            break
+        steps.append((min(duration, left), speed))
+        left -= duration
+    return replace(sc, steps=tuple(steps))
+
+
+def build_case(record: dict, case_hash: str, folder: str) -> dict:
+    """Simulate one case and write ``folder/<hash>.nc`` atomically; returns {hash, bytes,
+    seconds, steps} (``seconds``: wall time of this case on its worker)."""
+    from twin.io.results import write_netcdf
+
+    t0 = time.perf_counter()
+    ds, result = simulate_case(record, case_hash)
+    path = write_netcdf(ds, Path(folder) / f"{case_hash}.nc", "case")
+    return {"hash": case_hash, "bytes": path.stat().st_size, "seconds": time.perf_counter() - t0,
+            "steps": int(result.timings["steps"])}
+
+
+def is_whole(path: Path, case_hash: str) -> bool:
+    """Whether ``path`` is a finished case file: readable NetCDF whose ``case_hash`` is its name."""
+    if not path.is_file():
+        return False
+    try:
+        import h5py
+
+        with h5py.File(path, "r") as f:
+            value = f.attrs.get("case_hash")
+    except Exception:  # noqa: BLE001 - any unreadable file is not a finished case
+        return False
+    if isinstance(value, bytes):
+        value = value.decode()
+    return str(value) == case_hash
+
+
+def remove_temporaries(folder: Path) -> list[Path]:
+    """Remove the ``.twin-*`` files an interrupted run left in the cases folder (one run per
+    dataset folder at a time); returns them."""
+    gone = sorted(folder.glob(".twin-*")) if folder.is_dir() else []
+    for p in gone:
+        p.unlink(missing_ok=True)
+    return gone
+
+
+class InlineExecutor(cf.Executor):
+    """Runs each task in this process when its result is asked for (``jobs=1``): the same
+    tasks as a pool, no pool; :func:`build` runs them one after the other."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        future = cf.Future()
+        future.task = (fn, args, kwargs)
+        return future
+
+
+@contextlib.contextmanager
+def executor(scheduler: str | None = None, jobs: int = 1):
+    """A ``concurrent.futures`` executor: ``scheduler=None``: a process pool of ``jobs``
+    workers (in this process when ``jobs == 1``); ``"local"``: a Dask LocalCluster of ``jobs``
+    single-thread worker processes; ``"local-threads"``: one in this process (``jobs`` threads);
+    any other text: the address of a Dask scheduler (``tcp://host:8786``), whose workers must
+    have thermal-twin installed. Dask needs the ``distributed`` package."""
+    if scheduler is None:
+        if jobs <= 1:
+            yield InlineExecutor()
+            return
+        import multiprocessing
+
+        pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
+        try:
+            yield pool
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+        return
+    from distributed import Client, LocalCluster
+
+    if scheduler in ("local", "local-threads"):
+        threads = scheduler == "local-threads"
+        cluster = LocalCluster(n_workers=1 if threads else jobs, threads_per_worker=jobs if threads else 1,
+                               processes=not threads, dashboard_address=None)
+        client = Client(cluster)
+    else:
+        cluster, client = None, Client(scheduler)
+    try:
+        yield client.get_executor(pure=False)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
+    """Build the ``cases`` not yet whole in ``folder/cases`` on the executor ``pool`` (default
+    in this process); ``progress(done, total)`` after each case. Returns {hash: result of
+    :func:`build_case`} of the cases built now. A failing case stops the build (cancelling the
+    cases not started) and its error is raised; finished files stay."""
+    out_dir = Path(folder) / CASES
+    created = not out_dir.exists()
+    out_dir.mkdir(exist_ok=True)
+    remove_temporaries(out_dir)
+    todo = [c for c in cases if not is_whole(out_dir / c.file, c.hash)]
+    done: dict[str, dict] = {}
+    pool = pool or InlineExecutor()
+    if progress is not None:
+        progress(0, len(todo))
+    futures = [pool.submit(build_case, c.record, c.hash, str(out_dir)) for c in todo]
+    try:
+        for r in _results(pool, futures):
+            done[r["hash"]] = r
+            if progress is not None:
+                progress(len(done), len(todo))
+    except BaseException:
+        for f in futures:
+            f.cancel()
+        _stop(pool)
+        if created and not any(out_dir.iterdir()):
+            out_dir.rmdir()
+        raise
+    return done
+
+
+def _stop(pool) -> None:
+    """Stop a process pool's workers now (an interrupt or a failed case): a case being written
+    leaves at most a temporary file, removed by the next run."""
+    if isinstance(pool, cf.ProcessPoolExecutor):
+        for p in list((getattr(pool, "_processes", None) or {}).values()):   # no public way to stop them
+            p.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _results(pool, futures):
+    """The futures' results as they finish (in order, one at a time, for the inline executor)."""
+    if isinstance(pool, InlineExecutor):
+        for f in futures:
+            fn, args, kwargs = f.task
+            yield fn(*args, **kwargs)
+        return
+    for f in cf.as_completed(futures):
+        yield f.result()
