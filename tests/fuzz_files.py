@@ -117,7 +117,11 @@ def table_csv(n: int = 40, seed: int = 0, edit: Callable | None = None) -> str:
 
 EFFECTS_FILE = '[effects.pump]\nkind = "heat_source"\nregion = "saddle"\npower = "80 W"\n'
 
-TEXT = {"short.toml": SCENARIO, "m.csv": measurement_csv(), "m.toml": MAPPING, "train.csv": table_csv(),
+DATASET_SPEC = ('name = "tiny"\nmachines = ["cframe-vmc"]\nmesh = "coarse"\nseed = 1\n[parameters]\n'
+                '"spindle_motor.power" = { uniform = ["40 W", "80 W"] }\n[[scenarios]]\nfamily = "ref"\n'
+                'file = "short.toml"\ncases = 2\n')
+
+TEXT = {"short.toml": SCENARIO, "ds.toml": DATASET_SPEC, "m.csv": measurement_csv(), "m.toml": MAPPING, "train.csv": table_csv(),
         "test.csv": table_csv(seed=1), "fx.toml": EFFECTS_FILE}
 
 
@@ -150,6 +154,7 @@ DIAGNOSE = ["diagnose", "{d}/m.csv", "--json", "{d}/d.json", "--report", "{d}/re
 LEARN = ["learn", "--train", "{d}/train.csv", "--test", "{d}/test.csv", "--target", "drift_z", "--learner", "mlr",
          "-o", "{d}/scores.csv"]
 DEMO = ["demo", "-o", "{d}/demo-out", "--no-story", "--mesh", "coarse"]
+DATASET = ["dataset", "{d}/ds.toml", "-o", "{d}/ds-out", "--dry-run"]
 
 
 def swap(argv: list[str], old: str, new: str) -> list[str]:
@@ -208,6 +213,7 @@ INPUTS = [
     ("simulate.effects-file", SIM + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),
     ("compare.effects-file", COMPARE + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),
     ("diagnose.effects-file", DIAGNOSE + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),
+    ("dataset.spec", DATASET, "{d}/ds.toml", "ds.toml", True),
     ("learn.train", LEARN, "{d}/train.csv", "train.csv", True),
     ("learn.test", LEARN, "{d}/test.csv", "test.csv", True),
 ]
