@@ -85,6 +85,30 @@ class Probe:
     fixture: str
 
 
+PROBE_HEIGHTS = (0.03, 0.13)   # [m] above the test bar's tip: ISO 230-3 probe pairs 100 mm apart
+
+
+def test_bar_nest(tip: float, half_width: float, table_top: float) -> tuple[list[Point], list[Probe]]:
+    """The ISO 230-3 five-probe nest round a test bar whose tip is at z = ``tip`` [m] on the
+    spindle axis (x = y = 0) and whose faces are ``half_width`` [m] from it: the points ``tool``
+    (the tip), ``workpiece`` (on the table top at z = ``table_top``), X1/X2 and Y1/Y2 on the
+    bar's -x and -y faces :data:`PROBE_HEIGHTS` above the tip and Z at the tip; and the five
+    probes fixed to the workpiece reading them along +x, +y and +z."""
+    z1, z2 = tip + PROBE_HEIGHTS[0], tip + PROBE_HEIGHTS[1]
+    points = [
+        Point("tool", (0.0, 0.0, tip), "test_bar"),
+        Point("workpiece", (0.0, 0.0, table_top), "table"),
+        Point("X1", (-half_width, 0.0, z1), "test_bar"),
+        Point("X2", (-half_width, 0.0, z2), "test_bar"),
+        Point("Y1", (0.0, -half_width, z1), "test_bar"),
+        Point("Y2", (0.0, -half_width, z2), "test_bar"),
+        Point("Z", (0.0, 0.0, tip), "test_bar"),
+    ]
+    directions = {"X1": (1.0, 0.0, 0.0), "X2": (1.0, 0.0, 0.0), "Y1": (0.0, 1.0, 0.0), "Y2": (0.0, 1.0, 0.0),
+                  "Z": (0.0, 0.0, 1.0)}
+    return points, [Probe(name, name, d, "workpiece") for name, d in directions.items()]
+
+
 @dataclass(frozen=True)
 class CameraPose:
     """Where a thermal camera stands: ``position`` and ``target`` [m], ``up`` (a direction: the

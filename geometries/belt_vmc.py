@@ -60,7 +60,7 @@ is the line x = y = 0.
 
 from __future__ import annotations
 
-from geometries.base import Box, Machine, Part, Point, Probe, Surface, material
+from geometries.base import PROBE_HEIGHTS, Box, Machine, Part, Point, Surface, material, test_bar_nest
 from geometries.cframe_vmc import DEFAULT_EFFECTS as CFRAME_DEFAULTS
 from geometries.regions import Band, Facing, Named, Parts, Union
 
@@ -186,23 +186,8 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
     structural.sort(key=lambda p: order[p.name])
     air.sort(key=lambda p: order[p.name])
 
-    z1, z2 = tip + 0.03, tip + 0.13  # probe heights, 100 mm apart (ISO 230-3 five-probe nest)
-    points = sorted(structural + air, key=lambda p: order[p.name]) + [
-        Point("tool", (0.0, 0.0, tip), "test_bar"),
-        Point("workpiece", (0.0, 0.0, table_top), "table"),
-        Point("X1", (-hb, 0.0, z1), "test_bar"),
-        Point("X2", (-hb, 0.0, z2), "test_bar"),
-        Point("Y1", (0.0, -hb, z1), "test_bar"),
-        Point("Y2", (0.0, -hb, z2), "test_bar"),
-        Point("Z", (0.0, 0.0, tip), "test_bar"),
-    ]
-    probes = [
-        Probe("X1", "X1", (1.0, 0.0, 0.0), "workpiece"),
-        Probe("X2", "X2", (1.0, 0.0, 0.0), "workpiece"),
-        Probe("Y1", "Y1", (0.0, 1.0, 0.0), "workpiece"),
-        Probe("Y2", "Y2", (0.0, 1.0, 0.0), "workpiece"),
-        Probe("Z", "Z", (0.0, 0.0, 1.0), "workpiece"),
-    ]
+    nest, probes = test_bar_nest(tip, hb, table_top)
+    points = sorted(structural + air, key=lambda p: order[p.name]) + nest
     assert [p.name for p in sorted(structural + air, key=lambda p: order[p.name])] == list(TEMPERATURE_POINTS)
     assert {p.name for p in air} == set(AIR_POINTS)
     return Machine(
@@ -222,7 +207,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         default_effects=DEFAULT_EFFECTS,
         max_speed=8000.0,
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "column_depth": column_depth,
-                    "motor_offset": motor_offset, "probe_spacing": z2 - z1, "min_speed": 60.0,
+                    "motor_offset": motor_offset, "probe_spacing": PROBE_HEIGHTS[1] - PROBE_HEIGHTS[0], "min_speed": 60.0,
                     "travel_x": 0.40, "travel_y": 0.30, "travel_z": 0.30, "linear_scales": 1.0},
     )
 

@@ -13,7 +13,8 @@ is the line x = y = 0. The carrier is modelled at one Z position (the test posit
 
 from __future__ import annotations
 
-from geometries.base import Box, CameraPose, Finish, Machine, Part, Point, Probe, Surface, material
+from geometries.base import (PROBE_HEIGHTS, Box, CameraPose, Finish, Machine, Part, Point, Surface, material,
+                             test_bar_nest)
 from geometries.finishes import GROUND_STEEL, MACHINE_PAINT, MASKING_TAPE
 from geometries.regions import Band, Facing, Named, Parts, Union
 
@@ -97,23 +98,8 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         Point("saddle", (0.35 - e, 0.0, 0.41), "saddle"),
         Point("table", (0.30, -0.10, 0.55 - e), "table"),
     ]
-    z1, z2 = tip + 0.03, tip + 0.13  # probe heights, 100 mm apart (ISO 230-3 five-probe nest)
-    points = sensors + [
-        Point("tool", (0.0, 0.0, tip), "test_bar"),
-        Point("workpiece", (0.0, 0.0, 0.55), "table"),
-        Point("X1", (-hb, 0.0, z1), "test_bar"),
-        Point("X2", (-hb, 0.0, z2), "test_bar"),
-        Point("Y1", (0.0, -hb, z1), "test_bar"),
-        Point("Y2", (0.0, -hb, z2), "test_bar"),
-        Point("Z", (0.0, 0.0, tip), "test_bar"),
-    ]
-    probes = [
-        Probe("X1", "X1", (1.0, 0.0, 0.0), "workpiece"),
-        Probe("X2", "X2", (1.0, 0.0, 0.0), "workpiece"),
-        Probe("Y1", "Y1", (0.0, 1.0, 0.0), "workpiece"),
-        Probe("Y2", "Y2", (0.0, 1.0, 0.0), "workpiece"),
-        Probe("Z", "Z", (0.0, 0.0, 1.0), "workpiece"),
-    ]
+    nest, probes = test_bar_nest(tip, hb, 0.55)
+    points = sensors + nest
     return Machine(
         name=NAME,
         parts=parts,
@@ -125,7 +111,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         sensor_sites=[p.name for p in sensors],
         resolutions={"coarse": 0.10, "default": 0.06, "fine": 0.04},
         description="small 3-axis C-frame vertical machining centre (seed Machine A): X 500, Y 400, Z 330 mm, 9000 rpm",
-        parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "probe_spacing": z2 - z1},
+        parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "probe_spacing": PROBE_HEIGHTS[1] - PROBE_HEIGHTS[0]},
         roles=roles(col_top),
         default_effects=DEFAULT_EFFECTS,
         max_speed=MAX_SPEED,
