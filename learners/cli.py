@@ -42,7 +42,7 @@ from learners.metrics import abs_residual_percentile, score_all
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.runs import dataset_runs, fit_runs
 from learners.table import Table, check_problem, load_table
-from twin.cli.options import add_seed_option
+from twin.cli.options import add_seed_option, whole_number
 from twin.errors import InputError
 from twin.io.atomic import atomic_write
 from twin.io.paths import Files
@@ -78,25 +78,13 @@ def add_learn_parser(subparsers):
     p.add_argument("--inputs", default="all", metavar="NAMES|all",
                    help="comma-separated candidate inputs (default: all but time and target)")
     p.add_argument("--time-column", default="time", metavar="NAME", help="time column in s (default time)")
-    p.add_argument("--segments", type=_segments, default=1, metavar="N",
+    p.add_argument("--segments", type=whole_number("segments", 1, 100), default=1, metavar="N",
                    help="also score each test set's N time segments (each run cut into N equal parts, "
                         "segment k pooled over the runs); default 1: whole runs only")
     p.add_argument("-o", "--output", metavar="FILE", help="also write the scores as CSV")
     add_seed_option(p, "random_state for learners and selectors")
     p.set_defaults(func=run_learn)
     return p
-
-
-def _segments(text):
-    import argparse
-
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number of segments, got {text!r}") from None
-    if not 1 <= n <= 100:
-        raise argparse.ArgumentTypeError(f"must be from 1 to 100, got {n}")
-    return n
 
 
 def _split_names(text, option):

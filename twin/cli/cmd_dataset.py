@@ -10,32 +10,12 @@ Files of cases no longer in the plan (an edited spec) are kept and reported, or 
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
+from twin.cli.options import whole_number
 from twin.cli.progress import progress_bar
-
-
-def _jobs(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number of workers, got {text!r}") from None
-    if not 1 <= n <= 1024:
-        raise argparse.ArgumentTypeError(f"must be from 1 to 1024, got {n}")
-    return n
-
-
-def _count(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number of cases, got {text!r}") from None
-    if n < 0:
-        raise argparse.ArgumentTypeError(f"must not be negative, got {n}")
-    return n
 
 
 def add_parser(sub) -> None:
@@ -44,8 +24,8 @@ def add_parser(sub) -> None:
     p.add_argument("spec", help="dataset spec (.toml)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="dataset folder (created if missing)")
     p.add_argument("--dry-run", action="store_true", help="print the plan and an estimated time; write nothing")
-    p.add_argument("--max-cases", type=_count, metavar="N", help="build only the plan's first N cases")
-    p.add_argument("--jobs", type=_jobs, default=2, metavar="N", help="worker processes (default 2)")
+    p.add_argument("--max-cases", type=whole_number("cases"), metavar="N", help="build only the plan's first N cases")
+    p.add_argument("--jobs", type=whole_number("workers", 1, 1024), default=2, metavar="N", help="worker processes (default 2)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="run the cases on Dask distributed: 'local' for a local "
                    "cluster of --jobs workers, or a scheduler address such as tcp://host:8786")
     p.add_argument("--prune", action="store_true", help="remove case files that the spec no longer plans")

@@ -16,6 +16,23 @@ def seed(text: str) -> int:
         raise argparse.ArgumentTypeError(str(err)) from None
 
 
+def whole_number(what: str, lower: int = 0, upper: int | None = None):
+    """argparse type of an integer option counting ``what`` (workers, cases, segments), from
+    ``lower`` to ``upper`` (no upper limit: None)."""
+    def parse(text: str) -> int:
+        try:
+            n = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number of {what}, got {text!r}") from None
+        if upper is not None and not lower <= n <= upper:
+            raise argparse.ArgumentTypeError(f"must be from {lower} to {upper}, got {n}")
+        if n < lower:
+            raise argparse.ArgumentTypeError(f"must not be negative, got {n}" if lower == 0 else
+                                             f"must be at least {lower}, got {n}")
+        return n
+    return parse
+
+
 def add_seed_option(p: argparse.ArgumentParser, help: str = "seed of the instrument noise") -> None:
     """--seed N (0 to 2**32 - 1, default 0)."""
     p.add_argument("--seed", type=seed, default=0, help=f"{help} (0 to 2**32-1, default 0)")
