@@ -29,7 +29,6 @@ to afford raise :class:`twin.errors.InputError` naming the file and the key
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -38,7 +37,7 @@ import numpy as np
 from twin import limits
 from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
-from twin.io.paths import read_text
+from twin.io.paths import read_toml
 from twin.units import UnitError, parse_quantity
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
@@ -133,11 +132,7 @@ def scenario_path(name_or_path: str | Path) -> Path:
 def load_scenario(name_or_path: str | Path) -> Scenario:
     """A bundled scenario by name, or a TOML file by path."""
     path = scenario_path(name_or_path)
-    text = read_text(path, "scenario", "scenario file")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(str(path), "toml", f"malformed TOML: {err}") from None
+    data, _ = read_toml(path, "scenario", "scenario file")
     return scenario_from_dict(data, str(path), default_name=path.stem)
 
 

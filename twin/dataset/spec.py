@@ -58,7 +58,6 @@ ranges, values outside a parameter's bounds or a machine's speed limit raise
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -66,11 +65,11 @@ from geometries import MACHINES, build_machine
 from twin import limits
 from twin.effects import EFFECTS
 from twin.errors import InputError
-from twin.io.paths import read_text
+from twin.io.paths import read_toml
 from twin.model import model_spec
 from twin.observe.instruments import INSTRUMENTS
-from twin.scenario import SCENARIO_DIR, load_scenario
-from twin.units import CANONICAL, UnitError, format_quantity, parse_quantity
+from twin.scenario import SCENARIO_DIR, scenario_from_dict
+from twin.units import CANONICAL, UnitError, parse_quantity
 
 SOLVERS = ("auto", "direct", "iterative", "rom")
 DISTRIBUTIONS = ("fixed", "grid", "uniform", "log_uniform", "normal")
@@ -259,11 +258,7 @@ def load_spec(path: str | Path) -> DatasetSpec:
     """Read and check the spec file ``path`` (see the module doc); scenario files it names are
     read now, relative to the spec's folder."""
     path = Path(path)
-    text = read_text(path, "spec", "dataset spec")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(str(path), "toml", f"malformed TOML: {err}") from None
+    data, text = read_toml(path, "spec", "dataset spec")
     return spec_from_dict(data, str(path), path.parent, text)
 
 
@@ -395,10 +390,10 @@ def _file_family(name, cases, file, source, folder, field, machines) -> Family:
     path = bundled if not file.endswith(".toml") and "/" not in file and bundled.is_file() else folder / file
     if not path.is_file():
         raise InputError(source, field, f"no scenario {file!r} (a bundled name or a path relative to the spec)")
-    sc = load_scenario(path)   # checked now; errors name the scenario file
+    data, _ = read_toml(path, "scenario", "scenario file")
+    sc = scenario_from_dict(data, str(path), default_name=path.stem)   # checked now; errors name the scenario file
     for m in machines.values():
         limits.check_scenario(sc, m)
-    data = tomllib.loads(read_text(path, "scenario", "scenario file"))
     return Family(name, cases, data=data, file=file, path=str(path))
 
 

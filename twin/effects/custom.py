@@ -36,7 +36,6 @@ from __future__ import annotations
 import csv
 import io
 import re
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -133,16 +132,11 @@ _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 def read_effects_file(path, machine) -> list[CustomEffect]:
     """The custom effects of TOML file ``path`` for ``machine`` (regions checked against its parts)."""
-    from twin.io.paths import read_text
+    from twin.io.paths import read_toml
 
     path = Path(path)
-    src = str(path)
-    text = read_text(path, "file", "effects file")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(src, "toml", f"malformed TOML: {err}") from None
-    return effects_from_dict(data, src, machine, path.parent)
+    data, _ = read_toml(path, "file", "effects file")
+    return effects_from_dict(data, str(path), machine, path.parent)
 
 
 def effects_from_dict(data: dict, source: str, machine, folder: Path = Path(".")) -> list[CustomEffect]:

@@ -43,7 +43,6 @@ from __future__ import annotations
 import csv
 import io
 import os
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -52,7 +51,7 @@ import xarray as xr
 from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
-from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text
+from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml
 from twin.io.results import read_result
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
@@ -104,11 +103,7 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
     if not given and not os.path.lexists(mapping):
         raise InputError(str(mapping), "--mapping", f"no column mapping for {path.name} (a TOML file naming each "
                                                     "column's role and unit)")
-    text = read_text(mapping, "--mapping", "column mapping")
-    try:
-        spec = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(str(mapping), "toml", f"malformed TOML: {err}") from None
+    spec, _ = read_toml(mapping, "--mapping", "column mapping")
     return _with_channels(_from_csv(path, mapping, spec, machine), str(path))
 
 

@@ -72,6 +72,18 @@ def read_text(path: str | os.PathLike, field: str = "file", what: str = "file") 
                                            "save it as UTF-8") from None
 
 
+def read_toml(path: str | os.PathLike, field: str = "file", what: str = "file") -> tuple[dict, str]:
+    """(parsed tables, text) of a UTF-8 TOML input file (:func:`read_text`); malformed TOML is an
+    :class:`twin.errors.InputError` on the field ``toml``."""
+    import tomllib
+
+    text = read_text(path, field, what)
+    try:
+        return tomllib.loads(text), text
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(str(path), "toml", f"malformed TOML: {err}") from None
+
+
 def _reason(err: BaseException) -> str:
     return getattr(err, "strerror", None) or str(err) or type(err).__name__
 
