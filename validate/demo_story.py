@@ -33,7 +33,6 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Callable
 
-import numpy as np
 
 from learners.metrics import rms
 from twin.fem.mesh import mesh_machine

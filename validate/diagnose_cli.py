@@ -76,10 +76,10 @@ def run_diagnose(args) -> int:
     runs, machine, spec, _ = load_measurements(args)
     err_mesh = error_resolution(args, machine)
     mm = mesh_machine(machine, args.mesh)
+    sizes = [mm.nheat] + ([mesh_machine(machine, err_mesh).nheat] if err_mesh else [])
     for _, _, sc in runs:
-        limits.check_run_size(sc, mm.nheat)
-        if err_mesh:
-            limits.check_run_size(sc, mesh_machine(machine, err_mesh).nheat)
+        for n in sizes:
+            limits.check_run_size(sc, n)
     try:
         d = diagnose_many(runs, machine, spec, mm=mm, error_resolution=err_mesh, parameters=not args.no_parameters,
                           progress=progress_bar(f"diagnose {machine.name}", "fit"))
