@@ -12,7 +12,9 @@ from twin.effects import EFFECTS
 from twin.model import ModelSpec, model_spec
 from twin.scenario import Ambient, Scenario
 from validate.fit import BoundedFitter, gauss_newton
-from validate.verdict import WITHIN, decide
+from validate.search import Fit
+from validate.candidates import Candidate
+from validate.verdict import WITHIN, beyond_model_error, decide
 
 
 def _problem(seed=0, n=400):
@@ -65,6 +67,36 @@ def test_verdict_rule(factors, significant, after, expected):
     the significance of the top candidate, WITHIN = 3."""
     assert WITHIN == 3.0
     assert decide(factors, significant, after) == expected
+
+
+@pytest.mark.parametrize("beyond,significant,expected", [
+    (None, True, "nothing_missing"), (2.9, True, "nothing_missing"), (3.0, True, "explained"),
+    (50.0, False, "nothing_missing"),
+])
+def test_verdict_within_the_envelope_but_beyond_the_model_error_along_the_signature(beyond, significant, expected):
+    """Every factor <= WITHIN: ``explained`` only for a significant candidate whose fitted change
+    is >= WITHIN times what the model error alone produces along its signature."""
+    factors = {"temperature": 2.0, "probe": 1.5}
+    assert decide(factors, significant, {"temperature": 1.0, "probe": 1.0}, beyond) == expected
+
+
+def test_beyond_model_error_is_the_ratio_of_the_projections():
+    """Weighted least squares along one column u: with m = a u + v, v w-orthogonal to u (and to
+    the nuisance column n), x_m = a exactly; the candidate's fitted change x_r = p - p_0, so
+    beyond = |p - p_0| / |a| to round-off. The nuisance is fitted jointly, within its band."""
+    rng = np.random.default_rng(3)
+    N = 400
+    w = rng.uniform(0.5, 2.0, N)
+    u, n, v = rng.normal(size=(3, N))
+    basis = np.column_stack([u, n]) * w[:, None]
+    vw = v * w
+    vw -= basis @ np.linalg.lstsq(basis, vw, rcond=None)[0]   # v w-orthogonal to u and n
+    v = vw / w
+    a = 0.37
+    fitter = BoundedFitter(rng.normal(size=N), w, n[None, :], [-0.1], [0.1])
+    cand = Candidate("e.p", "parameter", "e", "p", 0.0, 400.0, 150.0, 200.0, True, True)
+    fit = Fit((cand,), (212.0,), (212.0 - 150.0) * u, 0.0, (u,))
+    assert beyond_model_error(fitter, fit, a * u + v) == pytest.approx(62.0 / a, rel=1e-9)
 
 
 def test_partition_names_every_part_and_its_faces(machine, mm):

@@ -79,6 +79,8 @@ class Diagnosis:
     regions: list = field(default_factory=list)
     missing_channels: list = field(default_factory=list)
     model_error_flat: np.ndarray | None = None
+    model_error_series_flat: np.ndarray | None = None   # signed estimate (flat), when from a mesh
+    beyond_model_error: float | None = None
     error_resolution: str | None = None
     runs: int = 0
     twin: object = None
@@ -159,10 +161,10 @@ def _first_row(block: np.ndarray) -> np.ndarray:
 
 
 def mesh_error(record, machine, spec: ModelSpec, resolution: str) -> np.ndarray:
-    """Per-channel RMS of (model on ``resolution``) - (model on the record's mesh), on the
-    record's grid: the estimate of the diagnosing model's discretisation error."""
+    """(model on ``resolution``) - (model on the record's mesh) (times, channels), on the
+    record's grid: the estimate of the diagnosing model's discretisation error, signed."""
     other = Engine(machine, record.scenario, resolution, sensors=record.sensor_points)
-    return rms(record.interp(other.observe(spec)[:, record.columns]) - record.observe(spec), axis=0)
+    return record.interp(other.observe(spec)[:, record.columns]) - record.observe(spec)
 
 
 def finer_resolution(machine, resolution: str) -> str | None:
@@ -241,22 +243,27 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     materials, responses = [materials[k] for k in keep], responses[keep]
     r = evidence.measured - base
     stage()
-    errors = []
+    errors, series = [], []
     for k, (rec, block) in enumerate(zip(evidence.records, evidence.split(base))):
         rec.model = block
         rec.noise = noise_levels(rec.measured, rec.groups, spec)
+        rec.model_error_series = None
         if model_error is not None:
             rec.model_error = np.asarray(model_error[k], float)
         elif error_resolution:
-            rec.model_error = mesh_error(rec, machine, spec, error_resolution)
+            rec.model_error_series = mesh_error(rec, machine, spec, error_resolution)
+            rec.model_error = rms(rec.model_error_series, axis=0)
         stage()
         rec.weights = channel_weights(rec.measured - rec.model, rec.groups, rec.noise, rec.model_error)
         errors.append(np.broadcast_to(rec.model_error if rec.model_error is not None else 0.0, rec.measured.shape))
+        series.append(rec.model_error_series)
     w = evidence.flat([np.broadcast_to(rec.weights, rec.measured.shape) for rec in evidence.records])
     has_error = any(rec.model_error is not None for rec in evidence.records)
     fitter = BoundedFitter(r, w, responses, [-bands[m][0] for m in materials], [bands[m][0] for m in materials])
     d = Diagnosis(evidence, spec, base, w, fitter, materials, error_resolution=error_resolution, twin=twin,
-                  model_error_flat=evidence.flat(errors) if has_error else None)
+                  model_error_flat=evidence.flat(errors) if has_error else None,
+                  model_error_series_flat=(evidence.flat(series) if all(e is not None for e in series)
+                                           else None))
     zero = np.zeros_like(r)
     d.nuisance_baseline = nuisance_report(fitter, materials, bands, zero)
     search = Search(evidence.observe, spec, base, fitter)
@@ -379,7 +386,9 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     top_fit = d.fits[0] if d.fits else None
     after = fitter.residual_after(top_fit.response) if top_fit is not None else fitter.residual_after(zero)
     d.residual_factor_after = V.residual_factors(ev, after, d.levels) if top_fit is not None else {}
-    d.verdict = V.decide(d.residual_factor, d.significant, d.residual_factor_after)
+    if top_fit is not None and d.model_error_series_flat is not None:
+        d.beyond_model_error = V.beyond_model_error(fitter, top_fit, d.model_error_series_flat)
+    d.verdict = V.decide(d.residual_factor, d.significant, d.residual_factor_after, d.beyond_model_error)
     d.significant = d.verdict in ("explained", "partly_explained")
     bands = expansion_bands(machine)
     kept = d.verdict in ("explained", "partly_explained")
@@ -394,7 +403,8 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     d.missing_channels = missing_channels(d, machine)
     top = d.candidates[0] if d.candidates else None
     d.message = V.message(d.verdict, top, d.residual_factor, d.residual_factor_after, d.levels,
-                          V.worst_channels(ev, left, d.levels), V.worst_time(ev, left, d.weights_flat), d.regions)
+                          V.worst_channels(ev, left, d.levels), V.worst_time(ev, left, d.weights_flat), d.regions,
+                          d.beyond_model_error)
     at_bound = [m for m, v in d.nuisance.items() if v["at_bound"]]
     if at_bound:
         d.message += ("; " + ", ".join(f"{m} expansion at its bound {d.nuisance[m]['change']:+.0%}" for m in at_bound)

@@ -73,6 +73,9 @@ def format_diagnosis(d, top: int = 8) -> str:
         after = d.residual_factor_after.get(g)
         lines.append(f"  {g}: residual {f:.1f}x noise and model error (noise {noise:.2g} {_unit(g)}, model error "
                      f"{e:.2g} {_unit(g)})" + (f"; {after:.1f}x after the top candidate" if after is not None else ""))
+    if d.beyond_model_error is not None:
+        lines.append(f"  top candidate's fitted change: {d.beyond_model_error:.1f}x what the model error alone "
+                     f"produces along its signature")
     if d.nuisance_baseline:
         lines.append("Nuisance (thermal expansion within each material's band), baseline: " + _nuisance_text(d.nuisance_baseline))
         if d.nuisance is not d.nuisance_baseline and d.verdict in ("explained", "partly_explained"):
@@ -131,6 +134,7 @@ def diagnosis_json(d) -> dict:
         "baseline": {"rmse": {c: float(v) for c, v in zip(names, d.baseline_rmse)}, "units": units},
         "residual_factor": d.residual_factor,
         "residual_factor_after": d.residual_factor_after,
+        "beyond_model_error": d.beyond_model_error,
         "levels": {g: {"noise": n, "model_error": e, "unit": _unit(g)} for g, (n, e) in d.levels.items()},
         "nuisance": d.nuisance,
         "nuisance_baseline": d.nuisance_baseline,

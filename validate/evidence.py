@@ -85,7 +85,8 @@ def effective_samples(res: np.ndarray) -> float:
 class Record:
     """One measurement held against the model: channels (n_ch) on its time grid (n_t) [s from its
     start], the engine observing the twin there, and (after :meth:`Evidence.baseline`) the
-    baseline model, weights, noise levels and the model-error estimate per channel."""
+    baseline model, weights, noise levels and the model-error estimate per channel (its RMS, and
+    the signed series when it came from another mesh)."""
 
     label: str
     ds: object
@@ -101,6 +102,7 @@ class Record:
     weights: np.ndarray | None = None
     noise: dict = field(default_factory=dict)
     model_error: np.ndarray | None = None
+    model_error_series: np.ndarray | None = None
 
     def __post_init__(self):
         self.interp = resampler(self.engine.times, self.times)

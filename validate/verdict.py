@@ -12,14 +12,27 @@ residual the size of noise and model error; ``WITHIN`` (3) is the largest factor
 that. Then, with the top candidate (:mod:`validate.diagnose`'s significance test: >= 10 BIC units
 better than "nothing missing" and >= 50 % of the weighted residual explained):
 
-* ``nothing_missing``: every group's factor <= ``WITHIN`` (a candidate that would fit part of
-  such a residual removes no more than the model gets wrong anyway; it is named, not reported);
+* ``nothing_missing``: every group's factor <= ``WITHIN``, unless the top candidate is significant
+  *and beyond the model error along its own signature* (below): a candidate that would fit part of
+  such a residual, by no more than the model error alone would make it move, is named, not reported;
 * ``explained``: a significant candidate leaves every group's factor <= ``WITHIN``;
 * ``partly_explained``: a significant candidate, but some group's factor stays above ``WITHIN``
   after it (how much remains, and where, is stated);
 * ``unexplained``: some group's factor is above ``WITHIN`` and no library candidate explains it.
 
 A residual above ``WITHIN`` is never called noise: the factor is stated.
+
+Beyond the model error along a signature. The factor compares magnitudes only; the model error is
+an estimate from another mesh (its RMS, e_g), and a candidate's change can stand far above it
+along the candidate's own response even where the whole residual does not. With the fitted
+candidate's local columns S (one per member, dg/dp) and the signed model-error estimate m (flat),
+
+    x_r = argmin || w (r - S x - N c) ||,   x_m = argmin || w (m - S x - N c) ||,
+
+(the nuisance N c fitted jointly, the same weights), ``beyond = min_i |x_r,i| / |x_m,i|``: how many
+times larger the fitted change is than the change the model error alone would produce. A
+significant candidate with ``beyond >= WITHIN`` is ``explained`` even when every factor is
+<= ``WITHIN``; the message states both numbers.
 """
 
 from __future__ import annotations
@@ -55,12 +68,25 @@ def residual_factors(evidence, residual_flat: np.ndarray, levels: dict) -> dict[
     return out
 
 
-def decide(factors: dict[str, float], significant: bool, after: dict[str, float] | None) -> str:
+def beyond_model_error(fitter, fit, model_error_flat: np.ndarray) -> float:
+    """min over the fit's members of |x_r| / |x_m| (module docstring): the fitted change over the
+    change the signed model-error estimate alone produces along the member's column (unbounded
+    fit, nuisance within its band). inf where the model error does not move it at all."""
+    cols = np.column_stack(fit.slopes) if fit.slopes else fit.response[:, None]
+    x_r = np.array([v - c.zero for c, v in zip(fit.candidates, fit.values)]) if fit.slopes else np.ones(1)
+    free = np.full(cols.shape[1], np.inf)
+    x_m = fitter.solve(cols, -free, free, model_error_flat)[0]
+    ratio = np.abs(x_r) / np.maximum(np.abs(x_m), 1e-300)
+    return float(ratio.min())
+
+
+def decide(factors: dict[str, float], significant: bool, after: dict[str, float] | None,
+           beyond: float | None = None) -> str:
     """The verdict word (module docstring). A residual within noise and model error is
-    ``nothing_missing`` even when a candidate would fit some of it: what it would remove is no
-    larger than what the model gets wrong anyway."""
+    ``nothing_missing`` even when a candidate would fit some of it, unless that candidate's fitted
+    change is ``WITHIN`` times what the model error alone produces along its signature."""
     if not any(f > WITHIN for f in factors.values()):
-        return "nothing_missing"
+        return "explained" if significant and beyond is not None and beyond >= WITHIN else "nothing_missing"
     if significant:
         return "explained" if after is not None and all(f <= WITHIN for f in after.values()) else "partly_explained"
     return "unexplained"
@@ -99,18 +125,23 @@ def _factors_text(factors: dict[str, float], levels: dict) -> str:
 
 
 def message(verdict: str, top: dict | None, factors: dict, after: dict | None, levels: dict,
-            where: list[tuple[str, float]], when: str, regions: list[dict]) -> str:
+            where: list[tuple[str, float]], when: str, regions: list[dict], beyond: float | None = None) -> str:
     """One paragraph saying the verdict with its numbers."""
     fac = _factors_text(factors, levels)
+    along = (f"; along its signature the fitted change is {beyond:.1f}x what the model error alone produces"
+             if beyond is not None else "")
     if verdict == "nothing_missing":
         best = (f"; the best candidate {top['effect']} would explain {top['explained']:.0%} (dBIC "
                 f"{top['delta_bic']:.1f}), not significant" if top else "")
-        return f"nothing_missing: the residual is within noise and model error ({fac}){best}"
+        return f"nothing_missing: the residual is within noise and model error ({fac}){best}{along}"
     if verdict in ("explained", "partly_explained"):
         head = (f"{verdict}: {top['statement']} explains {top['explained']:.0%} of the weighted residual, "
                 f"confidence {top['confidence']:.2f}")
+        if verdict == "explained" and not any(f > WITHIN for f in factors.values()):
+            return (head + f"; the residual before it was within noise and model error ({fac}), but{along[1:]}; "
+                    f"after it: {_factors_text(after, levels)}")
         if verdict == "explained":
-            return head + f"; residual after it within noise and model error ({_factors_text(after, levels)})"
+            return head + f"; residual after it within noise and model error ({_factors_text(after, levels)}){along}"
         left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
         return (head + f"; what remains is still above noise and model error ({_factors_text(after, levels)}), "
                 f"worst at {left}" + (f"; a heat input on {regions[0]['region']} would explain "

@@ -254,6 +254,7 @@ def run_case(case: Case, machine, mm, quick: bool, truth_mesh: str, error_mesh: 
            "strength_error": max(errors) if errors else float("nan"),
            "factor_temperature": d.residual_factor.get("temperature", float("nan")),
            "factor_probe": d.residual_factor.get("probe", float("nan")),
+           "beyond_model_error": float("nan") if d.beyond_model_error is None else d.beyond_model_error,
            "probe_rmse_uncalibrated_um": float(rms(d.fitter.r[probes])),
            "probe_rmse_before_um": float(rms(d.residual_after(zero)[probes])),
            "probe_rmse_after_um": float(rms(after[probes])),
