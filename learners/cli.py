@@ -40,7 +40,7 @@ import numpy as np
 
 from learners.metrics import abs_residual_percentile, score_all
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
-from learners.runs import dataset_runs, fit_runs
+from learners.runs import dataset_runs, fit_runs, select_runs
 from learners.table import Table, check_problem, load_table
 from twin.cli.options import add_seed_option, whole_number
 from twin.errors import InputError
@@ -223,7 +223,7 @@ def run_learn(args) -> int:
             check_problem(tab, path, args.target, training=False)
         tests.append((label, tabs))
     with _as_input_error(train_label, args.select):
-        selector.fit(train.X, train.y)
+        select_runs(selector, [(r.X, r.y) for r in runs])
     cols = list(selector.selected_)
     used = [train.input_names[i] for i in cols]
 

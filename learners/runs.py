@@ -6,10 +6,16 @@ never simply stacked for a time-ordered learner (grey models, AR, GNNMCI, the co
 not a step in time. So:
 
 * a pooled learner (regressions, networks, ANFIS, LS-SVM) is fitted on all rows of all runs;
-* a time-ordered learner with a ``fit_runs([(X, y), ...])`` method (``gm1n``, ``ar-temp``,
-  ``gnnmci``) is fitted on the runs as separate sequences; one without it accepts one run only
+* a time-ordered learner is fitted on the runs as separate sequences by its
+  ``fit_runs([(X, y), ...])`` method (every one of this package has it: ``gm11``, ``gm1n``,
+  ``gmc1n``, ``gmc1n-pso`` and ``gnnmci`` accumulate and simulate each run from its own start and
+  sum the runs' squared errors; ``ar-temp`` takes no lag pair across a run boundary;
+  ``combination`` fits its members so and reads its weights on each run's own clock); a
+  time-ordered learner without it (someone else's) accepts one run only
   (:class:`twin.errors.InputError` otherwise);
-* predictions are always made run by run, each from its own start.
+* predictions are always made run by run, each from its own start;
+* a selector with ``fit_runs`` (the grey ones, ``gm0n-fcm`` and ``gra-fcm``, which read rows as
+  time) picks its sensors on the runs as sequences, any other on all rows (:func:`select_runs`).
 
 :func:`dataset_runs` lists the case files of one split of a ``twin dataset`` folder.
 """
@@ -24,7 +30,7 @@ import numpy as np
 from twin.errors import InputError
 from twin.io.paths import read_text
 
-__all__ = ["is_time_ordered", "fit_runs", "dataset_runs"]
+__all__ = ["is_time_ordered", "fit_runs", "select_runs", "dataset_runs"]
 
 
 def is_time_ordered(estimator) -> bool:
@@ -41,8 +47,15 @@ def fit_runs(estimator, runs: list, name: str = "learner"):
     if hasattr(estimator, "fit_runs"):
         return estimator.fit_runs(runs)
     raise InputError("command line", "--learner", f"{name} fits one run's time sequence and cannot be trained on "
-                                                  f"{len(runs)} runs (multi-run training: gm1n, ar-temp, gnnmci "
-                                                  "and every pooled learner); give it one training run")
+                                                  f"{len(runs)} runs (it has no fit_runs method); give it one "
+                                                  "training run")
+
+
+def select_runs(selector, runs: list):
+    """Fit the sensor ``selector`` on ``runs`` = [(X, y), ...] (module doc); returns it."""
+    if len(runs) > 1 and hasattr(selector, "fit_runs"):
+        return selector.fit_runs(runs)
+    return selector.fit(np.vstack([X for X, _ in runs]), np.concatenate([y for _, y in runs]))
 
 
 def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> list[Path]:
