@@ -334,7 +334,8 @@ def test_learn_trains_on_several_runs_and_on_a_dataset_split(built, capsys):
     # every time-ordered learner now trains on several runs, each its own sequence
     assert main(["learn", "--train", files[0], "--train", files[1], "--test", files[2], "--target", "drift:Z",
                  "--select", "correlation:2", "--learner", "gm11,gmc1n,combination"]) == 0
-    assert all(name in capsys.readouterr().out for name in ("gm11", "gmc1n", "combination"))
+    text = capsys.readouterr().out
+    assert all(name in text for name in ("gm11", "gmc1n", "combination")), text
     assert main(["learn", "--dataset", str(out), "--split", "nope", *common]) == 2
     assert "no split 'nope'" in capsys.readouterr().err
 
