@@ -14,6 +14,8 @@ not a step in time. So:
   time-ordered learner without it (someone else's) accepts one run only
   (:class:`twin.errors.InputError` otherwise);
 * predictions are always made run by run, each from its own start;
+* a time-ordered learner's coefficients are per sample, so its runs must share one sample
+  interval: :func:`resample` thins a run to a coarser one (``twin learn --interval``);
 * a selector with ``fit_runs`` (the grey ones, ``gm0n-fcm`` and ``gra-fcm``, which read rows as
   time) picks its sensors on the runs as sequences, any other on all rows (:func:`select_runs`).
 
@@ -27,10 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
+from learners.table import Table
 from twin.errors import InputError
 from twin.io.paths import read_text
 
-__all__ = ["is_time_ordered", "fit_runs", "select_runs", "dataset_runs"]
+__all__ = ["is_time_ordered", "fit_runs", "select_runs", "resample", "dataset_runs"]
 
 
 def is_time_ordered(estimator) -> bool:
@@ -56,6 +59,24 @@ def select_runs(selector, runs: list):
     if len(runs) > 1 and hasattr(selector, "fit_runs"):
         return selector.fit_runs(runs)
     return selector.fit(np.vstack([X for X, _ in runs]), np.concatenate([y for _, y in runs]))
+
+
+def resample(table: Table, interval: float | None, source: str, field: str = "--interval") -> Table:
+    """Every k-th row of the run ``table`` (from its first), k = ``interval`` [s] / the run's sample
+    interval; ``None`` keeps the run. A run that is not equally spaced in time, or whose interval
+    does not divide ``interval``, is an :class:`InputError` on ``source``."""
+    if interval is None or len(table.time) < 2:
+        return table
+    dt = np.diff(table.time)
+    step = float(np.median(dt))
+    if np.max(np.abs(dt - step)) > 1e-6 * step:
+        raise InputError(source, field, "the run is not equally spaced in time; it cannot be thinned")
+    k = interval / step
+    if round(k) < 1 or abs(k - round(k)) > 1e-6 * k:
+        raise InputError(source, field, f"{interval:g} s is not a whole multiple of the run's sample interval "
+                                        f"{step:g} s")
+    k = int(round(k))
+    return Table(table.time[::k], table.X[::k], table.y[::k], table.input_names)
 
 
 def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> list[Path]:
