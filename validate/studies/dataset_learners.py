@@ -14,8 +14,9 @@ and writes under OUT (default ``validate-out/dataset_learners/``):
   (:mod:`learners.leaderboard`);
 - ``placement.csv`` / ``placement.md``: k-sensor sets (k from ``--select``) scored by the
   placement learners (``mlr``, ``gm1n``): each selection method of the seeds
-  (``learners/selection_*.py``) picking on the training runs, the machine's intuitive sites,
-  ``--n-random`` random sets, the truth-greedy set and the optimum for least squares found by
+  (``learners/selection_*.py``) picking on the training runs; the machine's intuitive sites (the
+  first k of ``motor``, ``spindle_boss``, ``column_front_top``, ``test_bar``); ``--n-random``
+  random sets; the truth-greedy set and the optimum for least squares found by
   exhaustive search over all C(p, k) sets with the test truth
   (:mod:`validate.studies.placement_search`; it is the optimum of the ``mlr`` row only).
 
@@ -114,10 +115,10 @@ def placement_sets(train, tests, names, k: int, seed: int, n_random: int, exhaus
         start = time.perf_counter()
         sets[f"selected: {method}"] = [_pick([(t.X, t.y) for _, t in train], method, k, seed)]
         notes[f"selected: {method}"] = f"picked on the training runs in {time.perf_counter() - start:.1f} s"
-    intuitive = [names.index(s) for s in INTUITIVE if s in names]
+    intuitive = [names.index(s) for s in INTUITIVE[:k] if s in names]
     if len(intuitive) == k:
         sets["intuitive"] = [intuitive]
-        notes["intuitive"] = "one per major part: " + ", ".join(INTUITIVE)
+        notes["intuitive"] = "the machine's own sites, one per major part: " + ", ".join(INTUITIVE[:k])
     rng = np.random.default_rng(seed)
     sets["random"] = [sorted(int(c) for c in rng.choice(cand, size=k, replace=False)) for _ in range(n_random)]
     notes["random"] = f"{n_random} seeded draws: mean, min and max"
