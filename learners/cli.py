@@ -10,8 +10,8 @@ Usage::
 Every training table is one run (CSV or twin NetCDF, see :mod:`learners.table`); runs stay
 separate groups (:mod:`learners.runs`): pooled learners see all rows, time-ordered learners each
 run's own sequence. The selector picks inputs on the training runs (``--select correlation:4``;
-default ``all``; the grey selectors on each run's sequence), each learner is fitted on the selected inputs and scored on every test table
-(which must carry the same input columns), each predicted from its own start, with
+default ``all``; the grey selectors on each run's sequence), each learner is fitted on the
+selected inputs and scored on every test table (which must carry the same input columns), each predicted from its own start, with
 :func:`learners.metrics.score_all` and the 95th percentile of |residual|. ``--dataset DIR`` adds
 the built cases of a ``twin dataset`` folder: those of ``--train-split`` (default ``train``) as
 training runs, those of ``--split`` (default ``test``) as one test set, scored on the residuals

@@ -42,8 +42,8 @@ from learners._checks import refuse_constant_target
 from learners.registry import register_learner
 from twin.errors import InputError
 
-__all__ = ["ago", "iago", "background", "gm0n_coefficients", "gm0n_coefficients_runs", "gm11_fit", "gm11_fit_runs", "gm11_forecast",
-           "response_ls_fit", "check_growth", "check_runs", "gm1n_simulate", "GM11", "GM1N"]
+__all__ = ["ago", "iago", "background", "gm0n_coefficients", "gm0n_coefficients_runs", "gm11_fit", "gm11_fit_runs",
+           "gm11_forecast", "response_ls_fit", "check_growth", "check_runs", "gm1n_simulate", "GM11", "GM1N"]
 
 FIT_METHODS = ("response", "equation")
 MAX_GROWTH = 1e3  # largest growth of a fitted grey response over a record before fit/predict refuse it

@@ -39,6 +39,7 @@ from learners.registry import make_selector
 from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table
 from twin.errors import InputError
+from twin.io.atomic import atomic_write_text
 from twin.io.paths import read_text
 from twin.units import UnitError, parse_quantity
 from validate.studies.common import markdown_table, preset, write_csv as write_rows
@@ -157,7 +158,8 @@ def run_placement(train, tests, names, sets, learner_names, seed: int):
 def _parser():
     p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
     p.add_argument("dataset", help="a twin dataset folder (twin dataset SPEC -o DIR)")
-    p.add_argument("-o", "--output", default=f"validate-out/{NAME}", help=f"output folder (default validate-out/{NAME})")
+    p.add_argument("-o", "--output", default=f"validate-out/{NAME}",
+                   help=f"output folder (default validate-out/{NAME})")
     p.add_argument("--split", default="test", help="the split scored (default test)")
     p.add_argument("--train-split", default="train", help="the split trained on (default train)")
     p.add_argument("--target", default="drift:Z", help="the target (default drift:Z, the true tool-point drift)")
@@ -218,7 +220,7 @@ def _run(args) -> int:
             f"{len(names)} sensors. The truth-greedy and truth-exhaustive sets use the test runs' truth; the "
             "exhaustive one is the optimum for least squares (the `mlr` rows) over every set, not for `gm1n`.\n\n"
             + markdown_table(prow, cols, heads) + "\n")
-    (out / "placement.md").write_text(text, encoding="utf-8")
+    atomic_write_text(out / "placement.md", text, field="-o")
     print(markdown_table(prow, cols, heads))
     print(f"wrote {out / 'placement.md'}, placement.csv")
     return 0
