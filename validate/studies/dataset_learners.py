@@ -40,7 +40,7 @@ from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
-from twin.io.paths import read_text
+from twin.io.paths import output_folder, read_text
 from twin.units import UnitError, parse_quantity
 from validate.studies.common import markdown_table, preset, write_csv as write_rows
 from validate.studies.placement_search import exhaustive_best, greedy_oracle
@@ -179,7 +179,7 @@ def _run(args) -> int:
         interval = parse_quantity(args.interval, "time")
     except UnitError as exc:
         raise InputError("command line", "--interval", str(exc)) from None
-    out = Path(args.output)
+    out = output_folder(args.output, "-o")
     out.mkdir(parents=True, exist_ok=True)
     print(f"reading {args.dataset} ...", flush=True)
     train = load_split(args.dataset, args.train_split, args.target, interval)
