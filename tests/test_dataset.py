@@ -208,6 +208,7 @@ def test_one_whole_file_per_case_index_and_card_agree(built):
     assert units["drift"] == "um" and units["temperature"] == "degC"
     readme = (out / "README.md").read_text()
     assert "# Dataset tiny" in readme and "| drift |" in readme and "```toml" in readme
+    assert card["solver_error"] == {} and "None reported" in readme      # the direct solver: exact
 
 
 def test_open_mfdataset_reads_every_case(built):
@@ -305,6 +306,15 @@ def test_reduced_model_cases_are_bit_identical_and_carry_no_wall_times(tmp_path)
     assert outs[0] == outs[1]
     with xr.open_dataset(tmp_path / "a" / "cases" / case[0].file, engine="h5netcdf") as ds:
         assert ds.attrs["solver"] == "rom" and "rom_offline_s" not in ds.attrs
+        estimate = json.loads(ds.attrs["rom_error_estimate"])
+    # the card reports the reduced model's error: the largest per group, drift in um, temperature in K
+    write_index(spec, case, tmp_path / "a")
+    reported = json.loads((tmp_path / "a" / "card.json").read_text())["solver_error"]
+    assert reported["rom_error_estimate"]["drift"] == {"max": pytest.approx(1e6 * max(estimate["drift"]), rel=1e-12),
+                                                       "units": "um"}
+    assert reported["rom_error_estimate"]["temperature"]["max"] == pytest.approx(max(estimate["temperature"]))
+    assert reported["rom_error_bound"]["temperature"]["max"] >= reported["rom_error_estimate"]["temperature"]["max"]
+    assert "rom_error_bound" in (tmp_path / "a" / "README.md").read_text()
 
 
 def test_the_bundled_example_plans_100_cases():
