@@ -18,7 +18,8 @@ training runs, those of ``--split`` (default ``test``) as one test set, scored o
 of all its runs together. ``--segments N`` adds a row per time segment (each run cut into N equal
 parts; segment k pooled over the runs). ``--interval 60s`` thins every run to that sample interval
 (:func:`learners.runs.resample`): time-ordered learners count in samples, so runs sampled at 10 s
-and 60 s would otherwise mean different things to them. The scoring is
+and 60 s would otherwise mean different things to them (runs of different intervals are refused
+for them without it). The scoring is
 :func:`learners.leaderboard.leaderboard`.
 
 One row per learner and test set (and segment) is printed as an aligned text table; ``-o x.csv``
@@ -40,7 +41,7 @@ import numpy as np
 
 from learners.leaderboard import COLUMNS, as_input_error, leaderboard, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
-from learners.runs import dataset_runs, resample, select_runs
+from learners.runs import check_one_interval, dataset_runs, is_time_ordered, resample, select_runs
 from learners.table import Table, check_problem, load_table
 from twin.cli.options import add_seed_option, whole_number
 from twin.errors import InputError
@@ -199,6 +200,8 @@ def run_learn(args) -> int:
         for path, tab in zip(paths, tabs):
             check_problem(tab, path, args.target, training=False)
         tests.append((label, tabs))
+    check_one_interval(runs + [tab for _, tabs in tests for tab in tabs],
+                       [name for name, est in learners.items() if is_time_ordered(est)])
     with as_input_error(train_label, args.select):
         select_runs(selector, [(r.X, r.y) for r in runs])
     cols = list(selector.selected_)

@@ -33,7 +33,7 @@ from learners.table import Table
 from twin.errors import InputError
 from twin.io.paths import read_text
 
-__all__ = ["is_time_ordered", "fit_runs", "select_runs", "resample", "dataset_runs"]
+__all__ = ["is_time_ordered", "fit_runs", "select_runs", "resample", "check_one_interval", "dataset_runs"]
 
 
 def is_time_ordered(estimator) -> bool:
@@ -77,6 +77,16 @@ def resample(table: Table, interval: float | None, source: str, field: str = "--
                                         f"{step:g} s")
     k = int(round(k))
     return Table(table.time[::k], table.X[::k], table.y[::k], table.input_names)
+
+
+def check_one_interval(tables: list, names: list[str]) -> None:
+    """Refuse (:class:`InputError` on ``--interval``) runs sampled at different intervals when a
+    time-ordered learner (``names``) is to see them: its coefficients are per sample."""
+    steps = sorted({round(float(np.median(np.diff(t.time))), 9) for t in tables if len(t.time) > 1})
+    if names and len(steps) > 1:
+        raise InputError("command line", "--interval",
+                         f"the runs are sampled every {', '.join(f'{s:g}' for s in steps)} s and {', '.join(names)} "
+                         f"count(s) in samples; thin them to one interval, e.g. --interval '{steps[-1]:g} s'")
 
 
 def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> list[Path]:
