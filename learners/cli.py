@@ -5,21 +5,26 @@ Usage::
     twin learn --train A [--train A2 ...] --test B [--test C ...] --target NAME --learner L1,L2,...
                [--select METHOD[:K]] [--inputs NAMES|all] [--time-column NAME] [-o scores.csv] [--seed N]
     twin learn --dataset DIR --split NAME [--train-split NAME] --target NAME --learner L1,L2,... [--segments N]
+               [--interval TIME] [-o board.csv] [-o board.md]
 
 Every training table is one run (CSV or twin NetCDF, see :mod:`learners.table`); runs stay
 separate groups (:mod:`learners.runs`): pooled learners see all rows, time-ordered learners each
-run's own sequence. The selector picks inputs on all training rows (``--select correlation:4``;
-default ``all``), each learner is fitted on the selected inputs and scored on every test table
-(which must carry the same input columns), each predicted from its own start, with
+run's own sequence. The selector picks inputs on the training runs (``--select correlation:4``;
+default ``all``; the grey selectors on each run's sequence), each learner is fitted on the
+selected inputs and scored on every test table (which must carry the same input columns), each predicted from its own start, with
 :func:`learners.metrics.score_all` and the 95th percentile of |residual|. ``--dataset DIR`` adds
 the built cases of a ``twin dataset`` folder: those of ``--train-split`` (default ``train``) as
 training runs, those of ``--split`` (default ``test``) as one test set, scored on the residuals
 of all its runs together. ``--segments N`` adds a row per time segment (each run cut into N equal
-parts; segment k pooled over the runs).
+parts; segment k pooled over the runs). ``--interval 60s`` thins every run to that sample interval
+(:func:`learners.runs.resample`): time-ordered learners count in samples, so runs sampled at 10 s
+and 60 s would otherwise mean different things to them (runs of different intervals are refused
+for them without it). The scoring is
+:func:`learners.leaderboard.leaderboard`.
 
-One row per learner and test set (and segment) is printed as an aligned text table; ``-o``
-writes the same rows as CSV (to a temporary file in the same folder, then renamed, so no
-half-written file is left). ``--seed`` is given to every learner and selector that has a
+One row per learner and test set (and segment) is printed as an aligned text table; ``-o x.csv``
+writes the same rows as CSV, ``-o x.md`` as Markdown (each to a temporary file in the same folder,
+then renamed, so no half-written file is left). ``--seed`` is given to every learner and selector that has a
 ``random_state``. Bad names and bad tables raise :class:`twin.errors.InputError`, as do
 degenerate problems (:func:`learners.table.check_problem`: the target among the inputs, a
 constant target or input, a selector asking for more inputs than there are), a learner or
@@ -32,25 +37,19 @@ replaces an input (:class:`twin.io.paths.Files`).
 
 from __future__ import annotations
 
-import contextlib
-import csv
-import time
-
 import numpy as np
 
-from learners.metrics import abs_residual_percentile, score_all
+from learners.leaderboard import COLUMNS, as_input_error, leaderboard, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
-from learners.runs import dataset_runs, fit_runs
+from learners.runs import check_one_interval, dataset_runs, is_time_ordered, resample, select_runs
 from learners.table import Table, check_problem, load_table
 from twin.cli.options import add_seed_option, whole_number
 from twin.errors import InputError
-from twin.io.atomic import atomic_write
 from twin.io.paths import Files
+from twin.units import UnitError, parse_quantity
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
-COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "p95_abs_residual", "improvement_pct", "mre_pct",
-           "inputs", "fit_time_s"]
 _HEADINGS = ["learner", "test file", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "inputs", "fit s"]
 
 
@@ -81,7 +80,12 @@ def add_learn_parser(subparsers):
     p.add_argument("--segments", type=whole_number("segments", 1, 100), default=1, metavar="N",
                    help="also score each test set's N time segments (each run cut into N equal parts, "
                         "segment k pooled over the runs); default 1: whole runs only")
-    p.add_argument("-o", "--output", metavar="FILE", help="also write the scores as CSV")
+    p.add_argument("--interval", metavar="TIME",
+                   help="thin every run to this sample interval (e.g. '60 s'; a whole multiple of each run's "
+                        "interval) so that time-ordered learners see one time step in all runs")
+    p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                   help="also write the scores: FILE.csv (CSV) or FILE.md (Markdown, one table per test set, "
+                        "learners by RMSE); repeat for both")
     add_seed_option(p, "random_state for learners and selectors")
     p.set_defaults(func=run_learn)
     return p
@@ -121,16 +125,6 @@ def _make_selector(spec, seed):
     return _seeded(make_selector(method, **params), seed), params.get("n_select")
 
 
-@contextlib.contextmanager
-def _as_input_error(source, field):
-    """A learner or selector refusing the user's data (ValueError) becomes an InputError."""
-    try:
-        yield
-    except ValueError as exc:
-        text = exc.message if isinstance(exc, InputError) else str(exc).strip()
-        raise InputError(source, field, text.splitlines()[0] if text else type(exc).__name__) from None
-
-
 def _fmt(value, digits=4):
     if isinstance(value, float):
         return "nan" if np.isnan(value) else f"{value:.{digits}g}"
@@ -151,26 +145,6 @@ def _text_table(rows):
     return "\n".join(lines)
 
 
-def _segments_of(label: str, lengths: list[int], n: int):
-    """(label, [slice per run]) of the whole runs, then, for ``n > 1``, of each time segment k:
-    rows ``[k len / n, (k + 1) len / n)`` of every run."""
-    yield label, [slice(None)] * len(lengths)
-    if n > 1:
-        for k in range(n):
-            yield f"{label} [segment {k + 1}/{n}]", [slice(k * m // n, (k + 1) * m // n) for m in lengths]
-
-
-def _write_csv(path, rows):
-    def write(tmp):
-        with open(tmp, "w", newline="", encoding="utf-8") as fh:
-            writer = csv.writer(fh)
-            writer.writerow(COLUMNS)
-            for r in rows:
-                writer.writerow([f"{r[c]:.10g}" if isinstance(r[c], float) else r[c] for c in COLUMNS])
-
-    atomic_write(path, write, field="-o")
-
-
 def _declare_files(args) -> Files:
     """Every file of the command checked before any work: tables readable, each test once, the
     scores not an input."""
@@ -184,8 +158,10 @@ def _declare_files(args) -> Files:
             if paths.count(path) > 1:
                 raise InputError(path, option, "given more than once")
             files.input(path, option, "table")
-    if args.output:
-        files.output(args.output, "-o", (".csv",))
+    for path in args.output:
+        if args.output.count(path) > 1:
+            raise InputError(path, "-o", "given more than once")
+        files.output(path, "-o", (".csv", ".md"))
     return files
 
 
@@ -198,6 +174,7 @@ def run_learn(args) -> int:
     learner_names = _split_names(args.learner, "--learner")
     learners = {name: _seeded(make_learner(name), seed) for name in learner_names}
     selector, n_select = _make_selector(args.select, seed)
+    interval = _interval(args.interval)
     inputs = None if str(args.inputs).strip() in ("", "all") else _split_names(args.inputs, "--inputs")
     if inputs and args.target in inputs:
         raise InputError("command line", "--inputs", f"the target {args.target} is also an input")
@@ -211,45 +188,54 @@ def run_learn(args) -> int:
     first = load_table(train_paths[0], args.target, inputs=inputs, time_column=args.time_column, field="--train")
     runs = [first] + [load_table(path, args.target, inputs=first.input_names, time_column=args.time_column,
                                  field="--train") for path in train_paths[1:]]
+    runs = [resample(r, interval, str(path)) for r, path in zip(runs, train_paths)]
     train = Table(np.concatenate([r.time for r in runs]), np.vstack([r.X for r in runs]),
                   np.concatenate([r.y for r in runs]), first.input_names)
     train_label = str(train_paths[0]) if len(train_paths) == 1 else f"{len(train_paths)} training runs"
     check_problem(train, train_label, args.target, n_select=n_select)
     tests = []
     for label, paths in test_sets:
-        tabs = [load_table(path, args.target, inputs=train.input_names, time_column=args.time_column,
-                           field="--test") for path in paths]
+        tabs = [resample(load_table(path, args.target, inputs=train.input_names, time_column=args.time_column,
+                                    field="--test"), interval, str(path)) for path in paths]
         for path, tab in zip(paths, tabs):
             check_problem(tab, path, args.target, training=False)
         tests.append((label, tabs))
-    with _as_input_error(train_label, args.select):
-        selector.fit(train.X, train.y)
+    check_one_interval(runs + [tab for _, tabs in tests for tab in tabs],
+                       [name for name, est in learners.items() if is_time_ordered(est)])
+    with as_input_error(train_label, args.select):
+        select_runs(selector, [(r.X, r.y) for r in runs])
     cols = list(selector.selected_)
     used = [train.input_names[i] for i in cols]
 
-    rows = []
-    progress = progress_bar("learn", "fit")
-    for done, (name, est) in enumerate(learners.items(), start=1):
-        start = time.perf_counter()
-        with _as_input_error(train_label, name):
-            fit_runs(est, [(r.X[:, cols], r.y) for r in runs], name)
-        fit_s = time.perf_counter() - start
-        for path, tabs in tests:
-            with _as_input_error(path, name):
-                pred = np.concatenate([est.predict(tab.X[:, cols]) for tab in tabs])   # each run from its start
-            if not np.all(np.isfinite(pred)):
-                raise InputError(str(path), name, "the learner's predictions are not finite (it diverged on "
-                                                  "these data); no scores are written")
-            truth = [tab.y for tab in tabs]
-            parts = np.split(pred, np.cumsum([len(y) for y in truth])[:-1])
-            for label, pick in _segments_of(str(path), [len(y) for y in truth], args.segments):
-                z = np.concatenate([y[s] for y, s in zip(truth, pick)])
-                p = np.concatenate([q[s] for q, s in zip(parts, pick)])
-                rows.append({"learner": name, "test": label, **{k: float(v) for k, v in score_all(z, p).items()},
-                             "p95_abs_residual": abs_residual_percentile(z, p), "inputs": ";".join(used),
-                             "fit_time_s": float(fit_s)})
-        progress(done, len(learners))
+    rows = leaderboard(learners, [(r.X[:, cols], r.y) for r in runs],
+                       [(label, [(tab.X[:, cols], tab.y) for tab in tabs]) for label, tabs in tests],
+                       segments=args.segments, inputs=";".join(used), train_label=train_label,
+                       progress=progress_bar("learn", "fit"))
     print(_text_table(rows))
-    if args.output:
-        _write_csv(args.output, rows)
+    for path in args.output:
+        if str(path).lower().endswith(".md"):
+            write_markdown(path, rows, title=f"twin learn: {args.target}", note=_note(args, train_label))
+        else:
+            write_csv(path, rows)
     return 0
+
+
+def _interval(text):
+    """``--interval`` in s (None when not given)."""
+    if text is None:
+        return None
+    try:
+        value = parse_quantity(text, "time")
+    except UnitError as exc:
+        raise InputError("command line", "--interval", str(exc)) from None
+    if value <= 0:
+        raise InputError("command line", "--interval", f"must be positive, got {text!r}")
+    return value
+
+
+def _note(args, train_label):
+    """The Markdown page's first lines: what was trained on what, and what the scores compare."""
+    return (f"Trained on {train_label}, selection `{args.select}`"
+            + (f", every run thinned to {args.interval}" if args.interval else "")
+            + f"; scored against `{args.target}` of each test run, every run predicted from its own start"
+            + (f", each run also cut into {args.segments} time segments" if args.segments > 1 else "") + ".")

@@ -42,45 +42,53 @@ from learners.registry import make_learner, register_learner
 __all__ = ["Combination", "variable_weight_coefficients", "rolling_alpha"]
 
 
-def _design(x1, x2, degree, n_scale):
-    t = np.arange(1, len(x1) + 1) / n_scale
+def _design(x1, x2, degree, n_scale, t=None):
+    t = (np.arange(1, len(x1) + 1) if t is None else np.asarray(t, dtype=float)) / n_scale
     powers = t[:, None] ** np.arange(degree + 1)
     return (x1 - x2)[:, None] * powers, powers
 
 
-def variable_weight_coefficients(y, x1, x2, degree=2):
+def variable_weight_coefficients(y, x1, x2, degree=2, t=None):
     """Constrained LS weight polynomials over all samples: returns ``(alpha_coefs, beta_coefs)``.
 
     Coefficients of ``alpha(t) = sum_i alpha_i t^i`` with t = 1..n (unscaled, as in seed 004
-    Eq. 14), solved in the reduced form ``y - x2 = alpha(t) (x1 - x2)``; ``beta = [1, 0, ..] - alpha``.
+    Eq. 14; ``t``: each row's sample index in its own run when the rows hold several runs),
+    solved in the reduced form ``y - x2 = alpha(t) (x1 - x2)``; ``beta = [1, 0, ..] - alpha``.
     """
     y, x1, x2 = (np.asarray(v, dtype=float).ravel() for v in (y, x1, x2))
-    A, _ = _design(x1, x2, degree, 1.0)
+    A, _ = _design(x1, x2, degree, 1.0, t)
     alpha = np.linalg.lstsq(A, y - x2, rcond=None)[0]
     beta = -alpha
     beta[0] += 1.0
     return alpha, beta
 
 
-def rolling_alpha(y, x1, x2, degree=2, start=None):
-    """alpha(N) for N = start..n from expanding-window fits on samples 1..N (seed 004 L147).
+def rolling_alpha(y, x1, x2, degree=2, start=None, t=None):
+    """alpha(N) for N = start..max(t) from expanding-window fits on samples t = 1..N (seed 004 L147).
 
-    Uses running sums of the normal equations (one 3x3 solve per N). Returns ``(alpha, start)``;
-    values are clipped to [0, 1]; an undetermined fit (members agree on the window) gives 0.5.
+    ``t``: each row's sample index (1, 2, ...) in its own run; default 1..n (one run). With several
+    runs the window N holds every run's samples 1..N, so each run's weights are read on its own
+    clock. Uses running sums of the normal equations (one 3x3 solve per N). Returns
+    ``(alpha, start)``; values are clipped to [0, 1]; an undetermined fit (members agree on the
+    window) gives 0.5.
     """
     y, x1, x2 = (np.asarray(v, dtype=float).ravel() for v in (y, x1, x2))
-    n = len(y)
+    t = np.arange(1, len(y) + 1) if t is None else np.asarray(t, dtype=int).ravel()
+    order = np.argsort(t, kind="stable")
+    y, x1, x2, t = y[order], x1[order], x2[order], t[order]
     start = degree + 2 if start is None else int(start)
-    A, powers = _design(x1, x2, degree, float(n))
-    gram = np.cumsum(A[:, :, None] * A[:, None, :], axis=0)[start - 1:]
-    rhs = np.cumsum(A * (y - x2)[:, None], axis=0)[start - 1:]
+    A, powers = _design(x1, x2, degree, float(t[-1]), t)
+    last = np.r_[t[1:] != t[:-1], True] & (t >= start)       # the last row of each window N >= start
+    gram = np.cumsum(A[:, :, None] * A[:, None, :], axis=0)[last]
+    rhs = np.cumsum(A * (y - x2)[:, None], axis=0)[last]
+    powers = powers[last]
     scale = np.trace(gram, axis1=1, axis2=2)
     alpha = np.full(len(gram), 0.5)
     ok = scale > 1e-300
     if ok.any():
         reg = gram[ok] + (1e-12 * scale[ok])[:, None, None] * np.eye(degree + 1)
         coef = np.linalg.solve(reg, rhs[ok][:, :, None])[:, :, 0]
-        alpha[ok] = (coef * powers[start - 1:][ok]).sum(axis=1)
+        alpha[ok] = (coef * powers[ok]).sum(axis=1)
     return np.clip(alpha, 0.0, 1.0), start
 
 
@@ -99,6 +107,12 @@ class Combination(RegressorMixin, BaseEstimator):
 
     Attributes: ``estimators_`` (fitted members), ``alpha_train_`` (alpha(N), N = ``window_start_``..n),
     ``alpha_coefs_``/``beta_coefs_`` (global fit over the training set, t = 1..n), ``n_train_``.
+
+    Several runs (:meth:`fit_runs`): the members are fitted on the runs (each time-ordered member
+    on each run's own sequence, :func:`learners.runs.fit_runs`) and predict each run from its
+    start; the weight polynomials take t as the sample index within each run, the window N holding
+    every run's samples 1..N (:func:`rolling_alpha`); ``n_train_`` is the longest run's length,
+    and ``predict`` continues from there as after one run.
     """
     time_ordered = True   # rows are one run's samples in time order (learners.runs)
 
@@ -114,14 +128,25 @@ class Combination(RegressorMixin, BaseEstimator):
         return est
 
     def fit(self, X, y):
+        return self.fit_runs([(X, y)])
+
+    def fit_runs(self, runs):
+        """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence (class doc)."""
+        from learners.runs import fit_runs
+
         if len(self.members) != 2:
             raise ValueError(f"combination needs exactly two members, got {len(self.members)}")
-        X, y = check_fit_data(self, X, y, min_samples=int(self.degree) + 5)
-        self.estimators_ = [self._build(spec).fit(X, y) for spec in self.members]
-        x1, x2 = (est.predict(X) for est in self.estimators_)
-        self.alpha_train_, self.window_start_ = rolling_alpha(y, x1, x2, int(self.degree))
-        self.alpha_coefs_, self.beta_coefs_ = variable_weight_coefficients(y, x1, x2, int(self.degree))
-        self.n_train_ = len(y)
+        checked = [check_fit_data(self, X, y, min_samples=int(self.degree) + 5) for X, y in runs]
+        if any(X.shape[1] != checked[0][0].shape[1] for X, _ in checked):
+            raise ValueError("combination: the runs have different numbers of inputs")
+        self.n_features_in_ = checked[0][0].shape[1]
+        self.estimators_ = [fit_runs(self._build(spec), checked, str(spec)) for spec in self.members]
+        y = np.concatenate([y_ for _, y_ in checked])
+        x1, x2 = (np.concatenate([est.predict(X) for X, _ in checked]) for est in self.estimators_)
+        t = np.concatenate([np.arange(1, len(y_) + 1) for _, y_ in checked])
+        self.alpha_train_, self.window_start_ = rolling_alpha(y, x1, x2, int(self.degree), t=t)
+        self.alpha_coefs_, self.beta_coefs_ = variable_weight_coefficients(y, x1, x2, int(self.degree), t=t)
+        self.n_train_ = int(t.max())
         return self
 
     def predict_weights(self, X):

@@ -46,7 +46,7 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners.grey import ago, check_n_features, check_series, iago
+from learners.grey import ago, check_n_features, check_runs, check_series, iago
 from learners.pso import pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
@@ -101,7 +101,7 @@ class GNNMCI(BaseEstimator, RegressorMixin):
         """Fit on several runs ``[(X, y), ...]``: the fitness sums every run's squared error, each
         run accumulated and started from its own first value; ``y0_`` and ``w21_`` use the mean
         first value."""
-        checked = [check_series(X, y, model="GNNMCI(1,N)") for X, y in runs]
+        checked = check_runs(runs, model="GNNMCI(1,N)")
         Xa, ya = np.vstack([c[0] for c in checked]), np.concatenate([c[1] for c in checked])
         n, p = Xa.shape
         if n < p + 3:

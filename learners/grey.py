@@ -42,8 +42,8 @@ from learners._checks import refuse_constant_target
 from learners.registry import register_learner
 from twin.errors import InputError
 
-__all__ = ["ago", "iago", "background", "gm0n_coefficients", "gm11_fit", "gm11_forecast", "response_ls_fit",
-           "check_growth", "gm1n_simulate", "GM11", "GM1N"]
+__all__ = ["ago", "iago", "background", "gm0n_coefficients", "gm0n_coefficients_runs", "gm11_fit", "gm11_fit_runs",
+           "gm11_forecast", "response_ls_fit", "check_growth", "check_runs", "gm1n_simulate", "GM11", "GM1N"]
 
 FIT_METHODS = ("response", "equation")
 MAX_GROWTH = 1e3  # largest growth of a fitted grey response over a record before fit/predict refuse it
@@ -66,10 +66,11 @@ def background(x1, axis=0) -> np.ndarray:
     return np.moveaxis(0.5 * (x1[1:] + x1[:-1]), 0, axis)
 
 
-def check_series(X, y=None, *, model: str, min_rows: int = 4):
+def check_series(X, y=None, *, model: str, min_rows: int = 4, constant_ok: bool = False):
     """Validate time-ordered inputs: ``X`` -> float (n, p) copy, ``y`` -> float (n,) copy.
 
-    Raises :class:`InputError` for non-finite values, mismatched lengths or fewer than ``min_rows``.
+    Raises :class:`InputError` for non-finite values, mismatched lengths or fewer than ``min_rows``,
+    ``ValueError`` for a constant ``y`` unless ``constant_ok``.
     """
     Xa = np.array(X, dtype=float)  # copies: never mutate caller data
     if Xa.ndim == 1:
@@ -87,8 +88,25 @@ def check_series(X, y=None, *, model: str, min_rows: int = 4):
         raise InputError("data", "y", f"{model}: X has {Xa.shape[0]} rows but y has {ya.shape[0]}")
     if not np.all(np.isfinite(ya)):
         raise InputError("data", "y", f"{model} target contains NaN or infinite values")
-    refuse_constant_target(ya, model)
+    if not constant_ok:
+        refuse_constant_target(ya, model)
     return Xa, ya
+
+
+def check_runs(runs, *, model: str, min_rows: int = 4) -> list:
+    """Validate several runs ``[(X, y), ...]`` (each its own time-ordered sequence, see
+    :mod:`learners.runs`): each by :func:`check_series` with at least ``min_rows`` rows, all with
+    the same inputs; the target must vary over the runs together (one run may be constant, e.g.
+    a machine left idle in a steady room). Returns ``[(Xa, ya), ...]``."""
+    runs = list(runs)
+    if not runs:
+        raise InputError("data", "runs", f"{model} needs at least one run")
+    checked = [check_series(X, y, model=model, min_rows=min_rows, constant_ok=len(runs) > 1) for X, y in runs]
+    if any(Xa.shape[1] != checked[0][0].shape[1] for Xa, _ in checked):
+        raise InputError("data", "X", f"{model}: the runs have different numbers of inputs")
+    if len(checked) > 1:
+        refuse_constant_target(np.concatenate([ya for _, ya in checked]), model)
+    return checked
 
 
 def check_n_features(est, X):
@@ -110,9 +128,16 @@ def gm0n_coefficients(X, y, alpha=0.0) -> np.ndarray:
     the notes advise it for collinear sensors). The influence ranking is ``|theta_j|`` (larger =
     more influential). Returns shape (p,).
     """
-    Xa, ya = check_series(X, y, model="GM(0,N)", min_rows=3)
-    z1 = background(ago(ya))
-    B = ago(Xa)[1:]
+    return gm0n_coefficients_runs([(X, y)], alpha)
+
+
+def gm0n_coefficients_runs(runs, alpha=0.0) -> np.ndarray:
+    """GM(0,N) influence coefficients from several runs ``[(X, y), ...]``: each run accumulated from
+    its own start, the rows ``z_1^(1)(k) = sum_j theta_j x_j^(1)(k)`` (k = 2..n of each run) stacked
+    (:func:`gm0n_coefficients` for one run)."""
+    checked = [check_series(X, y, model="GM(0,N)", min_rows=3, constant_ok=len(runs) > 1) for X, y in runs]
+    z1 = np.concatenate([background(ago(ya)) for _, ya in checked])
+    B = np.vstack([ago(Xa)[1:] for Xa, _ in checked])
     if alpha > 0.0:
         gram = B.T @ B
         lam = float(alpha) * np.trace(gram) / gram.shape[0]
@@ -190,14 +215,24 @@ def gm11_fit(series) -> tuple[float, float]:
     ``B = [[-z^(1)(k), 1]]``, ``Y = [x^(0)(k)]`` (seed 004 §III.B, standard form; seed 000 §3.2).
     For a geometric series ``c r^(k-1)`` this is exact: ``a = 2(1-r)/(1+r)``, ``b = 2c/(1+r)``.
     """
-    x0 = np.asarray(series, dtype=float).ravel()
-    if x0.size < 4:
-        raise InputError("data", "rows", f"GM(1,1) needs at least 4 samples, got {x0.size}")
-    if not np.all(np.isfinite(x0)):
-        raise InputError("data", "y", "GM(1,1) series contains NaN or infinite values")
-    z = background(ago(x0))
-    B = np.column_stack([-z, np.ones_like(z)])
-    (a, b), *_ = np.linalg.lstsq(B, x0[1:], rcond=None)
+    return gm11_fit_runs([series])
+
+
+def gm11_fit_runs(series_list) -> tuple[float, float]:
+    """Least-squares ``(a, b)`` of GM(1,1) on several series, each accumulated from its own start:
+    the equation rows ``x^(0)(k) + a z^(1)(k) = b`` (k = 2..n of each series) stacked; exact when
+    every series is ``c r^(k-1)`` with the same ``c`` and ``r`` (whatever their lengths)."""
+    rows, targets = [], []
+    for series in series_list:
+        x0 = np.asarray(series, dtype=float).ravel()
+        if x0.size < 4:
+            raise InputError("data", "rows", f"GM(1,1) needs at least 4 samples, got {x0.size}")
+        if not np.all(np.isfinite(x0)):
+            raise InputError("data", "y", "GM(1,1) series contains NaN or infinite values")
+        z = background(ago(x0))
+        rows.append(np.column_stack([-z, np.ones_like(z)]))
+        targets.append(x0[1:])
+    (a, b), *_ = np.linalg.lstsq(np.vstack(rows), np.concatenate(targets), rcond=None)
     return float(a), float(b)
 
 
@@ -242,6 +277,10 @@ class GM11(BaseEstimator, RegressorMixin):
 
     Fitted: ``a_`` (development coefficient, 1/sample), ``b_`` (grey input, series units),
     ``y0_``, ``n_train_``, ``n_features_in_``.
+
+    Several runs (:meth:`fit_runs`): each run is accumulated from its own start and the equation
+    rows of all runs are fitted together (:func:`gm11_fit_runs`); ``y0_`` is then the mean first
+    value, and :meth:`forecast` continues the last run.
     """
 
     time_ordered = True   # rows are one run's samples in time order (learners.runs)
@@ -250,12 +289,17 @@ class GM11(BaseEstimator, RegressorMixin):
         self.y0 = y0
 
     def fit(self, X, y):
-        Xa, ya = check_series(X, y, model="GM(1,1)")
-        self.a_, self.b_ = gm11_fit(ya)
-        self.y0_ = float(ya[0]) if self.y0 is None else float(self.y0)
-        self.first_train_ = float(ya[0])
-        self.n_train_ = ya.size
-        self.n_features_in_ = Xa.shape[1]
+        return self.fit_runs([(X, y)])
+
+    def fit_runs(self, runs):
+        """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
+        checked = check_runs(runs, model="GM(1,1)")
+        self.a_, self.b_ = gm11_fit_runs([ya for _, ya in checked])
+        starts = [float(ya[0]) for _, ya in checked]
+        self.y0_ = float(np.mean(starts)) if self.y0 is None else float(self.y0)
+        self.first_train_ = starts[-1]
+        self.n_train_ = checked[-1][1].size
+        self.n_features_in_ = checked[0][0].shape[1]
         return self
 
     def predict(self, X):
@@ -350,7 +394,7 @@ class GM1N(BaseEstimator, RegressorMixin):
 
     def fit_runs(self, runs):
         """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
-        checked = [check_series(X, y, model="GM(1,N)") for X, y in runs]
+        checked = check_runs(runs, model="GM(1,N)")
         if self.response not in ("difference", "whitened"):
             raise InputError("parameters", "response", f"unknown GM(1,N) response {self.response!r}; "
                                                        "use 'difference' or 'whitened'")
@@ -358,8 +402,6 @@ class GM1N(BaseEstimator, RegressorMixin):
             raise InputError("parameters", "fit_method", f"unknown GM(1,N) fit_method {self.fit_method!r}; "
                                                          f"use one of {FIT_METHODS}")
         p = checked[0][0].shape[1]
-        if any(Xa.shape[1] != p for Xa, _ in checked):
-            raise InputError("data", "X", "GM(1,N): the runs have different numbers of inputs")
         n = sum(Xa.shape[0] for Xa, _ in checked)
         if n < p + 2:
             raise InputError("data", "rows", f"GM(1,N) with {p} inputs needs at least {p + 2} rows, got {n}")

@@ -46,13 +46,13 @@ import numpy as np
 from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_series, iago, \
-    response_ls_fit
+from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_runs, check_series, \
+    iago, response_ls_fit
 from learners.pso import pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
 
-__all__ = ["gmc_simulate", "gmc_ls_fit", "GMC1N", "GMC1NPSO"]
+__all__ = ["gmc_simulate", "gmc_ls_fit", "gmc_ls_fit_runs", "GMC1N", "GMC1NPSO"]
 
 _RESPONSES = ("convolution", "difference")
 
@@ -80,10 +80,18 @@ def gmc_simulate(b1: float, b, u: float, X_ago: np.ndarray, y0: float, response=
 
 def gmc_ls_fit(X, y):
     """Least-squares ``(b1, b, u)`` of GMC(1,N) on raw drivers ``X`` (n, p) and response ``y``."""
-    z1 = background(ago(y))
-    zx = background(ago(X))
-    B = np.column_stack([-z1, zx, np.ones_like(z1)])
-    theta, *_ = np.linalg.lstsq(B, y[1:], rcond=None)
+    return gmc_ls_fit_runs([(X, y)])
+
+
+def gmc_ls_fit_runs(runs):
+    """Least-squares ``(b1, b, u)`` of GMC(1,N) on several runs ``[(X, y), ...]``: each run
+    accumulated from its own start, the equation rows (k = 2..n of each run) stacked."""
+    rows, targets = [], []
+    for X, y in runs:
+        z1 = background(ago(y))
+        rows.append(np.column_stack([-z1, background(ago(X)), np.ones_like(z1)]))
+        targets.append(y[1:])
+    theta, *_ = np.linalg.lstsq(np.vstack(rows), np.concatenate(targets), rcond=None)
     return float(theta[0]), theta[1:-1].copy(), float(theta[-1])
 
 
@@ -96,26 +104,34 @@ def gmc_retention(b1: float, response: str) -> float:
 
 
 class _GMCBase(BaseEstimator, RegressorMixin):
-    """Shared validation and prediction of the GMC(1,N) estimators."""
+    """Shared validation and prediction of the GMC(1,N) estimators.
+
+    ``fit(X, y)`` is ``fit_runs([(X, y)])``; with several runs (:mod:`learners.runs`) each run is
+    accumulated and simulated from its own first value and the squared errors of all runs are
+    summed; ``y0_`` is then the mean first value."""
     time_ordered = True   # rows are one run's samples in time order (learners.runs)
 
     _name = "GMC(1,N)"
 
-    def _check_fit(self, X, y):
-        Xa, ya = check_series(X, y, model=self._name)
-        n, p = Xa.shape
+    def fit(self, X, y):
+        return self.fit_runs([(X, y)])
+
+    def _check_fit(self, runs):
+        checked = check_runs(runs, model=self._name)
+        p = checked[0][0].shape[1]
+        n = sum(Xa.shape[0] for Xa, _ in checked)
         if n < p + 3:
             raise InputError("data", "rows", f"{self._name} with {p} inputs needs at least {p + 3} rows, got {n}")
         if self.response not in _RESPONSES:
             raise InputError("parameters", "response", f"unknown GMC response {self.response!r}; use {_RESPONSES}")
-        return Xa, ya
+        return checked, p
 
-    def _store(self, b1, b, u, ya, p):
+    def _store(self, b1, b, u, starts, p):
         self.b1_ = float(b1)
         self.b_ = np.asarray(b, dtype=float)
         self.u_ = float(u)
         self.coef_ = self.b_
-        self.y0_ = float(ya[0]) if self.y0 is None else float(self.y0)
+        self.y0_ = float(np.mean(starts)) if self.y0 is None else float(self.y0)
         self.n_features_in_ = p
 
     def predict(self, X):
@@ -145,23 +161,29 @@ class GMC1N(_GMCBase):
         self.y0 = y0
         self.fit_method = fit_method
 
-    def fit(self, X, y):
-        Xa, ya = self._check_fit(X, y)
+    def fit_runs(self, runs):
+        """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
+        checked, p = self._check_fit(runs)
         if self.fit_method not in FIT_METHODS:
             raise InputError("parameters", "fit_method", f"unknown GMC(1,N) fit_method {self.fit_method!r}; "
                                                          f"use one of {FIT_METHODS}")
-        n, p = Xa.shape
+        starts = np.array([ya[0] for _, ya in checked])
         if self.fit_method == "equation":
-            b1, b, u = gmc_ls_fit(Xa, ya)
-            check_growth(gmc_retention(b1, self.response), n, model=self._name, coef_name="b1", coef=b1,
-                         fit_method="equation")
+            b1, b, u = gmc_ls_fit_runs(checked)
+            check_growth(gmc_retention(b1, self.response), max(ya.size for _, ya in checked), model=self._name,
+                         coef_name="b1", coef=b1, fit_method="equation")
         else:
-            X_ago = ago(Xa)
-            b1, theta, _ = response_ls_fit(
-                lambda b1_, th, y0: gmc_simulate(b1_, th[:-1], th[-1], X_ago, y0, self.response), ya, p + 1,
-                a_max=20.0)
+            X_agos = [ago(Xa) for Xa, _ in checked]
+
+            def simulate(b1_, th, y0):
+                firsts = np.broadcast_to(y0, starts.shape)
+                return np.concatenate([gmc_simulate(b1_, th[:-1], th[-1], Xg, s, self.response)
+                                       for Xg, s in zip(X_agos, firsts)])
+
+            b1, theta, _ = response_ls_fit(simulate, np.concatenate([ya for _, ya in checked]), p + 1, a_max=20.0,
+                                           start=starts)
             b, u = theta[:-1], theta[-1]
-        self._store(b1, b, u, ya, p)
+        self._store(b1, b, u, starts, p)
         return self
 
 
@@ -194,17 +216,17 @@ class GMC1NPSO(_GMCBase):
         self.coef_bound = coef_bound
         self.random_state = random_state
 
-    def fit(self, X, y):
-        Xa, ya = self._check_fit(X, y)
-        p = Xa.shape[1]
-        sx = np.max(np.abs(Xa), axis=0)
+    def fit_runs(self, runs):
+        """Fit on several runs ``[(X, y), ...]``: the fitness sums every run's squared error."""
+        checked, p = self._check_fit(runs)
+        sx = np.max(np.abs(np.vstack([Xa for Xa, _ in checked])), axis=0)
         sx[sx == 0.0] = 1.0
-        sy = float(np.max(np.abs(ya))) or 1.0
-        Xs_ago, ys = ago(Xa / sx), ya / sy
+        sy = float(np.max(np.abs(np.concatenate([ya for _, ya in checked])))) or 1.0
+        scaled = [(ago(Xa / sx), ya / sy) for Xa, ya in checked]
 
         def fitness(theta):
-            pred = gmc_simulate(theta[0], theta[1:-1], theta[-1], Xs_ago, ys[0], self.response)
-            return float(np.sum((pred - ys) ** 2))
+            return float(sum(np.sum((gmc_simulate(theta[0], theta[1:-1], theta[-1], xg, ys[0], self.response) - ys)
+                                    ** 2) for xg, ys in scaled))
 
         lower = np.r_[0.0, np.full(p + 1, -float(self.coef_bound))]
         upper = np.r_[float(self.b1_max), np.full(p + 1, float(self.coef_bound))]
@@ -212,7 +234,7 @@ class GMC1NPSO(_GMCBase):
             res = pso_minimize(fitness, lower, upper, n_particles=self.n_particles, n_iterations=self.n_iterations,
                                variant=self.variant, random_state=self.random_state)
         theta = res.x
-        self._store(theta[0], theta[1:-1] * sy / sx, theta[-1] * sy, ya, p)
+        self._store(theta[0], theta[1:-1] * sy / sx, theta[-1] * sy, [ya[0] for _, ya in checked], p)
         self.fitness_ = res.fun
         self.n_evaluations_ = res.n_evaluations
         return self

@@ -6,10 +6,18 @@ never simply stacked for a time-ordered learner (grey models, AR, GNNMCI, the co
 not a step in time. So:
 
 * a pooled learner (regressions, networks, ANFIS, LS-SVM) is fitted on all rows of all runs;
-* a time-ordered learner with a ``fit_runs([(X, y), ...])`` method (``gm1n``, ``ar-temp``,
-  ``gnnmci``) is fitted on the runs as separate sequences; one without it accepts one run only
+* a time-ordered learner is fitted on the runs as separate sequences by its
+  ``fit_runs([(X, y), ...])`` method (every one of this package has it: ``gm11``, ``gm1n``,
+  ``gmc1n``, ``gmc1n-pso`` and ``gnnmci`` accumulate and simulate each run from its own start and
+  sum the runs' squared errors; ``ar-temp`` takes no lag pair across a run boundary;
+  ``combination`` fits its members so and reads its weights on each run's own clock); a
+  time-ordered learner without it (someone else's) accepts one run only
   (:class:`twin.errors.InputError` otherwise);
-* predictions are always made run by run, each from its own start.
+* predictions are always made run by run, each from its own start;
+* a time-ordered learner's coefficients are per sample, so its runs must share one sample
+  interval: :func:`resample` thins a run to a coarser one (``twin learn --interval``);
+* a selector with ``fit_runs`` (the grey ones, ``gm0n-fcm`` and ``gra-fcm``, which read rows as
+  time) picks its sensors on the runs as sequences, any other on all rows (:func:`select_runs`).
 
 :func:`dataset_runs` lists the case files of one split of a ``twin dataset`` folder.
 """
@@ -21,10 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
+from learners.table import Table
 from twin.errors import InputError
 from twin.io.paths import read_text
 
-__all__ = ["is_time_ordered", "fit_runs", "dataset_runs"]
+__all__ = ["is_time_ordered", "fit_runs", "select_runs", "resample", "check_one_interval", "dataset_runs"]
 
 
 def is_time_ordered(estimator) -> bool:
@@ -41,8 +50,43 @@ def fit_runs(estimator, runs: list, name: str = "learner"):
     if hasattr(estimator, "fit_runs"):
         return estimator.fit_runs(runs)
     raise InputError("command line", "--learner", f"{name} fits one run's time sequence and cannot be trained on "
-                                                  f"{len(runs)} runs (multi-run training: gm1n, ar-temp, gnnmci "
-                                                  "and every pooled learner); give it one training run")
+                                                  f"{len(runs)} runs (it has no fit_runs method); give it one "
+                                                  "training run")
+
+
+def select_runs(selector, runs: list):
+    """Fit the sensor ``selector`` on ``runs`` = [(X, y), ...] (module doc); returns it."""
+    if len(runs) > 1 and hasattr(selector, "fit_runs"):
+        return selector.fit_runs(runs)
+    return selector.fit(np.vstack([X for X, _ in runs]), np.concatenate([y for _, y in runs]))
+
+
+def resample(table: Table, interval: float | None, source: str, field: str = "--interval") -> Table:
+    """Every k-th row of the run ``table`` (from its first), k = ``interval`` [s] / the run's sample
+    interval; ``None`` keeps the run. A run that is not equally spaced in time, or whose interval
+    does not divide ``interval``, is an :class:`InputError` on ``source``."""
+    if interval is None or len(table.time) < 2:
+        return table
+    dt = np.diff(table.time)
+    step = float(np.median(dt))
+    if np.max(np.abs(dt - step)) > 1e-6 * step:
+        raise InputError(source, field, "the run is not equally spaced in time; it cannot be thinned")
+    k = interval / step
+    if round(k) < 1 or abs(k - round(k)) > 1e-6 * k:
+        raise InputError(source, field, f"{interval:g} s is not a whole multiple of the run's sample interval "
+                                        f"{step:g} s")
+    k = int(round(k))
+    return Table(table.time[::k], table.X[::k], table.y[::k], table.input_names)
+
+
+def check_one_interval(tables: list, names: list[str]) -> None:
+    """Refuse (:class:`InputError` on ``--interval``) runs sampled at different intervals when a
+    time-ordered learner (``names``) is to see them: its coefficients are per sample."""
+    steps = sorted({round(float(np.median(np.diff(t.time))), 9) for t in tables if len(t.time) > 1})
+    if names and len(steps) > 1:
+        raise InputError("command line", "--interval",
+                         f"the runs are sampled every {', '.join(f'{s:g}' for s in steps)} s and {', '.join(names)} "
+                         f"count(s) in samples; thin them to one interval, e.g. --interval '{steps[-1]:g} s'")
 
 
 def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> list[Path]:

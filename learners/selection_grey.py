@@ -32,6 +32,10 @@ gra-fcm score (``measure``):
     Delta_min/max over all sensors and samples, grade ``= mean_k xi_q(k)``. A constant series
     normalises to zeros.
 
+Several runs (``fit_runs([(X, y), ...])``, :mod:`learners.runs`): GM(0,N) takes each run's rise
+from its own first reading and accumulates each run from its own start, the regression rows of all
+runs stacked; the grey relational scores are the mean of each run's score.
+
 Fitted: ``scores_`` (p,), ``labels_`` (p,) cluster of each sensor, ``selected_`` (kept column indices,
 ascending), ``selected_names_`` (``X.columns`` when present, else ``x0, x1, ...``),
 ``n_features_in_``.
@@ -43,7 +47,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 
 from learners.fcm import fuzzy_cmeans
-from learners.grey import check_n_features, check_series, gm0n_coefficients
+from learners.grey import check_n_features, check_runs, check_series, gm0n_coefficients_runs
 from learners.registry import register_selector
 from twin.errors import InputError
 
@@ -117,16 +121,25 @@ class _GreyFCMSelector(BaseEstimator, TransformerMixin):
     _name = "grey selector"
 
     def fit(self, X, y):
-        Xa, ya = check_series(X, y, model=self._name, min_rows=3)
+        return self.fit_runs([(X, y)])
+
+    def fit_runs(self, runs):
+        """Pick sensors on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
+        checked = check_runs(runs, model=self._name, min_rows=3)
         if int(self.n_select) < 1:
             raise InputError("parameters", "n_select", f"n_select must be >= 1, got {self.n_select}")
-        self.scores_ = self._scores(Xa, ya)
+        self.scores_ = self._scores_runs(checked)
         self.selected_, self.labels_ = fcm_representatives(self.scores_, self.n_select, m=self.m,
                                                            random_state=self.random_state)
-        names = _column_names(X, Xa.shape[1])
+        p = checked[0][0].shape[1]
+        names = _column_names(runs[0][0], p)
         self.selected_names_ = [names[j] for j in self.selected_]
-        self.n_features_in_ = Xa.shape[1]
+        self.n_features_in_ = p
         return self
+
+    def _scores_runs(self, runs):
+        """Scores from several runs: the mean of each run's (subclasses may do better)."""
+        return np.mean([self._scores(Xa, ya) for Xa, ya in runs], axis=0)
 
     def transform(self, X):
         Xa = check_series(X, model=self._name, min_rows=1)
@@ -151,8 +164,11 @@ class GM0NFCMSelector(_GreyFCMSelector):
         self.random_state = random_state
 
     def _scores(self, X, y):
-        Xd = X - X[0] if self.temperature_rise else X
-        return np.abs(gm0n_coefficients(Xd, y, alpha=self.alpha))
+        return self._scores_runs([(X, y)])
+
+    def _scores_runs(self, runs):
+        rises = [(X - X[0] if self.temperature_rise else X, y) for X, y in runs]
+        return np.abs(gm0n_coefficients_runs(rises, alpha=self.alpha))
 
 
 @register_selector("gra-fcm")

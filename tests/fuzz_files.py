@@ -245,6 +245,7 @@ OUTPUTS = [
     ("plot.o", PLOT, "{d}/pic.png", ".png", "r.nc"),
     ("diagnose.json", DIAGNOSE, "{d}/d.json", ".json", "m.csv"),
     ("learn.o", LEARN, "{d}/scores.csv", ".csv", "train.csv"),
+    ("learn.o-md", LEARN + ["-o", "{d}/board.md"], "{d}/board.md", ".md", "train.csv"),
 ]
 
 

@@ -208,6 +208,7 @@ def test_one_whole_file_per_case_index_and_card_agree(built):
     assert units["drift"] == "um" and units["temperature"] == "degC"
     readme = (out / "README.md").read_text()
     assert "# Dataset tiny" in readme and "| drift |" in readme and "```toml" in readme
+    assert card["solver_error"] == {} and "None reported" in readme      # the direct solver: exact
 
 
 def test_open_mfdataset_reads_every_case(built):
@@ -305,6 +306,15 @@ def test_reduced_model_cases_are_bit_identical_and_carry_no_wall_times(tmp_path)
     assert outs[0] == outs[1]
     with xr.open_dataset(tmp_path / "a" / "cases" / case[0].file, engine="h5netcdf") as ds:
         assert ds.attrs["solver"] == "rom" and "rom_offline_s" not in ds.attrs
+        estimate = json.loads(ds.attrs["rom_error_estimate"])
+    # the card reports the reduced model's error: the largest per group, drift in um, temperature in K
+    write_index(spec, case, tmp_path / "a")
+    reported = json.loads((tmp_path / "a" / "card.json").read_text())["solver_error"]
+    assert reported["rom_error_estimate"]["drift"] == {"max": pytest.approx(1e6 * max(estimate["drift"]), rel=1e-12),
+                                                       "units": "um"}
+    assert reported["rom_error_estimate"]["temperature"]["max"] == pytest.approx(max(estimate["temperature"]))
+    assert reported["rom_error_bound"]["temperature"]["max"] >= reported["rom_error_estimate"]["temperature"]["max"]
+    assert "rom_error_bound" in (tmp_path / "a" / "README.md").read_text()
 
 
 def test_the_bundled_example_plans_100_cases():
@@ -331,13 +341,43 @@ def test_learn_trains_on_several_runs_and_on_a_dataset_split(built, capsys):
     board = pd.read_csv(scores)
     assert len(board) == 3 * 3 and board["test"].str.endswith("[segment 2/2]").sum() == 3
     assert (board["p95_abs_residual"] <= board["max_abs_residual"] + 1e-12).all() and (board["fit_time_s"] >= 0).all()
-    # a time-ordered learner that fits one sequence refuses several runs, in one line
+    # every time-ordered learner now trains on several runs, each its own sequence
     assert main(["learn", "--train", files[0], "--train", files[1], "--test", files[2], "--target", "drift:Z",
-                 "--select", "correlation:2", "--learner", "gm11"]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "gm11 fits one run's time sequence" in err
+                 "--select", "correlation:2", "--learner", "gm11,gmc1n,combination"]) == 0
+    text = capsys.readouterr().out
+    assert all(name in text for name in ("gm11", "gmc1n", "combination")), text
     assert main(["learn", "--dataset", str(out), "--split", "nope", *common]) == 2
     assert "no split 'nope'" in capsys.readouterr().err
+
+
+def test_learn_writes_the_leaderboard_as_markdown(built, capsys):
+    _, out, _ = built
+    board = out.parent / "board.md"
+    assert main(["learn", "--dataset", str(out), "--split", "test", "--target", "drift:Z", "--learner", "mlr,gm1n",
+                 "--inputs", "motor,spindle_boss,test_bar", "--interval", "2 min", "--segments", "2",
+                 "-o", str(board)]) == 0
+    text = board.read_text()
+    assert text.startswith("# twin learn: drift:Z") and "thinned to 2 min" in text and "[segment 2/2]" in text
+    assert "| gm1n |" in text and "| mlr |" in text
+
+
+def test_the_dataset_study_writes_a_leaderboard_and_a_placement_benchmark(built, tmp_path):
+    """The exhaustive set is the least-squares optimum over all sets, so mlr (least squares with
+    an intercept) scores no set better than it (to round-off)."""
+    from validate.studies import dataset_learners
+
+    _, out, _ = built
+    res = tmp_path / "study"
+    assert dataset_learners.main([str(out), "-o", str(res), "--learners", "mlr,gm1n", "--select", "correlation:2",
+                                  "--n-random", "3", "--segments", "2"]) == 0
+    board = pd.read_csv(res / "leaderboard.csv")
+    assert set(board["learner"]) == {"mlr", "gm1n"} and board["test"].str.contains("segment 2/2").any()
+    placement = pd.read_csv(res / "placement.csv")
+    mlr = placement[placement["learner"] == "mlr"].set_index("set")
+    assert {"selected: gm0n-fcm", "intuitive", "random", "truth-greedy", "truth-exhaustive"} <= set(mlr.index)
+    assert (mlr.loc["truth-exhaustive", "rmse"] <= mlr["rmse_min"] + 1e-9).all()
+    assert "truth-exhaustive" in (res / "placement.md").read_text()
+    assert dataset_learners.main([str(out), "-o", str(res), "--split", "nope"]) == 2
 
 
 def test_gm1n_on_two_runs_sees_each_runs_own_sequence():

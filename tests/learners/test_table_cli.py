@@ -155,3 +155,18 @@ def test_netcdf_targets_and_learn(tmp_path, capsys):
     assert run_learn(_args("--train", train, "--test", test, "--target", "drift:Z",
                            "--learner", "mlr,ar-temp", "--select", "hier-corr:2")) == 0
     assert "S1" in capsys.readouterr().out
+
+
+def test_time_ordered_learners_need_one_sample_interval(tmp_path, capsys):
+    """Runs sampled at 10 s and 20 s: refused for gm1n (its coefficients are per sample) unless
+    --interval thins them to one; a pooled learner takes them as they are."""
+    train = _write_csv(tmp_path / "train.csv", n=80)
+    test = _write_csv(tmp_path / "test.csv", n=40, seed=1, edit=lambda rows: [r.__setitem__(0, f"{2 * float(r[0]):g}")
+                                                                               for r in rows[1:]])
+    common = ["--train", train, "--test", test, "--target", "drift_z"]
+    with pytest.raises(InputError, match="every 10, 20 s") as err:
+        run_learn(_args(*common, "--learner", "mlr,gm1n"))
+    assert err.value.field == "--interval"
+    assert run_learn(_args(*common, "--learner", "mlr")) == 0
+    assert run_learn(_args(*common, "--learner", "mlr,gm1n", "--interval", "20 s")) == 0
+    assert "gm1n" in capsys.readouterr().out

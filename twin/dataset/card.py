@@ -7,7 +7,7 @@ unit in the column name, e.g. ``spindle_motor.power [W]``).
 
 ``card.json`` and ``README.md``: the spec as written, the package and format version, counts per
 split and family, sizes, the schema of a case file (every variable with its dimensions, unit and
-role) and what is truth and what is measured.
+role), what is truth and what is measured, and the solver's reported error (:func:`solver_error`).
 """
 
 from __future__ import annotations
@@ -26,6 +26,40 @@ TRUTH_NOTE = ("Truth is what the model computed, noise-free: variables ending in
               "(drift) and the heat into the structure (heat_power). Measured is what a virtual instrument "
               "recorded (seeded noise, lag, quantisation, bias): temperature, probe, probe_drift, tilt and "
               "camera frames. Inputs are what drives the machine: spindle_speed and ambient_temperature.")
+
+
+# the solver's error attributes of a result ({observer group: [value per output]} in SI, m or degC)
+ERROR_ATTRS = {"rom_error_bound": "verified bound of the reduced model (guaranteed, pessimistic)",
+               "rom_error_estimate": "estimate of the reduced model (against the model without its last two "
+                                     "blocks; not guaranteed)",
+               "solver_error_bound": "verified bound of the iterative solver (guaranteed, pessimistic)"}
+ERROR_UNITS = {"drift": ("um", 1e6), "probes": ("um", 1e6), "temperature": ("K", 1.0)}
+ERROR_NOTE = ("Largest over the built cases and the group's outputs. The reduced model's bound holds for any "
+              "input but is pessimistic by about 1e4 on temperatures (hundreds of K against a true error of "
+              "hundredths); its estimate is within a factor 1-15 of the true error on the drift outputs but has "
+              "underestimated single temperature sensors by up to 1.6x (README, 'Scale'). The direct solver "
+              "reports nothing: it is exact to round-off.")
+
+
+def solver_error(folder: Path, rows: list[dict]) -> dict:
+    """{attribute: {group: {"max": value, "units": u}}} of :data:`ERROR_ATTRS` over the built cases
+    (drift and probes in um, temperature in K; other groups left out); empty for the direct solver."""
+    import h5py
+
+    out: dict = {}
+    for r in rows:
+        if not r["built"]:
+            continue
+        with h5py.File(Path(folder) / r["file"], "r") as f:
+            attrs = {k: f.attrs[k] for k in ERROR_ATTRS if k in f.attrs}
+        for key, text in attrs.items():
+            for group, values in json.loads(text if isinstance(text, str) else text.decode()).items():
+                if group not in ERROR_UNITS or not values:
+                    continue
+                unit, factor = ERROR_UNITS[group]
+                entry = out.setdefault(key, {}).setdefault(group, {"max": 0.0, "units": unit})
+                entry["max"] = max(entry["max"], factor * max(abs(float(v)) for v in values))
+    return out
 
 
 def role(name: str) -> str:
@@ -86,6 +120,7 @@ def card(spec, rows: list[dict], folder: Path, last_build: dict | None = None) -
                       "index": "index.csv, index.parquet (one row per case)", "card": "card.json, README.md"},
             "schema": schema(Path(folder) / built[0]["file"] if built else None),
             "truth_and_measured": TRUTH_NOTE,
+            "solver_error": solver_error(folder, rows), "solver_error_note": ERROR_NOTE,
             "last_build": last_build or {}}
 
 
@@ -107,7 +142,16 @@ def markdown(c: dict) -> str:
               "- `card.json`, `README.md`: this card", "",
               "Read all cases: `xarray.open_mfdataset(\"cases/*.nc\", combine=\"nested\", concat_dim=\"case\")`; "
               "rebuild or resume: `twin dataset SPEC.toml -o DIR` (finished cases are skipped).", "",
-              "## Truth and measured", "", c["truth_and_measured"], "", "## Schema of a case file", ""]
+              "## Truth and measured", "", c["truth_and_measured"], "", "## Solver error", ""]
+    if c["solver_error"]:
+        lines += ["| reported | " + " | ".join(ERROR_UNITS) + " |", "|---|" + "---:|" * len(ERROR_UNITS)]
+        for key, groups in c["solver_error"].items():
+            cells = [f"{groups[g]['max']:.3g} {groups[g]['units']}" if g in groups else "" for g in ERROR_UNITS]
+            lines.append(f"| `{key}`: {ERROR_ATTRS[key]} | " + " | ".join(cells) + " |")
+        lines += ["", c["solver_error_note"]]
+    else:
+        lines += ["None reported (the direct solver is exact to round-off; or no case built yet)."]
+    lines += ["", "## Schema of a case file", ""]
     if c["schema"]:
         lines += ["| name | kind | dims | units | role | long name |", "|---|---|---|---|---|---|"]
         lines += [f"| {s['name']} | {s['kind']} | {', '.join(s['dims'])} | {s['units']} | {s['role']} | "

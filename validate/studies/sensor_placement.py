@@ -13,7 +13,9 @@ drift [um], measured temperature rises [degC]) and scores, with ``mlr`` and ``an
 - ``random``: 20 seeded draws of 4 grid sensors (mean, min, max over the draws);
 - ``greedy-oracle``: forward selection over the grid, each step adding the sensor that most lowers
   the *test-set* RMSE of least squares (= ``mlr``) trained on the training run; it uses the known
-  truth of the test run, so it is a lower bound that no real selection can reach.
+  truth of the test run, so it is a bound that no real selection can reach (greedy, not the optimum;
+  :mod:`validate.studies.placement_search`, whose exhaustive search the dataset study
+  :mod:`validate.studies.dataset_learners` runs).
 
 Writes ``placement.md``, ``placement.csv`` and ``placement.png``. With ``--camera`` the candidates
 are seed 001's 525 spots on the thermal-camera frames (the intuitive sites stay the glued sensors).
@@ -25,35 +27,12 @@ from pathlib import Path
 
 import numpy as np
 
-from learners.metrics import rms
 from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
+from validate.studies.placement_search import greedy_oracle
 
 NAME = "sensor_placement"
 INTUITIVE = ("motor", "spindle_boss", "column_front_top", "test_bar")
 LEARNER_NAMES = ("mlr", "anfis-fcm")
-
-
-def _lstsq_test_rmse(Xtr, ytr, Xte, yte) -> float:
-    A = np.column_stack([np.ones(len(Xtr)), Xtr])
-    coef, *_ = np.linalg.lstsq(A, ytr, rcond=None)
-    r = np.column_stack([np.ones(len(Xte)), Xte]) @ coef - yte
-    return float(rms(r))
-
-
-def greedy_oracle(data, axis: str = "Z", k: int = 4) -> list[int]:
-    """Columns (of ``data.X_*``) chosen by forward selection on the test-set RMSE of least squares."""
-    chosen: list[int] = []
-    for _ in range(k):
-        best, best_rmse = None, np.inf
-        for c in data.candidate_columns:
-            if c in chosen:
-                continue
-            cols = chosen + [c]
-            e = _lstsq_test_rmse(data.X_train[:, cols], data.y_train[axis], data.X_test[:, cols], data.y_test[axis])
-            if e < best_rmse:
-                best, best_rmse = c, e
-        chosen.append(best)
-    return chosen
 
 
 def sensor_sets(data, seed: int = 0, n_random: int = 20, axis: str = "Z", k: int = 4) -> dict[str, list[list[int]]]:
@@ -64,7 +43,8 @@ def sensor_sets(data, seed: int = 0, n_random: int = 20, axis: str = "Z", k: int
     rng = np.random.default_rng(seed)
     draws = [list(rng.choice(cand, size=k, replace=False)) for _ in range(n_random)]
     return {"gm0n-fcm": [picked], "intuitive": [data.columns(INTUITIVE)], "seed-move": [moved],
-            "random": draws, "greedy-oracle": [greedy_oracle(data, axis, k)]}
+            "random": draws,
+            "greedy-oracle": [greedy_oracle(data.X_train, data.y_train[axis], data.X_test, data.y_test[axis], cand, k)]}
 
 
 def run_study(data, seed: int = 0, n_random: int = 20, axis: str = "Z", learner_names=LEARNER_NAMES):

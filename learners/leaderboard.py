@@ -1,0 +1,131 @@
+"""A leaderboard: learners fitted on training runs and scored against the known truth of test runs.
+
+Each learner is fitted once on the training runs (:func:`learners.runs.fit_runs`: pooled learners
+on all rows, time-ordered ones on each run's own sequence) and predicts every test run from its own
+start. A row per learner and test set holds, on the residuals ``r = prediction - truth`` of all the
+set's runs together (um for a drift target):
+
+    RMSE = sqrt(mean r^2),   NSE = 1 - sum r^2 / sum (y - mean y)^2,   R (Pearson),
+    max |r|,   p95 |r| (the 95th percentile of |r|, linear interpolation),
+    improvement % = 100 (1 - max |r| / max |y|),   MRE %,   fit time (s, wall clock of ``fit``)
+
+(:mod:`learners.metrics`).
+
+With ``segments = N > 1`` each set also gets a row per time segment k = 1..N: rows
+``[(k-1) n / N, k n / N)`` of every run (n its length), pooled over the runs, so a learner that
+is good at the start of a run and drifts away later shows it. A learner that refuses the data
+(``ValueError``) or predicts non-finite values is an :class:`twin.errors.InputError` naming the
+runs and the learner.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import time
+
+import numpy as np
+
+from learners.metrics import abs_residual_percentile, score_all
+from learners.runs import fit_runs
+from twin.errors import InputError
+from twin.io.atomic import atomic_write, atomic_write_text
+
+__all__ = ["COLUMNS", "as_input_error", "segments_of", "leaderboard", "write_csv", "markdown", "write_markdown"]
+
+COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "p95_abs_residual", "improvement_pct", "mre_pct",
+           "inputs", "fit_time_s"]
+HEADINGS = ["learner", "test", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "inputs", "fit s"]
+
+
+@contextlib.contextmanager
+def as_input_error(source, field):
+    """A learner or selector refusing the user's data (ValueError) becomes an InputError."""
+    try:
+        yield
+    except ValueError as exc:
+        text = exc.message if isinstance(exc, InputError) else str(exc).strip()
+        raise InputError(source, field, text.splitlines()[0] if text else type(exc).__name__) from None
+
+
+def segments_of(label: str, lengths: list[int], n: int):
+    """(label, [slice per run]) of the whole runs, then, for ``n > 1``, of each time segment k:
+    rows ``[k len / n, (k + 1) len / n)`` of every run."""
+    yield label, [slice(None)] * len(lengths)
+    if n > 1:
+        for k in range(n):
+            yield f"{label} [segment {k + 1}/{n}]", [slice(k * m // n, (k + 1) * m // n) for m in lengths]
+
+
+def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: int = 1, inputs: str = "",
+                train_label: str = "training runs", progress=None) -> list[dict]:
+    """Rows (``COLUMNS``) for ``learners`` = {name: unfitted estimator}, ``train_runs`` =
+    [(X, y), ...] and ``test_sets`` = [(label, [(X, y), ...]), ...] (module doc). ``inputs``: the
+    input names written in each row; ``progress(done, total)`` is called after each learner."""
+    rows = []
+    for done, (name, est) in enumerate(learners.items(), start=1):
+        start = time.perf_counter()
+        with as_input_error(train_label, name):
+            fit_runs(est, train_runs, name)
+        fit_s = time.perf_counter() - start
+        for label, runs in test_sets:
+            with as_input_error(label, name):
+                preds = [np.asarray(est.predict(X), dtype=float).ravel() for X, _ in runs]   # each run from its start
+            if not all(np.all(np.isfinite(p)) for p in preds):
+                raise InputError(str(label), name, "the learner's predictions are not finite (it diverged on "
+                                                   "these data); no scores are written")
+            truth = [np.asarray(y, dtype=float).ravel() for _, y in runs]
+            for seg_label, pick in segments_of(str(label), [len(y) for y in truth], segments):
+                z = np.concatenate([y[s] for y, s in zip(truth, pick)])
+                p = np.concatenate([q[s] for q, s in zip(preds, pick)])
+                rows.append({"learner": name, "test": seg_label, **{k: float(v) for k, v in score_all(z, p).items()},
+                             "p95_abs_residual": abs_residual_percentile(z, p), "inputs": inputs,
+                             "fit_time_s": float(fit_s)})
+        if progress is not None:
+            progress(done, len(learners))
+    return rows
+
+
+def write_csv(path, rows, field: str = "-o"):
+    """Write ``rows`` (``COLUMNS``) as CSV, atomically (10 significant digits)."""
+    def write(tmp):
+        with open(tmp, "w", newline="", encoding="utf-8") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(COLUMNS)
+            for r in rows:
+                writer.writerow([f"{r[c]:.10g}" if isinstance(r[c], float) else r[c] for c in COLUMNS])
+
+    return atomic_write(path, write, field=field)
+
+
+def _cell(value, column):
+    if not isinstance(value, float):
+        return str(value).replace("|", "\\|")
+    if not np.isfinite(value):
+        return "nan"
+    return f"{value:.2f}" if column in ("improvement_pct", "mre_pct", "fit_time_s") else f"{value:.4g}"
+
+
+def markdown(rows, title: str = "Leaderboard", units: str = "um", note: str = "") -> str:
+    """A Markdown page: ``title``, ``note``, then one table per test set (its whole runs first,
+    then its segments), learners sorted by RMSE of the whole runs; the inputs listed once."""
+    lines = [f"# {title}", ""]
+    if note:
+        lines += [note, ""]
+    inputs = sorted({r["inputs"] for r in rows})
+    cols = [c for c in COLUMNS if c not in ("test", "inputs")]
+    heads = [(h if h not in ("RMSE", "max|res|", "p95|res|") else f"{h} {units}").replace("|", "\\|")
+             for h, c in zip(HEADINGS, COLUMNS) if c in cols]
+    for test in dict.fromkeys(r["test"] for r in rows):
+        part = sorted((r for r in rows if r["test"] == test), key=lambda r: (np.nan_to_num(r["rmse"], nan=np.inf)))
+        lines += [f"## {test}", "", "| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
+        lines += ["| " + " | ".join(_cell(r[c], c) for c in cols) + " |" for r in part]
+        lines.append("")
+    if len(inputs) == 1 and inputs[0]:
+        lines += [f"Inputs: {inputs[0].replace(';', ', ')}.", ""]
+    return "\n".join(lines)
+
+
+def write_markdown(path, rows, field: str = "-o", **kwargs):
+    """Write :func:`markdown` of ``rows`` to ``path``, atomically."""
+    return atomic_write_text(path, markdown(rows, **kwargs), field=field)

@@ -1,0 +1,239 @@
+"""The seeds' learners and sensor selections on a ``twin dataset``: a leaderboard and a placement benchmark.
+
+``python -m validate.studies.dataset_learners DIR [-o OUT] [--split test] [--train-split train]
+[--target drift:Z] [--learners L1,L2] [--select gm0n-fcm:4] [--interval "60 s"] [--segments 4]
+[--n-random 20] [--no-exhaustive] [--seed N]`` reads the built cases of the dataset folder DIR
+(``twin dataset SPEC -o DIR``; the bundled example is ``scenarios/datasets/spindle-ambient-100.toml``)
+and writes under OUT (default ``validate-out/dataset_learners/``):
+
+- ``leaderboard.csv`` / ``leaderboard.md``: every learner fitted on the training split's runs
+  (pooled learners on all rows, time-ordered ones on each run's sequence, :mod:`learners.runs`) on
+  the sensors ``--select`` picks there, scored against the known truth of the test split's runs
+  (the noise-free ``drift``; the inputs are the *measured* temperatures, absolute degC), on the
+  whole split and on each scenario family in it, whole runs and ``--segments`` time segments
+  (:mod:`learners.leaderboard`);
+- ``placement.csv`` / ``placement.md``: k-sensor sets (k from ``--select``) scored by the
+  placement learners (``mlr``, ``gm1n``): each selection method of the seeds
+  (``learners/selection_*.py``) picking on the training runs; the machine's intuitive sites (the
+  first k of ``motor``, ``spindle_boss``, ``column_front_top``, ``test_bar``); ``--n-random``
+  random sets; the truth-greedy set and the optimum for least squares found by
+  exhaustive search over all C(p, k) sets with the test truth
+  (:mod:`validate.studies.placement_search`; it is the optimum of the ``mlr`` row only).
+
+Every run is thinned to ``--interval`` (default 60 s, the coarsest sample interval of the bundled
+example: time-ordered learners count in samples, so all runs must share one).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from learners.leaderboard import leaderboard, write_csv, write_markdown
+from learners.registry import make_selector
+from learners.runs import dataset_runs, resample, select_runs
+from learners.table import load_table
+from twin.errors import InputError
+from twin.io.atomic import atomic_write_text
+from twin.io.paths import output_folder, read_text
+from twin.units import UnitError, parse_quantity
+from validate.studies.common import markdown_table, preset, write_csv as write_rows
+from validate.studies.placement_search import exhaustive_best, greedy_oracle
+from validate.studies.sensor_placement import INTUITIVE
+
+NAME = "dataset_learners"
+SEED_LEARNERS = ("mlr", "pcr", "ann", "anfis-fcm", "lssvm", "pso-bpnn", "ar-temp", "combination", "gm1n", "gmc1n",
+                 "gmc1n-pso", "gnnmci")
+SELECTORS = ("gm0n-fcm", "gra-fcm", "hier-corr", "fuzzy-r2", "correlation")
+PLACEMENT_LEARNERS = ("mlr", "gm1n")
+
+__all__ = ["load_split", "run_leaderboard", "placement_sets", "run_placement", "main"]
+
+
+def _families(folder: Path) -> dict[str, str]:
+    """{case file path: scenario family} from the dataset's index.csv."""
+    index = folder / "index.csv"
+    rows = csv.DictReader(read_text(index, "dataset", "dataset index (index.csv)").splitlines())
+    return {str(folder / r["file"]): r["family"] for r in rows}
+
+
+def load_split(folder, split: str, target: str, interval: float | None, inputs=None):
+    """[(family, Table), ...] of the built cases of ``split``, each thinned to ``interval`` [s]."""
+    folder = Path(folder)
+    families = _families(folder)
+    out = []
+    for path in dataset_runs(folder, split):
+        table = load_table(path, target, inputs=inputs, field="dataset")
+        out.append((families.get(str(path), split), resample(table, interval, str(path))))
+    return out
+
+
+def _test_sets(tests, split):
+    """The whole split, then each family of it when it has several: [(label, [(X, y), ...])]."""
+    sets = [(f"{split}: all {len(tests)} runs", [(t.X, t.y) for _, t in tests])]
+    families = list(dict.fromkeys(f for f, _ in tests))
+    if len(families) > 1:
+        for fam in families:
+            runs = [(t.X, t.y) for f, t in tests if f == fam]
+            sets.append((f"{split}: {fam} ({len(runs)} runs)", runs))
+    return sets
+
+
+def _pick(X_runs, method: str, k: int, seed: int) -> list[int]:
+    sel = make_selector(method, **({"n_select": k} if method != "all" else {}))
+    if "random_state" in sel.get_params(deep=False):
+        sel.set_params(random_state=seed)
+    return [int(i) for i in select_runs(sel, X_runs).selected_]
+
+
+def run_leaderboard(train, tests, names, learner_names, select: str, split: str, segments: int, seed: int,
+                    progress=None):
+    """Leaderboard rows of ``learner_names`` on the inputs ``select`` ("METHOD:K") picks."""
+    method, _, k = select.partition(":")
+    cols = _pick([(t.X, t.y) for _, t in train], method, int(k or 4), seed)
+    sub = lambda t: (t.X[:, cols], t.y)   # noqa: E731
+    learners = {name: preset(name, seed) for name in learner_names}
+    return leaderboard(learners, [sub(t) for _, t in train],
+                       [(label, [(X[:, cols], y) for X, y in runs]) for label, runs in _test_sets(tests, split)],
+                       segments=segments, inputs=";".join(names[c] for c in cols),
+                       train_label=f"{len(train)} training runs", progress=progress), cols
+
+
+def placement_sets(train, tests, names, k: int, seed: int, n_random: int, exhaustive: bool, progress=None):
+    """{label: [column sets]} and notes {label: text} of the placement benchmark (module doc)."""
+    Xtr = np.vstack([t.X for _, t in train])
+    ytr = np.concatenate([t.y for _, t in train])
+    Xte = np.vstack([t.X for _, t in tests])
+    yte = np.concatenate([t.y for _, t in tests])
+    cand = list(range(len(names)))
+    sets, notes = {}, {}
+    for method in SELECTORS:
+        start = time.perf_counter()
+        sets[f"selected: {method}"] = [_pick([(t.X, t.y) for _, t in train], method, k, seed)]
+        notes[f"selected: {method}"] = f"picked on the training runs in {time.perf_counter() - start:.1f} s"
+    intuitive = [names.index(s) for s in INTUITIVE[:k] if s in names]
+    if len(intuitive) == k:
+        sets["intuitive"] = [intuitive]
+        notes["intuitive"] = "the machine's own sites, one per major part: " + ", ".join(INTUITIVE[:k])
+    rng = np.random.default_rng(seed)
+    sets["random"] = [sorted(int(c) for c in rng.choice(cand, size=k, replace=False)) for _ in range(n_random)]
+    notes["random"] = f"{n_random} seeded draws: mean, min and max"
+    sets["truth-greedy"] = [greedy_oracle(Xtr, ytr, Xte, yte, cand, k)]
+    notes["truth-greedy"] = "forward selection on the test truth (least squares): a bound, not an optimum"
+    if exhaustive:
+        start = time.perf_counter()
+        best, rmse, n = exhaustive_best(Xtr, ytr, Xte, yte, cand, k, progress=progress)
+        sets["truth-exhaustive"] = [best]
+        notes["truth-exhaustive"] = (f"optimum for least squares over all {n} sets, test RMSE {rmse:.4g} "
+                                     f"({time.perf_counter() - start:.0f} s)")
+    return sets, notes
+
+
+def run_placement(train, tests, names, sets, learner_names, seed: int):
+    """One row per set label and learner: test RMSE, NSE, max and p95 |residual| over the test
+    runs; random draws as mean with min and max."""
+    rows = []
+    test_set = [(f"{len(tests)} test runs", [(t.X, t.y) for _, t in tests])]
+    for label, col_sets in sets.items():
+        for name in learner_names:
+            scores = [leaderboard({name: preset(name, seed)}, [(t.X[:, c], t.y) for _, t in train],
+                                  [(lab, [(X[:, c], y) for X, y in runs]) for lab, runs in test_set])[0]
+                      for c in col_sets]
+            rmse = np.array([s["rmse"] for s in scores])
+            row = {"set": label, "learner": name, "n_sets": len(scores), "rmse": float(rmse.mean()),
+                   "rmse_min": float(rmse.min()), "rmse_max": float(rmse.max()),
+                   "nse": float(np.mean([s["nse"] for s in scores])),
+                   "max_abs_residual": float(np.mean([s["max_abs_residual"] for s in scores])),
+                   "p95_abs_residual": float(np.mean([s["p95_abs_residual"] for s in scores])),
+                   "inputs": ";".join(names[c] for c in col_sets[0]) if len(col_sets) == 1 else "(random draws)"}
+            rows.append(row)
+    return rows
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
+    p.add_argument("dataset", help="a twin dataset folder (twin dataset SPEC -o DIR)")
+    p.add_argument("-o", "--output", default=f"validate-out/{NAME}",
+                   help=f"output folder (default validate-out/{NAME})")
+    p.add_argument("--split", default="test", help="the split scored (default test)")
+    p.add_argument("--train-split", default="train", help="the split trained on (default train)")
+    p.add_argument("--target", default="drift:Z", help="the target (default drift:Z, the true tool-point drift)")
+    p.add_argument("--learners", default=",".join(SEED_LEARNERS), help="comma-separated learners (default: the seeds')")
+    p.add_argument("--select", default="gm0n-fcm:4", help="METHOD:K for the leaderboard's inputs (default gm0n-fcm:4)")
+    p.add_argument("--interval", default="60 s", help="thin every run to this sample interval (default '60 s')")
+    p.add_argument("--segments", type=int, default=4, help="time segments per run in the leaderboard (default 4)")
+    p.add_argument("--n-random", type=int, default=20, help="random sensor sets (default 20)")
+    p.add_argument("--no-exhaustive", action="store_true", help="skip the exhaustive search of the placement")
+    p.add_argument("--no-placement", action="store_true", help="the leaderboard only")
+    p.add_argument("--seed", type=int, default=0, help="random_state of learners, selectors and draws (default 0)")
+    return p
+
+
+def _run(args) -> int:
+    try:
+        interval = parse_quantity(args.interval, "time")
+    except UnitError as exc:
+        raise InputError("command line", "--interval", str(exc)) from None
+    out = output_folder(args.output, "-o")
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"reading {args.dataset} ...", flush=True)
+    train = load_split(args.dataset, args.train_split, args.target, interval)
+    names = train[0][1].input_names
+    tests = load_split(args.dataset, args.split, args.target, interval, inputs=names)
+    print(f"{len(train)} training runs ({sum(len(t.y) for _, t in train)} rows), {len(tests)} test runs "
+          f"({sum(len(t.y) for _, t in tests)} rows), {len(names)} sensors", flush=True)
+
+    def progress(done, total):
+        print(f"  {done}/{total}", flush=True)
+
+    learner_names = [s.strip() for s in args.learners.split(",") if s.strip()]
+    rows, _ = run_leaderboard(train, tests, names, learner_names, args.select, args.split, args.segments, args.seed,
+                              progress)
+    note = (f"Dataset `{args.dataset}`: trained on the {len(train)} runs of split `{args.train_split}`, scored against "
+            f"the noise-free `{args.target}` of the {len(tests)} runs of split `{args.split}` (each run predicted from "
+            f"its own start); inputs: the measured temperatures [degC] that `{args.select}` picks on the training "
+            f"runs; every run thinned to {args.interval}. Plausible, not a measured machine.")
+    write_csv(out / "leaderboard.csv", rows)
+    write_markdown(out / "leaderboard.md", rows, title=f"Leaderboard: {args.target}", note=note)
+    print(f"wrote {out / 'leaderboard.md'}, leaderboard.csv", flush=True)
+    if args.no_placement:
+        return 0
+    k = int(args.select.partition(":")[2] or 4)
+    print("placement: selecting, drawing, searching ...", flush=True)
+    sets, notes = placement_sets(train, tests, names, k, args.seed, args.n_random, not args.no_exhaustive,
+                                 lambda d, n: print(f"  exhaustive {d}/{n}", flush=True) if d % 5_000_000 < 200_000
+                                 else None)
+    prow = run_placement(train, tests, names, sets, PLACEMENT_LEARNERS, args.seed)
+    for r in prow:
+        r["how"] = notes.get(r["set"], "")
+    write_rows(out / "placement.csv", prow)
+    cols = ["set", "learner", "n_sets", "rmse", "rmse_min", "rmse_max", "nse", "max_abs_residual", "p95_abs_residual",
+            "inputs", "how"]
+    heads = ["sensor set", "learner", "sets", "test RMSE um", "min", "max", "NSE", "max \\|res\\| um",
+             "p95 \\|res\\| um", "inputs", "how"]
+    text = (f"# Sensor placement on `{args.dataset}`, {k} sensors, {args.target}\n\n{note}\n\nCandidates: all "
+            f"{len(names)} sensors. The truth-greedy and truth-exhaustive sets use the test runs' truth; the "
+            "exhaustive one is the optimum for least squares (the `mlr` rows) over every set, not for `gm1n`.\n\n"
+            + markdown_table(prow, cols, heads) + "\n")
+    atomic_write_text(out / "placement.md", text, field="-o")
+    print(markdown_table(prow, cols, heads))
+    print(f"wrote {out / 'placement.md'}, placement.csv")
+    return 0
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        return _run(args)
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
