@@ -116,3 +116,24 @@ def test_camera_mode_spots_from_frames(tmp_path):
     assert np.isfinite(rows[0]["test_rmse"]) and all(n.startswith("spot-") for n in extra["Z"]["inputs"])
     assert "thermal camera" in study_seed001.markdown(rows, extra, d)
     assert plot_frames(tmp_path / "frames.png", d, extra["Z"]["inputs"]).stat().st_size > 10000
+
+
+@pytest.mark.parametrize("args,field", [
+    (["--learners", "nope"], "--learners"),
+    (["--learners", ","], "--learners"),
+    (["--select", "foo:3"], "--select"),
+    (["--select", "gm0n-fcm:0"], "--select"),
+    (["--interval", "60"], "--interval"),
+])
+def test_dataset_study_refuses_bad_options_before_reading(tmp_path, capsys, args, field):
+    """One line naming the option, exit 2, nothing written (the dataset folder is never read)."""
+    from validate.studies import dataset_learners
+    out = tmp_path / "out"
+    assert dataset_learners.main([str(tmp_path), "-o", str(out), *args]) == 2
+    assert f": {field}:" in capsys.readouterr().err and not out.exists()
+
+
+def test_dataset_study_refuses_a_missing_dataset(tmp_path, capsys):
+    from validate.studies import dataset_learners
+    assert dataset_learners.main([str(tmp_path / "none"), "-o", str(tmp_path / "out")]) == 2
+    assert "dataset: not a dataset folder" in capsys.readouterr().err and not (tmp_path / "out").exists()

@@ -35,9 +35,10 @@ from pathlib import Path
 import numpy as np
 
 from learners.leaderboard import leaderboard, write_csv, write_markdown
-from learners.registry import make_selector
+from learners.registry import LEARNERS, SELECTORS, make_selector
 from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table
+from twin.cli.options import whole_number
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
 from twin.io.paths import output_folder, read_text
@@ -155,10 +156,13 @@ def run_placement(train, tests, names, sets, learner_names, seed: int):
     return rows
 
 
+DEFAULT_OUTPUT = f"validate-out/{NAME}"
+
+
 def _parser():
     p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
     p.add_argument("dataset", help="a twin dataset folder (twin dataset SPEC -o DIR)")
-    p.add_argument("-o", "--output", default=f"validate-out/{NAME}",
+    p.add_argument("-o", "--output", default=DEFAULT_OUTPUT,
                    help=f"output folder (default validate-out/{NAME})")
     p.add_argument("--split", default="test", help="the split scored (default test)")
     p.add_argument("--train-split", default="train", help="the split trained on (default train)")
@@ -166,19 +170,41 @@ def _parser():
     p.add_argument("--learners", default=",".join(SEED_LEARNERS), help="comma-separated learners (default: the seeds')")
     p.add_argument("--select", default="gm0n-fcm:4", help="METHOD:K for the leaderboard's inputs (default gm0n-fcm:4)")
     p.add_argument("--interval", default="60 s", help="thin every run to this sample interval (default '60 s')")
-    p.add_argument("--segments", type=int, default=4, help="time segments per run in the leaderboard (default 4)")
-    p.add_argument("--n-random", type=int, default=20, help="random sensor sets (default 20)")
+    p.add_argument("--segments", type=whole_number("segments", 1), default=4, help="time segments per run in the leaderboard (default 4)")
+    p.add_argument("--n-random", type=whole_number("random sets"), default=20, help="random sensor sets (default 20)")
     p.add_argument("--no-exhaustive", action="store_true", help="skip the exhaustive search of the placement")
     p.add_argument("--no-placement", action="store_true", help="the leaderboard only")
-    p.add_argument("--seed", type=int, default=0, help="random_state of learners, selectors and draws (default 0)")
+    p.add_argument("--seed", type=whole_number("seed", 0, 2**32 - 1), default=0, help="random_state of learners, selectors and draws (default 0)")
     return p
 
 
+def _check_names(args) -> list[str]:
+    """The learners of ``--learners`` and the selector of ``--select`` exist, K is a whole number >= 1:
+    checked before any data is read. Returns the learner names."""
+    names = [s.strip() for s in args.learners.split(",") if s.strip()]
+    unknown = [n for n in names if n not in LEARNERS]
+    if not names or unknown:
+        raise InputError("command line", "--learners",
+                         f"unknown learner {unknown[0]!r}; known: {', '.join(sorted(LEARNERS))}" if unknown
+                         else "no learner given")
+    method, _, k = args.select.partition(":")
+    if method not in SELECTORS:
+        raise InputError("command line", "--select", f"unknown selector {method!r}; known: {', '.join(sorted(SELECTORS))}")
+    if k and (not k.isdigit() or int(k) < 1):
+        raise InputError("command line", "--select", f"K must be a whole number >= 1, got {k!r}")
+    return names
+
+
 def _run(args) -> int:
+    learner_names = _check_names(args)
     try:
         interval = parse_quantity(args.interval, "time")
     except UnitError as exc:
         raise InputError("command line", "--interval", str(exc)) from None
+    if not Path(args.dataset).is_dir():
+        raise InputError(args.dataset, "dataset", "not a dataset folder (twin dataset SPEC -o DIR makes one)")
+    if args.output == DEFAULT_OUTPUT:
+        Path(DEFAULT_OUTPUT).parent.mkdir(exist_ok=True)
     out = output_folder(args.output, "-o")
     out.mkdir(parents=True, exist_ok=True)
     print(f"reading {args.dataset} ...", flush=True)
@@ -191,7 +217,6 @@ def _run(args) -> int:
     def progress(done, total):
         print(f"  {done}/{total}", flush=True)
 
-    learner_names = [s.strip() for s in args.learners.split(",") if s.strip()]
     rows, _ = run_leaderboard(train, tests, names, learner_names, args.select, args.split, args.segments, args.seed,
                               progress)
     note = (f"Dataset `{args.dataset}`: trained on the {len(train)} runs of split `{args.train_split}`, scored against "
