@@ -64,10 +64,7 @@ def c_axis_from_toml(raw, source: str, reader, dt: float) -> RotarySchedule | No
     steps = []
     for i, table in enumerate(raw):
         r = reader(table, source, f"c_axis[{i}].")
-        speed = r.get("speed", "speed", required=True)
-        if speed < 0:
-            raise InputError(source, f"c_axis[{i}].speed", "must not be negative (the direction does not matter)")
-        duration = r.positive("duration", "time", required=True)
+        speed, duration = r.speed_step(dt)
         on = r.positive("on", "time")
         dwell = r.get("dwell", "time")
         r.finish()
@@ -76,8 +73,6 @@ def c_axis_from_toml(raw, source: str, reader, dt: float) -> RotarySchedule | No
         if (on is None) != (dwell is None):
             raise InputError(source, f"c_axis[{i}].{'dwell' if on is not None else 'on'}",
                              "on and dwell go together (a rhythm needs both)")
-        if abs(duration / dt - round(duration / dt)) > 1e-6:
-            raise InputError(source, f"c_axis[{i}].duration", f"must be a multiple of the sample interval ({dt:g} s)")
         duty = 1.0 if on is None else on / (on + dwell)
         steps.append((duration, speed, duty))
     return RotarySchedule(tuple(steps))

@@ -170,6 +170,17 @@ class _Reader:
             raise InputError(self.source, self.prefix + key, f"must be positive, got {self.table[key]!r}")
         return value
 
+    def speed_step(self, dt: float) -> tuple[float, float]:
+        """A step's ``speed`` [rpm] (not negative) and ``duration`` [s] (positive, a multiple of
+        the sample interval ``dt`` [s]), both required: a [[spindle]] or [[c_axis]] step."""
+        speed = self.get("speed", "speed", required=True)
+        if speed < 0:
+            raise InputError(self.source, self.prefix + "speed", "must not be negative")
+        duration = self.positive("duration", "time", required=True)
+        if abs(duration / dt - round(duration / dt)) > 1e-6:
+            raise InputError(self.source, self.prefix + "duration", f"must be a multiple of the sample interval ({dt:g} s)")
+        return speed, duration
+
     def finish(self):
         unknown = sorted(set(self.table) - self.used)
         if unknown:
@@ -195,13 +206,8 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     steps = []
     for i, raw in enumerate(raw_steps):
         r = _Reader(raw, source, f"spindle[{i}].")
-        speed = r.get("speed", "speed", required=True)
-        if speed < 0:
-            raise InputError(source, f"spindle[{i}].speed", "must not be negative")
-        duration = r.positive("duration", "time", required=True)
+        speed, duration = r.speed_step(dt)
         r.finish()
-        if abs(duration / dt - round(duration / dt)) > 1e-6:
-            raise InputError(source, f"spindle[{i}].duration", f"must be a multiple of the sample interval ({dt:g} s)")
         steps.append((duration, speed))
     total = sum(d for d, _ in steps)
     # name the culprit: the interval when the durations would be affordable at 1 s, else the durations

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import Effect, HeatSource, Parameter, Uncertain, register_effect
+from twin.effects.base import Effect, HeatSource, Parameter, Uncertain, power_law, register_effect
 from twin.fem.regions import role_cells
 
 
@@ -17,9 +17,7 @@ def c_axis_power(scenario, reference_speed: float, exponent: float, scale: float
         t = np.asarray(t, dtype=float)
         if schedule is None:
             return np.zeros(t.shape)
-        n = schedule.speed(t)
-        ratio = np.power(n / reference_speed, exponent, where=n > 0, out=np.zeros_like(n, dtype=float))
-        return scale * schedule.duty(t) * ratio
+        return scale * schedule.duty(t) * power_law(schedule.speed(t), reference_speed, exponent)
 
     return signal
 

@@ -2,8 +2,9 @@
 
 Each sensor is a :class:`geometries.base.Probe` of ``Machine.lasers``: fixed to the workpiece side,
 it reads the displacement of its target on the test bar along its direction relative to the
-fixture, q = d . (u_target - u_fixture), a linear functional of u (one adjoint solve). The tilt
-about X from the pair A1 (lower) and A2, ``spacing`` apart along z:
+fixture, q = d . (u_target - u_fixture), a linear functional of u (one adjoint solve), as the
+ISO 230-3 probes do (:class:`twin.observe.displacement.FiveProbeTestBar`). The tilt about X from
+the pair A1 (lower) and A2, ``spacing`` apart along z:
 
     A = (q_A1 - q_A2) / spacing   [urad],
 
@@ -15,36 +16,28 @@ Variables ``laser``/``laser_true(time, laser_id)`` [um] and ``laser_tilt``/``las
 
 from __future__ import annotations
 
-import scipy.sparse as sp
-
 from twin.observe.base import variable
-from twin.observe.displacement import DisplacementObserver, relative_displacement
-from twin.observe.instruments import probe_reading
+from twin.observe.displacement import FiveProbeTestBar
 
 TILT_PAIR = ("A1", "A2")
 
 
-class LaserTriangulation(DisplacementObserver):
+class LaserTriangulation(FiveProbeTestBar):
     """The machine's laser triangulation sensors (``Machine.lasers``)."""
 
     key = "lasers"
+    instrument = "laser_triangulation"
+    name, dim, long_name = "laser", "laser_id", "laser triangulation sensor"
 
-    def functionals(self, mm):
-        return sp.vstack([relative_displacement(mm, p.target, p.fixture, [p.direction])
-                          for p in mm.machine.lasers]).tocsr()
+    def sensors(self, machine) -> list:
+        return machine.lasers
 
-    def data(self, raw, ctx):
-        machine = ctx.machine
-        names = [p.name for p in machine.lasers]
-        true = self.change_um(raw)
-        meas = probe_reading(true, ctx.spec.params["laser_triangulation"], ctx.rng)
-        data = {"laser": variable(("time", "laser_id"), meas, "um", "laser triangulation reading as measured"),
-                "laser_true": variable(("time", "laser_id"), true, "um", "true laser triangulation reading")}
-        if set(TILT_PAIR) <= set(names):
-            a1, a2 = names.index(TILT_PAIR[0]), names.index(TILT_PAIR[1])
-            spacing = machine.point(TILT_PAIR[1]).xyz[2] - machine.point(TILT_PAIR[0]).xyz[2]
-            data["laser_tilt"] = variable("time", (meas[:, a1] - meas[:, a2]) / spacing, "urad",
-                                          "test-bar tilt about X from the laser pair A1, A2, as measured")
-            data["laser_tilt_true"] = variable("time", (true[:, a1] - true[:, a2]) / spacing, "urad",
-                                               "true test-bar tilt about X from the laser pair")
-        return data, {"laser_id": ("laser_id", names, {"long_name": "laser triangulation sensor"})}
+    def derived(self, meas, true, names, machine):
+        if not set(TILT_PAIR) <= set(names):
+            return {}, {}
+        a1, a2 = names.index(TILT_PAIR[0]), names.index(TILT_PAIR[1])
+        spacing = machine.point(TILT_PAIR[1]).xyz[2] - machine.point(TILT_PAIR[0]).xyz[2]
+        return {"laser_tilt": variable("time", (meas[:, a1] - meas[:, a2]) / spacing, "urad",
+                                       "test-bar tilt about X from the laser pair A1, A2, as measured"),
+                "laser_tilt_true": variable("time", (true[:, a1] - true[:, a2]) / spacing, "urad",
+                                            "true test-bar tilt about X from the laser pair")}, {}
