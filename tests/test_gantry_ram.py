@@ -91,3 +91,22 @@ def test_c_axis_peak_z_converges_between_meshes(c_axis_runs):
     """Peak |Z| of the coarse mesh within 3 % of the default mesh's."""
     peak = {res: np.abs(r.drift[:, 2]).max() for res, r in c_axis_runs.items()}
     assert abs(peak["coarse"] - peak["default"]) <= 0.03 * peak["default"]
+
+
+def test_gnnmci_study_smoke(tmp_path):
+    """The strain-fusion study on the coarse mesh, 5 min samples, a small swarm: every model scored
+    on both unseen tests, the seed's numbers in the report, the plot written."""
+    from dataclasses import replace
+
+    from validate.studies import gantry_gnnmci as study
+
+    runs = {k: replace(sc, sample_interval=300.0) for k, sc in study.scenarios().items()}
+    data = study.simulate("coarse", runs=runs)
+    rows, preds = study.run_study(data, n_particles=10, n_iterations=5)
+    assert len(rows) == len(study.MODELS) * len(study.TESTS)
+    assert all(np.isfinite(r["test_max_abs_residual"]) for r in rows)
+    assert np.ptp(data["workshop"].ambient_temperature.values) > 1.0         # the room moves in the workshop test
+    text = study.markdown(rows, "smoke", "coarse")
+    assert "+-30 um" in text and "GNNMCI(1,6) FBG-1..4 + T2" in text
+    study.plot(tmp_path / "p.png", data, preds)
+    assert (tmp_path / "p.png").stat().st_size > 1000
