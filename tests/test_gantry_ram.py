@@ -85,6 +85,11 @@ def test_c_axis_test_lies_in_the_seeds_bands(c_axis_runs):
     ds = to_dataset(r)
     np.testing.assert_allclose(ds.laser_true.sel(laser_id="Z").values, ds.drift.sel(axis="Z").values,
                                atol=1e-9 * np.abs(z).max())
+    # each gauge is compensated with what its nearest sensor recorded: strain = raw - 8.64 um/m/K dT_s
+    for g in ds.gauge.values:
+        t = ds.temperature.sel(sensor=str(ds.gauge_sensor.sel(gauge=g).values)).values
+        np.testing.assert_allclose(ds.strain.sel(gauge=g).values,
+                                   ds.strain_raw.sel(gauge=g).values - 8.64 * (t - t[0]), atol=1e-9)
 
 
 def test_c_axis_peak_z_converges_between_meshes(c_axis_runs):

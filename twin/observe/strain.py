@@ -13,7 +13,8 @@ itself also shifts with its own temperature (thermo-optic effect): the raw readi
 
 T_g the mean temperature over the grating (five Gauss points). The seed compensated it with its
 low-cost temperature sensors instead of reference gratings: the compensated reading subtracts k_T
-times the change the nearest glued temperature sensor records (its own sensor-model draw),
+times the change the nearest glued temperature sensor records (the run's ``temperature`` reading
+of that sensor; its own draw of the sensor model when the run does not record it),
 
     eps_comp = eps_raw - k_T (T_s - T_s,0).
 
@@ -32,6 +33,7 @@ from twin.fem.points import displacement_functional, interpolation_matrix
 from twin.observe.base import variable
 from twin.observe.displacement import DisplacementObserver
 from twin.observe.instruments import quantise, temperature_reading
+from twin.observe.temperature import RECORDED
 
 _GAUSS = np.polynomial.legendre.leggauss(5)
 
@@ -79,13 +81,22 @@ class StrainGauges(DisplacementObserver):
         sensor = interpolation_matrix(layout, [p.xyz for p in sites], [p.name for p in sites])
         return sp.vstack([sp.csr_matrix(strain), grating, sensor]).tocsr()
 
+    def compensating_readings(self, true: np.ndarray, ctx) -> np.ndarray:
+        """(n_t, n_gauge) readings [degC] of each gauge's compensating sensor: what the run's
+        temperature sensors recorded there (the same values as the result's ``temperature``), or,
+        when the run does not record that sensor, its own draw of the sensor model on ``true``."""
+        recorded = ctx.extra.get(RECORDED, {})
+        names = [nearest_sensor(ctx.machine, g.xyz) for g in self.gauges]
+        if all(n in recorded for n in names):
+            return np.column_stack([recorded[n] for n in names])
+        return temperature_reading(true, ctx.scenario.sample_interval, ctx.spec.params["temperature_sensor"], ctx.rng)
+
     def data(self, raw, ctx):
         k = len(self.gauges)
         p = ctx.spec.params["fbg"]
         true = (raw[:, :k] - raw[0, :k]) * 1e6
         grating = raw[:, k:2 * k] - raw[0, k:2 * k]
-        sensor = temperature_reading(raw[:, 2 * k:], ctx.scenario.sample_interval,
-                                     ctx.spec.params["temperature_sensor"], ctx.rng)
+        sensor = self.compensating_readings(raw[:, 2 * k:], ctx)
         kt = p["cross_sensitivity"] * 1e6
         apparent = true + kt * grating
         measured = quantise(apparent + p["noise"] * 1e6 * ctx.rng.standard_normal(true.shape), p["quantisation"] * 1e6)
