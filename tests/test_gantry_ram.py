@@ -115,3 +115,18 @@ def test_gnnmci_study_smoke(tmp_path):
     assert "+-30 um" in text and "GNNMCI(1,6) FBG-1..4 + T2" in text
     study.plot(tmp_path / "p.png", data, preds)
     assert (tmp_path / "p.png").stat().st_size > 1000
+
+
+def test_a_gantry_result_drives_the_twin_again_and_plots(c_axis_runs, tmp_path):
+    """compare's scenario from a result's logged inputs keeps the C axis (speed and duty per step),
+    and twin plot draws the laser sensors where there are no ISO 230-3 probes."""
+    from twin.io.measured_inputs import scenario_from_measurement
+    from twin.plotting import plot_result
+
+    ds = to_dataset(c_axis_runs["coarse"])
+    sc = scenario_from_measurement(ds)
+    t = ds.time.values[:-1]
+    np.testing.assert_array_equal(sc.c_axis.speed(t), ds.c_axis_speed.values[:-1])
+    np.testing.assert_array_equal(sc.c_axis.duty(t)[t < 7200], 0.5)
+    plot_result(ds, tmp_path / "r.png")
+    assert (tmp_path / "r.png").stat().st_size > 1000
