@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from geometries import belt_vmc, cframe_vmc
-from geometries.base import Box, Machine, Part, Point, Probe, Surface
+from geometries import belt_vmc, cframe_vmc, gantry_ram
+from geometries.base import Box, Machine, Part, Point, Probe, StrainGauge, Surface
 
-MACHINES = {cframe_vmc.NAME: cframe_vmc.build, belt_vmc.NAME: belt_vmc.build}
+MACHINES = {cframe_vmc.NAME: cframe_vmc.build, belt_vmc.NAME: belt_vmc.build, gantry_ram.NAME: gantry_ram.build}
 
 
 def build_machine(name: str) -> Machine:
@@ -15,4 +15,4 @@ def build_machine(name: str) -> Machine:
     return MACHINES[name]()
 
 
-__all__ = ["MACHINES", "build_machine", "Box", "Machine", "Part", "Point", "Probe", "Surface"]
+__all__ = ["MACHINES", "build_machine", "Box", "Machine", "Part", "Point", "Probe", "StrainGauge", "Surface"]

@@ -85,6 +85,28 @@ class Probe:
     fixture: str
 
 
+@dataclass(frozen=True)
+class StrainGauge:
+    """A surface strain gauge (a fibre Bragg grating glued along ``direction``, a unit vector):
+    it reads the mean strain over ``length`` [m] centred on ``xyz`` [m], on ``part``."""
+
+    name: str
+    xyz: Vec3
+    direction: Vec3
+    length: float
+    part: str
+
+    def __post_init__(self):
+        if not self.length > 0 or abs(float(np.linalg.norm(self.direction)) - 1.0) > 1e-9:
+            raise ValueError(f"strain gauge {self.name!r} needs a positive length and a unit direction")
+
+    @property
+    def ends(self) -> tuple[Vec3, Vec3]:
+        """The grating's two ends [m], ``length`` apart along ``direction``."""
+        c, d = np.asarray(self.xyz, float), np.asarray(self.direction, float)
+        return tuple(c - 0.5 * self.length * d), tuple(c + 0.5 * self.length * d)
+
+
 PROBE_HEIGHTS = (0.03, 0.13)   # [m] above the test bar's tip: ISO 230-3 probe pairs 100 mm apart
 
 
@@ -145,7 +167,9 @@ class Machine:
     ``roles`` binds role names of :data:`geometries.regions.ROLES` to regions of this machine (the
     places effects address); ``default_effects`` names the effects a model of this machine has
     unless the user says otherwise; ``air_sites`` are points in the air round the machine where
-    sensors read the air temperature (not glued to a part); ``max_speed`` is the spindle's maximum
+    sensors read the air temperature (not glued to a part); ``lasers`` are laser triangulation
+    sensors (fixed to a fixture, reading a target along a direction, like ``probes``);
+    ``strain_gauges`` are FBG strain gauges on the structure; ``max_speed`` is the spindle's maximum
     speed [rpm] (scenarios and measurements beyond it are refused, :mod:`twin.limits`).
     """
 
@@ -166,6 +190,8 @@ class Machine:
     max_speed: float | None = None
     camera_poses: list[CameraPose] = field(default_factory=list)
     finishes: list[Finish] = field(default_factory=list)
+    lasers: list[Probe] = field(default_factory=list)   # laser triangulation sensors (as probes)
+    strain_gauges: list[StrainGauge] = field(default_factory=list)   # FBG strain gauges
 
     def __post_init__(self):
         check_roles(self.name, self.roles)

@@ -100,6 +100,8 @@ ROLES: dict[str, tuple[str, str]] = {
     "floor.contact": ("surface", "the foot of the bed standing on the floor"),
     "cabinet.face": ("surface", "the structure face an electrical cabinet stands beside"),
     "z_drive.top": ("volume", "where the Z motor and its brake sit, holding the spindle carrier"),
+    "c_axis.motor": ("volume", "the C-axis (rotary) drive motor's body, where its losses arise"),
+    "c_axis.bearing": ("volume", "the C-axis bearing zone, where its friction heat arises"),
 }
 
 

@@ -39,6 +39,14 @@ SPEED = 'speed = "6000 rpm"'
 DURATION = 'duration = "10 min"'
 INTERVAL = 'sample_interval = "60 s"'
 
+C_AXIS = '\n[[c_axis]]\nspeed = "2500 rpm"\nduration = "10 min"\non = "10 s"\ndwell = "10 s"\n'
+
+
+def _c_axis(speed: str = 'speed = "2500 rpm"', duration: str = 'duration = "10 min"') -> str:
+    """A [[c_axis]] step with ``speed`` and ``duration`` lines in place of the good ones."""
+    return C_AXIS.replace('speed = "2500 rpm"', speed).replace('duration = "10 min"', duration)
+
+
 # (id, scenario text, field)
 SCENARIO_EDITS = [
     ("ambient-below-absolute-zero", _sc('"20 degC"', '"-300 degC"'), "ambient.temperature"),
@@ -93,6 +101,19 @@ SCENARIO_EDITS = [
      "spindle[0]"),
     ("malformed-toml", SCENARIO.replace("[ambient]", "[ambient"), "toml"),
     ("duplicate-key", _sc(INTERVAL, INTERVAL + "\n" + INTERVAL), "toml"),
+    # the C axis (twin.rotary): parsed before any machine is asked; cframe-vmc has no C axis
+    ("c-axis-speed-no-unit", SCENARIO + _c_axis('speed = "2500"'), "c_axis[0].speed"),
+    ("c-axis-speed-negative", SCENARIO + _c_axis('speed = "-5 rpm"'), "c_axis[0].speed"),
+    ("c-axis-speed-missing", SCENARIO + C_AXIS.replace('speed = "2500 rpm"\n', ""), "c_axis[0].speed"),
+    ("c-axis-duration-zero", SCENARIO + _c_axis(duration='duration = "0 s"'), "c_axis[0].duration"),
+    ("c-axis-duration-not-a-multiple", SCENARIO + _c_axis(duration='duration = "90 s"'), "c_axis[0].duration"),
+    ("c-axis-outlasts-run", SCENARIO + _c_axis(duration='duration = "1 h"'), "c_axis"),
+    ("c-axis-on-without-dwell", SCENARIO + C_AXIS.replace('dwell = "10 s"\n', ""), "c_axis[0].dwell"),
+    ("c-axis-dwell-negative", SCENARIO + C_AXIS.replace('dwell = "10 s"', 'dwell = "-10 s"'), "c_axis[0].dwell"),
+    ("c-axis-on-zero", SCENARIO + C_AXIS.replace('on = "10 s"', 'on = "0 s"'), "c_axis[0].on"),
+    ("c-axis-unknown-key", SCENARIO + C_AXIS + 'feed = "1 m/min"\n', "c_axis[0].feed"),
+    ("c-axis-not-steps", SCENARIO.replace(INTERVAL, INTERVAL + "\nc_axis = 3"), "c_axis"),
+    ("c-axis-on-a-machine-without-one", SCENARIO + C_AXIS, "c_axis"),
 ]
 
 # the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)
@@ -271,6 +292,9 @@ OPTION_CASES = [
     ("simulate:unknown-scenario", swap(SIM, "{d}/short.toml", "no-such-scenario"), CLI, "scenario"),
     ("simulate:unknown-effect", SIM + ["--effects", "+warp_drive"], CLI, "--effects warp_drive"),
     ("simulate:remove-absent-effect", SIM + ["--effects=-electrical_cabinet"], CLI, "--effects electrical_cabinet"),
+    ("simulate:c-axis-beyond-machine", swap(SIM, "cframe-vmc", "gantry-ram"), "{d}/short.toml", "c_axis[0].speed"),
+    ("simulate:fbg-cross-sensitivity-no-unit", swap(SIM, "cframe-vmc", "gantry-ram") + ["--set", "fbg.cross_sensitivity=8.64"],
+     CLI, "--set fbg.cross_sensitivity"),
     ("simulate:effects-empty", SIM + ["--effects", ","], CLI, "--effects"),
     ("simulate:effects-twice", SIM + ["--effects=-floor", "--effects=-floor"], CLI, "--effects"),
     ("simulate:set-malformed", SIM + [_SET, "power"], CLI, "--set power"),
@@ -393,6 +417,7 @@ EFFECTS_EDITS = [   # (id, text, field)
 # files an option case needs changed (id -> files)
 OPTION_FILES = {
     "compare:mapping-missing": {"m.toml": None},
+    "simulate:c-axis-beyond-machine": {"short.toml": _sc(SPEED, 'speed = "3000 rpm"') + _c_axis('speed = "4000 rpm"')},
     "compare:scenario-shorter": {"short.toml": SCENARIO.replace('duration = "20 min"', 'duration = "10 min"')},
     "compare:inputs-only": {"m.csv": INPUTS_ONLY_CSV, "m.toml": INPUTS_ONLY_MAPPING},
     "learn:too-few-rows-for-learner": {"train.csv": table_csv(n=5)},

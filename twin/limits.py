@@ -136,6 +136,22 @@ def check_scenario(scenario, machine) -> None:
     logged = bool(scenario.extra.get("logged"))
     for i, (_, speed) in enumerate(scenario.steps):
         check_speeds(speed, machine, source, "spindle_speed" if logged else f"spindle[{i}].speed", logged)
+    check_c_axis(scenario, machine, source)
+
+
+def check_c_axis(scenario, machine, source: str) -> None:
+    """The scenario's C-axis steps (:mod:`twin.rotary`) against the machine: it must have a C axis
+    (``parameters["c_axis_max_speed"]`` [rpm]) and every step's speed must be within it."""
+    schedule = getattr(scenario, "c_axis", None)
+    if schedule is None:
+        return
+    top = (getattr(machine, "parameters", None) or {}).get("c_axis_max_speed")
+    if top is None:
+        raise InputError(source, "c_axis", f"machine {getattr(machine, 'name', '?')} has no C axis")
+    for i, (_, speed, _) in enumerate(schedule.steps):
+        if speed > top:
+            raise InputError(source, f"c_axis[{i}].speed", f"{speed:g} rpm is beyond machine {machine.name}'s "
+                                                           f"C-axis maximum of {top:g} rpm")
 
 
 def check_position(machine, xyz, part: str, source: str, field: str) -> None:

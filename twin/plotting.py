@@ -31,16 +31,25 @@ def picture_suffixes() -> tuple[str, ...]:
 
 
 def plot_result(ds, path) -> None:
-    """Three panels against time [min]: drift X, Y, Z [um]; tilts A, B [urad]; temperatures [degC]."""
+    """Three panels against time [min]: drift X, Y, Z [um] (with the ISO 230-3 probes' or the laser
+    sensors' readings); tilts [urad] (A, B from the probes, or A from the laser pair); temperatures
+    [degC]."""
     plt = _pyplot()
     t = ds.time.values / 60.0
     fig, axes = plt.subplots(3, 1, figsize=(9, 10), sharex=True)
+    lasers = "laser" in ds and "probe_drift" not in ds
     for axis in ds.axis.values:
         line, = axes[0].plot(t, ds.drift.sel(axis=axis), label=f"{axis} (true, tool point)")
-        axes[0].plot(t, ds.probe_drift.sel(axis=axis), ls=":", color=line.get_color(), label=f"{axis} (probes)")
+        if not lasers:
+            axes[0].plot(t, ds.probe_drift.sel(axis=axis), ls=":", color=line.get_color(), label=f"{axis} (probes)")
+        elif str(axis) in ds.laser_id.values:
+            axes[0].plot(t, ds.laser.sel(laser_id=axis), ls=":", color=line.get_color(), label=f"{axis} (laser)")
     axes[0].set_ylabel("drift [um]")
-    for rot in ds.rotation.values:
-        axes[1].plot(t, ds.tilt.sel(rotation=rot), label=f"{rot} (probes)")
+    if lasers:
+        axes[1].plot(t, ds.laser_tilt, label="A (laser pair)")
+    else:
+        for rot in ds.rotation.values:
+            axes[1].plot(t, ds.tilt.sel(rotation=rot), label=f"{rot} (probes)")
     axes[1].set_ylabel("tilt [urad]")
     rise = ds.temperature_true.max("time") - ds.temperature_true.isel(time=0)
     for name in ds.sensor.values[np.argsort(-rise.values)][:8]:
@@ -48,14 +57,17 @@ def plot_result(ds, path) -> None:
     axes[2].plot(t, ds.ambient_temperature, "k--", label="room air")
     axes[2].set_ylabel("temperature [degC]")
     axes[2].set_xlabel("time [min]")
-    speed = ds.spindle_speed.values
+    on = ds.spindle_speed.values > 0
+    running = "spindle"
+    if "c_axis_speed" in ds:     # a C axis turning heats as a spindle does
+        on = on | (ds.c_axis_speed.values * ds.c_axis_duty.values > 0)
+        running = "spindle or C axis"
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, ncol=2, loc="best")
-        on = speed > 0
         if on.any():
             ax.fill_between(t, 0, 1, where=on, color="orange", alpha=0.08, transform=ax.get_xaxis_transform(), step="post")
-    axes[0].set_title(f"{ds.attrs.get('machine', '')} / {ds.attrs.get('scenario', '')} (shaded: spindle running)")
+    axes[0].set_title(f"{ds.attrs.get('machine', '')} / {ds.attrs.get('scenario', '')} (shaded: {running} running)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

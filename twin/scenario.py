@@ -19,6 +19,10 @@ A scenario file::
     [camera]                            # optional thermal camera(s): see twin.camera_config
     pose = "carrier-front"
 
+    [[c_axis]]                          # optional C-axis (rotary) steps: see twin.rotary
+    speed = "2500 rpm"
+    duration = "2 h"
+
 Unknown keys, missing keys, wrong units, non-positive durations, impossible temperatures (below
 absolute zero or outside the plausible range of room air), a negative amplitude and runs too long
 to afford raise :class:`twin.errors.InputError` naming the file and the key
@@ -38,6 +42,7 @@ from twin import limits
 from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
 from twin.io.paths import read_toml
+from twin.rotary import c_axis_from_toml, check_duration
 from twin.units import UnitError, parse_quantity
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
@@ -79,6 +84,7 @@ class Scenario:
     source: str = ""
     extra: dict = field(default_factory=dict)
     cameras: tuple = ()  # twin.observe.camera.CameraConfig, from the [camera] section
+    c_axis: object = None  # twin.rotary.RotarySchedule, from the [[c_axis]] steps
 
     @property
     def duration(self) -> float:
@@ -164,6 +170,17 @@ class _Reader:
             raise InputError(self.source, self.prefix + key, f"must be positive, got {self.table[key]!r}")
         return value
 
+    def speed_step(self, dt: float) -> tuple[float, float]:
+        """A step's ``speed`` [rpm] (not negative) and ``duration`` [s] (positive, a multiple of
+        the sample interval ``dt`` [s]), both required: a [[spindle]] or [[c_axis]] step."""
+        speed = self.get("speed", "speed", required=True)
+        if speed < 0:
+            raise InputError(self.source, self.prefix + "speed", "must not be negative")
+        duration = self.positive("duration", "time", required=True)
+        if abs(duration / dt - round(duration / dt)) > 1e-6:
+            raise InputError(self.source, self.prefix + "duration", f"must be a multiple of the sample interval ({dt:g} s)")
+        return speed, duration
+
     def finish(self):
         unknown = sorted(set(self.table) - self.used)
         if unknown:
@@ -182,24 +199,21 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     ambient = _ambient(top.get("ambient", required=True), source)
     raw_steps = top.get("spindle", required=True)
     cameras = cameras_from_toml(top.get("camera"), source, _Reader)
+    c_axis = c_axis_from_toml(top.get("c_axis"), source, _Reader, dt)
     top.finish()
     if not isinstance(raw_steps, list) or not raw_steps:
         raise InputError(source, "spindle", "expected one or more [[spindle]] steps")
     steps = []
     for i, raw in enumerate(raw_steps):
         r = _Reader(raw, source, f"spindle[{i}].")
-        speed = r.get("speed", "speed", required=True)
-        if speed < 0:
-            raise InputError(source, f"spindle[{i}].speed", "must not be negative")
-        duration = r.positive("duration", "time", required=True)
+        speed, duration = r.speed_step(dt)
         r.finish()
-        if abs(duration / dt - round(duration / dt)) > 1e-6:
-            raise InputError(source, f"spindle[{i}].duration", f"must be a multiple of the sample interval ({dt:g} s)")
         steps.append((duration, speed))
     total = sum(d for d, _ in steps)
     # name the culprit: the interval when the durations would be affordable at 1 s, else the durations
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
-    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras)
+    check_duration(c_axis, total, source)
+    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, c_axis=c_axis)
 
 
 def _ambient(table, source: str) -> Ambient:

@@ -28,6 +28,8 @@ _UNITS: dict[str, dict[str, float]] = {
     "heat_flux": {"W/m2": 1.0, "W/m^2": 1.0},
     "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "cm": 1e-2},
     "temperature_gradient": {"K/m": 1.0, "K/mm": 1e3},
+    "strain": {"m/m": 1.0, "um/m": 1e-6, "ppm": 1e-6},
+    "thermal_strain": {"1/K": 1.0, "um/m/K": 1e-6, "ppm/K": 1e-6},
     "angle": {"deg": math.pi / 180.0, "rad": 1.0, "mrad": 1e-3},
     "dimensionless": {"1": 1.0, "": 1.0, "%": 0.01},
 }

@@ -172,12 +172,17 @@ def constant(value: float) -> Signal:
     return lambda t: np.full(np.shape(t), value)
 
 
+def power_law(n: np.ndarray, reference_speed: float, exponent: float) -> np.ndarray:
+    """(|n| / n_ref)^exponent for speeds n [rpm], 0 where n = 0 (at rest, whatever the exponent)."""
+    n = np.abs(np.asarray(n, dtype=float))
+    return np.power(n / reference_speed, exponent, where=n > 0, out=np.zeros_like(n))
+
+
 def speed_power_law(scenario, reference_speed: float, exponent: float, scale: float) -> Signal:
     """Signal scale * (n(t) / n_ref)^exponent for spindle speed n(t) [rpm] (0 when stopped)."""
 
     def signal(t: np.ndarray) -> np.ndarray:
-        n = np.abs(scenario.spindle_speed(t))
-        return scale * np.power(n / reference_speed, exponent, where=n > 0, out=np.zeros_like(n, dtype=float))
+        return scale * power_law(scenario.spindle_speed(t), reference_speed, exponent)
 
     return signal
 

@@ -58,17 +58,40 @@ def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = No
     t = np.asarray(ds.time.values, float)
     t = t - t[0]
     dt = float(sample_interval or np.median(np.diff(t)))
+    steps = [(d, n) for d, n, _ in snapped_steps(t, ds.spindle_speed.values, dt, tolerance)]
+    ambient = Ambient("table", times=tuple(t), temperatures=tuple(np.asarray(ds.ambient_temperature.values, float)))
+    t_init = float(np.mean(ds.temperature.values[0])) if "temperature" in ds else None
+    return Scenario(name, tuple(steps), ambient, dt, t_init, "driven by measured inputs", src, {"logged": True},
+                    c_axis=c_axis_from_record(ds, t, dt, tolerance))
+
+
+def snapped_steps(t: np.ndarray, speed: np.ndarray, dt: float, tolerance: float = 50.0) -> list[tuple[float, float, slice]]:
+    """The steps of :func:`speed_steps` snapped to a grid of ``dt`` [s] over the record ``t`` [s]
+    (from 0): (duration [s], speed [rpm], the samples' slice), equal neighbours merged."""
     n_total = max(1, int(round(t[-1] / dt)))
     steps, prev = [], 0
-    found = speed_steps(t, ds.spindle_speed.values, tolerance)
+    found = speed_steps(t, speed, tolerance)
     for k, (_, t1, n) in enumerate(found):
         end = n_total if k == len(found) - 1 else int(round(t1 / dt))
         if end > prev:
+            span = slice(int(np.searchsorted(t, prev * dt - 1e-9)), int(np.searchsorted(t, end * dt - 1e-9)))
             if steps and steps[-1][1] == n:
-                steps[-1] = (steps[-1][0] + (end - prev) * dt, n)
+                steps[-1] = (steps[-1][0] + (end - prev) * dt, n, slice(steps[-1][2].start, span.stop))
             else:
-                steps.append(((end - prev) * dt, n))
+                steps.append(((end - prev) * dt, n, span))
             prev = end
-    ambient = Ambient("table", times=tuple(t), temperatures=tuple(np.asarray(ds.ambient_temperature.values, float)))
-    t_init = float(np.mean(ds.temperature.values[0])) if "temperature" in ds else None
-    return Scenario(name, tuple(steps), ambient, dt, t_init, "driven by measured inputs", src, {"logged": True})
+    return steps
+
+
+def c_axis_from_record(ds: xr.Dataset, t: np.ndarray, dt: float, tolerance: float = 50.0):
+    """The C-axis schedule a record's ``c_axis_speed`` [rpm] and ``c_axis_duty`` [1] logged (a
+    twin result of a scenario with ``[[c_axis]]``), or None: steps as the spindle's, each with the
+    median duty of its samples (:class:`twin.rotary.RotarySchedule`)."""
+    if "c_axis_speed" not in ds or "c_axis_duty" not in ds:
+        return None
+    from twin.rotary import RotarySchedule
+
+    duty = np.asarray(ds.c_axis_duty.values, float)
+    steps = snapped_steps(t, ds.c_axis_speed.values, dt, tolerance)
+    return RotarySchedule(tuple((d, n, float(np.median(duty[span])) if span.stop > span.start else 1.0)
+                                for d, n, span in steps))

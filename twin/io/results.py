@@ -1,13 +1,16 @@
 """Package a run as one xarray Dataset (CF units and long names) and write it atomically.
 
-Schema: ``time`` [s]; the inputs ``spindle_speed`` [rpm] and ``ambient_temperature`` [degC];
+Schema: ``time`` [s]; the inputs ``spindle_speed`` [rpm] and ``ambient_temperature`` [degC]
+(and ``c_axis_speed`` [rpm], ``c_axis_duty`` [1] when the scenario turns a C axis);
 then every observer's own variables (:mod:`twin.observe`), for the standard set:
 ``temperature(time, sensor)`` as measured and ``temperature_true`` [degC] with sensor coordinates
 ``x, y, z`` [m] and ``part``; ``drift(time, axis)`` [um], the true tool-point drift (tool relative
 to the table); ``probe(time, probe_id)`` [um] for X1 X2 Y1 Y2 Z and ``probe_true``;
 ``probe_drift(time, axis)`` [um] derived from the probe readings; ``tilt(time, rotation)`` [urad]
-for A, B from the probe readings and ``tilt_true``; ``heat_power(time, effect)`` [W] into the
-structure. Attributes: provenance (package version, machine, scenario, effects, every parameter
+for A, B from the probe readings and ``tilt_true``; on machines with them, ``laser(time,
+laser_id)`` [um] and ``laser_tilt`` [urad] (:mod:`twin.observe.triangulation`) and ``strain(time,
+gauge)`` [um/m] with ``strain_raw`` and ``strain_true`` (:mod:`twin.observe.strain`);
+``heat_power(time, effect)`` [W] into the structure. Attributes: provenance (package version, machine, scenario, effects, every parameter
 with its unit, mesh, seed, time step) and the energy balance of the run.
 (The probe dimension is ``probe_id`` because xarray forbids a variable named like its dimension.)
 """
@@ -42,6 +45,9 @@ def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "")
     ctx = r.context(seed)
     data = {"spindle_speed": variable("time", sc.spindle_speed(r.times), "rpm", "spindle speed"),
             "ambient_temperature": variable("time", sc.ambient_temperature(r.times), "degC", "room air temperature")}
+    if getattr(sc, "c_axis", None) is not None:
+        data["c_axis_speed"] = variable("time", sc.c_axis.speed(r.times), "rpm", "C-axis speed while turning")
+        data["c_axis_duty"] = variable("time", sc.c_axis.duty(r.times), "1", "fraction of the time the C axis turns")
     coords = {"time": ("time", r.times, {"units": "s", "long_name": "time since start"})}
     attrs = {}
     for obs in r.observers:

@@ -4,7 +4,9 @@ from twin.observe.base import Observer, RunContext, variable
 from twin.observe.displacement import ExpansionSensitivity, FiveProbeTestBar, ToolDrift, derived_from_probes
 from twin.observe.energy import HeatBalance
 from twin.observe.snapshot import HottestField
+from twin.observe.strain import StrainGauges
 from twin.observe.temperature import TemperatureSensors
+from twin.observe.triangulation import LaserTriangulation
 
 
 def sensor_points(machine) -> list:
@@ -16,14 +18,19 @@ def sensor_points(machine) -> list:
 
 def standard_observers(machine, sensors: list | None = None) -> list[Observer]:
     """What a simulation records: temperature sensors (``sensors``, default the machine's sites),
-    the tool-point drift, the five-probe test bar (when the machine has probes), the heat balance
-    and the hottest field. The order fixes the instrument-noise draws (temperatures, then probes)."""
+    the tool-point drift, the five-probe test bar (when the machine has probes), its laser
+    triangulation sensors and FBG strain gauges (when it has them), the heat balance and the
+    hottest field. The order fixes the instrument-noise draws (temperatures, probes, lasers, FBG)."""
     observers = [TemperatureSensors(sensors if sensors is not None else sensor_points(machine)), ToolDrift()]
     if machine.probes:
         observers.append(FiveProbeTestBar())
+    if machine.lasers:
+        observers.append(LaserTriangulation())
+    if machine.strain_gauges:
+        observers.append(StrainGauges(machine.strain_gauges))
     return observers + [HeatBalance(), HottestField()]
 
 
 __all__ = ["Observer", "RunContext", "variable", "ExpansionSensitivity", "FiveProbeTestBar", "ToolDrift",
-           "derived_from_probes", "HeatBalance", "HottestField", "TemperatureSensors", "sensor_points",
+           "derived_from_probes", "HeatBalance", "HottestField", "LaserTriangulation", "StrainGauges", "TemperatureSensors", "sensor_points",
            "standard_observers"]

@@ -86,33 +86,45 @@ class FiveProbeTestBar(DisplacementObserver):
     """The ISO 230-3 five-probe nest: each probe (fixed to the workpiece side) reads the test bar's
     displacement along its direction. Variables ``probe``/``probe_true(time, probe_id)`` [um] and,
     from the readings, ``probe_drift(time, axis)`` [um] and ``tilt``/``tilt_true(time, rotation)``
-    [urad] (:func:`derived_from_probes`)."""
+    [urad] (:func:`derived_from_probes`).
+
+    Subclasses (other displacement sensors on the test bar) change ``key``, the machine's list of
+    sensors (:meth:`sensors`), the ``instrument`` parameter group, the ``name`` of the variables and
+    of their dimension, and :meth:`derived`."""
 
     key = "probes"
+    instrument = "probe"
+    name, dim, long_name = "probe", "probe_id", "ISO 230-3 probe"
+
+    def sensors(self, machine) -> list:
+        return machine.probes
 
     def functionals(self, mm):
-        machine = mm.machine
-        rows = [relative_displacement(mm, p.target, p.fixture, [p.direction]) for p in machine.probes]
+        rows = [relative_displacement(mm, p.target, p.fixture, [p.direction]) for p in self.sensors(mm.machine)]
         return sp.vstack(rows).tocsr()
 
     def data(self, raw, ctx):
-        machine = ctx.machine
-        names = [p.name for p in machine.probes]
+        names = [p.name for p in self.sensors(ctx.machine)]
         true = self.change_um(raw)
-        meas = probe_reading(true, ctx.spec.params["probe"], ctx.rng)
-        data = {"probe": variable(("time", "probe_id"), meas, "um", "ISO 230-3 probe reading as measured"),
-                "probe_true": variable(("time", "probe_id"), true, "um", "true probe reading")}
-        coords = {"probe_id": ("probe_id", names, {"long_name": "ISO 230-3 probe"})}
-        if set(FIVE_PROBES) <= set(names):
-            pdrift, tilt = derived_from_probes(meas, names, machine)
-            _, tilt_true = derived_from_probes(true, names, machine)
-            data.update({
-                "probe_drift": variable(("time", "axis"), pdrift, "um", "tool-point drift derived from the probe readings"),
+        meas = probe_reading(true, ctx.spec.params[self.instrument], ctx.rng)
+        data = {self.name: variable(("time", self.dim), meas, "um", f"{self.long_name} reading as measured"),
+                f"{self.name}_true": variable(("time", self.dim), true, "um", f"true {self.long_name} reading")}
+        coords = {self.dim: (self.dim, names, {"long_name": self.long_name})}
+        more, more_coords = self.derived(meas, true, names, ctx.machine)
+        return {**data, **more}, {**coords, **more_coords}
+
+    def derived(self, meas: np.ndarray, true: np.ndarray, names: list[str], machine) -> tuple[dict, dict]:
+        """Variables derived from the readings [um] (as measured and true): the five-probe drift and tilts."""
+        if not set(FIVE_PROBES) <= set(names):
+            return {}, {}
+        pdrift, tilt = derived_from_probes(meas, names, machine)
+        _, tilt_true = derived_from_probes(true, names, machine)
+        data = {"probe_drift": variable(("time", "axis"), pdrift, "um", "tool-point drift derived from the probe readings"),
                 "tilt": variable(("time", "rotation"), tilt, "urad",
                                  "test-bar tilt from the probe readings (A about X, B about Y)"),
-                "tilt_true": variable(("time", "rotation"), tilt_true, "urad", "true test-bar tilt")})
-            coords.update({"axis": ("axis", list(AXES), {"long_name": "machine axis"}),
-                           "rotation": ("rotation", ["A", "B"], {"long_name": "rotation about X (A) and Y (B)"})})
+                "tilt_true": variable(("time", "rotation"), tilt_true, "urad", "true test-bar tilt")}
+        coords = {"axis": ("axis", list(AXES), {"long_name": "machine axis"}),
+                  "rotation": ("rotation", ["A", "B"], {"long_name": "rotation about X (A) and Y (B)"})}
         return data, coords
 
 

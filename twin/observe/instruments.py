@@ -3,6 +3,10 @@
 Temperature sensor (DS18S20-like digital sensor, seed 000 L3845-3869): first-order lag tau,
 bias, Gaussian noise, quantisation q = 0.0625 K:  y = q round((lag(T) + bias + noise) / q).
 Eddy-current probe (seed 000 L3878-3906): 0.1 um resolution, small Gaussian noise.
+Laser triangulation sensor (seed 000 L3911-3933, Machine C): as a probe, coarser and noisier
+(large-standoff heads: 0.1 um resolution, 0.2 um noise; plausible, the seed gives none).
+FBG strain gauge (seed 000 L3939-3976): temperature cross-sensitivity 8.64 um/m/K in the raw
+reading; interrogator resolution about 1 pm of a 1550 nm grating, i.e. 0.8 um/m, noise 0.5 um/m.
 Noise comes from a seeded generator; the noise-free truth is always kept beside the reading.
 """
 
@@ -23,6 +27,16 @@ INSTRUMENTS: dict[str, tuple[Parameter, ...]] = {
     "probe": (
         Parameter("resolution", "length", 0.1e-6, 0.0, 10e-6, "reading resolution (eddy-current NCDT: 0.1 um)"),
         Parameter("noise", "length", 0.05e-6, 0.0, 10e-6, "noise standard deviation"),
+    ),
+    "laser_triangulation": (
+        Parameter("resolution", "length", 0.1e-6, 0.0, 10e-6, "reading resolution"),
+        Parameter("noise", "length", 0.2e-6, 0.0, 10e-6, "noise standard deviation"),
+    ),
+    "fbg": (
+        Parameter("cross_sensitivity", "thermal_strain", 8.64e-6, 0.0, 50e-6,
+                  "apparent strain per kelvin of the grating (seed 000: 8.64 um/m/K)"),
+        Parameter("quantisation", "strain", 0.8e-6, 0.0, 100e-6, "reading resolution (1 pm at 1550 nm)"),
+        Parameter("noise", "strain", 0.5e-6, 0.0, 100e-6, "noise standard deviation"),
     ),
 }
 

@@ -17,6 +17,7 @@ from twin.observe.base import Observer, RunContext, variable
 from twin.observe.instruments import temperature_reading
 
 AIR = "air"
+RECORDED = "temperature_recorded"   # RunContext.extra key: {sensor name: its readings [degC]}
 
 
 def air_temperature(points, ctx: RunContext) -> np.ndarray:
@@ -64,6 +65,8 @@ class TemperatureSensors(Observer):
         true = self.true_values(raw, ctx)
         meas = temperature_reading(true, ctx.scenario.sample_interval, ctx.spec.params["temperature_sensor"], ctx.rng)
         pts = self.points
+        # what each sensor recorded, for instruments compensated with it (FBG gauges, twin.observe.strain)
+        ctx.extra.setdefault(RECORDED, {}).update({p.name: meas[:, i] for i, p in enumerate(pts)})
         data = {"temperature": variable(("time", "sensor"), meas, "degC", "temperature as measured (sensor model)"),
                 "temperature_true": variable(("time", "sensor"), true, "degC", "true temperature at the sensor site")}
         coords = {

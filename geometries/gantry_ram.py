@@ -1,0 +1,191 @@
+"""``gantry-ram``: a five-axis gantry milling machine with a ram (seed 000, Machine C).
+
+Seed facts (thesis L4067-4111, L4714-4804, L5606-6106): a fixed table; a gantry travelling X
+2.5 m, a carriage on its cross-beam travelling Y 1.2 m, a ram travelling Z 0.7 m; a B/C head at
+the ram's tip carrying the spindle (3200 rpm maximum); "all axes move the tool"; linear scales on
+X, Y, Z and directly mounted encoders on B and C; the C-axis motor inside the ram near T1; the Z
+ballscrew with two support bearings, its nut and the Z motor; no temperature control in the
+workshop; 12 temperature sensors, 7 FBG strain gauges (three on the ram, one per side, four on the
+cross-beam) and four laser triangulation sensors on a test bar (Y, Z and two for the tilt; X not
+measured). Dimensions, masses and materials are not given: plausible, not a measured machine.
+
+Chosen dimensions [m] (x along the X travel, y along the cross-beam, z up, floor z = 0; the
+spindle axis is x = y = 0, the machine modelled at one pose, mid-travel on every axis):
+
+* bed 3.5 x 3.2 x 0.5 (grey cast iron), fixed table 2.5 x 1.5, 0.2 thick, top at z 0.70;
+* two uprights 0.5 (x) x 0.3 (y) from the bed to z 2.70 at y = +-(1.30..1.60), a cross-beam
+  0.5 x 0.5 across them (z 2.70-3.20), both behind the ram (x 0.30-0.80), grey cast iron;
+* a carriage (saddle) on the beam's front face, 0.6 (x) x 0.8 (y) x 0.8 (z), a frame round the
+  ram: front and side slabs guide the ram, a 80 mm channel behind the ram holds the Z screw;
+* a hollow square ram, 0.32 x 0.32 with 40 mm walls (steel weldment), z 1.61-3.35 (0.9 m
+  overhang below the carriage at the test pose, room for 0.35 m of Z either way);
+* inside the ram's lower end the C-axis bearing (a 60 mm steel slab across the ram's section,
+  z 1.55-1.61) and the C-axis torque motor (steel, filling the 0.24 m bore, z 1.61-1.91);
+* the B/C fork head 0.32 x 0.32 x 0.30 below it (grey cast iron), the spindle cartridge
+  (steel, 0.12 square, nose at z 1.20), a 40 mm square steel test bar 0.25 m long (tip z 0.95);
+* the Z ballscrew (steel, 40 mm) in the channel behind the ram from its lower support bearing
+  (steel block on the ram's rear face, z 1.90-2.00, T2 "ram rear") to the upper one under the
+  Z motor (z 3.25-3.35); the Z motor (steel, 0.24 square, 0.30 tall) on the ram top. The nut
+  is not a separate part (it needs the moving-source machinery of linear axis motion).
+
+Castings are solid blocks (ribs unknown), every joint bonded; the linear scales are not meshed
+(closed-loop axes: ``linear_scales`` in ``parameters``); the rotary encoders on B and C neither.
+
+Roles: the C-axis motor and bearing (``c_axis.motor``, ``c_axis.bearing``) for the C-axis
+drive effect, the Z motor and upper screw bearing (``z_drive.top``); the Z screw's lower bearing
+is the part ``z_bearing_lower`` (a region custom effects can heat) until linear axis motion
+binds the feed-drive roles.
+"""
+
+from __future__ import annotations
+
+from geometries.base import Box, Machine, Part, Point, Probe, StrainGauge, Surface, material
+from geometries.regions import Facing, Named, Parts, Union
+
+NAME = "gantry-ram"
+
+MAX_SPEED = 3200.0     # rpm: the seed's spindle maximum
+C_MAX_SPEED = 3200.0   # rpm: the C axis (the seed's C-axis test turns it at 2500 rpm; no limit stated)
+
+DEFAULT_EFFECTS = ("c_axis_drive", "ambient_convection", "floor")
+
+# The seed's 12 temperature sensors in its own order: T1-T6 on the structure, T7-T12 in the air.
+TEMPERATURE_POINTS: tuple[str, ...] = tuple(f"T{i}" for i in range(1, 13))
+FBG_GAUGES: tuple[str, ...] = tuple(f"FBG-{i}" for i in range(1, 8))
+LASERS: tuple[str, ...] = ("Y", "Z", "A1", "A2")
+TILT_SPACING = 0.10   # m between the tilt pair A1 (lower) and A2
+
+
+def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
+    """Build the gantry with a ram. bar_length [m]: test-bar overhang below the spindle nose;
+    gauge_length [m]: the FBG gratings' gauge length (packaged surface gratings: 20-100 mm)."""
+    iron, steel = material("grey_cast_iron"), material("steel")
+    bed_top, table_top = 0.50, 0.70
+    nose = 1.20
+    tip = nose - bar_length
+    head_bot, cbear_bot, ram_bot, motor_top, ram_top = 1.25, 1.55, 1.61, 1.91, 3.35
+    ro, ri = 0.16, 0.12                  # ram outer and bore half sides
+    car_bot, car_top, car_x0, car_x1, car_y = 2.45, 3.25, -0.30, 0.30, 0.40
+    chan = 0.24                          # the screw channel behind the ram: x 0.16-0.24
+    beam_x0, beam_x1, beam_bot, beam_top = 0.30, 0.80, 2.70, 3.20
+    up_y0, up_y1 = 1.30, 1.60
+    zb_lo, zb_hi = 2.20, 2.30            # lower Z-screw bearing
+    hb = 0.02
+
+    ram = (Box((-ro, -ro, ram_bot), (-ri, ro, ram_top)), Box((ri, -ro, ram_bot), (ro, ro, ram_top)),
+           Box((-ri, -ro, ram_bot), (ri, -ri, ram_top)), Box((-ri, ri, ram_bot), (ri, ro, ram_top)))
+    carriage = (Box((car_x0, -car_y, car_bot), (-ro, car_y, car_top)),
+                Box((chan, -car_y, car_bot), (car_x1, car_y, car_top)),
+                Box((-ro, -car_y, car_bot), (chan, -ro, car_top)),
+                Box((-ro, ro, car_bot), (chan, car_y, car_top)))
+    parts = [
+        Part("bed", iron, (Box((-1.75, -1.60, 0.0), (1.75, 1.60, bed_top)),), "workpiece"),
+        Part("table", iron, (Box((-1.25, -0.75, bed_top), (1.25, 0.75, table_top)),), "workpiece"),
+        Part("upright_left", iron, (Box((beam_x0, -up_y1, bed_top), (beam_x1, -up_y0, beam_bot)),), "tool"),
+        Part("upright_right", iron, (Box((beam_x0, up_y0, bed_top), (beam_x1, up_y1, beam_bot)),), "tool"),
+        Part("cross_beam", iron, (Box((beam_x0, -up_y1, beam_bot), (beam_x1, up_y1, beam_top)),), "tool"),
+        Part("carriage", iron, carriage, "tool"),
+        Part("ram", steel, ram, "tool"),
+        Part("c_motor", steel, (Box((-ri, -ri, ram_bot), (ri, ri, motor_top)),), "tool"),
+        Part("c_bearing", steel, (Box((-ro, -ro, cbear_bot), (ro, ro, ram_bot)),), "tool"),
+        Part("head", iron, (Box((-ro, -ro, head_bot), (ro, ro, cbear_bot)),), "tool"),
+        Part("spindle", steel, (Box((-0.06, -0.06, nose), (0.06, 0.06, cbear_bot - 0.05)),), "tool"),
+        Part("test_bar", steel, (Box((-hb, -hb, tip), (hb, hb, nose)),), "tool"),
+        Part("z_bearing_lower", steel, (Box((ro, -0.06, zb_lo), (chan, 0.06, zb_hi)),), "tool"),
+        Part("z_screw", steel, (Box((0.18, -0.02, zb_hi), (0.22, 0.02, ram_top - 0.10)),), "tool"),
+        Part("z_bearing_upper", steel, (Box((ro, -0.06, ram_top - 0.10), (chan, 0.06, ram_top)),), "tool"),
+        Part("z_motor", steel, (Box((-ri, -ri, ram_top), (ri, ri, ram_top + 0.30)),), "tool"),
+    ]
+    everything = tuple(p.name for p in parts)
+    surfaces = [
+        Surface("skin", everything, within=Box((-10, -10, 1e-4), (10, 10, 10))),
+        Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
+        Surface("test_bar_skin", ("test_bar",)),
+        Surface("test_bar_seat", ("test_bar",), interface_with=("spindle",)),
+        Surface("spindle_nose", ("spindle",), within=Box((-1, -1, nose - 1e-4), (1, 1, nose + 1e-4))),
+        Surface("upright_left_outer", ("upright_left",),
+                within=Box((beam_x0, -up_y1 - 1e-4, bed_top), (beam_x1, -up_y1 + 1e-4, beam_bot))),
+    ]
+    e = 1e-3  # sensors and gratings sit 1 mm inside the face they are glued to
+    structural = [
+        Point("T1", (-ro + e, 0.0, 1.88), "ram"),                       # ram front face beside the C motor
+        Point("T2", (chan - e, 0.0, 0.5 * (zb_lo + zb_hi)), "z_bearing_lower"),  # lower Z-screw bearing, ram rear
+        Point("T3", (0.0, ro - e, 2.25), "ram"),                        # gradient up from the ram's end
+        Point("T4", (0.0, ro - e, 2.38), "ram"),
+        Point("T5", (-ri + e, 0.0, ram_top + 0.15), "z_motor"),         # Z motor surface, front and side
+        Point("T6", (0.0, ri - e, ram_top + 0.15), "z_motor"),
+    ]
+    air = [
+        Point("T7", (-1.80, 0.0, 0.25), "air"),                         # beside the bed
+        Point("T8", (-1.30, 0.0, 0.80), "air"),                         # over the table's end
+        Point("T9", (-0.25, 0.0, 1.80), "air"),                         # in front of the ram
+        Point("T10", (0.55, 0.0, 2.60), "air"),                         # under the cross-beam
+        Point("T11", (0.55, -1.65, 1.60), "air"),                       # beside the left upright
+        Point("T12", (0.55, 0.0, 3.30), "air"),                         # over the cross-beam
+    ]
+    gz = (0.0, 0.0, 1.0)
+    gauges = [
+        StrainGauge("FBG-1", (-ro + e, 0.0, 2.10), gz, gauge_length, "ram"),    # ram front
+        StrainGauge("FBG-2", (0.0, -ro + e, 2.10), gz, gauge_length, "ram"),    # ram left (-y)
+        StrainGauge("FBG-3", (0.0, ro - e, 2.25), gz, gauge_length, "ram"),     # ram right (+y)
+        StrainGauge("FBG-4", (beam_x1 - e, -0.80, 2.95), (0.0, 1.0, 0.0), gauge_length, "cross_beam"),  # beam rear
+        StrainGauge("FBG-5", (beam_x1 - e, 0.80, 2.95), (0.0, 1.0, 0.0), gauge_length, "cross_beam"),
+        StrainGauge("FBG-6", (0.55, -0.80, beam_top - e), (0.0, 1.0, 0.0), gauge_length, "cross_beam"),  # beam top
+        StrainGauge("FBG-7", (0.55, 0.80, beam_top - e), (0.0, 1.0, 0.0), gauge_length, "cross_beam"),
+    ]
+    # laser triangulation on the test bar, sensors on the table: Y at 30 mm above the tip, Z on the
+    # tip, the tilt pair A1/A2 along +y 100 mm apart higher up (X not measured, as the seed)
+    z_y, z_a1 = tip + 0.03, tip + 0.10
+    nest = [
+        Point("tool", (0.0, 0.0, tip), "test_bar"),
+        Point("workpiece", (0.0, 0.0, table_top), "table"),
+        Point("Y", (0.0, -hb, z_y), "test_bar"),
+        Point("Z", (0.0, 0.0, tip), "test_bar"),
+        Point("A1", (0.0, -hb, z_a1), "test_bar"),
+        Point("A2", (0.0, -hb, z_a1 + TILT_SPACING), "test_bar"),
+    ]
+    dirs = {"Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0), "A1": (0.0, 1.0, 0.0), "A2": (0.0, 1.0, 0.0)}
+    lasers = [Probe(n, n, dirs[n], "workpiece") for n in LASERS]
+    return Machine(
+        name=NAME,
+        parts=parts,
+        surfaces=surfaces,
+        points=structural + air + nest,
+        probes=[],
+        lasers=lasers,
+        strain_gauges=gauges,
+        tool_point="tool",
+        workpiece_point="workpiece",
+        sensor_sites=[p.name for p in structural],
+        air_sites=[p.name for p in air],
+        resolutions={"coarse": 0.25, "default": 0.15, "fine": 0.10},
+        description=("5-axis gantry milling machine with a ram (seed Machine C): X 2.5 m (gantry), Y 1.2 m, "
+                     "Z 0.7 m (ram), B/C head, 3200 rpm, C-axis motor in the ram, Z motor on the ram top"),
+        parameters={"bar_length": bar_length, "gauge_length": gauge_length, "travel_x": 2.5, "travel_y": 1.2,
+                    "travel_z": 0.7, "linear_scales": 1.0, "c_axis_max_speed": C_MAX_SPEED,
+                    "tilt_spacing": TILT_SPACING},
+        roles=roles(ram_top),
+        default_effects=DEFAULT_EFFECTS,
+        max_speed=MAX_SPEED,
+    )
+
+
+def roles(ram_top: float) -> dict:
+    """The machine contract of the gantry (see :data:`geometries.regions.ROLES`): the C-axis
+    motor and bearing in the ram's lower end, the Z motor and upper screw bearing at its top, the
+    skin (front: -x, the operator's side; rear: +x), the bed's foot, the left upright's outer face
+    (the electrical cabinet's side)."""
+    skin = Named("skin")
+    return {
+        "c_axis.motor": Parts(("c_motor",)),
+        "c_axis.bearing": Parts(("c_bearing",)),
+        "spindle.rotating": Union((Named("test_bar_skin"), Named("spindle_nose"))),
+        "test_bar.seat": Named("test_bar_seat"),
+        "test_bar.body": Parts(("test_bar",)),
+        "structure.skin": skin,
+        "structure.front": Facing(skin, "-x"),
+        "structure.rear": Facing(skin, "+x"),
+        "floor.contact": Named("floor_contact"),
+        "cabinet.face": Named("upright_left_outer"),
+        "z_drive.top": Parts(("z_motor", "z_bearing_upper")),
+    }
