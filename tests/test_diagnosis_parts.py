@@ -14,7 +14,7 @@ from twin.scenario import Ambient, Scenario
 from validate.fit import BoundedFitter, gauss_newton
 from validate.search import Fit
 from validate.candidates import Candidate
-from validate.verdict import WITHIN, beyond_model_error, decide
+from validate.verdict import BEYOND, WITHIN, beyond_model_error, decide
 
 
 def _problem(seed=0, n=400):
@@ -70,12 +70,13 @@ def test_verdict_rule(factors, significant, after, expected):
 
 
 @pytest.mark.parametrize("beyond,significant,expected", [
-    (None, True, "nothing_missing"), (2.9, True, "nothing_missing"), (3.0, True, "explained"),
+    (None, True, "nothing_missing"), (9.9, True, "nothing_missing"), (10.0, True, "explained"),
     (50.0, False, "nothing_missing"),
 ])
 def test_verdict_within_the_envelope_but_beyond_the_model_error_along_the_signature(beyond, significant, expected):
     """Every factor <= WITHIN: ``explained`` only for a significant candidate whose fitted change
-    is >= WITHIN times what the model error alone produces along its signature."""
+    is >= BEYOND (10) times what the model error alone produces along its signature."""
+    assert BEYOND == 10.0
     factors = {"temperature": 2.0, "probe": 1.5}
     assert decide(factors, significant, {"temperature": 1.0, "probe": 1.0}, beyond) == expected
 
