@@ -19,6 +19,9 @@ A scenario file::
     [camera]                            # optional thermal camera(s): see twin.camera_config
     pose = "carrier-front"
 
+    [[axis]]                            # optional linear-axis motion: see twin.motion
+    name = "Y"
+
 Unknown keys, missing keys, wrong units, non-positive durations, impossible temperatures (below
 absolute zero or outside the plausible range of room air), a negative amplitude and runs too long
 to afford raise :class:`twin.errors.InputError` naming the file and the key
@@ -38,6 +41,7 @@ from twin import limits
 from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
 from twin.io.paths import read_toml
+from twin.motion import check_durations, motions_from_toml
 from twin.units import UnitError, parse_quantity
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
@@ -79,6 +83,7 @@ class Scenario:
     source: str = ""
     extra: dict = field(default_factory=dict)
     cameras: tuple = ()  # twin.observe.camera.CameraConfig, from the [camera] section
+    axes: tuple = ()     # twin.motion.Motion, one per commanded axis ([[axis]], see twin.motion)
 
     @property
     def duration(self) -> float:
@@ -182,6 +187,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     ambient = _ambient(top.get("ambient", required=True), source)
     raw_steps = top.get("spindle", required=True)
     cameras = cameras_from_toml(top.get("camera"), source, _Reader)
+    axes = motions_from_toml(top.get("axis"), source, _Reader)
     top.finish()
     if not isinstance(raw_steps, list) or not raw_steps:
         raise InputError(source, "spindle", "expected one or more [[spindle]] steps")
@@ -199,7 +205,8 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     total = sum(d for d, _ in steps)
     # name the culprit: the interval when the durations would be affordable at 1 s, else the durations
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
-    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras)
+    check_durations(axes, total, source)
+    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes)
 
 
 def _ambient(table, source: str) -> Ambient:
