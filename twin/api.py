@@ -8,6 +8,7 @@ from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
 from twin.io.results import to_dataset
 from twin.model import ModelSpec, model_spec
+from twin.motion import machine_for
 from twin.observe import standard_observers
 from twin.observe.camera import CameraConfig
 from twin.observe.camera import cameras as camera_observers
@@ -39,6 +40,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    m = machine_for(m, sc)
     extra = ()
     if effects_file:
         from twin.effects.custom import load_effects_file

@@ -300,6 +300,17 @@ def check_motions(scenario, machine) -> None:
                                                         f"travel {lo * 1e3:g} .. {hi * 1e3:g} mm of {machine.name}")
 
 
+def machine_for(machine, scenario):
+    """The machine a scenario runs on: ``machine`` with its feed drives' parts
+    (:func:`geometries.axes.with_feed_drives`) when the scenario commands an axis, after checking
+    the motions against it (:func:`check_motions`); ``machine`` itself otherwise."""
+    if not getattr(scenario, "axes", ()):
+        return machine
+    check_motions(scenario, machine)
+    from geometries.axes import with_feed_drives
+    return with_feed_drives(machine)
+
+
 # --- path basis -------------------------------------------------------------------------------
 
 def path_nodes(lo: float, hi: float, spacing: float) -> np.ndarray:
