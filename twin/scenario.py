@@ -42,6 +42,7 @@ from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
 from twin.io.paths import read_toml
 from twin.motion import check_durations, motions_from_toml
+from twin.observe.interferometer import interferometer_from_toml
 from twin.units import UnitError, parse_quantity
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
@@ -84,6 +85,7 @@ class Scenario:
     extra: dict = field(default_factory=dict)
     cameras: tuple = ()  # twin.observe.camera.CameraConfig, from the [camera] section
     axes: tuple = ()     # twin.motion.Motion, one per commanded axis ([[axis]], see twin.motion)
+    interferometer: object = None   # twin.observe.interferometer.InterferometerConfig ([interferometer])
 
     @property
     def duration(self) -> float:
@@ -188,6 +190,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     raw_steps = top.get("spindle", required=True)
     cameras = cameras_from_toml(top.get("camera"), source, _Reader)
     axes = motions_from_toml(top.get("axis"), source, _Reader)
+    laser = interferometer_from_toml(top.get("interferometer"), source, _Reader)
     top.finish()
     if not isinstance(raw_steps, list) or not raw_steps:
         raise InputError(source, "spindle", "expected one or more [[spindle]] steps")
@@ -206,7 +209,8 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     # name the culprit: the interval when the durations would be affordable at 1 s, else the durations
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     check_durations(axes, total, source)
-    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes)
+    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes,
+                    interferometer=laser)
 
 
 def _ambient(table, source: str) -> Ambient:
