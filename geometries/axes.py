@@ -25,7 +25,8 @@ class FeedDrive:
     :data:`geometries.regions.ROLES`, the ``feed_drive.*`` roles), sensor ``points``,
     ``screw_axis`` (x, z) [m]: the screw's centre line across ``direction`` (the two other machine
     coordinates, in x, y, z order), ``fixed_end`` [m]: the machine coordinate along the axis of the
-    fixed (thrust) bearing, and ``lead`` [m] per revolution."""
+    fixed (thrust) bearing, ``lead`` [m] per revolution and ``nut_offset`` (x, z) [m] from the
+    screw's line to the point where the nut housing holds the moving body."""
 
     parts: tuple = ()
     surfaces: tuple = ()
@@ -34,6 +35,7 @@ class FeedDrive:
     screw_axis: tuple[float, float] = (0.0, 0.0)
     fixed_end: float = 0.0
     lead: float = 0.01
+    nut_offset: tuple[float, float] = (0.0, 0.0)   # [m] from the screw's line to where the nut holds the body
     effects: tuple[str, ...] = ()   # effects added to the machine's default set with the drive
 
 

@@ -168,7 +168,8 @@ def axes(col_y0: float) -> list[LinearAxis]:
                 Point("Y_rear_bearing", (0.0, 0.425, hi - e), "y_rear_bearing"),
                 Point("Y_nut", (0.0, -0.05, 0.35 + e), "saddle"),
                 Point("Y_air_room", (0.0, -1.50, 1.50), "air")),
-        screw_axis=(0.0, 0.5 * (lo + hi)), fixed_end=-0.50, lead=0.010, effects=FEED_DRIVE_EFFECTS)
+        screw_axis=(0.0, 0.5 * (lo + hi)), fixed_end=-0.50, lead=0.010, nut_offset=(0.0, 0.03),
+        effects=FEED_DRIVE_EFFECTS)
     return [LinearAxis("X", "x", (0.0, 0.50), "semi-closed", ("table",), -0.25, 0.25),
             LinearAxis("Y", "y", (0.0, 0.40), "semi-closed", ("saddle", "table"), -0.25, 0.20, drive),
             LinearAxis("Z", "z", (0.0, 0.33), "semi-closed", ("carrier", "spindle", "front_bearing", "rear_bearing",

@@ -95,6 +95,39 @@ SCENARIO_EDITS = [
     ("duplicate-key", _sc(INTERVAL, INTERVAL + "\n" + INTERVAL), "toml"),
 ]
 
+# axis motion ([[axis]], twin.motion) and the interferometer: appended to the good scenario
+AXIS = ('\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "reciprocate"\nbetween = ["0 mm", "280 mm"]\n'
+        'feed = "20 mm/s"\nacceleration = "10 mm/s2"\nduration = "30 min"\n')
+LASER = '\n[interferometer]\naxis = "Y"\nruns = ["0 min", "10 min"]\n'
+
+
+def _ax(old: str, new: str, tail: str = "") -> str:
+    assert old in AXIS, old
+    return SCENARIO + AXIS.replace(old, new) + tail
+
+
+SCENARIO_EDITS += [
+    ("axis-feed-zero", _ax('"20 mm/s"', '"0 mm/s"'), "axis[0].move[0].feed"),
+    ("axis-feed-negative", _ax('"20 mm/s"', '"-20 mm/s"'), "axis[0].move[0].feed"),
+    ("axis-feed-no-unit", _ax('"20 mm/s"', '"20"'), "axis[0].move[0].feed"),
+    ("axis-feed-wrong-unit", _ax('"20 mm/s"', '"20 mm"'), "axis[0].move[0].feed"),
+    ("axis-acceleration-zero", _ax('"10 mm/s2"', '"0 mm/s2"'), "axis[0].move[0].acceleration"),
+    ("axis-unknown", _ax('name = "Y"', 'name = "W"'), "axis[0].name"),
+    ("axis-outside-travel", _ax('"280 mm"]', '"500 mm"]'), "axis[0].move"),
+    ("axis-longer-than-scenario", _ax('"30 min"', '"40 min"'), "axis[0].move"),
+    ("axis-unknown-kind", _ax('"reciprocate"', '"wobble"'), "axis[0].move[0].kind"),
+    ("axis-unknown-key", _ax('duration', 'speed = "1 mm/s"\nduration'), "axis[0].move[0].speed"),
+    ("axis-duration-and-count", _ax('duration', 'count = 3\nduration'), "axis[0].move[0].duration"),
+    ("axis-count-not-whole", _ax('duration = "30 min"', 'count = 2.5'), "axis[0].move[0].count"),
+    ("axis-one-end", _ax('["0 mm", "280 mm"]', '["0 mm"]'), "axis[0].move[0].between"),
+    ("axis-move-elsewhere", _ax('"30 min"', '"20 min"', '[[axis.move]]\nkind = "hold"\nposition = "100 mm"\n'
+                                                      'duration = "1 min"\n'), "axis[0].move[1]"),
+    ("axis-twice", SCENARIO + AXIS + AXIS, "axis[1].name"),
+    ("interferometer-off-grid", _ax("", "", LASER.replace('"10 min"', '"90 s"')), "interferometer.runs"),
+    ("interferometer-not-cold-first", _ax("", "", LASER.replace('"0 min", ', '')), "interferometer.runs"),
+    ("interferometer-unknown-axis", _ax("", "", LASER.replace('axis = "Y"', 'axis = "X"')), "interferometer.axis"),
+]
+
 # the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)
 SCENARIO_EDITS_VIA_MEASUREMENT = ["ambient-below-absolute-zero", "speed-beyond-machine", "speed-1e300-krpm",
                                   "interval-1-ns", "duration-1e300-s", "malformed-toml", "unknown-top-key"]

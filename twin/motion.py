@@ -326,7 +326,7 @@ def hat(nodes: np.ndarray, x) -> np.ndarray:
     return np.clip(1.0 - np.abs(u), 0.0, None)
 
 
-def _hat_integral(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
+def hat_integral(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
     """(len(x), N) Phi_i(x) = integral of phi_i from -inf to x [m] (piecewise quadratic)."""
     h = nodes[1] - nodes[0] if len(nodes) > 1 else 1.0
     u = np.clip((np.asarray(x, float)[:, None] - nodes[None, :]) / h, -1.0, 1.0)
@@ -353,7 +353,7 @@ def path_weights(motion: Motion, nodes: np.ndarray, edges: np.ndarray, per: str)
     out = np.zeros((len(edges) - 1, len(nodes)))
     xa, xb = motion.position(ta), motion.position(tb)
     if per == "distance":
-        contrib = np.abs(_hat_integral(nodes, xb) - _hat_integral(nodes, xa))
+        contrib = np.abs(hat_integral(nodes, xb) - hat_integral(nodes, xa))
     elif per == "time":
         dt = tb - ta
         mid = 0.5 * (ta + tb)
@@ -362,7 +362,7 @@ def path_weights(motion: Motion, nodes: np.ndarray, edges: np.ndarray, per: str)
         moving = np.abs(xb - xa) > 1e-15
         contrib = np.zeros((len(ta), len(nodes)))
         lin = moving & ~accel
-        contrib[lin] = (_hat_integral(nodes, xb[lin]) - _hat_integral(nodes, xa[lin])) / ((xb - xa)[lin] / dt[lin])[:, None]
+        contrib[lin] = (hat_integral(nodes, xb[lin]) - hat_integral(nodes, xa[lin])) / ((xb - xa)[lin] / dt[lin])[:, None]
         still = ~moving
         contrib[still] = hat(nodes, xa[still]) * dt[still, None]
         acc = moving & accel

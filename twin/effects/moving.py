@@ -18,7 +18,7 @@ import numpy as np
 
 from twin.effects.base import HeatSource
 from twin.fem.regions import cell_centres, role_cells
-from twin.motion import Motion, path_nodes, path_weights, step_signal
+from twin.motion import Motion, hat_integral, path_nodes, path_weights, step_signal
 
 PATH_SPACING = 0.01   # [m] between path-basis nodes (finer than any mesh's cells along the axis)
 REFERENCE_FEED = 0.02   # [m/s] the feed at which the speed-proportional powers are given (seed 003)
@@ -60,8 +60,13 @@ def travelling_sources(label: str, mm, role: str, axis, motion: Motion, scenario
                        offsets=(0.0,), spacing: float = PATH_SPACING) -> list[HeatSource]:
     """Path-basis sources of a heat q = scale * (|v| when ``per="distance"``, 1 when ``"time"``)
     [W] released in the cells of ``role`` at the machine coordinate of the nut plus each of
-    ``offsets`` [m] (q split equally among them, e.g. two carriages). Nodes every ``spacing``
-    over the axis travel; nodes in one mesh slab share their pattern (their weights add)."""
+    ``offsets`` [m] (q split equally among them, e.g. two carriages).
+
+    Nodes s_i every ``spacing`` over the axis travel; node i's heat is spread along the axis as its
+    hat phi_i (restricted to the travel, normalised) and each mesh slab of the role's cells takes
+    the share of the hat that lies over it: slab j receives sum_i w_i(t) O_ij with
+    O_ij = int_slab_j phi_i / int phi_i, so a nut passing at constant speed heats every slab in
+    proportion to its length, exactly, and the total is q exactly."""
     cells = role_cells(mm, role)
     d = "xyz".index(axis.direction)
     centre = cell_centres(mm, cells)[:, d]
@@ -69,17 +74,21 @@ def travelling_sources(label: str, mm, role: str, axis, motion: Motion, scenario
     lo, hi = axis.travel
     nodes = path_nodes(lo, hi, spacing)
     w = path_weights(motion, nodes, step_edges(scenario), per) * (scale / len(offsets))
-    slabs: dict[int, np.ndarray] = {}
+    total = np.zeros((w.shape[0], len(lines) - 1))
     for off in offsets:
         s = axis.nut_coordinate(nodes) + off
-        slab = np.clip(np.searchsorted(lines, s, side="right") - 1, 0, len(lines) - 2)
-        for j in np.unique(slab):
-            slabs[j] = slabs.get(j, 0.0) + w[:, slab == j].sum(axis=1)
+        a = np.maximum(lines[:-1], axis.nut_coordinate(lo) + off)
+        b = np.maximum(np.minimum(lines[1:], axis.nut_coordinate(hi) + off), a)
+        overlap = (hat_integral(s, b) - hat_integral(s, a)).T          # (nodes, slabs)
+        inside = overlap.sum(axis=1)
+        for i in np.flatnonzero(inside <= 0):    # a node beyond the role's cells: the nearest slab
+            overlap[i, np.clip(np.searchsorted(lines, s[i]) - 1, 0, len(lines) - 2)] = 1.0
+        total += w @ (overlap / overlap.sum(axis=1, keepdims=True))
     out = []
-    for j, weight in sorted(slabs.items()):
+    for j in np.flatnonzero(np.abs(total).sum(axis=0) > 0):
         mine = cells[(centre > lines[j]) & (centre < lines[j + 1])]
         if len(mine) == 0:
             raise ValueError(f"{label}: role {role!r} has no cells between {lines[j]:g} and {lines[j + 1]:g} m")
         out.append(HeatSource(f"{label}@{0.5 * (lines[j] + lines[j + 1]) * 1e3:.0f}mm", mine,
-                              step_signal(weight, scenario.sample_interval)))
+                              step_signal(total[:, j], scenario.sample_interval)))
     return out

@@ -149,14 +149,17 @@ class LaserInterferometer(DisplacementObserver):
         return (type(self).__name__, self.config)
 
     def functionals(self, mm):
-        """One row: (workpiece - tool) + fixed bearing - nut, along the axis (the structure's share c)."""
+        """One row: (workpiece - tool) + fixed bearing - nut housing, along the axis (the structure's
+        share c: on the bonded mesh the moving body follows the structure under the nut; on the
+        machine it follows the fixed bearing plus the screw)."""
         m, a = mm.machine, self.axis
-        d = np.eye(3)["xyz".index(a.direction)]
+        k = "xyz".index(a.direction)
+        across = [i for i in range(3) if i != k]
+        d = np.eye(3)[k]
+        fixed = np.zeros(3)
+        fixed[k], fixed[across] = a.drive.fixed_end, a.drive.screw_axis
         nut = np.zeros(3)
-        nut["xyz".index(a.direction)] = a.nut_coordinate(a.p_ref)
-        nut[[k for k in range(3) if k != "xyz".index(a.direction)]] = a.drive.screw_axis
-        fixed = nut.copy()
-        fixed["xyz".index(a.direction)] = a.drive.fixed_end
+        nut[k], nut[across] = a.nut_coordinate(a.p_ref), np.add(a.drive.screw_axis, a.drive.nut_offset)
         pts = [m.point(m.workpiece_point).xyz, m.point(m.tool_point).xyz, fixed, nut]
         P = interpolation_matrix(mm, np.array(pts), ["workpiece", "tool", "fixed bearing", "nut"], field="mesh")
         G = displacement_functional(P, d)

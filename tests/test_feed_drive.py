@@ -1,0 +1,199 @@
+"""Axis motion, the path basis of travelling heat, the feed-drive effects and the interferometer,
+each against a closed form or a conservation law (issue 11, item 8)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from scipy.sparse.linalg import spsolve
+
+from geometries.axes import FeedDrive, LinearAxis, with_feed_drives
+from geometries.base import Box, Machine, Part, Surface, material
+from geometries.regions import Named, Parts
+from twin.effects.base import HeatSource
+from twin.effects.moving import motion_of, travelling_sources
+from twin.errors import InputError
+from twin.fem.mesh import build_mesh
+from twin.motion import path_nodes, path_weights, stroke_time
+from twin.physics.loads import source_pattern
+from twin.scenario import Ambient, Scenario, scenario_from_dict
+
+L, A = 0.40, 0.02   # rod length along y and square side [m]
+
+
+def rod_machine(feedback: str = "semi-closed") -> Machine:
+    """A steel rod along y (0..L), its own screw: fixed end y = 0, the nut at y = p."""
+    rod = Part("rod", material("steel"), (Box((0.0, 0.0, 0.0), (A, L, A)),))
+    drive = FeedDrive(roles={"feed_drive.screw": Parts(("rod",))}, screw_axis=(A / 2, A / 2), fixed_end=0.0)
+    return with_feed_drives(Machine("rod", [rod], [Surface("skin", ("rod",))], [], [], "", "", [], {"coarse": 0.02},
+                   roles={"structure.skin": Named("skin")},
+                   axes=[LinearAxis("Y", "y", (0.0, L), feedback, ("rod",), 0.0, 0.0, drive)]))
+
+
+def scenario(moves: list, duration: str = "20 min", dt: str = "10 s") -> Scenario:
+    data = {"sample_interval": dt, "ambient": {"temperature": "20 degC"},
+            "spindle": [{"speed": "0 rpm", "duration": duration}],
+            "axis": [{"name": "Y", "move": moves}]}
+    return scenario_from_dict(data, "test.toml")
+
+
+RECIP = {"kind": "reciprocate", "between": ["0 mm", "400 mm"], "feed": "20 mm/s", "acceleration": "10 mm/s2"}
+
+
+def test_trapezoid_stroke_time_and_positions():
+    """A trapezoidal stroke lasts d/v + v/a (feed reached) or 2 sqrt(d/a) (triangular)."""
+    sc = scenario([{**RECIP, "count": 3}])
+    m = sc.axes[0]
+    t1 = 0.4 / 0.02 + 0.02 / 0.01
+    assert stroke_time(0.4, 0.02, 0.01) == pytest.approx(t1, rel=1e-15)
+    assert stroke_time(0.001, 0.02, 0.01) == pytest.approx(2 * np.sqrt(0.1), rel=1e-15)
+    assert m.duration == pytest.approx(3 * t1, rel=1e-12)
+    assert m.position(np.array([0.0, t1, 2 * t1, 3 * t1, 1e6])) == pytest.approx([0, 0.4, 0, 0.4, 0.4], abs=1e-15)
+    # constant feed in mid-stroke, accelerating at 10 mm/s2 from rest
+    assert m.velocity(np.array([1.0, t1 / 2])) == pytest.approx([0.01, 0.02], rel=1e-12)
+
+
+def test_reciprocating_source_delivers_power_times_duty():
+    """Energy balance over whole strokes: a nut heat P_ref |v|/v_ref delivers P_ref d / v_ref, d the
+    travelled distance (= P_ref x duty x T); summed over the path basis on the time steps, exact."""
+    sc = scenario([{**RECIP, "count": 20, "dwell": "4 s"}], duration="20 min")
+    machine = rod_machine()
+    mm = build_mesh(machine, 0.02)
+    P, v = 12.0, 0.02
+    srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, P / v, "distance")
+    t = sc.times()
+    energy = sum(np.sum(s.power(t[:-1] + 0.5 * sc.sample_interval)) * sc.sample_interval for s in srcs)
+    assert energy == pytest.approx(P * 20 * 0.4 / v, rel=1e-12)
+    # every basis weight integrates phi_i exactly: interior nodes receive h per pass, end nodes h / 2
+    nodes = path_nodes(0.0, 0.4, 0.01)
+    w = path_weights(sc.axes[0], nodes, t, "distance").sum(axis=0) * sc.sample_interval
+    assert w[1:-1] == pytest.approx(20 * 0.01, rel=1e-12)
+    assert w[[0, -1]] == pytest.approx(20 * 0.005, rel=1e-12)
+
+
+def test_standing_nut_equals_a_stationary_source():
+    """A nut holding at p releases its heat where a stationary source on that slab of the screw
+    would: sum_j pattern_j s_j(t) = pattern(slab) P at every step (phi sums to 1)."""
+    sc = scenario([{"kind": "hold", "position": "130 mm", "duration": "20 min"}])
+    machine = rod_machine()
+    mm = build_mesh(machine, 0.02)
+    srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, 5.0, "time")
+    t = sc.times()[1:]
+    moving = sum(np.outer(s.power(t), source_pattern(mm, s)) for s in srcs)
+    cells = mm.cells_of("rod")
+    y = mm.mesh.p[1, mm.mesh.t[:, cells]].mean(axis=0)
+    still = HeatSource("still", cells[np.abs(y - 0.13) < 0.0100001], lambda t: np.full(np.shape(t), 5.0))
+    assert np.abs(moving - np.outer(still.power(t), source_pattern(mm, still))).max() < 1e-12
+
+
+def test_rod_with_a_uniform_source_and_convection_reaches_the_closed_form():
+    """A nut reciprocating over the whole rod at constant speed spreads its heat uniformly along
+    it; with h on the lateral faces and adiabatic ends the steady rod is uniform at
+    T = T_air + P / (h A_lat) (1-D fin with uniform generation, m L -> flat profile)."""
+    from twin.fem.assembly import assemble_facets, assemble_heat
+    sc = scenario([{"kind": "table", "times": ["0 s", "40 s", "80 s"], "positions": ["0 mm", "400 mm", "0 mm"]},
+                   ], duration="80 s", dt="10 s")
+    machine = rod_machine()
+    mm = build_mesh(machine, 0.02)
+    P, h = 8.0, 15.0
+    srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, P / 0.01, "distance")
+    t = sc.times()[1:]
+    f = sum(np.mean(s.power(t)) * source_pattern(mm, s) for s in srcs)
+    assert f.sum() == pytest.approx(P, rel=1e-12)
+    outer = mm.mesh.boundary_facets()
+    corners = mm.mesh.p[1][mm.mesh.facets[:, outer]]
+    lateral = outer[np.ptp(corners, axis=0) > 1e-12]
+    heat, conv = assemble_heat(mm), assemble_facets(mm, lateral)
+    T = spsolve(sp.csr_matrix(heat.K + h * conv.H), f + h * 20.0 * conv.r)
+    expected = 20.0 + P / (h * 4 * A * L)
+    assert np.abs(T - expected).max() < 1e-9 * expected
+
+
+def test_path_basis_converges_as_its_spacing_shrinks():
+    """A nut standing at y = 137 mm (between nodes) puts its heat into the slab of the screw that
+    holds it (exact: all of it); the path basis spreads it over hats of half-width h, so the heat
+    outside that slab falls as h shrinks and vanishes once the hats fit inside the slab. At constant
+    speed the basis is exact at every spacing (each slab gets its length's share)."""
+    machine = rod_machine()
+    mm = build_mesh(machine, 0.03)   # 14 slabs of 28.6 mm: nodes and slab faces do not coincide
+    cells = mm.cells_of("rod")
+    y = mm.mesh.p[1, mm.mesh.t[:, cells]].mean(axis=0)
+    for moves, exact in (([{"kind": "hold", "position": "137 mm", "duration": "80 s"}],
+                          source_pattern(mm, HeatSource("slab", cells[np.abs(y - 0.1286) < 0.0143], None))),
+                         ([{"kind": "table", "times": ["0 s", "80 s"], "positions": ["0 mm", "400 mm"]}],
+                          source_pattern(mm, HeatSource("all", cells, None)))):
+        sc = scenario(moves, duration="80 s", dt="80 s")
+        errors = []
+        for h in (0.1, 0.05, 0.025, 0.0125, 0.003125):
+            srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, 1.0, "time",
+                                      spacing=h)
+            share = sum(s.power(np.array([40.0]))[0] * source_pattern(mm, s) for s in srcs)
+            errors.append(np.abs(share - exact).sum())
+        if moves[0]["kind"] == "hold":
+            assert all(b < a for a, b in zip(errors[:-1], errors[1:-1])) and errors[0] > 0.3
+            assert errors[-1] < 1e-12
+        else:
+            assert max(errors) < 1e-10   # round-off of (Phi(x_b) - Phi(x_a)) / v
+
+
+def test_semi_closed_screw_at_uniform_rise_reads_alpha_dT_x():
+    """Semi-closed loop, screw fixed at y = 0 at a uniform rise dT: e(x) = alpha dT x exactly."""
+    from twin.observe.interferometer import screw_line_rows
+    machine = rod_machine()
+    mm = build_mesh(machine, 0.02)
+    targets = np.arange(0.0, 0.41, 0.01)
+    alpha, dT = material("steel").expansion, 3.0
+    rows = screw_line_rows(mm, machine.axes[0], targets, alpha)
+    e = rows @ np.full(mm.nheat, dT)
+    assert e == pytest.approx(alpha * dT * targets, rel=1e-12, abs=1e-18)
+
+
+def test_rigid_translation_of_the_workpiece_reads_as_that_translation():
+    """The interferometer's structural functional reads a rigid translation d of the workpiece
+    (alone) along the axis as d, and a translation of the whole machine as 0."""
+    from geometries import build_machine
+    from twin.fem.mesh import mesh_machine
+    from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
+    machine = with_feed_drives(build_machine("cframe-vmc"))
+    mm = mesh_machine(machine, "coarse")
+    obs = LaserInterferometer(InterferometerConfig("Y", (0.0,)), machine)
+    G = obs.functionals(mm)
+    d = np.array([0.0, 7e-6, 0.0])
+    whole = np.tile(d, mm.nnodes)
+    assert (G @ whole)[0] == pytest.approx(0.0, abs=1e-20)
+    work = np.zeros((mm.nnodes, 3))
+    chain = {p.name: p.chain for p in machine.parts}
+    moving = np.isin(mm.cell_part, [i for i, n in enumerate(mm.part_names) if n in ("table", "saddle")])
+    work[np.unique(mm.mesh.t[:, moving])] = d
+    # the nut point sits in the saddle (moves with it), the fixed bearing on the bed: only the
+    # workpiece point's share remains
+    assert chain["table"] == "workpiece"
+    assert (G @ work.ravel())[0] == pytest.approx(0.0, abs=1e-20)
+    work[:] = 0
+    work[np.unique(mm.mesh.t[:, np.isin(mm.cell_part, [mm.part_names.index("table")])])] = d
+    assert (G @ work.ravel())[0] == pytest.approx(7e-6, rel=1e-12)
+
+
+def test_motion_errors_name_the_key():
+    """Bad motions are InputErrors naming the key."""
+    bad = [({**RECIP, "feed": "0 mm/s", "count": 1}, "feed"),
+           ({**RECIP, "count": 1, "duration": "1 min"}, "duration"),
+           ({"kind": "hold", "position": "10 mm"}, "duration"),
+           ({"kind": "table", "times": ["0 s", "0 s"], "positions": ["0 mm", "1 mm"]}, "times")]
+    for move, key in bad:
+        with pytest.raises(InputError) as err:
+            scenario([move])
+        assert key in err.value.field
+    from twin.motion import machine_for
+    with pytest.raises(InputError, match="outside the Y travel"):
+        machine_for(rod_machine(), scenario([{**RECIP, "between": ["0 mm", "500 mm"], "count": 1}], duration="20 min"))
+
+
+def test_unmoved_axis_stands_at_the_mesh_pose():
+    """An axis the scenario does not command stands at its reference pose and moves no heat."""
+    sc = Scenario("still", ((600.0, 0.0),), Ambient("constant"), 10.0)
+    axis = rod_machine().axes[0]
+    m = motion_of(sc, axis)
+    assert m.position(np.array([0.0, 300.0])) == pytest.approx([axis.p_ref] * 2)
+    assert path_weights(m, path_nodes(0, L, 0.05), sc.times(), "distance").sum() == 0.0
