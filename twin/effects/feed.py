@@ -48,7 +48,7 @@ class FeedNut(_FeedEffect):
                  "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2")
     roles = ("feed_drive.screw", "feed_drive.nut_body")
     parameters = (
-        Parameter("power", "power", 12.0, 0.0, 500.0, f"nut friction heat {_FEED}"),
+        Parameter("power", "power", 14.0, 0.0, 500.0, f"nut friction heat {_FEED}"),
         _share("screw_share", 0.6, "part of the nut heat that enters the screw (the rest: the nut housing)"),
     )
     uncertain = (Uncertain("power", 3.0, 40.0, "nut preload and lubrication", linear=True),)
@@ -78,10 +78,10 @@ class FeedBearings(_FeedEffect):
     reference = "T. A. Harris, Rolling Bearing Analysis (Palmgren M_1 = f_1 F_beta d_m); Mayr et al. 2012, sec. 3.2"
     roles = ("feed_drive.front_bearing", "feed_drive.rear_bearing")
     parameters = (
-        Parameter("power", "power", 6.0, 0.0, 200.0, f"both bearings' friction heat {_FEED}"),
+        Parameter("power", "power", 2.0, 0.0, 200.0, f"both bearings' friction heat {_FEED}"),
         _share("front_share", 0.6, "part in the fixed (front) bearing"),
     )
-    uncertain = (Uncertain("power", 1.0, 20.0, "bearing preload and grease", linear=True),)
+    uncertain = (Uncertain("power", 0.5, 10.0, "bearing preload and grease", linear=True),)
 
     def loads(self, mm, scenario, p):
         _, motion = self.axis_and_motion(mm, scenario)
@@ -111,10 +111,10 @@ class FeedMotor(_FeedEffect):
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2 (feed drives); Y-motor sensor T1 of seed 003"
     roles = ("feed_drive.motor",)
     parameters = (
-        Parameter("power", "power", 20.0, 0.0, 500.0, f"motor losses into the structure {_FEED}, above P_hold"),
+        Parameter("power", "power", 50.0, 0.0, 500.0, f"motor losses into the structure {_FEED}, above P_hold"),
         Parameter("holding_power", "power", 5.0, 0.0, 200.0, "losses at standstill with the drive enabled"),
     )
-    uncertain = (Uncertain("power", 5.0, 60.0, "motor size and how much heat its flange passes", linear=True),)
+    uncertain = (Uncertain("power", 10.0, 150.0, "motor size and how much heat its flange passes", linear=True),)
 
     def loads(self, mm, scenario, p):
         _, motion = self.axis_and_motion(mm, scenario)
@@ -141,11 +141,11 @@ class FeedGuideways(_FeedEffect):
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2; rolling guide friction mu ~ 0.002-0.005"
     roles = ("feed_drive.guideways", "feed_drive.carriages")
     parameters = (
-        Parameter("power", "power", 4.0, 0.0, 200.0, f"guideway friction heat {_FEED}"),
-        _share("rail_share", 0.5, "part that enters the rails (the rest: the carriages)"),
+        Parameter("power", "power", 10.0, 0.0, 200.0, f"guideway friction heat {_FEED}"),
+        _share("rail_share", 0.7, "part that enters the rails (the rest: the carriages)"),
         Parameter("carriage_offset", "length", 0.25, 0.0, 2.0, "carriages' distance ahead of and behind the nut"),
     )
-    uncertain = (Uncertain("power", 1.0, 15.0, "carriage preload and lubrication", linear=True),)
+    uncertain = (Uncertain("power", 2.0, 30.0, "carriage preload and lubrication", linear=True),)
 
     def loads(self, mm, scenario, p):
         axis, motion = self.axis_and_motion(mm, scenario)
