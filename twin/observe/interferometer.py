@@ -117,21 +117,30 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
 
 def screw_line_rows(layout, axis, targets: np.ndarray, expansion: float) -> sp.csr_matrix:
     """(n_targets, n_heat) rows: alpha_s times the integral of T along the screw's centre line from
-    the fixed bearing to the nut at each target (trapezoidal rule, steps <= :data:`LINE_STEP`)."""
+    the fixed bearing to the nut at each target (trapezoidal rule on one set of points, at most
+    :data:`LINE_STEP` apart, that holds every nut position)."""
     drive = axis.drive
     d = "xyz".index(axis.direction)
     ends = axis.nut_coordinate(np.asarray(targets, float))
-    rows = []
-    for y in ends:
-        n = max(1, int(np.ceil(abs(y - drive.fixed_end) / LINE_STEP)))
-        s = np.linspace(drive.fixed_end, y, n + 1)
-        w = np.full(n + 1, (y - drive.fixed_end) / n)
-        w[[0, -1]] *= 0.5
-        xyz = np.empty((n + 1, 3))
-        xyz[:, d] = s
-        xyz[:, [k for k in range(3) if k != d]] = drive.screw_axis
-        rows.append(sp.csr_matrix(w[None, :]) @ interpolation_matrix(layout, xyz, field="temperature"))
-    return expansion * sp.vstack(rows).tocsr()
+    lo, hi = min(drive.fixed_end, ends.min()), max(drive.fixed_end, ends.max())
+    n = max(1, int(np.ceil((hi - lo) / LINE_STEP)))
+    s = np.unique(np.concatenate([np.linspace(lo, hi, n + 1), ends, [drive.fixed_end]]))
+    xyz = np.empty((len(s), 3))
+    xyz[:, d] = s
+    xyz[:, [k for k in range(3) if k != d]] = drive.screw_axis
+    P = interpolation_matrix(layout, xyz, field="temperature")
+    # trapezoidal weights of integral_{fixed}^{end}: half the neighbouring intervals inside the span
+    W = np.zeros((len(ends), len(s)))
+    for i, y in enumerate(ends):
+        a, b = sorted((drive.fixed_end, y))
+        inside = (s >= a - 1e-12) & (s <= b + 1e-12)
+        idx = np.flatnonzero(inside)
+        if len(idx) > 1:
+            h = np.diff(s[idx])
+            W[i, idx[:-1]] += 0.5 * h
+            W[i, idx[1:]] += 0.5 * h
+        W[i] *= np.sign(y - drive.fixed_end)
+    return expansion * sp.csr_matrix(W @ P)
 
 
 class LaserInterferometer(DisplacementObserver):
