@@ -15,6 +15,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 FEEDBACK = ("semi-closed", "closed")
 
 
@@ -87,3 +89,37 @@ def with_feed_drives(machine):
     effects = tuple(dict.fromkeys(tuple(machine.default_effects) + tuple(e for d in drives for e in d.effects)))
     return Machine(**{**machine.__dict__, "parts": parts, "surfaces": surfaces, "points": points, "roles": roles,
                       "sensor_sites": sites, "air_sites": air, "default_effects": effects})
+
+
+def at_pose(machine, axis_name: str, p: float):
+    """A copy of ``machine`` built with axis ``axis_name`` at commanded position ``p`` [m]
+    instead of its reference pose: the axis's moving parts, the points on them and the regions
+    (boxes) of roles on them shifted by p - p_ref along the axis. For checking what the single
+    reference pose costs (:mod:`twin.motion`); the drive's own parts stay where they are."""
+    from dataclasses import replace
+
+    from geometries.base import Box, Machine, Part, Point
+    from geometries.regions import InBox, Parts, Union
+
+    axis = machine.axis(axis_name)
+    k = "xyz".index(axis.direction)
+    delta = [0.0, 0.0, 0.0]
+    delta[k] = p - axis.p_ref
+    move = set(axis.moving)
+
+    def shift(box):
+        return Box(tuple(np.add(box.lo, delta)), tuple(np.add(box.hi, delta)))
+
+    def region(r):
+        if isinstance(r, InBox) and isinstance(r.base, Parts) and set(r.base.names) <= move:
+            return InBox(r.base, shift(r.box))
+        if isinstance(r, Union):
+            return Union(tuple(region(x) for x in r.regions))
+        return r
+
+    parts = [Part(q.name, q.material, tuple(shift(b) for b in q.boxes), q.chain, q.refine) if q.name in move else q
+             for q in machine.parts]
+    points = [Point(q.name, tuple(np.add(q.xyz, delta)), q.part) if q.part in move else q for q in machine.points]
+    roles = {name: region(r) for name, r in machine.roles.items()}
+    axes = [replace(a, p_ref=p) if a.name == axis_name else a for a in machine.axes]
+    return Machine(**{**machine.__dict__, "parts": parts, "points": points, "roles": roles, "axes": axes})

@@ -215,3 +215,22 @@ def test_seed003_exp1_calibration_band():
         assert 0.5 < rise < 5.0, (site, rise)
     e = ds.positioning_error.values
     assert np.array_equal(e[..., 0], e[..., 1])   # no reversal error in the model
+
+
+def test_at_pose_moves_the_moving_body_only():
+    """geometries.axes.at_pose shifts the axis's moving parts, their points and role boxes by
+    p - p_ref along the axis and nothing else; at p_ref it is the machine as built."""
+    from geometries import build_machine
+    from geometries.axes import at_pose
+    base = with_feed_drives(build_machine("cframe-vmc"))
+    moved = at_pose(base, "Y", 0.06)
+    dy = 0.06 - base.axis("Y").p_ref
+    assert moved.part("table").boxes[0].lo[1] == pytest.approx(base.part("table").boxes[0].lo[1] + dy)
+    assert moved.part("bed").boxes == base.part("bed").boxes
+    assert moved.part("y_screw").boxes == base.part("y_screw").boxes
+    assert moved.point("workpiece").xyz[1] == pytest.approx(base.point("workpiece").xyz[1] + dy)
+    assert moved.point("tool").xyz == base.point("tool").xyz
+    assert moved.roles["feed_drive.nut_body"].box.lo[1] == pytest.approx(base.roles["feed_drive.nut_body"].box.lo[1] + dy)
+    assert moved.axis("Y").p_ref == 0.06
+    same = at_pose(base, "Y", base.axis("Y").p_ref)
+    assert [p.boxes for p in same.parts] == [p.boxes for p in base.parts]
