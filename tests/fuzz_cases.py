@@ -426,6 +426,27 @@ OPTION_FILES = {
 }
 
 
+# logged axis positions (role axis_position): a good CSV column y_mm with a bad mapping or values
+YPOS = '[columns.y_mm]\nrole = "axis_position"\naxis = "Y"\nunit = "mm"\n'
+
+
+def _ypos(value):
+    def edit(cols):
+        cols["y_mm"] = np.where(np.arange(len(cols["t_s"])) == 5, value, 140.0)
+    return measurement_csv(edit)
+
+
+# (id, CSV text, mapping text, source file, field)
+AXIS_LOG_EDITS = [
+    ("axis-position-unknown-axis", _ypos(140.0), MAPPING + YPOS.replace('"Y"', '"W"'), "m.toml", "columns.y_mm.axis"),
+    ("axis-position-no-axis", _ypos(140.0), MAPPING + YPOS.replace('axis = "Y"\n', ''), "m.toml",
+     "columns.y_mm.axis"),
+    ("axis-position-outside-travel", _ypos(900.0), MAPPING + YPOS, "m.csv", "y_mm"),
+    ("axis-position-wrong-unit", _ypos(140.0), MAPPING + YPOS.replace('"mm"', '"mm/s"'), "m.toml",
+     "columns.y_mm.unit"),
+]
+
+
 def all_cases() -> list[Case]:
     """Every case of the tables above."""
     cases = [c for row in INPUTS for c in bad_input_paths(*row)]
@@ -443,6 +464,9 @@ def all_cases() -> list[Case]:
         cases.append(Case(f"compare.csv:{cid}", COMPARE, "{d}/m.csv", fld, files={"m.csv": text}))
         if cid in CSV_EDITS_VIA_DIAGNOSE:
             cases.append(Case(f"diagnose.csv:{cid}", DIAGNOSE, "{d}/m.csv", fld, files={"m.csv": text}))
+    for cid, csv_text, mapping, bad, fld in AXIS_LOG_EDITS:
+        cases.append(Case(f"compare.axis-log:{cid}", COMPARE, "{d}/" + bad, fld,
+                          files={"m.csv": csv_text, "m.toml": mapping}))
     for cid, make, plot_field, compare_field in RESULT_EDITS:
         if plot_field is not None:
             cases.append(Case(f"plot.result:{cid}", PLOT, "{d}/r.nc", plot_field, files={"r.nc": make}))

@@ -107,6 +107,12 @@ class _Builder:
             self.t += dur
             self.x += v0 * dur + 0.5 * a * dur ** 2
 
+    def polyline(self, times: np.ndarray, xs: np.ndarray) -> None:
+        """Through positions ``xs`` [m] at ``times`` [s] after now, linearly (constant velocity)."""
+        for dt, x0, x1 in zip(np.diff(times), xs[:-1], xs[1:]):
+            self.piece(dt, (x1 - x0) / dt, 0.0)
+            self.x = x1
+
     def hold(self, dur: float) -> None:
         self.piece(dur, 0.0, 0.0)
 
@@ -131,6 +137,15 @@ class _Builder:
     def motion(self) -> Motion:
         cols = np.array(self.rows, dtype=float).reshape(-1, 5).T
         return Motion(self.axis, *cols, x_end=self.x, source=self.source)
+
+
+def logged_motion(axis: str, times, positions, source: str = "") -> Motion:
+    """The motion through logged ``positions`` [m] at ``times`` [s] (from 0, increasing),
+    linear between samples: what a measurement's ``axis_position`` column drives."""
+    times, positions = np.asarray(times, float), np.asarray(positions, float)
+    b = _Builder(axis, float(positions[0]), source)
+    b.polyline(times - times[0], positions)
+    return b.motion()
 
 
 def stroke_time(distance: float, feed: float, accel: float) -> float:
@@ -254,11 +269,7 @@ def _table(r, source):
     if times[0] != 0 or np.any(np.diff(times) <= 0):
         raise InputError(source, r.prefix + "times", "must start at 0 s and increase strictly")
 
-    def run(b):
-        for dt, x0, x1 in zip(np.diff(times), xs[:-1], xs[1:]):
-            b.piece(dt, (x1 - x0) / dt, 0.0)
-            b.x = x1
-    return xs[0], run
+    return xs[0], lambda b: b.polyline(times, xs)
 
 
 def _quantities(r, key: str, dimension: str, source: str) -> np.ndarray:
