@@ -23,11 +23,20 @@ def _share(name: str, default: float, doc: str) -> Parameter:
 
 
 class _FeedEffect(Effect):
-    """Shared: the driven axis and its motion."""
+    """Shared: the driven axis, its motion, and a feed-proportional power split in two."""
+
+    strength = "power"
+    linear = True
 
     def axis_and_motion(self, mm, scenario):
         axis = driven_axis(mm.machine)
         return axis, motion_of(scenario, axis)
+
+    def split(self, mm, scenario, p, share: str):
+        """(axis, motion, a, b): P_ref / v_ref [W s/m] times the fraction ``p[share]`` and the rest."""
+        axis, motion = self.axis_and_motion(mm, scenario)
+        scale = p["power"] / REFERENCE_FEED
+        return axis, motion, p[share] * scale, (1 - p[share]) * scale
 
 
 @register_effect
@@ -41,8 +50,6 @@ class FeedNut(_FeedEffect):
     """
 
     name = "feed_nut"
-    strength = "power"
-    linear = True
     summary = "ball-nut friction P = P_ref |v|/v_ref, travelling with the nut along the screw"
     reference = ("Xu, Liu, Choi, Int. J. Mach. Tools Manuf. 49 (2009) 1126 (ball-screw nut heat Q = 2 pi n M / 60); "
                  "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2")
@@ -54,12 +61,10 @@ class FeedNut(_FeedEffect):
     uncertain = (Uncertain("power", 3.0, 40.0, "nut preload and lubrication", linear=True),)
 
     def loads(self, mm, scenario, p):
-        axis, motion = self.axis_and_motion(mm, scenario)
-        scale = p["power"] / REFERENCE_FEED
-        s = p["screw_share"]
-        return (travelling_sources(self.name, mm, "feed_drive.screw", axis, motion, scenario, s * scale, "distance")
+        axis, motion, screw, housing = self.split(mm, scenario, p, "screw_share")
+        return (travelling_sources(self.name, mm, "feed_drive.screw", axis, motion, scenario, screw, "distance")
                 + [HeatSource(f"{self.name}.housing", role_cells(mm, "feed_drive.nut_body"),
-                              speed_signal(scenario, motion, (1 - s) * scale))])
+                              speed_signal(scenario, motion, housing))])
 
 
 @register_effect
@@ -72,8 +77,6 @@ class FeedBearings(_FeedEffect):
     """
 
     name = "feed_bearings"
-    strength = "power"
-    linear = True
     summary = "screw support-bearing friction P = P_ref |v|/v_ref, front and rear"
     reference = "T. A. Harris, Rolling Bearing Analysis (Palmgren M_1 = f_1 F_beta d_m); Mayr et al. 2012, sec. 3.2"
     roles = ("feed_drive.front_bearing", "feed_drive.rear_bearing")
@@ -84,13 +87,9 @@ class FeedBearings(_FeedEffect):
     uncertain = (Uncertain("power", 0.5, 10.0, "bearing preload and grease", linear=True),)
 
     def loads(self, mm, scenario, p):
-        _, motion = self.axis_and_motion(mm, scenario)
-        scale = p["power"] / REFERENCE_FEED
-        f = p["front_share"]
-        return [HeatSource(f"{self.name}.front", role_cells(mm, "feed_drive.front_bearing"),
-                           speed_signal(scenario, motion, f * scale)),
-                HeatSource(f"{self.name}.rear", role_cells(mm, "feed_drive.rear_bearing"),
-                           speed_signal(scenario, motion, (1 - f) * scale))]
+        _, motion, front, rear = self.split(mm, scenario, p, "front_share")
+        return [HeatSource(f"{self.name}.{side}", role_cells(mm, f"feed_drive.{side}_bearing"),
+                           speed_signal(scenario, motion, power)) for side, power in (("front", front), ("rear", rear))]
 
 
 @register_effect
@@ -105,8 +104,6 @@ class FeedMotor(_FeedEffect):
     """
 
     name = "feed_motor"
-    strength = "power"
-    linear = True
     summary = "servo motor losses into its flange, P = P_hold + P_ref |v|/v_ref"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2 (feed drives); Y-motor sensor T1 of seed 003"
     roles = ("feed_drive.motor",)
@@ -135,8 +132,6 @@ class FeedGuideways(_FeedEffect):
     """
 
     name = "feed_guideways"
-    strength = "power"
-    linear = True
     summary = "guideway friction P = P_ref |v|/v_ref, into the rails where the carriages are and the carriages"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2; rolling guide friction mu ~ 0.002-0.005"
     roles = ("feed_drive.guideways", "feed_drive.carriages")
@@ -148,13 +143,12 @@ class FeedGuideways(_FeedEffect):
     uncertain = (Uncertain("power", 2.0, 30.0, "carriage preload and lubrication", linear=True),)
 
     def loads(self, mm, scenario, p):
-        axis, motion = self.axis_and_motion(mm, scenario)
-        scale = p["power"] / REFERENCE_FEED
-        r, off = p["rail_share"], p["carriage_offset"]
-        return (travelling_sources(self.name, mm, "feed_drive.guideways", axis, motion, scenario, r * scale,
+        axis, motion, rails, carriages = self.split(mm, scenario, p, "rail_share")
+        off = p["carriage_offset"]
+        return (travelling_sources(self.name, mm, "feed_drive.guideways", axis, motion, scenario, rails,
                                    "distance", offsets=(-off, off))
                 + [HeatSource(f"{self.name}.carriages", role_cells(mm, "feed_drive.carriages"),
-                              speed_signal(scenario, motion, (1 - r) * scale))])
+                              speed_signal(scenario, motion, carriages))])
 
 
 @register_effect
