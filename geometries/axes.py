@@ -75,7 +75,8 @@ def with_feed_drives(machine):
     """A copy of ``machine`` with the parts, surfaces, roles and sensor points of every axis that
     has a :class:`FeedDrive` (the machine itself when none has)."""
     drives = [a.drive for a in machine.axes if a.drive is not None]
-    if not drives:
+    have = {p.name for p in machine.parts}
+    if not drives or any(p.name in have for d in drives for p in d.parts):   # none, or added already
         return machine
     from geometries.base import Machine
     parts = list(machine.parts) + [p for d in drives for p in d.parts]

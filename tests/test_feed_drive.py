@@ -289,3 +289,17 @@ def test_seed003_protocol_study_runs_and_reports_beside_the_seed(exp1_coarse):
     # OLS statistics: an exact line has R^2 = 1
     x = np.arange(8.0)[:, None]
     assert ols_stats(x, 2 * x[:, 0] + 1)["R2"] == pytest.approx(1.0)
+
+
+def test_datasets_refuse_axis_scenarios_for_now(tmp_path):
+    """A dataset family whose scenario moves an axis is refused by name (not run without its drive)."""
+    from twin.dataset import load_spec
+    ref = ('name = "ref"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n[[spindle]]\n'
+           'speed = "0 rpm"\nduration = "10 min"\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "hold"\n'
+           'position = "100 mm"\nduration = "10 min"\n')
+    (tmp_path / "ref.toml").write_text(ref)
+    (tmp_path / "spec.toml").write_text('name = "s"\nmachines = ["cframe-vmc"]\nmesh = "coarse"\n'
+                                        '[[scenarios]]\nfamily = "reference"\nfile = "ref.toml"\n')
+    with pytest.raises(InputError, match="not supported in datasets") as err:
+        load_spec(tmp_path / "spec.toml")
+    assert err.value.field == "axis"

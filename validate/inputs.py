@@ -124,6 +124,8 @@ def load_measurements(args):
         runs.append((Path(path).name, meas, measured_scenario(meas, args, machine)))
     if args.mesh not in machine.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
+    for _, _, sc in runs:   # with its feed drives' parts when a measurement moves an axis
+        machine = machine_for(machine, sc)
     custom = custom_effects(args, machine)
     spec = model_spec(machine, args.effects, args.set)
     return runs, machine, spec, custom
