@@ -42,14 +42,26 @@ class FeedDrive:
 
 
 @dataclass(frozen=True)
+class Scale:
+    """A linear scale's mounting: its ``line`` (the two machine coordinates across the axis, in
+    x, y, z order) [m] on the ``carrier`` part whose expansion its graduations follow, and the
+    ``head`` (the same two coordinates) [m] of its read head on the moving body."""
+
+    line: tuple[float, float]
+    carrier: str
+    head: tuple[float, float]
+
+
+@dataclass(frozen=True)
 class LinearAxis:
     """A linear axis: ``name`` ("X", "Y", "Z"), the machine ``direction`` it moves along ("x",
     "y", "z"), its ``travel`` (lo, hi) [m] of commanded position, ``feedback`` ("semi-closed":
     rotary encoder on the motor, the screw's expansion between its fixed bearing and the nut
     becomes positioning error; "closed": a linear scale, whose carrier's expansion does),
-    ``moving`` (the parts that move with it), ``nut_at_zero`` [m] (machine coordinate of the nut
-    at commanded position 0), ``p_ref`` [m] (the commanded position of the mesh's pose) and its
-    ``drive`` (a :class:`FeedDrive`, or None when the machine does not model it)."""
+    ``moving`` (the parts that move with it), ``nut_at_zero`` [m] (machine coordinate of the nut,
+    or of a closed loop's read head, at commanded position 0), ``p_ref`` [m] (the commanded
+    position of the mesh's pose), its ``drive`` (a :class:`FeedDrive`, or None when the machine
+    does not model it) and, closed loop, its ``scale`` (a :class:`Scale`)."""
 
     name: str
     direction: str
@@ -59,6 +71,7 @@ class LinearAxis:
     nut_at_zero: float = 0.0
     p_ref: float = 0.0
     drive: FeedDrive | None = None
+    scale: Scale | None = None
 
     def __post_init__(self):
         if self.feedback not in FEEDBACK:

@@ -303,3 +303,27 @@ def test_datasets_refuse_axis_scenarios_for_now(tmp_path):
     with pytest.raises(InputError, match="not supported in datasets") as err:
         load_spec(tmp_path / "spec.toml")
     assert err.value.field == "axis"
+
+
+def test_closed_loop_reads_the_scale_carriers_free_expansion():
+    """Closed loop (belt-vmc's Y scale on the bed): a machine of one expansion coefficient at a
+    uniform rise dT expands freely, so the error at the targets is alpha dT (y - y_0) + const:
+    slope alpha dT exactly (1e-9), whatever the screw does."""
+    from types import SimpleNamespace
+
+    from geometries import build_machine
+    from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
+    from twin.physics.prepared import PreparedTwin
+    machine = build_machine("belt-vmc")
+    iron = material("grey_cast_iron")
+    steel = material("steel")
+    twin = PreparedTwin(machine, resolution="coarse",
+                        materials={"steel": steel.scaled(expansion=iron.expansion / steel.expansion)})
+    obs = LaserInterferometer(InterferometerConfig("Y", (0.0,)), machine)
+    rows = obs.rows(twin, SimpleNamespace(mm=twin.mm))
+    dT = 2.0
+    e = rows @ np.full(twin.mm.nheat, dT)
+    y = obs.targets
+    slope = np.polyfit(y, e, 1)[0]
+    assert slope == pytest.approx(iron.expansion * dT, rel=1e-9)
+    assert np.abs(e - np.polyval(np.polyfit(y, e, 1), y)).max() < 1e-9 * abs(e).max()

@@ -23,12 +23,20 @@ tool along the axis:
   (tool relative to workpiece along the axis, plus the fixed bearing's displacement, minus the
   nut's as the bonded mesh gives it), one adjoint functional (:mod:`twin.observe.displacement`);
   c does not depend on p, so it moves the curve and leaves its slope;
-* **closed loop** (linear scale): not modelled yet (an :class:`twin.errors.InputError`).
+* **closed loop** (linear scale): the read head stops where the graduation p is, and the
+  graduations follow the scale's carrier, so
+
+      e(p) = u_c(y_s(p)) + c',
+
+  u_c the carrier's displacement along the axis at the scale's graduation for p and c' the
+  structure's share (workpiece relative to tool minus the read head's displacement at the mesh's
+  pose); the screw's expansion does not enter. Both from adjoint functionals (one per target).
 
 Output: ``positioning_error(run_time, target, direction)`` [um] as the change from the cold state
 at t = 0 (the reference run: the thermal error), the targets' positions [mm], and
 ``positioning_slope(run_time)`` [um/mm], the slope of the least-squares line through each run
-(seed 003's k - k0). Exact for a screw at a uniform rise dT fixed at y_f: e = alpha dT (y_n - y_f).
+(seed 003's k - k0). Exact for a screw at a uniform rise dT fixed at y_f: e = alpha dT (y_n - y_f);
+a closed loop on a carrier at a uniform rise reads its free expansion, slope alpha_c dT.
 """
 
 from __future__ import annotations
@@ -101,9 +109,10 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
         axis = machine.axis(config.axis)
     except KeyError:
         raise InputError(src, "interferometer.axis", f"machine {machine.name} has no axis {config.axis!r}") from None
-    if axis.feedback != "semi-closed" or axis.drive is None:
-        raise InputError(src, "interferometer.axis", f"axis {axis.name} of {machine.name}: only semi-closed axes with "
-                                                     "a modelled screw are measured so far")
+    if (axis.drive if axis.feedback == "semi-closed" else axis.scale) is None:
+        what = "screw (feed drive)" if axis.feedback == "semi-closed" else "linear scale"
+        raise InputError(src, "interferometer.axis", f"axis {axis.name} of {machine.name} is {axis.feedback} loop and "
+                                                     f"its {what} is not modelled")
     t = config.targets(axis)
     if t[0] < axis.travel[0] - 1e-9 or t[-1] > axis.travel[1] + 1e-9:
         raise InputError(src, "interferometer.targets", f"outside the {axis.name} travel "
@@ -157,30 +166,43 @@ class LaserInterferometer(DisplacementObserver):
     def cache_key(self) -> tuple:
         return (type(self).__name__, self.config)
 
+    def _point(self, along: float, across) -> np.ndarray:
+        k = "xyz".index(self.axis.direction)
+        p = np.zeros(3)
+        p[k], p[[i for i in range(3) if i != k]] = along, across
+        return p
+
     def functionals(self, mm):
-        """One row: (workpiece - tool) + fixed bearing - nut housing, along the axis (the structure's
-        share c: on the bonded mesh the moving body follows the structure under the nut; on the
-        machine it follows the fixed bearing plus the screw)."""
+        """Semi-closed, one row: (workpiece - tool) + fixed bearing - nut housing along the axis
+        (the structure's share c: on the bonded mesh the moving body follows the structure under
+        the nut; on the machine it follows the fixed bearing plus the screw). Closed, 1 + n_targets
+        rows: (workpiece - tool) - read head at the mesh's pose, then the scale's carrier at each
+        target's graduation."""
         m, a = mm.machine, self.axis
-        k = "xyz".index(a.direction)
-        across = [i for i in range(3) if i != k]
-        d = np.eye(3)[k]
-        fixed = np.zeros(3)
-        fixed[k], fixed[across] = a.drive.fixed_end, a.drive.screw_axis
-        nut = np.zeros(3)
-        nut[k], nut[across] = a.nut_coordinate(a.p_ref), np.add(a.drive.screw_axis, a.drive.nut_offset)
-        pts = [m.point(m.workpiece_point).xyz, m.point(m.tool_point).xyz, fixed, nut]
-        P = interpolation_matrix(mm, np.array(pts), ["workpiece", "tool", "fixed bearing", "nut"], field="mesh")
-        G = displacement_functional(P, d)
-        return sp.csr_matrix(np.array([[1.0, -1.0, 1.0, -1.0]]) @ G)
+        d = np.eye(3)["xyz".index(a.direction)]
+        ends = [m.point(m.workpiece_point).xyz, m.point(m.tool_point).xyz]
+        if a.feedback == "semi-closed":
+            pts = ends + [self._point(a.drive.fixed_end, a.drive.screw_axis),
+                          self._point(a.nut_coordinate(a.p_ref), np.add(a.drive.screw_axis, a.drive.nut_offset))]
+            weights = np.array([[1.0, -1.0, 1.0, -1.0]])
+        else:
+            marks = [self._point(y, a.scale.line) for y in a.nut_coordinate(self.targets)]
+            pts = ends + [self._point(a.nut_coordinate(a.p_ref), a.scale.head)] + marks
+            weights = np.zeros((1 + len(marks), len(pts)))
+            weights[0, :3] = (1.0, -1.0, -1.0)
+            weights[np.arange(1, len(marks) + 1), np.arange(3, len(pts))] = 1.0
+        P = interpolation_matrix(mm, np.array(pts), [f"interferometer point {i}" for i in range(len(pts))], field="mesh")
+        return sp.csr_matrix(weights @ displacement_functional(P, d))
 
     def rows(self, twin, loads):
         layout = loads.mm
+        R = twin.displacement_rows(self, layout)               # (1 or 1 + n_targets, n_heat)
+        offset = np.repeat(R[:1], len(self.targets), axis=0)
+        if self.axis.feedback == "closed":
+            return sp.csr_matrix(R[1:] + offset)
         screw = twin.machine.part(twin.machine.roles["feed_drive.screw"].names[0])
         alpha = twin.materials.get(screw.name, screw.material).expansion
-        offset = twin.displacement_rows(self, layout)           # (1, n_heat)
-        line = screw_line_rows(layout, self.axis, self.targets, alpha)
-        return sp.csr_matrix(line + sp.csr_matrix(np.repeat(offset, len(self.targets), axis=0)))
+        return sp.csr_matrix(screw_line_rows(layout, self.axis, self.targets, alpha) + offset)
 
     def sample_steps(self, times):
         dt = times[1] - times[0] if len(times) > 1 else 1.0
