@@ -327,3 +327,16 @@ def test_closed_loop_reads_the_scale_carriers_free_expansion():
     slope = np.polyfit(y, e, 1)[0]
     assert slope == pytest.approx(iron.expansion * dT, rel=1e-9)
     assert np.abs(e - np.polyval(np.polyfit(y, e, 1), y)).max() < 1e-9 * abs(e).max()
+
+
+def test_the_diagnosis_study_hides_the_feed_drive_effects_on_the_axis_scenario():
+    """The hidden-effect study's hidden class holds the feed drive's effects on seed003-exp1, each
+    left out of the model of the moving axis (the model has the drive; the truth has the effect)."""
+    from geometries import build_machine
+    from validate.studies.diagnosis_cases import FEED_DRIVE_HIDDEN, all_cases, load_case_scenario
+    cases = {c.label: c for c in all_cases(build_machine("cframe-vmc"), ["hidden"])}
+    for effect in FEED_DRIVE_HIDDEN:
+        c = cases[effect]
+        assert c.scenario == "seed003-exp1" and c.model_effects == f"-{effect}" and c.expect[0][0] == effect
+    assert "feed_nut" not in {c.label for c in all_cases(build_machine("belt-vmc"), ["hidden"])}
+    assert load_case_scenario("seed003-exp1", quick=True).interferometer is None
