@@ -22,6 +22,13 @@ def _share(name: str, default: float, doc: str) -> Parameter:
     return Parameter(name, "dimensionless", default, 0.0, 1.0, doc)
 
 
+def _feed_power(default: float, upper: float, what: str, plausible: tuple[float, float, str]):
+    """(the ``power`` parameter at the reference feed, its :class:`Uncertain` range): W."""
+    lo, hi, why = plausible
+    return (Parameter("power", "power", default, 0.0, upper, f"{what} {_FEED}"),
+            Uncertain("power", lo, hi, why, linear=True))
+
+
 class _FeedEffect(Effect):
     """Shared: the driven axis, its motion, and a feed-proportional power split in two."""
 
@@ -54,11 +61,10 @@ class FeedNut(_FeedEffect):
     reference = ("Xu, Liu, Choi, Int. J. Mach. Tools Manuf. 49 (2009) 1126 (ball-screw nut heat Q = 2 pi n M / 60); "
                  "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2")
     roles = ("feed_drive.screw", "feed_drive.nut_body")
-    parameters = (
-        Parameter("power", "power", 14.0, 0.0, 500.0, f"nut friction heat {_FEED}"),
-        _share("screw_share", 0.6, "part of the nut heat that enters the screw (the rest: the nut housing)"),
-    )
-    uncertain = (Uncertain("power", 3.0, 40.0, "nut preload and lubrication", linear=True),)
+    _power, _range = _feed_power(14.0, 500.0, "nut friction heat", (3.0, 40.0, "nut preload and lubrication"))
+    parameters = (_power, _share("screw_share", 0.6, "part of the nut heat that enters the screw (the rest: the "
+                                                    "nut housing)"))
+    uncertain = (_range,)
 
     def loads(self, mm, scenario, p):
         axis, motion, screw, housing = self.split(mm, scenario, p, "screw_share")
@@ -80,11 +86,9 @@ class FeedBearings(_FeedEffect):
     summary = "screw support-bearing friction P = P_ref |v|/v_ref, front and rear"
     reference = "T. A. Harris, Rolling Bearing Analysis (Palmgren M_1 = f_1 F_beta d_m); Mayr et al. 2012, sec. 3.2"
     roles = ("feed_drive.front_bearing", "feed_drive.rear_bearing")
-    parameters = (
-        Parameter("power", "power", 2.0, 0.0, 200.0, f"both bearings' friction heat {_FEED}"),
-        _share("front_share", 0.6, "part in the fixed (front) bearing"),
-    )
-    uncertain = (Uncertain("power", 0.5, 10.0, "bearing preload and grease", linear=True),)
+    _power, _range = _feed_power(2.0, 200.0, "both bearings' friction heat", (0.5, 10.0, "bearing preload and grease"))
+    parameters = (_power, _share("front_share", 0.6, "part in the fixed (front) bearing"))
+    uncertain = (_range,)
 
     def loads(self, mm, scenario, p):
         _, motion, front, rear = self.split(mm, scenario, p, "front_share")
@@ -107,11 +111,10 @@ class FeedMotor(_FeedEffect):
     summary = "servo motor losses into its flange, P = P_hold + P_ref |v|/v_ref"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2 (feed drives); Y-motor sensor T1 of seed 003"
     roles = ("feed_drive.motor",)
-    parameters = (
-        Parameter("power", "power", 50.0, 0.0, 500.0, f"motor losses into the structure {_FEED}, above P_hold"),
-        Parameter("holding_power", "power", 5.0, 0.0, 200.0, "losses at standstill with the drive enabled"),
-    )
-    uncertain = (Uncertain("power", 10.0, 150.0, "motor size and how much heat its flange passes", linear=True),)
+    _power, _range = _feed_power(50.0, 500.0, "motor losses into the structure, above P_hold,",
+                                 (10.0, 150.0, "motor size and how much heat its flange passes"))
+    parameters = (_power, Parameter("holding_power", "power", 5.0, 0.0, 200.0, "losses at standstill with the drive enabled"))
+    uncertain = (_range,)
 
     def loads(self, mm, scenario, p):
         _, motion = self.axis_and_motion(mm, scenario)
@@ -135,12 +138,10 @@ class FeedGuideways(_FeedEffect):
     summary = "guideway friction P = P_ref |v|/v_ref, into the rails where the carriages are and the carriages"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2; rolling guide friction mu ~ 0.002-0.005"
     roles = ("feed_drive.guideways", "feed_drive.carriages")
-    parameters = (
-        Parameter("power", "power", 10.0, 0.0, 200.0, f"guideway friction heat {_FEED}"),
-        _share("rail_share", 0.7, "part that enters the rails (the rest: the carriages)"),
-        Parameter("carriage_offset", "length", 0.25, 0.0, 2.0, "carriages' distance ahead of and behind the nut"),
-    )
-    uncertain = (Uncertain("power", 2.0, 30.0, "carriage preload and lubrication", linear=True),)
+    _power, _range = _feed_power(10.0, 200.0, "guideway friction heat", (2.0, 30.0, "carriage preload and lubrication"))
+    parameters = (_power, _share("rail_share", 0.7, "part that enters the rails (the rest: the carriages)"),
+                  Parameter("carriage_offset", "length", 0.25, 0.0, 2.0, "carriages' distance ahead of and behind the nut"))
+    uncertain = (_range,)
 
     def loads(self, mm, scenario, p):
         axis, motion, rails, carriages = self.split(mm, scenario, p, "rail_share")
