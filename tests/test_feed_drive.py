@@ -25,7 +25,8 @@ L, A = 0.40, 0.02   # rod length along y and square side [m]
 def rod_machine(feedback: str = "semi-closed") -> Machine:
     """A steel rod along y (0..L), its own screw: fixed end y = 0, the nut at y = p."""
     rod = Part("rod", material("steel"), (Box((0.0, 0.0, 0.0), (A, L, A)),))
-    drive = FeedDrive(roles={"feed_drive.screw": Parts(("rod",))}, screw_axis=(A / 2, A / 2), fixed_end=0.0)
+    drive = FeedDrive(roles={"feed_drive.screw": Parts(("rod",)), "feed_drive.nut_body": Parts(("rod",))},
+                      screw_axis=(A / 2, A / 2), fixed_end=0.0)
     return with_feed_drives(Machine("rod", [rod], [Surface("skin", ("rod",))], [], [], "", "", [], {"coarse": 0.02},
                    roles={"structure.skin": Named("skin")},
                    axes=[LinearAxis("Y", "y", (0.0, L), feedback, ("rod",), 0.0, 0.0, drive)]))
@@ -70,6 +71,16 @@ def test_reciprocating_source_delivers_power_times_duty():
     w = path_weights(sc.axes[0], nodes, t, "distance").sum(axis=0) * sc.sample_interval
     assert w[1:-1] == pytest.approx(20 * 0.01, rel=1e-12)
     assert w[[0, -1]] == pytest.approx(20 * 0.005, rel=1e-12)
+    # through the heat integrator (Crank-Nicolson, the run's own energy balance): the same joules,
+    # and the stored heat gains them all (the rod has no convection here)
+    from twin.model import ModelSpec
+    from twin.observe import HeatBalance
+    from twin.simulate import run
+    r = run(machine, sc, ModelSpec(("feed_nut",), {"feed_nut": {"power": P}}), resolution="coarse",
+            observers=[HeatBalance()])
+    into, convected, stored = r.step_energy()
+    assert into == pytest.approx(P * 20 * 0.4 / v, rel=1e-12)
+    assert convected == 0.0 and stored == pytest.approx(into, rel=1e-9)
 
 
 def test_standing_nut_equals_a_stationary_source():
