@@ -32,10 +32,10 @@ def rod_machine(feedback: str = "semi-closed") -> Machine:
                    axes=[LinearAxis("Y", "y", (0.0, L), feedback, ("rod",), 0.0, 0.0, drive)]))
 
 
-def scenario(moves: list, duration: str = "20 min", dt: str = "10 s") -> Scenario:
+def scenario(moves: list, duration: str = "20 min", dt: str = "10 s", start: str | None = None) -> Scenario:
+    axis = {"name": "Y", "move": moves, **({"start": start} if start else {})}
     data = {"sample_interval": dt, "ambient": {"temperature": "20 degC"},
-            "spindle": [{"speed": "0 rpm", "duration": duration}],
-            "axis": [{"name": "Y", "move": moves}]}
+            "spindle": [{"speed": "0 rpm", "duration": duration}], "axis": [axis]}
     return scenario_from_dict(data, "test.toml")
 
 
@@ -53,6 +53,17 @@ def test_trapezoid_stroke_time_and_positions():
     assert m.position(np.array([0.0, t1, 2 * t1, 3 * t1, 1e6])) == pytest.approx([0, 0.4, 0, 0.4, 0.4], abs=1e-15)
     # constant feed in mid-stroke, accelerating at 10 mm/s2 from rest
     assert m.velocity(np.array([1.0, t1 / 2])) == pytest.approx([0.01, 0.02], rel=1e-12)
+    # a move to 100 mm (a trapezoid: 0.1 m >= v^2 / a = 0.04 m), then holding there to 1 min
+    mv = scenario([{"kind": "move", "to": "100 mm", "feed": "20 mm/s", "acceleration": "10 mm/s2",
+                    "duration": "1 min"}], duration="20 min", dt="10 s", start="0 mm").axes[0]
+    t_move = 0.1 / 0.02 + 0.02 / 0.01
+    assert mv.position(np.array([t_move, 60.0, 600.0])) == pytest.approx([0.1] * 3, abs=1e-15)
+    assert mv.duration == pytest.approx(60.0)
+    with pytest.raises(InputError, match="longer than the duration"):
+        scenario([{"kind": "move", "to": "100 mm", "feed": "20 mm/s", "acceleration": "10 mm/s2",
+                   "duration": "5 s"}], duration="20 min", start="0 mm")
+    with pytest.raises(InputError, match="needs the axis's start"):
+        scenario([{"kind": "move", "to": "100 mm", "feed": "20 mm/s", "acceleration": "10 mm/s2"}])
 
 
 def test_reciprocating_source_delivers_power_times_duty():
