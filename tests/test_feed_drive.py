@@ -308,6 +308,10 @@ def test_seed003_protocol_study_runs_and_reports_beside_the_seed(exp1_coarse):
     # the scores are those of the thermal error (k^ - k) y: a slope error of 0.01 um/mm is 2.8 um at 280 mm
     s = scores(np.array([0.01]), np.array([0.0]), np.array([0.0, 280.0]))
     assert s["MAXR"] == pytest.approx(2.8) and s["RMSE"] == pytest.approx(2.8 / np.sqrt(2))
+    # the pose study's differences of a run against itself are zero
+    from validate.studies.axis_pose import differences
+    d = differences(exp1_coarse, exp1_coarse)
+    assert d["dk_um_per_mm"] == 0.0 and d["dT_K"] == 0.0 and not d["d_drift_um"].any()
     # OLS statistics: an exact line has R^2 = 1
     x = np.arange(8.0)[:, None]
     assert ols_stats(x, 2 * x[:, 0] + 1)["R2"] == pytest.approx(1.0)
