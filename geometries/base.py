@@ -190,6 +190,7 @@ class Machine:
     max_speed: float | None = None
     camera_poses: list[CameraPose] = field(default_factory=list)
     finishes: list[Finish] = field(default_factory=list)
+    axes: list = field(default_factory=list)   # geometries.axes.LinearAxis, commanded by name
     lasers: list[Probe] = field(default_factory=list)   # laser triangulation sensors (as probes)
     strain_gauges: list[StrainGauge] = field(default_factory=list)   # FBG strain gauges
 
@@ -201,6 +202,13 @@ class Machine:
         if name not in self.roles:
             raise KeyError(f"machine {self.name!r} has no role {name!r}")
         return self.roles[name]
+
+    def axis(self, name: str):
+        """The :class:`geometries.axes.LinearAxis` called ``name``; KeyError if there is none."""
+        for a in self.axes:
+            if a.name == name:
+                return a
+        raise KeyError(f"machine {self.name!r} has no axis {name!r}")
 
     def part(self, name: str) -> Part:
         for p in self.parts:

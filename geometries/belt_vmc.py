@@ -60,6 +60,7 @@ is the line x = y = 0.
 
 from __future__ import annotations
 
+from geometries.axes import LinearAxis, Scale
 from geometries.base import PROBE_HEIGHTS, Box, Machine, Part, Point, Surface, material, test_bar_nest
 from geometries.cframe_vmc import DEFAULT_EFFECTS as CFRAME_DEFAULTS
 from geometries.regions import Band, Facing, Named, Parts, Union
@@ -206,10 +207,24 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         roles=roles(col_top),
         default_effects=DEFAULT_EFFECTS,
         max_speed=8000.0,
+        axes=axes(bed_top),
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "column_depth": column_depth,
                     "motor_offset": motor_offset, "probe_spacing": PROBE_HEIGHTS[1] - PROBE_HEIGHTS[0], "min_speed": 60.0,
                     "travel_x": 0.40, "travel_y": 0.30, "travel_z": 0.30, "linear_scales": 1.0},
     )
+
+
+def axes(bed_top: float) -> list[LinearAxis]:
+    """X 400, Y 300, Z 300 mm, closed loop (seed 000: linear scales on every axis). The Y scale
+    lies along the bed's top at x = 0.32 m, just beside the saddle, its read head on the saddle's
+    side; commanded Y = p puts the head at y = -0.20 + p [m], the mesh's pose is Y = 150 mm (the
+    saddle as built). No feed drive is modelled on this machine (its axes stand still: no feed
+    heat); the scales' mountings are plausible, not measured."""
+    y_scale = Scale(line=(0.32, bed_top - 0.01), carrier="bed", head=(0.29, bed_top + 0.01))
+    return [LinearAxis("X", "x", (0.0, 0.40), "closed", ("table",), -0.20, 0.20),
+            LinearAxis("Y", "y", (0.0, 0.30), "closed", ("saddle", "table"), -0.20, 0.15, scale=y_scale),
+            LinearAxis("Z", "z", (0.0, 0.30), "closed", ("carrier", "spindle", "front_bearing", "rear_bearing",
+                                                         "pulley", "motor", "test_bar"), 1.00, 0.0)]
 
 
 def roles(col_top: float) -> dict:

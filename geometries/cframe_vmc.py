@@ -13,10 +13,11 @@ is the line x = y = 0. The carrier is modelled at one Z position (the test posit
 
 from __future__ import annotations
 
+from geometries.axes import FeedDrive, LinearAxis
 from geometries.base import (PROBE_HEIGHTS, Box, CameraPose, Finish, Machine, Part, Point, Surface, material,
                              test_bar_nest)
 from geometries.finishes import GROUND_STEEL, MACHINE_PAINT, MASKING_TAPE
-from geometries.regions import Band, Facing, Named, Parts, Union
+from geometries.regions import Band, Facing, InBox, Named, Parts, Union
 
 NAME = "cframe-vmc"
 
@@ -117,7 +118,62 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         max_speed=MAX_SPEED,
         camera_poses=camera_poses(nose, tip),
         finishes=finishes(nose, hb),
+        axes=axes(col_y0),
     )
+
+
+# The Y feed drive's effects, on by default when a scenario moves an axis (geometries.axes).
+FEED_DRIVE_EFFECTS = ("feed_nut", "feed_bearings", "feed_motor", "feed_guideways", "feed_screw_gap")
+
+
+def axes(col_y0: float) -> list[LinearAxis]:
+    """X 500, Y 400, Z 330 mm (seed 000), semi-closed loop (seed 000: ball screws with rotary
+    encoders). Only Y has its feed drive modelled (seed 003's servo axis): a 40 mm square steel
+    screw (the cross-section of a 45 mm ball screw, 1590 mm2) along y in a trough of the bed top
+    under the saddle, x = 0, z 0.31-0.35 m, fixed bearing at the front (motor) end y -0.55..-0.50,
+    floating bearing at the rear y 0.40..0.45, lead 10 mm; the nut under the saddle's centre.
+    Commanded Y = p puts the nut at y = -0.25 + p [m]; the mesh's pose is Y = 200 mm (the
+    saddle and table as built). Plausible, not a measured machine."""
+    steel = material("steel")
+    lo, hi = 0.31, 0.35                     # screw's bottom and top [m]
+    e = 1e-3
+    gy = (-0.55, col_y0)                    # the rails' extent along y [m]
+    rails = Union(tuple(InBox(Parts(("bed",)), Box((x0, gy[0], 0.29), (x1, gy[1], 0.35)))
+                        for x0, x1 in ((-0.30, -0.20), (0.20, 0.30))))
+    carriages = Union(tuple(InBox(Parts(("saddle",)), Box((x0, -0.35, 0.35), (x1, 0.25, 0.42)))
+                            for x0, x1 in ((-0.30, -0.20), (0.20, 0.30))))
+    drive = FeedDrive(
+        parts=(Part("y_screw", steel, (Box((-0.02, -0.50, lo), (0.02, 0.40, hi)),), "workpiece"),
+               Part("y_front_bearing", steel, (Box((-0.02, -0.55, lo), (0.02, -0.50, hi)),), "workpiece"),
+               Part("y_rear_bearing", steel, (Box((-0.02, 0.40, lo), (0.02, 0.45, hi)),), "workpiece")),
+        surfaces=(Surface("y_screw_gap", ("y_screw",), interface_with=("bed", "saddle")),),
+        roles={"feed_drive.screw": Parts(("y_screw",)),
+               "feed_drive.screw_gap": Named("y_screw_gap"),
+               "feed_drive.structure_side": Parts(("bed", "saddle")),
+               "feed_drive.front_bearing": Parts(("y_front_bearing",)),
+               "feed_drive.rear_bearing": Parts(("y_rear_bearing",)),
+               "feed_drive.motor": InBox(Parts(("bed",)), Box((0.05, -0.56, 0.15), (0.30, -0.44, 0.36))),
+               "feed_drive.nut_body": InBox(Parts(("saddle",)), Box((-0.10, -0.15, 0.34), (0.10, 0.05, 0.42))),
+               "feed_drive.guideways": rails,
+               "feed_drive.carriages": carriages},
+        # seed 003's eleven sites (Table 1), T1..T11 in its order
+        points=(Point("Y_motor", (0.15, -0.55 + e, 0.28), "bed"),
+                Point("Y_column", (0.20, col_y0 + e, 0.80), "column"),
+                Point("Y_guideway_front", (0.25, -0.55 + e, 0.34), "bed"),
+                Point("Y_bed", (0.0, -0.55 + e, 0.15), "bed"),
+                Point("Y_guideway_back", (0.25, 0.30, 0.35 - e), "bed"),
+                Point("Y_air_machine", (0.0, -0.80, 0.60), "air"),
+                Point("Y_front_bearing", (0.0, -0.525, hi - e), "y_front_bearing"),
+                Point("Y_table", (0.30, -0.10, 0.55 - e), "table"),
+                Point("Y_rear_bearing", (0.0, 0.425, hi - e), "y_rear_bearing"),
+                Point("Y_nut", (0.0, -0.05, 0.35 + e), "saddle"),
+                Point("Y_air_room", (0.0, -1.50, 1.50), "air")),
+        screw_axis=(0.0, 0.5 * (lo + hi)), fixed_end=-0.50, lead=0.010, nut_offset=(0.0, 0.03),
+        effects=FEED_DRIVE_EFFECTS)
+    return [LinearAxis("X", "x", (0.0, 0.50), "semi-closed", ("table",), -0.25, 0.25),
+            LinearAxis("Y", "y", (0.0, 0.40), "semi-closed", ("saddle", "table"), -0.25, 0.20, drive),
+            LinearAxis("Z", "z", (0.0, 0.33), "semi-closed", ("carrier", "spindle", "front_bearing", "rear_bearing",
+                                                             "motor", "test_bar"), 1.10, 0.0)]
 
 
 def camera_poses(nose: float, tip: float) -> list[CameraPose]:

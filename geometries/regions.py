@@ -100,6 +100,16 @@ ROLES: dict[str, tuple[str, str]] = {
     "floor.contact": ("surface", "the foot of the bed standing on the floor"),
     "cabinet.face": ("surface", "the structure face an electrical cabinet stands beside"),
     "z_drive.top": ("volume", "where the Z motor and its brake sit, holding the spindle carrier"),
+    # the ball-screw feed drive of the machine's driven axis (geometries.axes.FeedDrive)
+    "feed_drive.screw": ("parts", "the ball screw, its own steel part, on whose cells the nut's heat travels"),
+    "feed_drive.screw_gap": ("interface", "the screw's faces towards the structure between its bearings (an air gap)"),
+    "feed_drive.structure_side": ("parts", "the structure across the screw's air gap (gets its own temperatures there)"),
+    "feed_drive.front_bearing": ("volume", "the screw's fixed support bearing at the motor end"),
+    "feed_drive.rear_bearing": ("volume", "the screw's support bearing at the far end"),
+    "feed_drive.motor": ("volume", "where the feed motor's losses enter the structure (its flange)"),
+    "feed_drive.nut_body": ("volume", "the nut housing on the moving body (heat moves with the body)"),
+    "feed_drive.guideways": ("volume", "the guideway rails along the travel, where the carriages run"),
+    "feed_drive.carriages": ("volume", "the guideway carriages on the moving body"),
     "c_axis.motor": ("volume", "the C-axis (rotary) drive motor's body, where its losses arise"),
     "c_axis.bearing": ("volume", "the C-axis bearing zone, where its friction heat arises"),
 }

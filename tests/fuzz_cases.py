@@ -116,6 +116,39 @@ SCENARIO_EDITS = [
     ("c-axis-on-a-machine-without-one", SCENARIO + C_AXIS, "c_axis"),
 ]
 
+# axis motion ([[axis]], twin.motion) and the interferometer: appended to the good scenario
+AXIS = ('\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "reciprocate"\nbetween = ["0 mm", "280 mm"]\n'
+        'feed = "20 mm/s"\nacceleration = "10 mm/s2"\nduration = "30 min"\n')
+LASER = '\n[interferometer]\naxis = "Y"\nruns = ["0 min", "10 min"]\n'
+
+
+def _ax(old: str, new: str, tail: str = "") -> str:
+    assert old in AXIS, old
+    return SCENARIO + AXIS.replace(old, new) + tail
+
+
+SCENARIO_EDITS += [
+    ("axis-feed-zero", _ax('"20 mm/s"', '"0 mm/s"'), "axis[0].move[0].feed"),
+    ("axis-feed-negative", _ax('"20 mm/s"', '"-20 mm/s"'), "axis[0].move[0].feed"),
+    ("axis-feed-no-unit", _ax('"20 mm/s"', '"20"'), "axis[0].move[0].feed"),
+    ("axis-feed-wrong-unit", _ax('"20 mm/s"', '"20 mm"'), "axis[0].move[0].feed"),
+    ("axis-acceleration-zero", _ax('"10 mm/s2"', '"0 mm/s2"'), "axis[0].move[0].acceleration"),
+    ("axis-unknown", _ax('name = "Y"', 'name = "W"'), "axis[0].name"),
+    ("axis-outside-travel", _ax('"280 mm"]', '"500 mm"]'), "axis[0].move"),
+    ("axis-longer-than-scenario", _ax('"30 min"', '"40 min"'), "axis[0].move"),
+    ("axis-unknown-kind", _ax('"reciprocate"', '"wobble"'), "axis[0].move[0].kind"),
+    ("axis-unknown-key", _ax('duration', 'speed = "1 mm/s"\nduration'), "axis[0].move[0].speed"),
+    ("axis-duration-and-count", _ax('duration', 'count = 3\nduration'), "axis[0].move[0].duration"),
+    ("axis-count-not-whole", _ax('duration = "30 min"', 'count = 2.5'), "axis[0].move[0].count"),
+    ("axis-one-end", _ax('["0 mm", "280 mm"]', '["0 mm"]'), "axis[0].move[0].between"),
+    ("axis-move-elsewhere", _ax('"30 min"', '"20 min"', '[[axis.move]]\nkind = "hold"\nposition = "100 mm"\n'
+                                                      'duration = "1 min"\n'), "axis[0].move[1]"),
+    ("axis-twice", SCENARIO + AXIS + AXIS, "axis[1].name"),
+    ("interferometer-off-grid", _ax("", "", LASER.replace('"10 min"', '"90 s"')), "interferometer.runs"),
+    ("interferometer-not-cold-first", _ax("", "", LASER.replace('"0 min", ', '')), "interferometer.runs"),
+    ("interferometer-unknown-axis", _ax("", "", LASER.replace('axis = "Y"', 'axis = "X"')), "interferometer.axis"),
+]
+
 # the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)
 SCENARIO_EDITS_VIA_MEASUREMENT = ["ambient-below-absolute-zero", "speed-beyond-machine", "speed-1e300-krpm",
                                   "interval-1-ns", "duration-1e300-s", "malformed-toml", "unknown-top-key"]
@@ -424,6 +457,27 @@ OPTION_FILES = {
 }
 
 
+# logged axis positions (role axis_position): a good CSV column y_mm with a bad mapping or values
+YPOS = '[columns.y_mm]\nrole = "axis_position"\naxis = "Y"\nunit = "mm"\n'
+
+
+def _ypos(value):
+    def edit(cols):
+        cols["y_mm"] = np.where(np.arange(len(cols["t_s"])) == 5, value, 140.0)
+    return measurement_csv(edit)
+
+
+# (id, CSV text, mapping text, source file, field)
+AXIS_LOG_EDITS = [
+    ("axis-position-unknown-axis", _ypos(140.0), MAPPING + YPOS.replace('"Y"', '"W"'), "m.toml", "columns.y_mm.axis"),
+    ("axis-position-no-axis", _ypos(140.0), MAPPING + YPOS.replace('axis = "Y"\n', ''), "m.toml",
+     "columns.y_mm.axis"),
+    ("axis-position-outside-travel", _ypos(900.0), MAPPING + YPOS, "m.csv", "y_mm"),
+    ("axis-position-wrong-unit", _ypos(140.0), MAPPING + YPOS.replace('"mm"', '"mm/s"'), "m.toml",
+     "columns.y_mm.unit"),
+]
+
+
 def all_cases() -> list[Case]:
     """Every case of the tables above."""
     cases = [c for row in INPUTS for c in bad_input_paths(*row)]
@@ -441,6 +495,9 @@ def all_cases() -> list[Case]:
         cases.append(Case(f"compare.csv:{cid}", COMPARE, "{d}/m.csv", fld, files={"m.csv": text}))
         if cid in CSV_EDITS_VIA_DIAGNOSE:
             cases.append(Case(f"diagnose.csv:{cid}", DIAGNOSE, "{d}/m.csv", fld, files={"m.csv": text}))
+    for cid, csv_text, mapping, bad, fld in AXIS_LOG_EDITS:
+        cases.append(Case(f"compare.axis-log:{cid}", COMPARE, "{d}/" + bad, fld,
+                          files={"m.csv": csv_text, "m.toml": mapping}))
     for cid, make, plot_field, compare_field in RESULT_EDITS:
         if plot_field is not None:
             cases.append(Case(f"plot.result:{cid}", PLOT, "{d}/r.nc", plot_field, files={"r.nc": make}))

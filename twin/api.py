@@ -8,8 +8,10 @@ from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
 from twin.io.results import to_dataset
 from twin.model import ModelSpec, model_spec
+from twin.motion import machine_for
 from twin.observe import standard_observers
 from twin.observe.camera import CameraConfig
+from twin.observe.interferometer import LaserInterferometer, check_interferometer
 from twin.observe.camera import cameras as camera_observers
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
@@ -39,6 +41,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     if resolution not in m.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    m = machine_for(m, sc)
     extra = ()
     if effects_file:
         from twin.effects.custom import load_effects_file
@@ -51,6 +54,9 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     mm = prepared.mm if prepared is not None else mesh_machine(m, resolution)
     limits.check_run_size(sc, mm.nheat)
     observers = standard_observers(m, sensors) + camera_observers(m, configs) if configs else None
+    if sc.interferometer is not None:
+        check_interferometer(sc.interferometer, sc, m)
+        observers = (observers or standard_observers(m, sensors)) + [LaserInterferometer(sc.interferometer, m)]
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
                             mm=None if prepared is not None else mm, prepared=prepared, solver=solver,
                             observers=observers)

@@ -19,6 +19,8 @@ A scenario file::
     [camera]                            # optional thermal camera(s): see twin.camera_config
     pose = "carrier-front"
 
+    [[axis]]                            # optional linear-axis motion: see twin.motion
+    name = "Y"
     [[c_axis]]                          # optional C-axis (rotary) steps: see twin.rotary
     speed = "2500 rpm"
     duration = "2 h"
@@ -42,6 +44,8 @@ from twin import limits
 from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
 from twin.io.paths import read_toml
+from twin.motion import check_durations, motions_from_toml
+from twin.observe.interferometer import interferometer_from_toml
 from twin.rotary import c_axis_from_toml, check_duration
 from twin.units import UnitError, parse_quantity
 
@@ -84,6 +88,8 @@ class Scenario:
     source: str = ""
     extra: dict = field(default_factory=dict)
     cameras: tuple = ()  # twin.observe.camera.CameraConfig, from the [camera] section
+    axes: tuple = ()     # twin.motion.Motion, one per commanded axis ([[axis]], see twin.motion)
+    interferometer: object = None   # twin.observe.interferometer.InterferometerConfig ([interferometer])
     c_axis: object = None  # twin.rotary.RotarySchedule, from the [[c_axis]] steps
 
     @property
@@ -199,6 +205,8 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     ambient = _ambient(top.get("ambient", required=True), source)
     raw_steps = top.get("spindle", required=True)
     cameras = cameras_from_toml(top.get("camera"), source, _Reader)
+    axes = motions_from_toml(top.get("axis"), source, _Reader)
+    laser = interferometer_from_toml(top.get("interferometer"), source, _Reader)
     c_axis = c_axis_from_toml(top.get("c_axis"), source, _Reader, dt)
     top.finish()
     if not isinstance(raw_steps, list) or not raw_steps:
@@ -212,8 +220,10 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     total = sum(d for d, _ in steps)
     # name the culprit: the interval when the durations would be affordable at 1 s, else the durations
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
+    check_durations(axes, total, source)
     check_duration(c_axis, total, source)
-    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, c_axis=c_axis)
+    return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes,
+                    interferometer=laser, c_axis=c_axis)
 
 
 def _ambient(table, source: str) -> Ambient:

@@ -27,6 +27,8 @@ _UNITS: dict[str, dict[str, float]] = {
     "conductance": {"W/K": 1.0},
     "heat_flux": {"W/m2": 1.0, "W/m^2": 1.0},
     "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "cm": 1e-2},
+    "velocity": {"m/s": 1.0, "mm/s": 1e-3, "mm/min": 1e-3 / 60.0, "m/min": 1.0 / 60.0},
+    "acceleration": {"m/s2": 1.0, "m/s^2": 1.0, "mm/s2": 1e-3, "mm/s^2": 1e-3},
     "temperature_gradient": {"K/m": 1.0, "K/mm": 1e3},
     "strain": {"m/m": 1.0, "um/m": 1e-6, "ppm": 1e-6},
     "thermal_strain": {"1/K": 1.0, "um/m/K": 1e-6, "ppm/K": 1e-6},

@@ -87,14 +87,17 @@ def load_inputs(args):
     ``--effects-file`` are registered (and switched on only where ``--effects`` names them)."""
     from twin.io.measurement import read_measurement
     from twin.model import model_spec
+    from twin.motion import machine_for
 
     meas = read_measurement(args.measurement, getattr(args, "mapping", None), args.machine)
     machine = measured_machine(meas, args)
     if args.mesh not in machine.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
+    sc = measured_scenario(meas, args, machine)
+    machine = machine_for(machine, sc)   # with its feed drives' parts when an axis moves
     custom_effects(args, machine)
     spec = model_spec(machine, args.effects, args.set)
-    return meas, machine, measured_scenario(meas, args, machine), spec
+    return meas, machine, sc, spec
 
 
 def load_measurements(args):
@@ -103,6 +106,7 @@ def load_measurements(args):
     ``--scenario`` need a single measurement."""
     from twin.io.measurement import read_measurement
     from twin.model import model_spec
+    from twin.motion import machine_for
 
     paths = measurement_paths(args)
     if len(paths) > 1 and (args.mapping or args.scenario):
@@ -120,6 +124,8 @@ def load_measurements(args):
         runs.append((Path(path).name, meas, measured_scenario(meas, args, machine)))
     if args.mesh not in machine.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
+    for _, _, sc in runs:   # with its feed drives' parts when a measurement moves an axis
+        machine = machine_for(machine, sc)
     custom = custom_effects(args, machine)
     spec = model_spec(machine, args.effects, args.set)
     return runs, machine, spec, custom

@@ -26,6 +26,7 @@ def _machines() -> None:
 
 def _effects(machine_name: str | None) -> None:
     from geometries import MACHINES, build_machine
+    from geometries.axes import with_feed_drives
     from twin.api import machine_by_name
     from twin.effects import EFFECTS
     from twin.units import format_quantity
@@ -40,22 +41,32 @@ def _effects(machine_name: str | None) -> None:
             print(f"    uncertain {u.name}: {format_quantity(u.lower, dim)} .. {format_quantity(u.upper, dim)} "
                   f"({'linear' if u.linear else 'nonlinear'}): {u.why}")
 
+    def when(name, base, m):
+        """How ``name`` is on by default on machine ``m`` (with its feed drives) built from ``base``."""
+        if name in base.default_effects:
+            return "default"
+        return "default when a scenario moves an axis" if name in m.default_effects else ""
+
     if machine_name is None:
-        machines = [build_machine(n) for n in sorted(MACHINES)]
+        # a machine with a feed drive offers its effects when a scenario moves an axis
+        bases = [build_machine(n) for n in sorted(MACHINES)]
+        machines = [with_feed_drives(b) for b in bases]
         for name in sorted(EFFECTS):
             on = [m.name for m in machines if EFFECTS[name].applies_to(m)]
-            default = [m.name for m in machines if name in m.default_effects]
+            default = [f"{m.name}{'' if when(name, b, m) == 'default' else ' when a scenario moves an axis'}"
+                       for b, m in zip(bases, machines) if when(name, b, m)]
             show(name, f" (default on {', '.join(default)})" if default else "",
                  f"\n  applies to: {', '.join(on) or 'no bundled machine'}")
         return
-    m = machine_by_name(machine_name)
+    base = machine_by_name(machine_name)
+    m = with_feed_drives(base)
     refused = []
     for name in sorted(EFFECTS):
         missing = EFFECTS[name].missing_roles(m)
         if missing:
             refused.append(f"{name} (needs {missing[0]})")
         else:
-            show(name, " (default)" if name in m.default_effects else "")
+            show(name, f" ({when(name, base, m)})" if when(name, base, m) else "")
     if refused:
         print(f"not applicable to {m.name}: {', '.join(refused)}")
 

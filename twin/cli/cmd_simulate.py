@@ -56,6 +56,10 @@ def run(args) -> int:
     peak = abs(ds.drift).max("time")
     print(f"wrote {out}: {len(ds.time)} samples, {result.mm.nnodes} nodes; peak |drift| "
           + ", ".join(f"{a} {float(peak.sel(axis=a)):.1f} um" for a in ds.axis.values))
+    if "positioning_slope" in ds:
+        k = ds.positioning_slope.values
+        print(f"  interferometer: {len(k)} runs; thermal slope k - k0 at the last ({ds.run_time.values[-1] / 60:g} min) "
+              f"{k[-1]:.4f} um/mm, error at {ds.target.values[-1]:g} mm {float(ds.positioning_error[-1, -1, 0]):.1f} um")
     for cam in (o for o in result.observers if o.key.startswith("camera")):
         thermo = ds[cam.name("thermogram")]
         print(f"  camera {cam.config.label}: {thermo.shape[0]} frames of {thermo.shape[2]} x {thermo.shape[1]} px "

@@ -1,5 +1,6 @@
 """Driving the twin from a measurement's logged inputs: spindle-speed steps found in a speed trace,
-a scenario built from them and the logged room air, and the measurement's sensor sites.
+a scenario built from them, the logged room air and the logged axis positions, and the
+measurement's sensor sites.
 """
 
 from __future__ import annotations
@@ -8,6 +9,7 @@ import numpy as np
 import xarray as xr
 
 from twin.errors import InputError
+from twin.motion import logged_motion
 from twin.scenario import Ambient, Scenario
 
 
@@ -61,8 +63,14 @@ def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = No
     steps = [(d, n) for d, n, _ in snapped_steps(t, ds.spindle_speed.values, dt, tolerance)]
     ambient = Ambient("table", times=tuple(t), temperatures=tuple(np.asarray(ds.ambient_temperature.values, float)))
     t_init = float(np.mean(ds.temperature.values[0])) if "temperature" in ds else None
+    axes = ()
+    if "axis_position" in ds:
+        # the axis moves through its logged positions, linearly between samples, for the logged span
+        keep = t <= sum(d for d, _ in steps) + 1e-9
+        axes = tuple(logged_motion(str(a), t[keep], ds.axis_position.sel(axis_name=a).values[keep] * 1e-3, src)
+                     for a in ds.axis_name.values)
     return Scenario(name, tuple(steps), ambient, dt, t_init, "driven by measured inputs", src, {"logged": True},
-                    c_axis=c_axis_from_record(ds, t, dt, tolerance))
+                    c_axis=c_axis_from_record(ds, t, dt, tolerance), axes=axes)
 
 
 def snapped_steps(t: np.ndarray, speed: np.ndarray, dt: float, tolerance: float = 50.0) -> list[tuple[float, float, slice]]:

@@ -29,10 +29,14 @@ unit::
     role = "probe"                        # one of X1 X2 Y1 Y2 Z, a length unit (um, mm ...)
     probe = "X1"
     unit = "um"
+    [columns.ypos]
+    role = "axis_position"                # a logged axis position (drives the twin's axis motion)
+    axis = "Y"
+    unit = "mm"
 
 The result has the variables of :func:`twin.io.results.to_dataset`: ``time`` [s],
 ``spindle_speed`` [rpm], ``ambient_temperature`` [degC], ``temperature(time, sensor)`` [degC] with
-``x, y, z`` [m] and ``part`` coordinates, ``probe(time, probe_id)`` [um] and, with all five
+``x, y, z`` [m] and ``part`` coordinates, ``probe(time, probe_id)`` [um], ``axis_position(time, axis_name)`` [mm] and, with all five
 probes and a machine, ``probe_drift(time, axis)`` [um] and ``tilt(time, rotation)`` [urad].
 Probe readings are zeroed at the first sample (ISO 230-3 probes are nulled at the start); time is
 kept as logged. Every problem raises :class:`twin.errors.InputError` naming file and column.
@@ -58,9 +62,9 @@ from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
 
 ROLES = {"time": "time", "spindle_speed": "speed", "ambient_temperature": "temperature",
-         "temperature": "temperature", "probe": "length"}
+         "temperature": "temperature", "probe": "length", "axis_position": "length"}
 _ROLE_KEYS = {"time": set(), "spindle_speed": set(), "ambient_temperature": set(),
-              "temperature": {"site", "x", "y", "z", "part", "name"}, "probe": {"probe"}}
+              "temperature": {"site", "x", "y", "z", "part", "name"}, "probe": {"probe"}, "axis_position": {"axis"}}
 
 
 def probe_names(machine) -> list[str]:
@@ -228,6 +232,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     single: dict[str, np.ndarray] = {}
     sensors: list[tuple[str, tuple[float, float, float], str, np.ndarray]] = []
     probes: dict[str, np.ndarray] = {}
+    positions: dict[str, np.ndarray] = {}
     for name, entry in cols.items():
         key = f"columns.{name}"
         if not isinstance(entry, dict):
@@ -255,6 +260,8 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             if pid in probes:
                 raise InputError(msrc, key + ".probe", f"probe {pid} mapped twice")
             probes[pid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
+        elif role == "axis_position":
+            positions[_axis_column(entry, values, positions, mach, msrc, src, key, name)] = values
         else:
             sensors.append(_sensor(entry, name, values, mach, msrc, key))
     if "time" not in single:
@@ -264,7 +271,29 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     names = [s[0] for s in sensors]
     if len(set(names)) != len(names):
         raise InputError(msrc, "columns", "two temperature columns have the same sensor name")
-    return _dataset(t, single, sensors, probes, mach, src)
+    return _dataset(t, single, sensors, probes, mach, src, positions)
+
+
+def _axis_column(entry: dict, values: np.ndarray, positions: dict, mach, msrc: str, src: str, key: str,
+                 column: str) -> str:
+    """The axis of an ``axis_position`` column, checked: named once, known to the machine (when
+    one is given) and within its travel."""
+    axis = entry.get("axis")
+    if not isinstance(axis, str) or not axis:
+        raise InputError(msrc, key + ".axis", "expected an axis name such as \"Y\"")
+    if axis in positions:
+        raise InputError(msrc, key + ".axis", f"axis {axis} mapped twice")
+    if mach is not None:
+        try:
+            lo, hi = mach.axis(axis).travel
+        except KeyError:
+            known = ", ".join(a.name for a in mach.axes) or "none"
+            raise InputError(msrc, key + ".axis", f"machine {mach.name} has no axis {axis!r}; its axes: {known}") from None
+        bad = np.flatnonzero((values < lo - 1e-9) | (values > hi + 1e-9))
+        if len(bad):
+            raise InputError(src, column, f"row {bad[0] + 1}: {values[bad[0]] * 1e3:g} mm is outside the {axis} travel "
+                                          f"{lo * 1e3:g} .. {hi * 1e3:g} mm")
+    return axis
 
 
 def _check_values(values: np.ndarray, role: str, mach, src: str, column: str) -> None:
@@ -286,6 +315,8 @@ def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: st
         if mach is None:
             raise InputError(msrc, key + ".site", "a named site needs a machine (top-level machine = \"...\")")
         site = entry["site"]
+        from geometries.axes import with_feed_drives
+        mach = with_feed_drives(mach)   # the feed drives' sites (seed 003's) are sites too
         sites = list(mach.sensor_sites) + list(mach.air_sites)
         if site not in sites:
             raise InputError(msrc, key + ".site", f"machine {mach.name} has no sensor site {site!r}; known: {', '.join(sites)}")
@@ -303,7 +334,7 @@ def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: st
     return (str(entry.get("name", name)), xyz, part, values)
 
 
-def _dataset(t, single, sensors, probes, mach, src) -> xr.Dataset:
+def _dataset(t, single, sensors, probes, mach, src, positions=None) -> xr.Dataset:
     data, coords = {}, {"time": ("time", t, {"units": "s", "long_name": "time since start"})}
     if "spindle_speed" in single:
         data["spindle_speed"] = variable("time", single["spindle_speed"], "rpm", "spindle speed")
@@ -329,6 +360,11 @@ def _dataset(t, single, sensors, probes, mach, src) -> xr.Dataset:
             data["tilt"] = variable(("time", "rotation"), tilt, "urad", "test-bar tilt from the probe readings (A about X, B about Y)")
             coords["axis"] = ("axis", list(AXES), {"long_name": "machine axis"})
             coords["rotation"] = ("rotation", ["A", "B"], {"long_name": "rotation about X (A) and Y (B)"})
+    if positions:
+        names = sorted(positions)
+        data["axis_position"] = variable(("time", "axis_name"), np.column_stack([positions[a] for a in names]) * 1e3,
+                                         "mm", "logged axis position")
+        coords["axis_name"] = ("axis_name", names, {"long_name": "linear axis"})
     attrs = {"title": f"measurement {Path(src).name}", "source": src, "kind": "measurement"}
     if mach is not None:
         attrs["machine"] = mach.name

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from geometries import MACHINES, build_machine
+from geometries.axes import with_feed_drives
 from twin.effects import EFFECTS
 from twin.fem.mesh import mesh_machine
 from twin.io.atomic import atomic_write_text
@@ -208,7 +209,7 @@ def main(argv=None) -> int:
         bad = [h for h in hidden if h not in EFFECTS]
         if bad:
             ap.error(f"unknown effects: {', '.join(bad)}")
-        refused = [h for h in hidden if not EFFECTS[h].applies_to(machine)]
+        refused = [h for h in hidden if not EFFECTS[h].applies_to(with_feed_drives(machine))]
         if refused:
             ap.error(f"effects that do not apply to {machine.name}: {', '.join(refused)}")
     sizes = machine.resolutions

@@ -1,0 +1,139 @@
+"""Linear axes of a machine: travel, feedback kind and, where the machine has one, the ball-screw
+feed drive (its steel screw, support bearings, motor, nut and guideways) as parts and regions.
+
+A machine declares its axes in ``Machine.axes``; a scenario commands them by name
+(:mod:`twin.motion`). The drive's parts are *not* in the machine's default mesh (the spindle
+tests' meshes stay as they were); :func:`with_feed_drives` adds them when a scenario moves an
+axis. Coordinates in metres, positions along the axis in metres of commanded travel.
+
+The commanded position p of an axis puts its nut (and the moving body) at machine coordinate
+``nut_at_zero + p`` along ``direction``; the mesh is built at the reference pose ``p_ref``
+(:mod:`twin.motion` says what that costs).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+FEEDBACK = ("semi-closed", "closed")
+
+
+@dataclass(frozen=True)
+class FeedDrive:
+    """A ball-screw drive's description: ``parts`` (the screw and anything else of its own, added
+    to the machine), ``surfaces``, the regions of the ``roles`` it binds (see
+    :data:`geometries.regions.ROLES`, the ``feed_drive.*`` roles), sensor ``points``,
+    ``screw_axis`` (x, z) [m]: the screw's centre line across ``direction`` (the two other machine
+    coordinates, in x, y, z order), ``fixed_end`` [m]: the machine coordinate along the axis of the
+    fixed (thrust) bearing, ``lead`` [m] per revolution and ``nut_offset`` (x, z) [m] from the
+    screw's line to the point where the nut housing holds the moving body."""
+
+    parts: tuple = ()
+    surfaces: tuple = ()
+    roles: dict = field(default_factory=dict)
+    points: tuple = ()
+    screw_axis: tuple[float, float] = (0.0, 0.0)
+    fixed_end: float = 0.0
+    lead: float = 0.01
+    nut_offset: tuple[float, float] = (0.0, 0.0)   # [m] from the screw's line to where the nut holds the body
+    effects: tuple[str, ...] = ()   # effects added to the machine's default set with the drive
+
+
+@dataclass(frozen=True)
+class Scale:
+    """A linear scale's mounting: its ``line`` (the two machine coordinates across the axis, in
+    x, y, z order) [m] on the ``carrier`` part whose expansion its graduations follow, and the
+    ``head`` (the same two coordinates) [m] of its read head on the moving body."""
+
+    line: tuple[float, float]
+    carrier: str
+    head: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class LinearAxis:
+    """A linear axis: ``name`` ("X", "Y", "Z"), the machine ``direction`` it moves along ("x",
+    "y", "z"), its ``travel`` (lo, hi) [m] of commanded position, ``feedback`` ("semi-closed":
+    rotary encoder on the motor, the screw's expansion between its fixed bearing and the nut
+    becomes positioning error; "closed": a linear scale, whose carrier's expansion does),
+    ``moving`` (the parts that move with it), ``nut_at_zero`` [m] (machine coordinate of the nut,
+    or of a closed loop's read head, at commanded position 0), ``p_ref`` [m] (the commanded
+    position of the mesh's pose), its ``drive`` (a :class:`FeedDrive`, or None when the machine
+    does not model it) and, closed loop, its ``scale`` (a :class:`Scale`)."""
+
+    name: str
+    direction: str
+    travel: tuple[float, float]
+    feedback: str
+    moving: tuple[str, ...] = ()
+    nut_at_zero: float = 0.0
+    p_ref: float = 0.0
+    drive: FeedDrive | None = None
+    scale: Scale | None = None
+
+    def __post_init__(self):
+        if self.feedback not in FEEDBACK:
+            raise ValueError(f"axis {self.name}: feedback {self.feedback!r} is not one of {', '.join(FEEDBACK)}")
+        if self.direction not in ("x", "y", "z") or not self.travel[1] > self.travel[0]:
+            raise ValueError(f"axis {self.name}: needs a direction x, y or z and travel hi > lo")
+
+    def nut_coordinate(self, p):
+        """Machine coordinate [m] along ``direction`` of the nut at commanded position(s) ``p`` [m]."""
+        return self.nut_at_zero + p
+
+
+def with_feed_drives(machine):
+    """A copy of ``machine`` with the parts, surfaces, roles and sensor points of every axis that
+    has a :class:`FeedDrive` (the machine itself when none has)."""
+    drives = [a.drive for a in machine.axes if a.drive is not None]
+    have = {p.name for p in machine.parts}
+    if not drives or any(p.name in have for d in drives for p in d.parts):   # none, or added already
+        return machine
+    from geometries.base import Machine
+    parts = list(machine.parts) + [p for d in drives for p in d.parts]
+    surfaces = list(machine.surfaces) + [s for d in drives for s in d.surfaces]
+    points = list(machine.points) + [p for d in drives for p in d.points]
+    roles = dict(machine.roles)
+    for d in drives:
+        roles.update(d.roles)
+    sites = list(machine.sensor_sites) + [p.name for d in drives for p in d.points if p.part != "air"]
+    air = list(machine.air_sites) + [p.name for d in drives for p in d.points if p.part == "air"]
+    effects = tuple(dict.fromkeys(tuple(machine.default_effects) + tuple(e for d in drives for e in d.effects)))
+    return Machine(**{**machine.__dict__, "parts": parts, "surfaces": surfaces, "points": points, "roles": roles,
+                      "sensor_sites": sites, "air_sites": air, "default_effects": effects})
+
+
+def at_pose(machine, axis_name: str, p: float):
+    """A copy of ``machine`` built with axis ``axis_name`` at commanded position ``p`` [m]
+    instead of its reference pose: the axis's moving parts, the points on them and the regions
+    (boxes) of roles on them shifted by p - p_ref along the axis. For checking what the single
+    reference pose costs (:mod:`twin.motion`); the drive's own parts stay where they are."""
+    from dataclasses import replace
+
+    from geometries.base import Box, Machine, Part, Point
+    from geometries.regions import InBox, Parts, Union
+
+    axis = machine.axis(axis_name)
+    k = "xyz".index(axis.direction)
+    delta = [0.0, 0.0, 0.0]
+    delta[k] = p - axis.p_ref
+    move = set(axis.moving)
+
+    def shift(box):
+        return Box(tuple(np.add(box.lo, delta)), tuple(np.add(box.hi, delta)))
+
+    def region(r):
+        if isinstance(r, InBox) and isinstance(r.base, Parts) and set(r.base.names) <= move:
+            return InBox(r.base, shift(r.box))
+        if isinstance(r, Union):
+            return Union(tuple(region(x) for x in r.regions))
+        return r
+
+    parts = [Part(q.name, q.material, tuple(shift(b) for b in q.boxes), q.chain, q.refine) if q.name in move else q
+             for q in machine.parts]
+    points = [Point(q.name, tuple(np.add(q.xyz, delta)), q.part) if q.part in move else q for q in machine.points]
+    roles = {name: region(r) for name, r in machine.roles.items()}
+    axes = [replace(a, p_ref=p) if a.name == axis_name else a for a in machine.axes]
+    return Machine(**{**machine.__dict__, "parts": parts, "points": points, "roles": roles, "axes": axes})

@@ -1,0 +1,178 @@
+"""Feed-drive heat of a ball-screw axis: nut, support bearings, servo motor, guideways, and the
+air gap that keeps the screw apart from the structure between its bearings.
+
+Each effect acts on the machine's driven axis (:func:`twin.effects.moving.driven_axis`) with the
+motion the scenario commands (standing still when it commands none). Friction powers are given at
+the reference feed v_ref = 20 mm/s (seed 003's Exp I) and scale with the feed |v(t)|: Coulomb
+friction (preload torque, rolling resistance) dominates at the low screw speeds of a feed drive
+(120 rpm at 20 mm/s with a 10 mm lead), P = M omega = F |v| with M and F constant. Powers are
+plausible for a 45 mm screw with a preloaded double nut, not measured on a machine.
+"""
+
+from __future__ import annotations
+
+from twin.effects.base import ContactConductance, Effect, HeatSource, Parameter, Uncertain, constant, register_effect
+from twin.effects.moving import REFERENCE_FEED, driven_axis, motion_of, speed_signal, travelling_sources
+from twin.fem.regions import role_cells, role_facets, role_parts
+
+_FEED = "at the reference feed 20 mm/s, proportional to the feed"
+
+
+def _share(name: str, default: float, doc: str) -> Parameter:
+    return Parameter(name, "dimensionless", default, 0.0, 1.0, doc)
+
+
+def _feed_power(default: float, upper: float, what: str, plausible: tuple[float, float, str]):
+    """(the ``power`` parameter at the reference feed, its :class:`Uncertain` range): W."""
+    lo, hi, why = plausible
+    return (Parameter("power", "power", default, 0.0, upper, f"{what} {_FEED}"),
+            Uncertain("power", lo, hi, why, linear=True))
+
+
+class _FeedEffect(Effect):
+    """Shared: the driven axis, its motion, and a feed-proportional power split in two."""
+
+    strength = "power"
+    linear = True
+
+    def axis_and_motion(self, mm, scenario):
+        axis = driven_axis(mm.machine)
+        return axis, motion_of(scenario, axis)
+
+    def split(self, mm, scenario, p, share: str):
+        """(axis, motion, a, b): P_ref / v_ref [W s/m] times the fraction ``p[share]`` and the rest."""
+        axis, motion = self.axis_and_motion(mm, scenario)
+        scale = p["power"] / REFERENCE_FEED
+        return axis, motion, p[share] * scale, (1 - p[share]) * scale
+
+
+@register_effect
+class FeedNut(_FeedEffect):
+    """Friction heat of the ball nut, shared between the screw and the nut housing.
+
+        P(t) = P_ref |v(t)| / v_ref  (Coulomb: preload torque M_p, P = 2 pi M_p |v| / lead),
+
+    a fraction ``screw_share`` into the screw *where the nut is* (a path basis along the screw,
+    :mod:`twin.effects.moving`) and the rest into the nut housing on the moving body (fixed to it).
+    """
+
+    name = "feed_nut"
+    summary = "ball-nut friction P = P_ref |v|/v_ref, travelling with the nut along the screw"
+    reference = ("Xu, Liu, Choi, Int. J. Mach. Tools Manuf. 49 (2009) 1126 (ball-screw nut heat Q = 2 pi n M / 60); "
+                 "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2")
+    roles = ("feed_drive.screw", "feed_drive.nut_body")
+    _power, _range = _feed_power(14.0, 500.0, "nut friction heat", (3.0, 40.0, "nut preload and lubrication"))
+    parameters = (_power, _share("screw_share", 0.6, "part of the nut heat that enters the screw (the rest: the "
+                                                    "nut housing)"))
+    uncertain = (_range,)
+
+    def loads(self, mm, scenario, p):
+        axis, motion, screw, housing = self.split(mm, scenario, p, "screw_share")
+        return (travelling_sources(self.name, mm, "feed_drive.screw", axis, motion, scenario, screw, "distance")
+                + [HeatSource(f"{self.name}.housing", role_cells(mm, "feed_drive.nut_body"),
+                              speed_signal(scenario, motion, housing))])
+
+
+@register_effect
+class FeedBearings(_FeedEffect):
+    """Friction heat of the screw's support bearings (angular-contact pairs, preloaded).
+
+        P(t) = P_ref |v(t)| / v_ref   (Palmgren's load term M_1 = f_1 F dm dominates at low speed),
+
+    a fraction ``front_share`` in the fixed (front) bearing, the rest in the floating one.
+    """
+
+    name = "feed_bearings"
+    summary = "screw support-bearing friction P = P_ref |v|/v_ref, front and rear"
+    reference = "T. A. Harris, Rolling Bearing Analysis (Palmgren M_1 = f_1 F_beta d_m); Mayr et al. 2012, sec. 3.2"
+    roles = ("feed_drive.front_bearing", "feed_drive.rear_bearing")
+    _power, _range = _feed_power(2.0, 200.0, "both bearings' friction heat", (0.5, 10.0, "bearing preload and grease"))
+    parameters = (_power, _share("front_share", 0.6, "part in the fixed (front) bearing"))
+    uncertain = (_range,)
+
+    def loads(self, mm, scenario, p):
+        _, motion, front, rear = self.split(mm, scenario, p, "front_share")
+        return [HeatSource(f"{self.name}.{side}", role_cells(mm, f"feed_drive.{side}_bearing"),
+                           speed_signal(scenario, motion, power)) for side, power in (("front", front), ("rear", rear))]
+
+
+@register_effect
+class FeedMotor(_FeedEffect):
+    """Losses of the servo motor that enter the structure through its flange.
+
+        P(t) = P_hold + P_ref |v(t)| / v_ref,
+
+    P_hold the copper losses of the holding (standstill) current while the drive is enabled,
+    P_ref the extra losses at the reference feed (copper losses of the friction torque, iron
+    losses growing with speed); the fan's share is not in P. Inertia torque is neglected.
+    """
+
+    name = "feed_motor"
+    summary = "servo motor losses into its flange, P = P_hold + P_ref |v|/v_ref"
+    reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2 (feed drives); Y-motor sensor T1 of seed 003"
+    roles = ("feed_drive.motor",)
+    _power, _range = _feed_power(50.0, 500.0, "motor losses into the structure, above P_hold,",
+                                 (10.0, 150.0, "motor size and how much heat its flange passes"))
+    parameters = (_power, Parameter("holding_power", "power", 5.0, 0.0, 200.0, "losses at standstill with the drive enabled"))
+    uncertain = (_range,)
+
+    def loads(self, mm, scenario, p):
+        _, motion = self.axis_and_motion(mm, scenario)
+        cells = role_cells(mm, "feed_drive.motor")
+        return [HeatSource(f"{self.name}.hold", cells, constant(p["holding_power"])),
+                HeatSource(f"{self.name}.feed", cells, speed_signal(scenario, motion, p["power"] / REFERENCE_FEED))]
+
+
+@register_effect
+class FeedGuideways(_FeedEffect):
+    """Friction heat of the linear guideways (rolling carriages on two rails).
+
+        P(t) = mu F_N |v(t)| = P_ref |v(t)| / v_ref,
+
+    a fraction ``rail_share`` into the rails under the two carriages (front and rear of the moving
+    body, ``carriage_offset`` ahead of and behind the nut; a path basis along the rails), the rest
+    into the carriages on the moving body.
+    """
+
+    name = "feed_guideways"
+    summary = "guideway friction P = P_ref |v|/v_ref, into the rails where the carriages are and the carriages"
+    reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2; rolling guide friction mu ~ 0.002-0.005"
+    roles = ("feed_drive.guideways", "feed_drive.carriages")
+    _power, _range = _feed_power(10.0, 200.0, "guideway friction heat", (2.0, 30.0, "carriage preload and lubrication"))
+    parameters = (_power, _share("rail_share", 0.7, "part that enters the rails (the rest: the carriages)"),
+                  Parameter("carriage_offset", "length", 0.25, 0.0, 2.0, "carriages' distance ahead of and behind the nut"))
+    uncertain = (_range,)
+
+    def loads(self, mm, scenario, p):
+        axis, motion, rails, carriages = self.split(mm, scenario, p, "rail_share")
+        off = p["carriage_offset"]
+        return (travelling_sources(self.name, mm, "feed_drive.guideways", axis, motion, scenario, rails,
+                                   "distance", offsets=(-off, off))
+                + [HeatSource(f"{self.name}.carriages", role_cells(mm, "feed_drive.carriages"),
+                              speed_signal(scenario, motion, carriages))])
+
+
+@register_effect
+class FeedScrewGap(Effect):
+    """The air gap between the screw and the structure between its bearings.
+
+        q = h_gap (T_screw - T_structure)   on the screw's faces towards the bed and the moving body,
+
+    h_gap the conductance of the air gap per unit area (conduction k_air / gap plus linearised
+    radiation, about 5-15 W/(m2 K) for a 10 mm gap). Without it the screw would be bonded to the
+    bed along its whole length; with it the screw touches the structure only at its bearings.
+    The joint stays bonded mechanically (:class:`twin.effects.base.ContactConductance`).
+    """
+
+    name = "feed_screw_gap"
+    strength = "conductance"
+    linear = False
+    summary = "air gap h_gap between the screw and the structure between the bearings"
+    reference = "VDI Heat Atlas (2010) E2/K1 (gas gap conduction, radiation between surfaces)"
+    roles = ("feed_drive.screw_gap", "feed_drive.structure_side")
+    parameters = (Parameter("conductance", "heat_transfer_coefficient", 10.0, 0.1, 1000.0, "gap conductance per area"),)
+
+    def loads(self, mm, scenario, p):
+        h = p["conductance"]
+        return [ContactConductance(self.name, role_facets(mm, "feed_drive.screw_gap"),
+                                   role_parts(mm, "feed_drive.structure_side"), constant(h))]

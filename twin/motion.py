@@ -1,0 +1,399 @@
+"""Axis motion: what each linear axis does over a scenario, and the path-basis weights of the
+heat that travels with it.
+
+A scenario commands an axis with an ``[[axis]]`` table and its moves, in order::
+
+    [[axis]]
+    name = "Y"                       # an axis the machine declares (geometries.axes.LinearAxis)
+    start = "0 mm"                   # optional: default, where the first move starts
+
+    [[axis.move]]                    # trapezoidal to-and-fro between two positions
+    kind = "reciprocate"
+    between = ["0 mm", "280 mm"]
+    feed = "20 mm/s"
+    acceleration = "10 mm/s2"
+    dwell = "0 s"                    # optional, at each end
+    duration = "390 min"             # or count = 100 (whole strokes, one way each)
+
+    [[axis.move]]
+    kind = "hold"                    # position = "140 mm", duration = "10 min"
+    # kind = "move"                  # to, feed, acceleration; optional duration (holds on arrival)
+    # kind = "table"                 # times = ["0 s", ...], positions = ["0 mm", ...] (linear)
+
+Every value carries its unit; a zero or negative feed, acceleration or duration, a move that does
+not start where the axis is, a table whose times do not increase, and an axis running longer
+than the scenario are :class:`twin.errors.InputError` naming the file and the key. An unknown
+axis or a position outside the axis travel is refused against a machine
+(:func:`check_motions`). A reciprocation given a duration runs the whole strokes that fit in it
+and dwells at its last end for the rest; after its last move an axis holds where it is.
+
+A motion is a list of pieces of constant acceleration (x = x0 + v0 tau + a tau^2 / 2), within
+each of which the axis moves one way only. :func:`path_weights` turns it into the weights of a
+*path basis*: heat q(t) released at the moving position x(t) is sum_i phi_i(x(t)) q(t) with
+phi_i the hat functions on nodes s_i along the path (sum_i phi_i = 1 on the path), so a moving
+source is a sum of fixed patterns times scalar signals and the heat equation stays linear.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from twin.errors import InputError
+from twin.units import UnitError, parse_quantity
+
+KINDS = ("hold", "move", "reciprocate", "table")
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One axis's motion: pieces starting at ``t0`` [s], lasting ``dur`` [s], from ``x0`` [m] at
+    velocity ``v0`` [m/s] with constant acceleration ``a`` [m/s2]; holds ``x_end`` after them."""
+
+    axis: str
+    t0: np.ndarray
+    dur: np.ndarray
+    x0: np.ndarray
+    v0: np.ndarray
+    a: np.ndarray
+    x_end: float
+    source: str = ""
+
+    @property
+    def duration(self) -> float:
+        """End of the last piece [s]."""
+        return float(self.t0[-1] + self.dur[-1]) if len(self.t0) else 0.0
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Every position [m] the axis passes through at a piece boundary (its extremes)."""
+        return np.append(self.x0, self.x_end)
+
+    def _at(self, t: np.ndarray):
+        t = np.asarray(t, dtype=float)
+        if not len(self.t0):
+            return None, None, t
+        i = np.clip(np.searchsorted(self.t0, t, side="right") - 1, 0, len(self.t0) - 1)
+        tau = np.clip(t - self.t0[i], 0.0, self.dur[i])
+        return i, tau, t
+
+    def position(self, t) -> np.ndarray:
+        """Position [m] at times t [s] (the start position before 0, the end after the last piece)."""
+        i, tau, t = self._at(t)
+        if i is None:
+            return np.full(t.shape, self.x_end)
+        return self.x0[i] + self.v0[i] * tau + 0.5 * self.a[i] * tau ** 2
+
+    def velocity(self, t) -> np.ndarray:
+        """Velocity [m/s] at times t [s] (0 outside the pieces)."""
+        i, tau, t = self._at(t)
+        if i is None:
+            return np.zeros(t.shape)
+        inside = (t >= self.t0[i]) & (t < self.t0[i] + self.dur[i])
+        return np.where(inside, self.v0[i] + self.a[i] * tau, 0.0)
+
+
+class _Builder:
+    """Appends pieces while tracking time and position."""
+
+    def __init__(self, axis: str, x: float, source: str):
+        self.axis, self.x, self.t, self.source = axis, x, 0.0, source
+        self.rows: list[tuple[float, float, float, float, float]] = []
+
+    def piece(self, dur: float, v0: float, a: float) -> None:
+        if dur > 0:
+            self.rows.append((self.t, dur, self.x, v0, a))
+            self.t += dur
+            self.x += v0 * dur + 0.5 * a * dur ** 2
+
+    def polyline(self, times: np.ndarray, xs: np.ndarray) -> None:
+        """Through positions ``xs`` [m] at ``times`` [s] after now, linearly (constant velocity)."""
+        for dt, x0, x1 in zip(np.diff(times), xs[:-1], xs[1:]):
+            self.piece(dt, (x1 - x0) / dt, 0.0)
+            self.x = x1
+
+    def hold(self, dur: float) -> None:
+        self.piece(dur, 0.0, 0.0)
+
+    def trapezoid(self, target: float, feed: float, accel: float) -> None:
+        """A point-to-point move to ``target`` [m]: accelerate at ``accel``, cruise at ``feed``,
+        decelerate (triangular when the distance is shorter than feed^2 / accel)."""
+        d = target - self.x
+        s, d = np.sign(d), abs(d)
+        if d == 0:
+            return
+        if d >= feed ** 2 / accel:
+            ta, tc = feed / accel, (d - feed ** 2 / accel) / feed
+            self.piece(ta, 0.0, s * accel)
+            self.piece(tc, s * feed, 0.0)
+            self.piece(ta, s * feed, -s * accel)
+        else:
+            tp = np.sqrt(d / accel)
+            self.piece(tp, 0.0, s * accel)
+            self.piece(tp, s * accel * tp, -s * accel)
+        self.x = target   # no round-off drift over thousands of strokes
+
+    def motion(self) -> Motion:
+        cols = np.array(self.rows, dtype=float).reshape(-1, 5).T
+        return Motion(self.axis, *cols, x_end=self.x, source=self.source)
+
+
+def logged_motion(axis: str, times, positions, source: str = "") -> Motion:
+    """The motion through logged ``positions`` [m] at ``times`` [s] (from 0, increasing),
+    linear between samples: what a measurement's ``axis_position`` column drives."""
+    times, positions = np.asarray(times, float), np.asarray(positions, float)
+    b = _Builder(axis, float(positions[0]), source)
+    b.polyline(times - times[0], positions)
+    return b.motion()
+
+
+def stroke_time(distance: float, feed: float, accel: float) -> float:
+    """Duration [s] of a trapezoidal move over ``distance`` [m]: d / v + v / a when the feed is
+    reached (d >= v^2 / a), else 2 sqrt(d / a)."""
+    d = abs(distance)
+    return d / feed + feed / accel if d >= feed ** 2 / accel else 2.0 * np.sqrt(d / accel)
+
+
+def motions_from_toml(raw, source: str, reader) -> tuple[Motion, ...]:
+    """The ``[[axis]]`` tables of a scenario (``raw``: None or a list of tables) as motions;
+    ``reader`` is the scenario's table reader (:class:`twin.scenario.TableReader`)."""
+    if raw is None:
+        return ()
+    if not isinstance(raw, list) or not raw:
+        raise InputError(source, "axis", "expected one or more [[axis]] tables")
+    out, names = [], set()
+    for i, table in enumerate(raw):
+        r = reader(table, source, f"axis[{i}].")
+        name = r.get("name", required=True)
+        if not isinstance(name, str) or not name:
+            raise InputError(source, f"axis[{i}].name", "expected an axis name such as \"Y\"")
+        if name in names:
+            raise InputError(source, f"axis[{i}].name", f"axis {name} is commanded twice; give it one [[axis]] table")
+        names.add(name)
+        start = r.get("start", "length")
+        moves = r.get("move", required=True)
+        r.finish()
+        if not isinstance(moves, list) or not moves:
+            raise InputError(source, f"axis[{i}].move", "expected one or more [[axis.move]] tables")
+        out.append(_motion(name, start, moves, source, f"axis[{i}].move", reader))
+    return tuple(out)
+
+
+def _motion(name: str, start, moves: list, source: str, prefix: str, reader) -> Motion:
+    b = None
+    for j, raw in enumerate(moves):
+        r = reader(raw, source, f"{prefix}[{j}].")
+        kind = r.get("kind", required=True)
+        if kind not in KINDS:
+            raise InputError(source, f"{prefix}[{j}].kind", f"unknown kind {kind!r}; known: {', '.join(KINDS)}")
+        begin, run = _MOVES[kind](r, source)
+        r.finish()
+        if b is None:
+            b = _Builder(name, start if start is not None else (begin if begin is not None else 0.0), source)
+            if begin is None and start is None:
+                raise InputError(source, f"{prefix}[{j}]", "a first move of kind 'move' needs the axis's start")
+        if begin is not None and abs(begin - b.x) > 1e-9:
+            raise InputError(source, f"{prefix}[{j}]", f"starts at {begin * 1e3:g} mm but axis {name} is at "
+                                                       f"{b.x * 1e3:g} mm there; add a move")
+        run(b)
+    return b.motion()
+
+
+def _positive(r, key: str, dimension: str) -> float:
+    return r.positive(key, dimension, required=True)
+
+
+def _hold(r, source):
+    x = r.get("position", "length", required=True)
+    dur = _positive(r, "duration", "time")
+    return x, lambda b: b.hold(dur)
+
+
+def _move(r, source):
+    to = r.get("to", "length", required=True)
+    feed, accel = _positive(r, "feed", "velocity"), _positive(r, "acceleration", "acceleration")
+    dur = r.positive("duration", "time")
+
+    def run(b):
+        need = stroke_time(to - b.x, feed, accel)
+        if dur is not None and dur < need - 1e-9:
+            raise InputError(source, r.prefix + "duration", f"the move takes {need:g} s, longer than the duration")
+        b.trapezoid(to, feed, accel)
+        if dur is not None:
+            b.hold(dur - need)
+    return None, run
+
+
+def _reciprocate(r, source):
+    ends = r.get("between", required=True)
+    if not isinstance(ends, list) or len(ends) != 2:
+        raise InputError(source, r.prefix + "between", "expected two positions, e.g. [\"0 mm\", \"280 mm\"]")
+    try:
+        a, c = (parse_quantity(e, "length") for e in ends)
+    except UnitError as err:
+        raise InputError(source, r.prefix + "between", str(err)) from None
+    if a == c:
+        raise InputError(source, r.prefix + "between", "the two ends must differ")
+    feed, accel = _positive(r, "feed", "velocity"), _positive(r, "acceleration", "acceleration")
+    dwell = r.get("dwell", "time", default=0.0)
+    if dwell < 0:
+        raise InputError(source, r.prefix + "dwell", "must not be negative")
+    dur, count = r.positive("duration", "time"), r.get("count")
+    if (dur is None) == (count is None):
+        raise InputError(source, r.prefix + "duration", "give exactly one of duration and count")
+    period = stroke_time(c - a, feed, accel) + dwell
+    if count is not None:
+        if isinstance(count, bool) or not isinstance(count, int) or count <= 0:
+            raise InputError(source, r.prefix + "count", f"expected a positive whole number of strokes, got {count!r}")
+        n, rest = count, 0.0
+    else:
+        n = int(np.floor(dur / period + 1e-9))
+        rest = dur - n * period
+        if n == 0:
+            raise InputError(source, r.prefix + "duration", f"shorter than one stroke ({period:g} s)")
+
+    def run(b):
+        for k in range(n):
+            b.trapezoid(c if k % 2 == 0 else a, feed, accel)
+            b.hold(dwell)
+        b.hold(rest)
+    return a, run
+
+
+def _table(r, source):
+    times = _quantities(r, "times", "time", source)
+    xs = _quantities(r, "positions", "length", source)
+    if len(times) != len(xs) or len(times) < 2:
+        raise InputError(source, r.prefix + "positions", "needs as many entries as times, at least two")
+    if times[0] != 0 or np.any(np.diff(times) <= 0):
+        raise InputError(source, r.prefix + "times", "must start at 0 s and increase strictly")
+
+    return xs[0], lambda b: b.polyline(times, xs)
+
+
+def _quantities(r, key: str, dimension: str, source: str) -> np.ndarray:
+    values = r.get(key, required=True)
+    if not isinstance(values, list):
+        raise InputError(source, r.prefix + key, "expected a list of quantities")
+    try:
+        return np.array([parse_quantity(v, dimension) for v in values])
+    except UnitError as err:
+        raise InputError(source, r.prefix + key, str(err)) from None
+
+
+_MOVES = {"hold": _hold, "move": _move, "reciprocate": _reciprocate, "table": _table}
+
+
+def check_durations(motions, duration: float, source: str) -> None:
+    """No axis moves beyond the scenario's ``duration`` [s]."""
+    for i, m in enumerate(motions):
+        if m.duration > duration + 1e-6:
+            raise InputError(source, f"axis[{i}].move", f"axis {m.axis} moves for {m.duration:g} s, longer than "
+                                                        f"the scenario ({duration:g} s of [[spindle]] steps)")
+
+
+def check_motions(scenario, machine) -> None:
+    """Every commanded axis exists on ``machine`` and stays within its travel."""
+    source = scenario.source or scenario.name
+    for i, m in enumerate(getattr(scenario, "axes", ())):
+        try:
+            axis = machine.axis(m.axis)
+        except KeyError:
+            known = ", ".join(a.name for a in machine.axes) or "none"
+            raise InputError(source, f"axis[{i}].name", f"machine {machine.name} has no axis {m.axis!r}; "
+                                                        f"its axes: {known}") from None
+        lo, hi = axis.travel
+        x = m.positions
+        bad = (x < lo - 1e-9) | (x > hi + 1e-9)
+        if bad.any():
+            raise InputError(source, f"axis[{i}].move", f"position {x[bad][0] * 1e3:g} mm is outside the {axis.name} "
+                                                        f"travel {lo * 1e3:g} .. {hi * 1e3:g} mm of {machine.name}")
+
+
+def machine_for(machine, scenario):
+    """The machine a scenario runs on: ``machine`` with its feed drives' parts
+    (:func:`geometries.axes.with_feed_drives`) when the scenario commands an axis, after checking
+    the motions against it (:func:`check_motions`); ``machine`` itself otherwise."""
+    if not getattr(scenario, "axes", ()):
+        return machine
+    check_motions(scenario, machine)
+    from geometries.axes import with_feed_drives
+    return with_feed_drives(machine)
+
+
+# --- path basis -------------------------------------------------------------------------------
+
+def path_nodes(lo: float, hi: float, spacing: float) -> np.ndarray:
+    """Uniform nodes [m] from ``lo`` to ``hi``, no further apart than ``spacing``."""
+    n = max(1, int(np.ceil((hi - lo) / spacing - 1e-9)))
+    return np.linspace(lo, hi, n + 1)
+
+
+def hat(nodes: np.ndarray, x) -> np.ndarray:
+    """(len(x), N) hat functions phi_i(x) on uniform ``nodes`` (sum 1 for x on the path)."""
+    h = nodes[1] - nodes[0] if len(nodes) > 1 else 1.0
+    u = (np.asarray(x, float)[:, None] - nodes[None, :]) / h
+    return np.clip(1.0 - np.abs(u), 0.0, None)
+
+
+def hat_integral(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """(len(x), N) Phi_i(x) = integral of phi_i from -inf to x [m] (piecewise quadratic)."""
+    h = nodes[1] - nodes[0] if len(nodes) > 1 else 1.0
+    u = np.clip((np.asarray(x, float)[:, None] - nodes[None, :]) / h, -1.0, 1.0)
+    return h * np.where(u < 0, 0.5 * (u + 1) ** 2, 1.0 - 0.5 * (1 - u) ** 2)
+
+
+_GAUSS = np.polynomial.legendre.leggauss(24)
+
+
+def path_weights(motion: Motion, nodes: np.ndarray, edges: np.ndarray, per: str) -> np.ndarray:
+    """(len(edges) - 1, N) averages over each interval [edges[n], edges[n+1]] [s] of
+
+    * ``per="distance"``: phi_i(x(t)) |v(t)| [m/s], exactly (x is monotone in each piece, so the
+      integral is |Phi_i(x_b) - Phi_i(x_a)|); summed over i it is the distance travelled / dt;
+    * ``per="time"``: phi_i(x(t)) [1], exactly where the axis stands or moves at constant
+      velocity, by 24-point Gauss quadrature while it accelerates; summed over i it is 1.
+
+    Before the first piece and after the last the axis stands at its start and end."""
+    edges = np.asarray(edges, float)
+    breaks = np.unique(np.concatenate([edges, motion.t0, [motion.duration]]))
+    breaks = breaks[(breaks >= edges[0]) & (breaks <= edges[-1])]
+    ta, tb = breaks[:-1], breaks[1:]
+    bin_ = np.clip(np.searchsorted(edges, ta, side="right") - 1, 0, len(edges) - 2)
+    out = np.zeros((len(edges) - 1, len(nodes)))
+    xa, xb = motion.position(ta), motion.position(tb)
+    if per == "distance":
+        contrib = np.abs(hat_integral(nodes, xb) - hat_integral(nodes, xa))
+    elif per == "time":
+        dt = tb - ta
+        mid = 0.5 * (ta + tb)
+        i = np.clip(np.searchsorted(motion.t0, mid, side="right") - 1, 0, max(len(motion.t0) - 1, 0))
+        accel = (np.abs(motion.a[i]) > 0) & (mid < motion.duration) if len(motion.t0) else np.zeros(len(mid), bool)
+        moving = np.abs(xb - xa) > 1e-15
+        contrib = np.zeros((len(ta), len(nodes)))
+        lin = moving & ~accel
+        contrib[lin] = (hat_integral(nodes, xb[lin]) - hat_integral(nodes, xa[lin])) / ((xb - xa)[lin] / dt[lin])[:, None]
+        still = ~moving
+        contrib[still] = hat(nodes, xa[still]) * dt[still, None]
+        acc = moving & accel
+        if acc.any():
+            g, w = _GAUSS
+            tq = 0.5 * (ta[acc, None] + tb[acc, None]) + 0.5 * dt[acc, None] * g[None, :]
+            phi = hat(nodes, motion.position(tq.ravel())).reshape(tq.shape + (len(nodes),))
+            contrib[acc] = np.einsum("q,kqn->kn", w, phi) * 0.5 * dt[acc, None]
+    else:
+        raise ValueError(f"per must be 'distance' or 'time', got {per!r}")
+    np.add.at(out, bin_, contrib)
+    return out / np.diff(edges)[:, None]
+
+
+def step_signal(values: np.ndarray, dt: float):
+    """A signal holding ``values[n]`` on the time step (n dt, (n+1) dt] [s]: what the theta scheme
+    sees at t_n + theta dt for any theta in (0, 1], so the energy of a step is dt values[n]."""
+    values = np.asarray(values, float)
+
+    def signal(t):
+        n = np.clip(np.ceil(np.asarray(t, float) / dt - 1e-9).astype(int) - 1, 0, len(values) - 1)
+        return values[n]
+    return signal
