@@ -28,6 +28,7 @@ _UNITS: dict[str, dict[str, float]] = {
     "heat_flux": {"W/m2": 1.0, "W/m^2": 1.0},
     "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "cm": 1e-2},
     "temperature_gradient": {"K/m": 1.0, "K/mm": 1e3},
+    "inverse_length": {"1/m": 1.0, "/m": 1.0, "1/mm": 1e3},
     "angle": {"deg": math.pi / 180.0, "rad": 1.0, "mrad": 1e-3},
     "dimensionless": {"1": 1.0, "": 1.0, "%": 0.01},
 }

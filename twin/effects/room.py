@@ -77,16 +77,53 @@ class AmbientStratification(Effect):
     band = 0.1  # m
 
     def loads(self, mm, scenario, p):
-        facets = role_facets(mm, "structure.skin")
-        z = facet_centres(mm, facets)[:, 2]
-        moment = mm.facet_areas(facets) * (z - p["reference_height"])  # A (z - z_ref) [m3]
-        k = np.floor(z / self.band).astype(int)
-        out = []
-        for b in np.unique(k):
-            sel = k == b
-            power = p["h"] * p["gradient"] * float(moment[sel].sum())
-            out.append(SurfaceHeatFlux(f"{self.name}.{b * self.band:.1f}m", facets[sel], constant(power)))
-        return out
+        return height_bands(mm, self.name, p["h"] * p["gradient"], p["reference_height"], lambda t: np.ones(np.shape(t)))
+
+
+def height_bands(mm, label: str, scale: float, z_ref: float, shape, band: float = 0.1) -> list:
+    """Surface fluxes q = scale (z - z_ref) shape(t) [W/m2] on the skin, one load per height band
+    of ``band`` [m] carrying its exact share scale shape(t) sum_(f in b) A_f (z_f - z_ref)."""
+    facets = role_facets(mm, "structure.skin")
+    z = facet_centres(mm, facets)[:, 2]
+    moment = mm.facet_areas(facets) * (z - z_ref)  # A (z - z_ref) [m3]
+    k = np.floor(z / band).astype(int)
+    out = []
+    for b in np.unique(k):
+        sel = k == b
+        power = scale * float(moment[sel].sum())
+        out.append(SurfaceHeatFlux(f"{label}.{b * band:.1f}m", facets[sel], lambda t, w=power: w * shape(t)))
+    return out
+
+
+@register_effect
+class StratifiedSwing(Effect):
+    """The room's swing grows with height: warm air pools under the roof by day and the top of the
+    hall cools most at night, so T_air(z, t) = T_air(t) + s (z - z_ref) (T_air(t) - T_air(0)).
+
+    As for ``ambient_stratification`` (linear convection, a difference model) this adds to the
+    uniform ``ambient_convection`` the flux q(z, t) = h s (z - z_ref) (T_air(t) - T_air(0)) [W/m2]
+    on the skin, in 0.1 m height bands each carrying its exact share; with constant room air it
+    is zero. s [1/m] is the extra swing per metre of height (0.5 /m: the air at the column top, 1.4 m
+    above z_ref, swings 70 % more than the room's reference air).
+    """
+
+    name = "stratified_swing"
+    strength = "growth"
+    linear = True
+    summary = "room swing growing with height: flux h s (z - z_ref) (T_air(t) - T_air(0)) on the skin"
+    reference = "VDI 2078 (room air stratification); ISO 230-3:2020 Annex (environmental temperature variation)"
+    roles = ("structure.skin",)
+    parameters = (
+        Parameter("growth", "inverse_length", 0.5, -2.0, 2.0, "extra swing per metre of height s"),
+        Parameter("reference_height", "length", 0.5, 0.0, 3.0, "height z_ref where the air swings as the room's"),
+        Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)"),
+    )
+    # no Uncertain range: with constant room air (most diagnosis scenarios) s leaves no trace
+
+    def loads(self, mm, scenario, p):
+        t0 = float(scenario.ambient_temperature(np.array([0.0]))[0])
+        return height_bands(mm, self.name, p["h"] * p["growth"], p["reference_height"],
+                            lambda t: scenario.ambient_temperature(t) - t0)
 
 
 def event_window(t: np.ndarray, start: float, duration: float, period: float) -> np.ndarray:
