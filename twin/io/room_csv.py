@@ -55,8 +55,8 @@ def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.nda
     step = np.diff(t)
     if np.any(step <= 0):
         i = int(np.flatnonzero(step <= 0)[0])
-        raise InputError(src, t_name, f"time does not increase at line {i + 3} ({rows[i + 1][0].strip()} after "
-                                      f"{rows[i][0].strip()} {t_unit})")
+        raise InputError(src, t_name, f"time does not increase at line {i + 3} ({rows[i + 2][0].strip()} after "
+                                      f"{rows[i + 1][0].strip()} {t_unit})")
     limits.check_temperatures(air, src, a_name)
     return t - t[0], air
 
