@@ -48,13 +48,13 @@ def test_bundled_etve_scenarios_hold_the_seed_schedule():
     training: 80 min at 10 s."""
     w = load_scenario("etve-winter")
     assert w.duration == 160 * 3600 and w.sample_interval == 60
-    t = np.arange(96, 108) * 3600.0   # a working day (no event): 5 K peak to peak
     day = np.arange(0, 24 * 3600, 60.0) + 80 * 3600
     assert np.ptp(w.ambient_temperature(day)) == pytest.approx(5.0, abs=1e-3)
     door = w.ambient_temperature(np.array([110 * 3600.0, 110.5 * 3600.0]))
     assert door[0] - door[1] == pytest.approx(9.0, abs=0.5)  # the daily sine moves 0.3 K meanwhile
     assert sum(e.door for e in w.ambient.events) == 3
-    assert t.size and np.ptp(load_scenario("etve-summer").ambient_temperature(day - 80 * 3600)) == pytest.approx(8.0, abs=1e-3)
+    summer = load_scenario("etve-summer").ambient_temperature(np.arange(0, 72 * 3600 + 1, 60.0))
+    assert 7.5 < np.ptp(summer) < 8.0   # 6 K day/night on a 2 K warming spell
     tr = load_scenario("etve-training")
     assert tr.duration == 80 * 60 and tr.sample_interval == 10
 
@@ -124,7 +124,7 @@ def test_stratified_swing_flux_is_h_s_moment_times_the_swing(mm, heat):
     t = np.array([0.0, 6 * 3600.0, 12 * 3600.0])
     _, _, s = ls.signals(t)
     swing = amb(t) - amb(np.array([0.0]))
-    assert s.sum(axis=1) == pytest.approx(8.0 * 0.5 * moment * swing, abs=1e-9)
+    assert s.sum(axis=1) == pytest.approx(8.0 * 1.0 * moment * swing, abs=1e-9)
     assert len(ls.sources) > 10
     still = build_loads(mm, Scenario("c", ((86400.0, 0.0),), Ambient("constant"), 600.0),
                         ModelSpec(("stratified_swing",)), heat)
@@ -160,12 +160,26 @@ def _range(ds, axis, t0=None, t1=None):
 
 def test_etve_magnitudes_within_the_seed_bands(etve_runs):
     """Seed 000 Machine A (thesis L6225-6277, L6478-6503): summer 8 K swing gives Z 20 um
-    (band 14-26) and Y 15 um (band 10-20); the winter normal daily Z error is over 15 um; Z is the
-    strongest response. (The door event's bands, Z 25-45 and Y 18-32 um, are not reached: README.)"""
+    (band 14-26) and Y 15 um (band 10-20); the winter normal daily Z error is over 15 um (a whole
+    holiday day, 24-48 h, away from the events' transients); Z is the strongest response. The door
+    event's bands (Z 25-45, Y 18-32 um) are not reached (README "The workshop"): its Z and Y are
+    held here to the twin's own values, so a change that moves them is seen."""
     w, s = etve_runs["winter"], etve_runs["summer"]
     assert 14 <= _range(s, "Z") <= 26 and 10 <= _range(s, "Y") <= 20
-    assert _range(w, "Z", 80, 104) > 15
+    assert _range(w, "Z", 24, 48) > 15
     for ds in (w, s):
         assert _range(ds, "Z") > _range(ds, "Y") > _range(ds, "X")
-    # the door stream adds to the door event's fast Z step: the bar and the spindle nose in the cold air
-    assert _range(w, "Z", 108, 116) > 20
+    door_z, door_y = _range(w, "Z", 108, 116), _range(w, "Y", 108, 116)
+    assert 21 < door_z < 25 and 9 < door_y < 12
+
+
+def test_door_events_are_left_out_of_the_layered_swing():
+    """layered_swing = T_air(t) - T_air(0) without the door events (a holiday event stays in)."""
+    from twin.effects.room import layered_swing
+
+    door = AirEvent(start=3600.0, change=-9.0, fall=1800.0, recovery=7200.0, door=True)
+    holiday = AirEvent(start=0.0, change=-4.0, fall=0.0, hold=1000.0)
+    sc = Scenario("d", ((6 * 3600.0, 0.0),), Ambient("daily", mean=20.0, amplitude=2.5, events=(door, holiday)), 600.0)
+    t = np.array([0.0, 500.0, 2000.0, 5400.0, 9000.0])
+    base = Ambient("daily", mean=20.0, amplitude=2.5)(t) + holiday(t)
+    assert layered_swing(sc, t) == pytest.approx(base - base[0], abs=1e-12)

@@ -103,8 +103,11 @@ class StratifiedSwing(Effect):
     As for ``ambient_stratification`` (linear convection, a difference model) this adds to the
     uniform ``ambient_convection`` the flux q(z, t) = h s (z - z_ref) (T_air(t) - T_air(0)) [W/m2]
     on the skin, in 0.1 m height bands each carrying its exact share; with constant room air it
-    is zero. s [1/m] is the extra swing per metre of height (0.5 /m: the air at the column top, 1.4 m
-    above z_ref, swings 70 % more than the room's reference air).
+    is zero. A scenario's door events are left out of the swing (:func:`layered_swing`). s [1/m]
+    is the extra swing per metre of height: the default 1 /m (the air at the column top, 1.4 m
+    above z_ref, swings 2.4 times the room's reference air; a hall heated by day under its roof)
+    is the upper end of plausible, chosen so that the C-frame meets the seed's ETVE magnitudes
+    (README "The workshop").
     """
 
     name = "stratified_swing"
@@ -114,16 +117,24 @@ class StratifiedSwing(Effect):
     reference = "VDI 2078 (room air stratification); ISO 230-3:2020 Annex (environmental temperature variation)"
     roles = ("structure.skin",)
     parameters = (
-        Parameter("growth", "inverse_length", 0.5, -2.0, 2.0, "extra swing per metre of height s"),
+        Parameter("growth", "inverse_length", 1.0, -2.0, 2.0, "extra swing per metre of height s"),
         Parameter("reference_height", "length", 0.5, 0.0, 3.0, "height z_ref where the air swings as the room's"),
         Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)"),
     )
     # no Uncertain range: with constant room air (most diagnosis scenarios) s leaves no trace
 
     def loads(self, mm, scenario, p):
-        t0 = float(scenario.ambient_temperature(np.array([0.0]))[0])
         return height_bands(mm, self.name, p["h"] * p["growth"], p["reference_height"],
-                            lambda t: scenario.ambient_temperature(t) - t0)
+                            lambda t: layered_swing(scenario, t))
+
+
+def layered_swing(scenario, t: np.ndarray) -> np.ndarray:
+    """T_air(t) - T_air(0) [K] without the scenario's door events: the outside air through a door
+    is cold and dense and spreads along the floor, not under the roof (``door_stream`` carries it)."""
+    t = np.asarray(t, dtype=float)
+    doors = [e for e in getattr(scenario.ambient, "events", ()) if e.door]
+    air = scenario.ambient_temperature(t) - sum((e(t) for e in doors), np.zeros(t.shape))
+    return air - float(scenario.ambient_temperature(np.array([0.0]))[0])
 
 
 def event_window(t: np.ndarray, start: float, duration: float, period: float) -> np.ndarray:
