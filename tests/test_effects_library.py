@@ -7,28 +7,16 @@ import pytest
 
 from geometries import build_machine
 from twin.api import simulate
-from twin.fem.assembly import assemble_heat
 from twin.effects import EFFECTS
 from twin.fem.regions import facet_centres, facing
 from twin.model import ModelSpec
 from twin.physics.loads import build_loads
 from twin.scenario import Ambient, Scenario
 from twin.physics.heat import steady_state
-from twin.fem.mesh import mesh_machine
 
 NEW = ("electrical_cabinet", "ambient_stratification", "door_draft", "solar_load", "spindle_coolant",
        "z_axis_holding", "floor_lag")
 H_AIR = 8.0
-
-
-@pytest.fixture(scope="module")
-def mm():
-    return mesh_machine(build_machine("cframe-vmc"), "coarse")
-
-
-@pytest.fixture(scope="module")
-def heat(mm):
-    return assemble_heat(mm)
 
 
 def scenario(speed=9000.0, hours=24.0, ambient=None, tod=0.0):

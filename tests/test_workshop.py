@@ -7,12 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geometries import build_machine
 from geometries.materials import MATERIALS
 from twin.api import simulate
 from twin.errors import InputError
-from twin.fem.assembly import assemble_heat
-from twin.fem.mesh import mesh_machine
 from twin.fem.regions import facet_centres, role_facets
 from twin.model import ModelSpec
 from twin.observe import ToolDrift
@@ -20,16 +17,6 @@ from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import steady_state
 from twin.physics.loads import build_loads
 from twin.scenario import AirEvent, Ambient, Scenario, load_scenario
-
-
-@pytest.fixture(scope="module")
-def mm():
-    return mesh_machine(build_machine("cframe-vmc"), "coarse")
-
-
-@pytest.fixture(scope="module")
-def heat(mm):
-    return assemble_heat(mm)
 
 
 def test_air_event_is_the_documented_trapezoid():

@@ -48,6 +48,9 @@ class ElectricalCabinet(Effect):
                                 lambda t: base + run * (np.abs(scenario.spindle_speed(t)) > 0))]
 
 
+SKIN_H = Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)")
+
+
 @register_effect
 class AmbientStratification(Effect):
     """Room air warmer with height: T_air(z, t) = T_air(t) + g (z - z_ref).
@@ -69,7 +72,7 @@ class AmbientStratification(Effect):
     parameters = (
         Parameter("gradient", "temperature_gradient", 0.5, -5.0, 5.0, "air temperature rise per metre of height g"),
         Parameter("reference_height", "length", 1.0, 0.0, 3.0, "height z_ref where the air is at the room temperature"),
-        Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)"),
+        SKIN_H,
     )
     uncertain = (
         Uncertain("gradient", -0.5, 2.0, "halls range from well mixed to strongly layered (VDI 2078)", linear=True),
@@ -119,7 +122,7 @@ class StratifiedSwing(Effect):
     parameters = (
         Parameter("growth", "inverse_length", 1.0, -2.0, 2.0, "extra swing per metre of height s"),
         Parameter("reference_height", "length", 0.5, 0.0, 3.0, "height z_ref where the air swings as the room's"),
-        Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)"),
+        SKIN_H,
     )
     # no Uncertain range: with constant room air (most diagnosis scenarios) s leaves no trace
 
