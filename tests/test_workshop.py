@@ -170,3 +170,32 @@ def test_door_events_are_left_out_of_the_layered_swing():
     t = np.array([0.0, 500.0, 2000.0, 5400.0, 9000.0])
     base = Ambient("daily", mean=20.0, amplitude=2.5)(t) + holiday(t)
     assert layered_swing(sc, t) == pytest.approx(base - base[0], abs=1e-12)
+
+
+def _fake_run(hours: float, phase: float, step: float = 600.0):
+    """A result with the study's inputs and a drift exactly linear in them:
+    Z = 2 dT_carrier - dT_column + 0.5 dT_air [um], Y = Z / 2."""
+    import xarray as xr
+
+    t = np.arange(0.0, hours * 3600 + 1, step)
+    air = 20 + 3 * np.sin(2 * np.pi * t / 86400 + phase)
+    carrier = 20 + 2 * np.sin(2 * np.pi * t / 86400 + phase - 0.5)
+    column = 20 + 1 * np.sin(2 * np.pi * t / 86400 + phase - 1.0)
+    z = 2 * (carrier - carrier[0]) - (column - column[0]) + 0.5 * (air - air[0])
+    return xr.Dataset({"temperature": (("time", "sensor"), np.column_stack([carrier, column])),
+                       "ambient_temperature": ("time", air),
+                       "probe_drift": (("time", "axis"), np.column_stack([0 * z, z / 2, z]))},
+                      {"time": t, "sensor": ["carrier_front", "column_side"], "axis": ["X", "Y", "Z"]})
+
+
+def test_etve_protocol_transfers_an_exactly_linear_drift():
+    """Protocol B on a drift exactly linear in the inputs: the winter model predicts the summer to
+    round-off (r = 1), and so does the recalibrated one; the table names the seed's finding."""
+    from validate.studies.etve_protocol import protocol_b, table
+
+    winter, summer = _fake_run(160, 0.0), _fake_run(72, 1.3)
+    scores = protocol_b(winter, summer, "Z")
+    for s in scores.values():
+        assert s["max_abs_residual"] < 1e-9 and s["r"] == pytest.approx(1.0)
+    text = table({("B", "Z"): scores})
+    assert "needed re-optimisation" in text and text.count("\n") == 3
