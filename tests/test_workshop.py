@@ -101,8 +101,8 @@ def test_uniform_step_settles_to_alpha_dT_times_the_tool_to_workpiece_vector(mm,
 
 
 def test_stratified_swing_flux_is_h_s_moment_times_the_swing(mm, heat):
-    """Sum of band powers = h s sum_f A_f (z_f - z_ref) (T_air(t) - T_air(0)) on the skin; zero in
-    constant air."""
+    """Sum of the load powers = h s sum_f A_f (z_f - z_ref) (T_air(t) - T_air(0)) on the skin; zero
+    in constant air."""
     amb = Ambient("daily", mean=20.0, amplitude=3.0)
     sc = Scenario("d", ((86400.0, 0.0),), amb, 600.0)
     ls = build_loads(mm, sc, ModelSpec(("stratified_swing",)), heat)
@@ -112,7 +112,7 @@ def test_stratified_swing_flux_is_h_s_moment_times_the_swing(mm, heat):
     _, _, s = ls.signals(t)
     swing = amb(t) - amb(np.array([0.0]))
     assert s.sum(axis=1) == pytest.approx(8.0 * 1.0 * moment * swing, abs=1e-9)
-    assert len(ls.sources) > 10
+    assert len(ls.sources) in (1, 2)
     still = build_loads(mm, Scenario("c", ((86400.0, 0.0),), Ambient("constant"), 600.0),
                         ModelSpec(("stratified_swing",)), heat)
     assert np.all(still.signals(t)[2] == 0.0)

@@ -57,10 +57,9 @@ class AmbientStratification(Effect):
 
     Convection is linear, so on every skin face h (T - T_air - g (z - z_ref)) = h (T - T_air)
     - h g (z - z_ref): the stratification adds to the uniform ``ambient_convection`` a surface
-    flux q(z) = h g (z - z_ref) [W/m2] (a *difference* model, linear in g). The skin is cut into
-    height bands of 0.1 m, each carrying its exact share P_b = h g sum_(f in b) A_f (z_f - z_ref)
-    (z_f the facet centroid), so the total is h g sum A (z - z_ref). ``h`` should equal the
-    ``ambient_convection`` h (both default 8 W/m2K).
+    flux q(z) = h g (z - z_ref) [W/m2] (a *difference* model, linear in g), placed facet by facet
+    at the facet centroid's height (:func:`linear_in_height`), so the total is h g sum A (z - z_ref).
+    ``h`` should equal the ``ambient_convection`` h (both default 8 W/m2K).
     """
 
     name = "ambient_stratification"
@@ -77,25 +76,9 @@ class AmbientStratification(Effect):
     uncertain = (
         Uncertain("gradient", -0.5, 2.0, "halls range from well mixed to strongly layered (VDI 2078)", linear=True),
     )
-    band = 0.1  # m
-
     def loads(self, mm, scenario, p):
-        return height_bands(mm, self.name, p["h"] * p["gradient"], p["reference_height"], lambda t: np.ones(np.shape(t)))
-
-
-def height_bands(mm, label: str, scale: float, z_ref: float, shape, band: float = 0.1) -> list:
-    """Surface fluxes q = scale (z - z_ref) shape(t) [W/m2] on the skin, one load per height band
-    of ``band`` [m] carrying its exact share scale shape(t) sum_(f in b) A_f (z_f - z_ref)."""
-    facets = role_facets(mm, "structure.skin")
-    z = facet_centres(mm, facets)[:, 2]
-    moment = mm.facet_areas(facets) * (z - z_ref)  # A (z - z_ref) [m3]
-    k = np.floor(z / band).astype(int)
-    out = []
-    for b in np.unique(k):
-        sel = k == b
-        power = scale * float(moment[sel].sum())
-        out.append(SurfaceHeatFlux(f"{label}.{b * band:.1f}m", facets[sel], lambda t, w=power: w * shape(t)))
-    return out
+        return linear_in_height(mm, self.name, p["h"] * p["gradient"], p["reference_height"],
+                                lambda t: np.ones(np.shape(t)))
 
 
 @register_effect
@@ -105,8 +88,7 @@ class StratifiedSwing(Effect):
 
     As for ``ambient_stratification`` (linear convection, a difference model) this adds to the
     uniform ``ambient_convection`` the flux q(z, t) = h s (z - z_ref) (T_air(t) - T_air(0)) [W/m2]
-    on the skin, in 0.1 m height bands each carrying its exact share; with constant room air it
-    is zero. A scenario's door events are left out of the swing (:func:`layered_swing`). s [1/m]
+    on the skin (:func:`linear_in_height`); with constant room air it is zero. A scenario's door events are left out of the swing (:func:`layered_swing`). s [1/m]
     is the extra swing per metre of height: the default 1 /m (the air at the column top, 1.4 m
     above z_ref, swings 2.4 times the room's reference air; a hall heated by day under its roof)
     is the upper end of plausible, chosen so that the C-frame meets the seed's ETVE magnitudes
@@ -127,8 +109,28 @@ class StratifiedSwing(Effect):
     # no Uncertain range: with constant room air (most diagnosis scenarios) s leaves no trace
 
     def loads(self, mm, scenario, p):
-        return height_bands(mm, self.name, p["h"] * p["growth"], p["reference_height"],
-                            lambda t: layered_swing(scenario, t))
+        return linear_in_height(mm, self.name, p["h"] * p["growth"], p["reference_height"],
+                                lambda t: layered_swing(scenario, t))
+
+
+def linear_in_height(mm, label: str, scale: float, z_ref: float, shape) -> list:
+    """Surface flux q_f = scale (z_f - z_ref) shape(t) [W/m2] on the skin (z_f: facet centroid) as
+    one load weighted by z_f - z_ref, of total power scale shape(t) sum A (z - z_ref) (one load, not
+    one per height band: a reduced model needs few inputs); when that sum nearly cancels (z_ref
+    near the skin's mean height) as two loads, above and below z_ref."""
+    facets = role_facets(mm, "structure.skin")
+    dz = facet_centres(mm, facets)[:, 2] - z_ref
+    area = mm.facet_areas(facets)
+    parts = [("", np.ones(dz.shape, bool))]
+    if abs(np.sum(area * dz)) < 0.1 * np.sum(area * np.abs(dz)):
+        parts = [(".above", dz > 0), (".below", dz < 0)]
+    out = []
+    for side, sel in parts:
+        if sel.any():
+            power = scale * float(np.sum(area[sel] * dz[sel]))
+            out.append(SurfaceHeatFlux(f"{label}{side}", facets[sel], lambda t, w=power: w * shape(t),
+                                       dz[sel] * np.sign(power or 1.0)))
+    return out
 
 
 def layered_swing(scenario, t: np.ndarray) -> np.ndarray:

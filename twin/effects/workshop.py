@@ -52,6 +52,8 @@ class DoorStream(Effect):
     # no Uncertain range: the diagnosis's scenarios open no door, where h_d leaves no trace
 
     def loads(self, mm, scenario, p):
+        if not any(e.door for e in getattr(scenario.ambient, "events", ())):
+            return []   # no door in this scenario: no load (and no input for a reduced model)
         facets = np.union1d(role_facets(mm, "structure.front"), role_facets(mm, "spindle.rotating"))
         h, dT = p["h"], p["temperature_difference"]
         return [Convection(self.name, facets, lambda t: h * door_open(scenario, t),
