@@ -35,14 +35,14 @@ class DoorStream(Effect):
     Pr^(1/3)) and 20-40 W/(m2 K) round a 40 mm bar in cross flow (Hilpert). The thin steel test
     bar follows such a stream within minutes (lumped time constant rho c d / (4 h) about 20 min),
     the castings in hours: the door event's fast Z step is mostly the bar and the spindle nose,
-    which is why the seed put a fourth probe on the casting (thesis L6245).
+    which is why the seed put a fourth probe on the casting (thesis L6225-6277).
     """
 
     name = "door_stream"
     strength = "h"
     linear = False
     summary = "outside air T_air + dT with h_d on the front and the test bar while a scenario door is open"
-    reference = "VDI Heat Atlas G4 (plate) and G6 (cylinder in cross flow); seed 000 L6245-6277 (door events)"
+    reference = "VDI Heat Atlas G4 (plate) and G6 (cylinder in cross flow); seed 000 L6225-6277 (door events)"
     roles = ("structure.front", "spindle.rotating")
     parameters = (
         Parameter("h", "heat_transfer_coefficient", 35.0, 0.0, 100.0, "stream heat-transfer coefficient h_d"),
