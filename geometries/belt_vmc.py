@@ -62,13 +62,14 @@ from __future__ import annotations
 
 from geometries.axes import LinearAxis, Scale
 from geometries.base import PROBE_HEIGHTS, Box, Machine, Part, Point, Surface, material, test_bar_nest
-from geometries.cframe_vmc import DEFAULT_EFFECTS as CFRAME_DEFAULTS
+from geometries.cframe_vmc import SPINDLE_EFFECTS
 from geometries.regions import Band, Facing, Named, Parts, Union
 
 NAME = "belt-vmc"
 
-# The C-frame's spindle-test effects plus the belt's losses into the spindle pulley.
-DEFAULT_EFFECTS = CFRAME_DEFAULTS + ("belt_drive",)
+# The C-frame's spindle-test effects plus the belt's losses into the spindle pulley (the seed ran no
+# ETVE test on Machine B: the C-frame's workshop effects are there by --effects, not by default).
+DEFAULT_EFFECTS = SPINDLE_EFFECTS + ("belt_drive",)
 
 # Every temperature point of the seed's Machine B in its own order (Table 4-4): structural sites
 # and air points together, so a study can ask for all 77 by this list.

@@ -70,3 +70,11 @@ def machine():
 def mm(machine):
     """The C-frame VMC's coarse mesh (tests may override ``mm`` with their own)."""
     return mesh_machine(machine, "coarse")
+
+
+@pytest.fixture(scope="session")
+def heat(mm):
+    """The heat matrices of :func:`mm` (assembled once for the session)."""
+    from twin.fem.assembly import assemble_heat
+
+    return assemble_heat(mm)

@@ -18,10 +18,12 @@ Later issues add theirs as rows: dataset specs (a ``twin dataset`` row in
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from tests.fuzz_files import (CLI, COMPARE, COMPARE_NC, DEMO, DIAGNOSE, EFFECTS_FILE, FOLDERS, INPUTS, LEARN, MAPPING,
-                              OUTPUTS,
+                              OUTPUTS, REPORT, ROOM_SCENARIO,
                               PLOT, SCENARIO, SIM, TEXT, Case, bad_input_paths, bad_output_folders,
                               bad_output_paths, measurement_csv, netcdf_bytes, result_dataset, swap, table_csv)
 
@@ -35,6 +37,7 @@ def _sc(old: str, new: str, count: int = 1) -> str:
 AMBIENT = '[ambient]\ntemperature = "20 degC"'
 DAILY = '[ambient]\nkind = "daily"\nmean = "20 degC"\namplitude = "3 K"'
 TABLE = '[ambient]\nkind = "table"\ntimes = ["0 h", "1 h"]\ntemperatures = ["20 degC", "21 degC"]'
+EVENT = '\n[[ambient.events]]\nstart = "5 min"\nchange = "-9 K"\nfall = "30 min"\n'
 SPEED = 'speed = "6000 rpm"'
 DURATION = 'duration = "10 min"'
 INTERVAL = 'sample_interval = "60 s"'
@@ -99,6 +102,15 @@ SCENARIO_EDITS = [
     ("spindle-empty", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + "\nspindle = []"), "spindle"),
     ("spindle-step-not-a-table", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + '\nspindle = ["a"]'),
      "spindle[0]"),
+    ("event-missing-change", _sc(AMBIENT, AMBIENT + EVENT.replace('change = "-9 K"\n', '')), "ambient.events[0].change"),
+    ("event-negative-fall", _sc(AMBIENT, AMBIENT + EVENT.replace('"30 min"', '"-30 min"')), "ambient.events[0].fall"),
+    ("event-change-in-degC", _sc(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-9 degC"')), "ambient.events[0].change"),
+    ("event-door-not-bool", _sc(AMBIENT, AMBIENT + EVENT + 'door = "yes"\n'), "ambient.events[0].door"),
+    ("event-unknown-key", _sc(AMBIENT, AMBIENT + EVENT + 'colour = "red"\n'), "ambient.events[0].colour"),
+    ("event-below-absolute-zero", _sc(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-400 K"')), "ambient.events"),
+    ("events-not-tables", _sc(AMBIENT, AMBIENT + '\nevents = 3'), "ambient.events"),
+    ("csv-file-not-a-string", _sc(AMBIENT, '[ambient]\nkind = "csv"\nfile = 3'), "ambient.file"),
+    ("csv-file-missing-key", _sc(AMBIENT, '[ambient]\nkind = "csv"'), "ambient.file"),
     ("malformed-toml", SCENARIO.replace("[ambient]", "[ambient"), "toml"),
     ("duplicate-key", _sc(INTERVAL, INTERVAL + "\n" + INTERVAL), "toml"),
     # the C axis (twin.rotary): parsed before any machine is asked; cframe-vmc has no C axis
@@ -152,6 +164,44 @@ SCENARIO_EDITS += [
 # the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)
 SCENARIO_EDITS_VIA_MEASUREMENT = ["ambient-below-absolute-zero", "speed-beyond-machine", "speed-1e300-krpm",
                                   "interval-1-ns", "duration-1e300-s", "malformed-toml", "unknown-top-key"]
+
+# ------------------------------------------------------------- bad room-air records (CSV ambient)
+ROOM = "{d}/room.csv"
+SIM_ROOM = swap(SIM, "{d}/short.toml", "{d}/room.toml")
+
+
+def _room(rows: str) -> str:
+    return "time [min],air [degC]\n" + rows
+
+
+# (id, files to write, source, field): the scenario room.toml names room.csv
+ROOM_EDITS = [
+    ("no-unit", {"room.csv": "time,air\n0,20\n30,21\n"}, ROOM, "header"),
+    ("three-columns", {"room.csv": "time [min],air [degC],x [degC]\n0,20,1\n30,21,1\n"}, ROOM, "header"),
+    ("unit-kelvin", {"room.csv": "time [min],air [K]\n0,293\n30,294\n"}, ROOM, "air"),
+    ("unit-wrong-kind", {"room.csv": "time [degC],air [degC]\n0,20\n30,21\n"}, ROOM, "time"),
+    ("nan", {"room.csv": _room("0,20\n10,nan\n30,21\n")}, ROOM, "air"),
+    ("inf", {"room.csv": _room("0,20\n10,inf\n30,21\n")}, ROOM, "air"),
+    ("empty-cell", {"room.csv": _room("0,20\n10,\n30,21\n")}, ROOM, "air"),
+    ("not-a-number", {"room.csv": _room("0,20\n10,warm\n30,21\n")}, ROOM, "air"),
+    ("below-absolute-zero", {"room.csv": _room("0,20\n10,-300\n30,21\n")}, ROOM, "air"),
+    ("implausible-air", {"room.csv": _room("0,20\n10,95\n30,21\n")}, ROOM, "air"),
+    ("times-not-increasing", {"room.csv": _room("0,20\n10,20\n10,21\n30,21\n")}, ROOM, "time"),
+    ("times-decrease", {"room.csv": _room("0,20\n20,20\n10,21\n30,21\n")}, ROOM, "time"),
+    ("short-row", {"room.csv": _room("0,20\n10\n30,21\n")}, ROOM, "line 3"),
+    ("one-row", {"room.csv": _room("0,20\n")}, ROOM, "ambient.file"),
+    ("ends-before-the-scenario", {"room.csv": _room("0,20\n20,21\n")}, "{d}/room.toml", "ambient.file"),
+    ("latin-1", {"room.csv": "time [min],air [\xb0C]\n0,20\n30,21\n".encode("latin-1")}, ROOM, "ambient.file"),
+    ("binary", {"room.csv": bytes(range(256)) * 4}, ROOM, "ambient.file"),
+    ("empty", {"room.csv": b""}, ROOM, "ambient.file"),
+    ("missing", {"room.csv": None}, ROOM, "ambient.file"),
+]
+
+
+def _room_folder(d):
+    os.remove(os.path.join(d, "room.csv"))
+    os.mkdir(os.path.join(d, "room.csv"))
+
 
 # ------------------------------------------------------------------ bad measurement mappings
 def _map(old: str, new: str) -> str:
@@ -406,6 +456,17 @@ OPTION_CASES = [
     ("diagnose:measurement-twice", DIAGNOSE[:2] + ["{d}/m.csv"] + DIAGNOSE[2:], CLI, "measurements"),
     ("diagnose:mapping-with-two", DIAGNOSE[:2] + ["{d}/r.nc"] + DIAGNOSE[2:] + ["--mapping", "{d}/m.toml"], CLI,
      "--mapping"),
+    # report
+    ("report:test-unknown", REPORT + ["--test", "thermal"], CLI, "--test"),
+    ("report:axis-without-positioning", REPORT + ["--test", "axis"], "{d}/r.nc", "--test"),
+    ("report:kind-unknown", swap(REPORT, "iso230-3", "iso230-2"), CLI, "kind"),
+    ("report:segment-no-unit", REPORT + ["--segment", "6"], CLI, "--segment"),
+    ("report:segment-zero", REPORT + ["--segment", "0 h"], CLI, "--segment"),
+    ("report:segment-negative", REPORT + ["--segment=-1 h"], CLI, "--segment"),
+    ("report:segment-nan", REPORT + ["--segment", "nan h"], CLI, "--segment"),
+    ("report:segment-twice", REPORT + ["--segment", "1 h", "--segment", "2 h"], CLI, "--segment"),
+    ("report:output-missing", REPORT[:3], CLI, "twin report"),   # argparse: "required: -o/--output"
+    ("report:mapping-with-netcdf", REPORT + ["--mapping", "{d}/m.toml"], "{d}/m.toml", "--mapping"),
     # demo
     ("demo:bad-set", DEMO + [_SET, "spindle_motor.power=3"], CLI, "--set spindle_motor.power"),
     ("demo:unknown-effect", DEMO + ["--effects", "+warp"], CLI, "--effects warp"),
@@ -489,6 +550,11 @@ def all_cases() -> list[Case]:
             for name, argv in (("compare", COMPARE), ("diagnose", DIAGNOSE)):
                 cases.append(Case(f"{name}.scenario:{cid}", argv + ["--scenario", "{d}/short.toml"], "{d}/short.toml",
                                   fld, files={"short.toml": text}))
+    for cid, files, source, fld in ROOM_EDITS:
+        cases.append(Case(f"simulate.room-csv:{cid}", SIM_ROOM, source, fld, files=files))
+    cases.append(Case("simulate.room-csv:folder", SIM_ROOM, ROOM, "ambient.file", setup=_room_folder))
+    cases.append(Case("simulate.room-csv:device", SIM_ROOM, "/dev/null", "ambient.file",
+                      files={"room.toml": ROOM_SCENARIO.replace('"room.csv"', '"/dev/null"')}))
     for cid, text, fld in MAPPING_EDITS:
         cases.append(Case(f"compare.mapping:{cid}", COMPARE, "{d}/m.toml", fld, files={"m.toml": text}))
     for cid, text, fld in CSV_EDITS:
@@ -501,8 +567,9 @@ def all_cases() -> list[Case]:
     for cid, make, plot_field, compare_field in RESULT_EDITS:
         if plot_field is not None:
             cases.append(Case(f"plot.result:{cid}", PLOT, "{d}/r.nc", plot_field, files={"r.nc": make}))
-        if compare_field is not None:
+        if compare_field is not None:   # twin report reads a result through the measurement reader, too
             cases.append(Case(f"compare.netcdf:{cid}", COMPARE_NC, "{d}/r.nc", compare_field, files={"r.nc": make}))
+            cases.append(Case(f"report.result:{cid}", REPORT, "{d}/r.nc", compare_field, files={"r.nc": make}))
     for cid, name, text, fld in TABLE_EDITS:
         cases.append(Case(f"learn.table:{cid}", LEARN, f"{{d}}/{name}", fld, files={name: text}))
     for cid, text, fld in EFFECTS_EDITS:

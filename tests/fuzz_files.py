@@ -121,7 +121,11 @@ DATASET_SPEC = ('name = "tiny"\nmachines = ["cframe-vmc"]\nmesh = "coarse"\nseed
                 '"spindle_motor.power" = { uniform = ["40 W", "80 W"] }\n[[scenarios]]\nfamily = "ref"\n'
                 'file = "short.toml"\ncases = 2\n')
 
-TEXT = {"short.toml": SCENARIO, "ds.toml": DATASET_SPEC, "m.csv": measurement_csv(), "m.toml": MAPPING, "train.csv": table_csv(),
+# a scenario whose room air is a measured record (twin/io/room_csv.py), and the record
+ROOM_CSV = "time [min],air [degC]\n0,20\n10,20.5\n20,21\n30,20.8\n"
+ROOM_SCENARIO = SCENARIO.replace('[ambient]\ntemperature = "20 degC"', '[ambient]\nkind = "csv"\nfile = "room.csv"')
+
+TEXT = {"room.csv": ROOM_CSV, "room.toml": ROOM_SCENARIO, "short.toml": SCENARIO, "ds.toml": DATASET_SPEC, "m.csv": measurement_csv(), "m.toml": MAPPING, "train.csv": table_csv(),
         "test.csv": table_csv(seed=1), "fx.toml": EFFECTS_FILE}
 
 
@@ -155,6 +159,8 @@ LEARN = ["learn", "--train", "{d}/train.csv", "--test", "{d}/test.csv", "--targe
          "-o", "{d}/scores.csv"]
 DEMO = ["demo", "-o", "{d}/demo-out", "--no-story", "--mesh", "coarse"]
 DATASET = ["dataset", "{d}/ds.toml", "-o", "{d}/ds-out", "--dry-run"]
+REPORT = ["report", "iso230-3", "{d}/r.nc", "-o", "{d}/rep"]
+REPORT_CSV = ["report", "iso230-3", "{d}/m.csv", "-o", "{d}/rep"]
 
 
 def swap(argv: list[str], old: str, new: str) -> list[str]:
@@ -216,6 +222,9 @@ INPUTS = [
     ("dataset.spec", DATASET, "{d}/ds.toml", "ds.toml", True),
     ("learn.train", LEARN, "{d}/train.csv", "train.csv", True),
     ("learn.test", LEARN, "{d}/test.csv", "test.csv", True),
+    ("report.result", REPORT, "{d}/r.nc", "r.nc", False),
+    ("report.measurement", REPORT_CSV, "{d}/m.csv", "m.csv", True),
+    ("report.mapping", REPORT_CSV + ["--mapping", "{d}/m.toml"], "{d}/m.toml", "m.toml", True),
 ]
 
 
@@ -290,6 +299,7 @@ def _chmod_new(arg: str, mode: int):
 FOLDERS = [
     ("diagnose.report", DIAGNOSE, "{d}/report"),
     ("demo.o", DEMO, "{d}/demo-out"),
+    ("report.o", REPORT, "{d}/rep"),
 ]
 
 
@@ -297,15 +307,15 @@ def bad_output_folders(cid, argv, arg) -> list[Case]:
     def at(name):
         return swap(argv, arg, f"{{d}}/{name}")
 
+    an_input = {"diagnose": "m.csv", "report": "r.nc"}.get(cid.split(".")[0], "short.toml")
+    content = "drift.png" if cid.startswith("demo") else "index.html"
     return [
         Case(f"{cid}:is-a-file", at("plain"), "{d}/plain", "", setup=_plain("plain")),
-        Case(f"{cid}:is-an-input", at("m.csv" if "diagnose" in cid else "short.toml"),
-             "{d}/m.csv" if "diagnose" in cid else "{d}/short.toml", ""),
+        Case(f"{cid}:is-an-input", at(an_input), f"{{d}}/{an_input}", ""),
         Case(f"{cid}:no-parent", at("nope/out"), "{d}/nope/out", ""),
         Case(f"{cid}:device", swap(argv, arg, "/dev/null"), "/dev/null", ""),
         Case(f"{cid}:pipe", at("pipe"), "{d}/pipe", "", setup=_fifo("pipe")),
-        Case(f"{cid}:content-is-a-folder", at("out"), "{d}/out/index.html" if "diagnose" in cid
-             else "{d}/out/drift.png", "", setup=lambda d: os.makedirs(
-                 os.path.join(d, "out", "index.html" if "diagnose" in cid else "drift.png"))),
+        Case(f"{cid}:content-is-a-folder", at("out"), f"{{d}}/out/{content}", "",
+             setup=lambda d: os.makedirs(os.path.join(d, "out", content))),
         Case(f"{cid}:read-only", at("locked"), "{d}/locked", "", setup=_locked("locked"), root_skip=True),
     ]

@@ -90,7 +90,7 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
                  "--field", str(tmp_path / "hot.vtu")]) == 0
     ds = xr.load_dataset(out)
     assert ds.attrs["effects"].split(",") == ["spindle_bearings", "spindle_motor", "ambient_convection",
-                                              "spindle_forced_convection"]
+                                              "spindle_forced_convection", "stratified_swing", "door_stream"]
     assert '"power": "100 W"' in ds.attrs["parameters"] and ds.attrs["seed"] == 7
     for name in ("time", "temperature", "probe", "drift", "tilt", "heat_power"):
         assert "units" in ds[name].attrs

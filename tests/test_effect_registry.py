@@ -28,13 +28,15 @@ from twin.model import ModelSpec, model_spec
 from twin.observe import FiveProbeTestBar, HeatBalance, LaserTriangulation, RunContext, TemperatureSensors, sensor_points
 from twin.physics.prepared import PreparedTwin
 from twin.rotary import RotarySchedule
-from twin.scenario import Ambient, Scenario
+from twin.scenario import AirEvent, Ambient, Scenario
 
 # 40 min at 3000 rpm (and the C axis, where there is one, at 2500 rpm half of the time), 20 min
-# stopped, every 2 min; a daily room from 11:00 (the sun is up); a door opening at 10 min so that
-# every scheduled effect acts inside the run
+# stopped, every 2 min; a daily room from 11:00 (the sun is up); a door opening at 10 min (the
+# door_draft's schedule, and a scenario door event for door_stream) so that every scheduled effect
+# acts inside the run
 SCENARIO = Scenario("registry", ((2400.0, 3000.0), (1200.0, 0.0)),
-                    Ambient("daily", mean=20.0, amplitude=2.0, coldest_at=6 * 3600.0, start_time_of_day=11 * 3600.0),
+                    Ambient("daily", mean=20.0, amplitude=2.0, coldest_at=6 * 3600.0, start_time_of_day=11 * 3600.0,
+                            events=(AirEvent(start=600.0, change=-3.0, fall=600.0, recovery=1200.0, door=True),)),
                     120.0, c_axis=RotarySchedule(((2400.0, 2500.0, 0.5),)))
 SCHEDULE = {"door_draft": {"start": 600.0}}
 PAIRS = [(m, e) for m in sorted(MACHINES) for e in sorted(EFFECTS)]

@@ -7,10 +7,19 @@ A scenario file::
     sample_interval = "10 s"            # optional, default 10 s; also the time step
     initial_temperature = "20 degC"     # optional, default: the room air at t = 0
 
-    [ambient]                           # one of three kinds
+    [ambient]                           # one of four kinds
     kind = "constant"                   # temperature = "20 degC"
     # kind = "daily"                    # mean, amplitude, coldest_at (time of day), start_time_of_day
     # kind = "table"                    # times = ["0 h", ...], temperatures = ["20 degC", ...] (linear)
+    # kind = "csv"                      # file = "room.csv": measured air, see twin.io.room_csv (linear)
+
+    [[ambient.events]]                  # optional, any kind: a door opened, a holiday (added, in K)
+    start = "104 h"                     # when the air begins to change
+    change = "-9 K"                     # how far it goes
+    fall = "30 min"                     # linear ramp to the change (0 s: a step)
+    hold = "0 min"                      # optional: how long it stays there
+    recovery = "3 h"                    # linear return to the base (0 s: a step back)
+    door = true                         # optional: a door is open from start to fall + hold
 
     [[spindle]]                         # piecewise-constant steps, in order
     speed = "9000 rpm"
@@ -35,7 +44,7 @@ to afford raise :class:`twin.errors.InputError` naming the file and the key
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -44,6 +53,7 @@ from twin import limits
 from twin.camera_config import cameras_from_toml
 from twin.errors import InputError
 from twin.io.paths import read_toml
+from twin.io.room_csv import read_room_csv
 from twin.motion import check_durations, motions_from_toml
 from twin.observe.interferometer import interferometer_from_toml
 from twin.rotary import c_axis_from_toml, check_duration
@@ -53,8 +63,34 @@ SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 
 
 @dataclass(frozen=True)
+class AirEvent:
+    """A change of the room air added to the base ambient [K]: a door opened in winter, a
+    holiday with the heating turned down. A trapezoid: 0 before ``start``, a linear ramp to
+    ``change`` over ``fall``, ``hold`` there, a linear return over ``recovery`` (times [s])."""
+
+    start: float
+    change: float
+    fall: float
+    hold: float = 0.0
+    recovery: float = 0.0
+    door: bool = False   # a door opened: outside air streams in (the ``door_stream`` effect)
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        rel = np.asarray(t, dtype=float) - self.start
+        top = self.fall + self.hold
+        up = np.clip(rel / self.fall, 0.0, 1.0) if self.fall > 0 else (rel >= 0).astype(float)
+        down = np.clip(1.0 - (rel - top) / self.recovery, 0.0, 1.0) if self.recovery > 0 else (rel < top).astype(float)
+        return self.change * np.minimum(up, down)
+
+    @property
+    def end(self) -> float:
+        return self.start + self.fall + self.hold + self.recovery
+
+
+@dataclass(frozen=True)
 class Ambient:
-    """Room air temperature T_air(t) [degC]: constant, a daily sine, or a linear table."""
+    """Room air temperature T_air(t) [degC]: constant, a daily sine, a linear table (``table``,
+    or ``csv`` when it came from a measured record), plus any :class:`AirEvent` s."""
 
     kind: str
     mean: float = 20.0
@@ -63,8 +99,15 @@ class Ambient:
     start_time_of_day: float = 0.0
     times: tuple[float, ...] = ()
     temperatures: tuple[float, ...] = ()
+    events: tuple[AirEvent, ...] = ()
+    file: str = ""
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        return self.base(t) + sum((e(t) for e in self.events), np.zeros(t.shape))
+
+    def base(self, t: np.ndarray) -> np.ndarray:
+        """The air without the events [degC]."""
         t = np.asarray(t, dtype=float)
         if self.kind == "constant":
             return np.full(t.shape, self.mean)
@@ -222,6 +265,9 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     check_durations(axes, total, source)
     check_duration(c_axis, total, source)
+    if ambient.kind == "csv" and ambient.times[-1] < total:
+        raise InputError(source, "ambient.file", f"the room record {ambient.file} ends at {ambient.times[-1] / 3600:g} h, "
+                                                 f"before the scenario's {total / 3600:g} h")
     return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes,
                     interferometer=laser, c_axis=c_axis)
 
@@ -250,10 +296,47 @@ def _ambient(table, source: str) -> Ambient:
             raise InputError(source, "ambient.times", "must increase strictly")
         limits.check_temperatures(temps, source, "ambient.temperatures")
         a = Ambient("table", times=tuple(times), temperatures=tuple(temps))
+    elif kind == "csv":
+        name = r.get("file", required=True)
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(source, "ambient.file", "expected the path of a CSV file (relative to the scenario)")
+        path = Path(source).parent / name if not Path(name).is_absolute() else Path(name)
+        times, temps = read_room_csv(path, "ambient.file")
+        a = Ambient("csv", times=tuple(times), temperatures=tuple(temps), file=str(path))
     else:
-        raise InputError(source, "ambient.kind", f"unknown kind {kind!r}; known: constant, daily, table")
+        raise InputError(source, "ambient.kind", f"unknown kind {kind!r}; known: constant, daily, table, csv")
+    events = tuple(_event(e, source, i) for i, e in enumerate(_events(r, source)))
     r.finish()
+    if events:
+        a = replace(a, events=events)
+        # the extremes of base + events: every event at its full change on the base's extremes
+        base = a.base(np.linspace(0.0, max(e.end for e in events) + 86400.0, 4001))
+        low = base.min() + sum(min(e.change, 0.0) for e in events)
+        high = base.max() + sum(max(e.change, 0.0) for e in events)
+        limits.check_temperatures([low, high], source, "ambient.events")
     return a
+
+
+def _events(r: _Reader, source: str) -> list:
+    raw = r.get("events", default=[])
+    if not isinstance(raw, list):
+        raise InputError(source, "ambient.events", "expected [[ambient.events]] tables")
+    return raw
+
+
+def _event(raw, source: str, i: int) -> AirEvent:
+    """One [[ambient.events]] table: start, change, fall, hold, recovery (times >= 0), door."""
+    e = _Reader(raw, source, f"ambient.events[{i}].")
+    change = e.get("change", "temperature_difference", required=True)
+    times = {k: e.get(k, "time", default=0.0, required=k in ("start", "fall")) for k in ("start", "fall", "hold", "recovery")}
+    door = e.get("door", default=False)
+    e.finish()
+    if not isinstance(door, bool):
+        raise InputError(source, f"ambient.events[{i}].door", f"expected true or false, got {raw['door']!r}")
+    for k, v in times.items():
+        if v < 0:
+            raise InputError(source, f"ambient.events[{i}].{k}", f"must not be negative, got {raw[k]!r}")
+    return AirEvent(change=change, door=door, **times)
 
 
 def _air(r: _Reader, key: str, source: str) -> float:

@@ -32,6 +32,7 @@ _UNITS: dict[str, dict[str, float]] = {
     "temperature_gradient": {"K/m": 1.0, "K/mm": 1e3},
     "strain": {"m/m": 1.0, "um/m": 1e-6, "ppm": 1e-6},
     "thermal_strain": {"1/K": 1.0, "um/m/K": 1e-6, "ppm/K": 1e-6},
+    "inverse_length": {"1/m": 1.0, "/m": 1.0, "1/mm": 1e3},
     "angle": {"deg": math.pi / 180.0, "rad": 1.0, "mrad": 1e-3},
     "dimensionless": {"1": 1.0, "": 1.0, "%": 0.01},
 }

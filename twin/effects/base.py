@@ -4,7 +4,8 @@ An effect declares its parameters (name, dimension/unit, default, bounds, doc) a
 machine and a scenario, returns loads that are a *fixed spatial pattern times a time signal*:
 
 * :class:`HeatSource`: total power P(t) [W] spread uniformly over a set of cells;
-* :class:`SurfaceHeatFlux`: total power P(t) [W] spread uniformly over a set of facets;
+* :class:`SurfaceHeatFlux`: total power P(t) [W] spread over a set of facets (uniformly, or in
+  proportion to per-facet weights);
 * :class:`Convection`: -k dT/dn = h(t) (T - T_air(t)) on a set of facets, h [W/(m2 K)], T_air [degC];
 * :class:`ContactConductance`: q = h_c(t) (T_a - T_b) across interior facets between two parts,
   whose temperature field is split there (the joint stays bonded mechanically), h_c [W/(m2 K)].
@@ -72,9 +73,13 @@ class HeatSource:
 
 @dataclass(frozen=True)
 class SurfaceHeatFlux:
+    """Total power P(t) [W] over ``facets``: uniform flux, or with ``weights`` (one per facet, >= 0)
+    a flux proportional to them, q_f = P w_f / sum_g A_g w_g [W/m2]."""
+
     label: str
     facets: np.ndarray
     power: Signal
+    weights: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -48,16 +48,18 @@ class ElectricalCabinet(Effect):
                                 lambda t: base + run * (np.abs(scenario.spindle_speed(t)) > 0))]
 
 
+SKIN_H = Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)")
+
+
 @register_effect
 class AmbientStratification(Effect):
     """Room air warmer with height: T_air(z, t) = T_air(t) + g (z - z_ref).
 
     Convection is linear, so on every skin face h (T - T_air - g (z - z_ref)) = h (T - T_air)
     - h g (z - z_ref): the stratification adds to the uniform ``ambient_convection`` a surface
-    flux q(z) = h g (z - z_ref) [W/m2] (a *difference* model, linear in g). The skin is cut into
-    height bands of 0.1 m, each carrying its exact share P_b = h g sum_(f in b) A_f (z_f - z_ref)
-    (z_f the facet centroid), so the total is h g sum A (z - z_ref). ``h`` should equal the
-    ``ambient_convection`` h (both default 8 W/m2K).
+    flux q(z) = h g (z - z_ref) [W/m2] (a *difference* model, linear in g), placed facet by facet
+    at the facet centroid's height (:func:`linear_in_height`), so the total is h g sum A (z - z_ref).
+    ``h`` should equal the ``ambient_convection`` h (both default 8 W/m2K).
     """
 
     name = "ambient_stratification"
@@ -69,24 +71,75 @@ class AmbientStratification(Effect):
     parameters = (
         Parameter("gradient", "temperature_gradient", 0.5, -5.0, 5.0, "air temperature rise per metre of height g"),
         Parameter("reference_height", "length", 1.0, 0.0, 3.0, "height z_ref where the air is at the room temperature"),
-        Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)"),
+        SKIN_H,
     )
     uncertain = (
         Uncertain("gradient", -0.5, 2.0, "halls range from well mixed to strongly layered (VDI 2078)", linear=True),
     )
-    band = 0.1  # m
+    def loads(self, mm, scenario, p):
+        return linear_in_height(mm, self.name, p["h"] * p["gradient"], p["reference_height"],
+                                lambda t: np.ones(np.shape(t)))
+
+
+@register_effect
+class StratifiedSwing(Effect):
+    """The room's swing grows with height: warm air pools under the roof by day and the top of the
+    hall cools most at night, so T_air(z, t) = T_air(t) + s (z - z_ref) (T_air(t) - T_air(0)).
+
+    As for ``ambient_stratification`` (linear convection, a difference model) this adds to the
+    uniform ``ambient_convection`` the flux q(z, t) = h s (z - z_ref) (T_air(t) - T_air(0)) [W/m2]
+    on the skin (:func:`linear_in_height`); with constant room air it is zero. A scenario's door events are left out of the swing (:func:`layered_swing`). s [1/m]
+    is the extra swing per metre of height: the default 1 /m (the air at the column top, 1.4 m
+    above z_ref, swings 2.4 times the room's reference air; a hall heated by day under its roof)
+    is the upper end of plausible, chosen so that the C-frame meets the seed's ETVE magnitudes
+    (README "The workshop").
+    """
+
+    name = "stratified_swing"
+    strength = "growth"
+    linear = True
+    summary = "room swing growing with height: flux h s (z - z_ref) (T_air(t) - T_air(0)) on the skin"
+    reference = "VDI 2078 (room air stratification); ISO 230-3:2020 Annex (environmental temperature variation)"
+    roles = ("structure.skin",)
+    parameters = (
+        Parameter("growth", "inverse_length", 1.0, -2.0, 2.0, "extra swing per metre of height s"),
+        Parameter("reference_height", "length", 0.5, 0.0, 3.0, "height z_ref where the air swings as the room's"),
+        SKIN_H,
+    )
+    # no Uncertain range: with constant room air (most diagnosis scenarios) s leaves no trace
 
     def loads(self, mm, scenario, p):
-        facets = role_facets(mm, "structure.skin")
-        z = facet_centres(mm, facets)[:, 2]
-        moment = mm.facet_areas(facets) * (z - p["reference_height"])  # A (z - z_ref) [m3]
-        k = np.floor(z / self.band).astype(int)
-        out = []
-        for b in np.unique(k):
-            sel = k == b
-            power = p["h"] * p["gradient"] * float(moment[sel].sum())
-            out.append(SurfaceHeatFlux(f"{self.name}.{b * self.band:.1f}m", facets[sel], constant(power)))
-        return out
+        return linear_in_height(mm, self.name, p["h"] * p["growth"], p["reference_height"],
+                                lambda t: layered_swing(scenario, t))
+
+
+def linear_in_height(mm, label: str, scale: float, z_ref: float, shape) -> list:
+    """Surface flux q_f = scale (z_f - z_ref) shape(t) [W/m2] on the skin (z_f: facet centroid) as
+    one load weighted by z_f - z_ref, of total power scale shape(t) sum A (z - z_ref) (one load, not
+    one per height band: a reduced model needs few inputs); when that sum nearly cancels (z_ref
+    near the skin's mean height) as two loads, above and below z_ref."""
+    facets = role_facets(mm, "structure.skin")
+    dz = facet_centres(mm, facets)[:, 2] - z_ref
+    area = mm.facet_areas(facets)
+    parts = [("", np.ones(dz.shape, bool))]
+    if abs(np.sum(area * dz)) < 0.1 * np.sum(area * np.abs(dz)):
+        parts = [(".above", dz > 0), (".below", dz < 0)]
+    out = []
+    for side, sel in parts:
+        if sel.any():
+            power = scale * float(np.sum(area[sel] * dz[sel]))
+            out.append(SurfaceHeatFlux(f"{label}{side}", facets[sel], lambda t, w=power: w * shape(t),
+                                       dz[sel] * np.sign(power or 1.0)))
+    return out
+
+
+def layered_swing(scenario, t: np.ndarray) -> np.ndarray:
+    """T_air(t) - T_air(0) [K] without the scenario's door events: the outside air through a door
+    is cold and dense and spreads along the floor, not under the roof (``door_stream`` carries it)."""
+    t = np.asarray(t, dtype=float)
+    doors = [e for e in getattr(scenario.ambient, "events", ()) if e.door]
+    air = scenario.ambient_temperature(t) - sum((e(t) for e in doors), np.zeros(t.shape))
+    return air - float(scenario.ambient_temperature(np.array([0.0]))[0])
 
 
 def event_window(t: np.ndarray, start: float, duration: float, period: float) -> np.ndarray:

@@ -113,15 +113,17 @@ def _facet_mass(mm: MachineMesh, facets: np.ndarray) -> tuple[np.ndarray, np.nda
     return weight * (area / 36.0)[:, None, None], area
 
 
-def assemble_facets(mm: MachineMesh, facets: np.ndarray) -> FacetMatrices:
+def assemble_facets(mm: MachineMesh, facets: np.ndarray, weights: np.ndarray | None = None) -> FacetMatrices:
     """Boundary mass matrix and load vector of the given facets (convection, surface flux),
-    on the temperature dofs of the cell on each facet's first side."""
+    on the temperature dofs of the cell on each facet's first side; ``weights`` (one per facet)
+    scale each facet's share of the load vector r = int w N dA (the mass matrix is unweighted)."""
     facets = np.asarray(facets)
     mass, area = _facet_mass(mm, facets)
     dofs = _facet_dofs(mm, facets, mm.mesh.f2t[0, facets])
     n = mm.nheat
     r = np.zeros(n)
-    np.add.at(r, dofs.ravel(), np.repeat(area / 4.0, 4))
+    share = area if weights is None else area * np.asarray(weights, dtype=float)
+    np.add.at(r, dofs.ravel(), np.repeat(share / 4.0, 4))
     return FacetMatrices(_scatter(dofs, dofs, mass, (n, n)), r, float(area.sum()))
 
 

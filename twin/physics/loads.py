@@ -48,9 +48,10 @@ class LoadSet:
 
 def source_pattern(mm, src) -> np.ndarray:
     """The load vector b (n_heat,) of a :class:`HeatSource` (uniform over its cells) or a
-    :class:`SurfaceHeatFlux` (uniform over its facets), normalised to sum 1 so that b s(t) puts
-    s(t) watts into the structure."""
-    b = volume_vector(mm, src.cells) if isinstance(src, HeatSource) else assemble_facets(mm, src.facets).r
+    :class:`SurfaceHeatFlux` (uniform over its facets, or weighted), normalised to sum 1 so that
+    b s(t) puts s(t) watts into the structure."""
+    b = (volume_vector(mm, src.cells) if isinstance(src, HeatSource)
+         else assemble_facets(mm, src.facets, src.weights).r)
     return b / b.sum()
 
 

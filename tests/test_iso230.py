@@ -1,0 +1,96 @@
+"""ISO 230-3 evaluations (``twin report iso230-3``): a synthetic drift with known ranges gives
+those ranges exactly; per-step ranges and segment statistics are the definitions'."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tests.fuzz_files import result_dataset
+from twin.errors import InputError
+from validate.iso230 import default_test, evaluate, segments_of
+
+
+def synthetic(n: int = 241, speed: bool = True) -> xr.Dataset:
+    """4 h at 1 min: drift X, Y, Z with ranges 1, 6, 12 um (exact binary fractions), tilts 3 and
+    5 urad, air range 2.5 K; spindle 6000 rpm for 2 h, then stopped."""
+    ds = result_dataset(n)
+    t = ds.time.values
+    ramp = np.minimum(t / 7200.0, 1.0)                 # 0 -> 1 over the first 2 h, then held
+    z = -12.0 * ramp + 4.0 * (t > 3 * 3600)            # range 12 over the test; 4 in the last hour
+    y = 6.0 * np.sin(np.pi * t / t[-1]) ** 2           # 0 .. 6 .. 0
+    x = np.where(t < 3600, 0.0, 1.0)
+    drift = np.column_stack([x, y, z])
+    ds["probe_drift"] = (("time", "axis"), drift, {"units": "um"})
+    ds["drift"] = (("time", "axis"), 0.5 * drift, {"units": "um"})   # the truth, not what the probes give
+    ds["tilt"] = (("time", "rotation"), np.column_stack([3.0 * ramp, -5.0 * ramp]), {"units": "urad"})
+    ds["ambient_temperature"] = ("time", 20.0 + 2.5 * ramp, {"units": "degC"})
+    ds["spindle_speed"] = ("time", np.where(t < 7200, 6000.0 if speed else 0.0, 0.0), {"units": "rpm"})
+    return ds
+
+
+def test_known_ranges_are_returned_exactly():
+    """max - min of each five-probe channel and of the air, exactly (no tolerance)."""
+    ev = evaluate(synthetic(), "etve")
+    ranges = {c.name: c.range for c in ev.channels}
+    assert ranges == {"X": 1.0, "Y": 6.0, "Z": 12.0, "A": 3.0, "B": 5.0}
+    assert ev.air_range == 2.5
+    assert [c.unit for c in ev.channels] == ["um"] * 3 + ["urad"] * 2
+
+
+def test_spindle_test_ranges_per_speed_step():
+    """Steps found in the speed log, [0, 2 h) at 6000 rpm and [2 h, 4 h] stopped; Z ramps 12 um in
+    the first (range 12 * 119/120: the last sample before 2 h) and jumps by 4 um in the second."""
+    ds = synthetic()
+    assert default_test(ds) == "spindle" and default_test(synthetic(speed=False)) == "etve"
+    ev = evaluate(ds, "spindle")
+    assert [(a, b, n) for a, b, n in ev.steps] == [(0.0, 7200.0, 6000.0), (7200.0, 14400.0, 0.0)]
+    first, second = ev.step_ranges()
+    assert first["Z"] == pytest.approx(12.0 * 119 / 120, abs=1e-12) and second["Z"] == 4.0
+    assert first["X"] == 1.0 and second["X"] == 0.0
+
+
+def test_segment_statistics_are_the_definitions():
+    """Per segment: max, mean +- 2 std (population std), 95th percentile of |value| (linear)."""
+    ds = synthetic()
+    ev = evaluate(ds, "etve", segment=3600.0)
+    assert [(a / 3600, b / 3600) for a, b in ev.segments] == [(0, 1), (1, 2), (2, 3), (3, 4)]
+    z = ds.probe_drift.sel(axis="Z").values
+    stats = ev.segment_stats()["Z"]
+    last = z[180:]                         # t >= 3 h, the last segment includes its end
+    s = stats[3]
+    assert s["max"] == last.max() and s["min"] == last.min()
+    assert s["mean"] == pytest.approx(last.mean(), abs=1e-12)
+    assert s["high"] - s["low"] == pytest.approx(4 * last.std(), abs=1e-12)
+    assert s["p95_abs"] == pytest.approx(np.percentile(np.abs(last), 95), abs=1e-12)
+    first = z[:60]
+    assert stats[0]["p95_abs"] == pytest.approx(np.percentile(np.abs(first), 95), abs=1e-12)
+    assert segments_of(np.array([0.0, 10.0, 20.0]), 100.0) == [(0.0, 20.0)]
+
+
+def test_axis_needs_positioning_errors():
+    ds = synthetic()
+    with pytest.raises(InputError) as err:
+        evaluate(ds, "axis", source="r.nc")
+    assert err.value.field == "--test" and "issue 11" in err.value.message
+    pe = np.column_stack([np.linspace(0, 3, ds.time.size), np.linspace(1, -1, ds.time.size)])
+    ds["positioning_error"] = (("time", "target"), pe, {"units": "um"})
+    ds = ds.assign_coords(target=[0.1, 0.4])
+    ev = evaluate(ds, "axis")
+    assert default_test(ds) == "axis"
+    assert [(c.name, c.range) for c in ev.channels] == [("target 0.1", 3.0), ("target 0.4", 2.0)]
+
+
+def test_cli_writes_both_reports_with_the_ranges_and_the_warning(tmp_path, capsys):
+    from twin.cli import main
+
+    path = tmp_path / "r.nc"
+    synthetic(speed=False).to_netcdf(path, engine="h5netcdf")
+    assert main(["report", "iso230-3", str(path), "-o", str(tmp_path / "rep")]) == 0
+    md = (tmp_path / "rep" / "report.md").read_text()
+    assert "| Z | 12.000 |" in md and "Room air range over the test: 2.500 K" in md
+    assert "not to be used to compare machines" in md
+    html = (tmp_path / "rep" / "index.html").read_text()
+    assert html.count("data:image/png;base64,") == 2 and "<table>" in html
+    assert "ISO 230-3 etve: X 1.0 um, Y 6.0 um, Z 12.0 um" in capsys.readouterr().out

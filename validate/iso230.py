@@ -1,0 +1,185 @@
+"""ISO 230-3 evaluations of a thermal test: what the standard asks to be reported, from a twin
+result or a measurement (both in the result schema, :mod:`twin.io.results`).
+
+* ``etve`` (environmental temperature variation error, ISO 230-3 sec. 5): the maximum range
+  (max - min) of each drift X, Y, Z [um] and tilt A, B [urad] over the test beside the range of the
+  room air [K]; the drift-vs-air plots. The standard's caution: the result belongs to this machine
+  in this room during this test and is not for comparing machines.
+* ``spindle`` (thermal distortion caused by a rotating spindle, sec. 6): the range of each channel
+  over the whole test and within each spindle-speed step (steps found in the logged speed).
+* ``axis`` (thermal distortion caused by moving linear axes, sec. 7): the change of the
+  positioning error at each target over the test; it needs axis-motion results
+  (``positioning_error(time, target)`` [um]).
+
+For every channel the statistics of consecutive time segments: min, max, mean +- 2 std and the 95th
+percentile of |value| (np.percentile, linear). Drift channels are the five-probe evaluation
+(``probe_drift``, ``tilt``) when the result has it, else the true tool-point drift (``drift``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from twin.errors import InputError
+
+TESTS = ("etve", "spindle", "axis")
+WARNING = ("ISO 230-3 on the environmental temperature variation error: the result describes this machine "
+           "in this environment during this test. It estimates how much the environment adds to the "
+           "machine's uncertainty; it is not a property of the machine alone and is not to be used to "
+           "compare machines (another room, season or foundation gives another result).")
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One evaluated signal: name (X, Y, Z, A, B or a target), unit, samples."""
+
+    name: str
+    unit: str
+    values: np.ndarray
+
+    @property
+    def range(self) -> float:
+        """Maximum range max - min over the samples [unit]."""
+        return float(self.values.max() - self.values.min())
+
+
+@dataclass
+class Evaluation:
+    """The numbers of one ISO 230-3 evaluation (see the module docstring)."""
+
+    test: str
+    source: str
+    time: np.ndarray                       # s
+    channels: list[Channel]
+    air: np.ndarray | None                 # degC, or None when not logged
+    segments: list[tuple[float, float]]    # [start, end) s
+    steps: list[tuple[float, float, float]] = field(default_factory=list)   # (start s, end s, rpm)
+    conditions: list[tuple[str, str]] = field(default_factory=list)
+
+    @property
+    def air_range(self) -> float | None:
+        return None if self.air is None else float(self.air.max() - self.air.min())
+
+    def window(self, start: float, end: float, last: bool = False) -> np.ndarray:
+        """Samples with start <= t < end (t <= end for the last window)."""
+        return (self.time >= start) & ((self.time <= end) if last else (self.time < end))
+
+    def step_ranges(self) -> list[dict[str, float]]:
+        """Range of each channel within each speed step [unit]."""
+        n = len(self.steps)
+        return [{c.name: float(np.ptp(c.values[self.window(a, b, i == n - 1)])) for c in self.channels}
+                for i, (a, b, _) in enumerate(self.steps)]
+
+    def segment_stats(self) -> dict[str, list[dict[str, float]]]:
+        """Per channel, per segment: min, max, mean, std, mean - 2 std, mean + 2 std, p95 of |value|."""
+        out = {}
+        n = len(self.segments)
+        for c in self.channels:
+            rows = []
+            for i, (a, b) in enumerate(self.segments):
+                v = c.values[self.window(a, b, i == n - 1)]
+                if v.size == 0:
+                    continue
+                mean, std = float(v.mean()), float(v.std())
+                rows.append({"start": a, "end": b, "min": float(v.min()), "max": float(v.max()), "mean": mean, "std": std,
+                             "low": mean - 2 * std, "high": mean + 2 * std,
+                             "p95_abs": float(np.percentile(np.abs(v), 95))})
+            out[c.name] = rows
+        return out
+
+
+def drift_channels(ds: xr.Dataset, source: str) -> list[Channel]:
+    """X, Y, Z [um] and A, B [urad]: the five-probe evaluation when present, else the true drift."""
+    var = "probe_drift" if "probe_drift" in ds else "drift" if "drift" in ds else None
+    if var is None:
+        raise InputError(source, "probe_drift", "no drift: the result or measurement needs the five ISO 230-3 "
+                                                "probes (probe_drift) or a tool-point drift")
+    out = [Channel(str(a), "um", np.asarray(ds[var].sel(axis=a).values, float)) for a in ds[var].axis.values]
+    if "tilt" in ds:
+        out += [Channel(str(r), "urad", np.asarray(ds.tilt.sel(rotation=r).values, float))
+                for r in ds.tilt.rotation.values]
+    return out
+
+
+def axis_channels(ds: xr.Dataset, source: str) -> list[Channel]:
+    """The positioning error at each target [um] relative to its first reading."""
+    if "positioning_error" not in ds:
+        raise InputError(source, "--test", "axis needs axis motion results (issue 11): this file has no "
+                                           "positioning_error; use --test etve or spindle")
+    pe = ds.positioning_error
+    target = next(d for d in pe.dims if d != "time")
+    return [Channel(f"{target} {float(v):g}" if np.issubdtype(pe[target].dtype, np.number) else str(v), "um",
+                    np.asarray(pe.sel({target: v}).values, float) - float(pe.sel({target: v}).values[0]))
+            for v in pe[target].values]
+
+
+def default_test(ds: xr.Dataset) -> str:
+    """``axis`` with positioning errors, ``spindle`` when the spindle turned, else ``etve``."""
+    if "positioning_error" in ds:
+        return "axis"
+    if "spindle_speed" in ds and np.any(np.abs(ds.spindle_speed.values) > 0):
+        return "spindle"
+    return "etve"
+
+
+def segments_of(t: np.ndarray, length: float) -> list[tuple[float, float]]:
+    """Consecutive windows [t0 + k length, t0 + (k + 1) length) covering t (the last one ends at
+    the last sample)."""
+    t0, t1 = float(t[0]), float(t[-1])
+    edges = list(np.arange(t0, t1, length)) + [t1]
+    return [(float(a), float(b)) for a, b in zip(edges[:-1], edges[1:])] or [(t0, t1)]
+
+
+def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: str = "") -> Evaluation:
+    """The ISO 230-3 evaluation ``test`` of ``ds``; ``segment`` [s]: the length of the statistics'
+    time segments (default: 24 h for etve, 1 h otherwise, never more than the test)."""
+    from twin.io.measured_inputs import speed_steps
+
+    source = source or ds.attrs.get("source", "result")
+    if test not in TESTS:
+        raise InputError(source, "--test", f"unknown test {test!r}; known: {', '.join(TESTS)}")
+    t = np.asarray(ds.time.values, float)
+    if t.size < 2:
+        raise InputError(source, "time", "needs at least two samples")
+    channels = axis_channels(ds, source) if test == "axis" else drift_channels(ds, source)
+    air = np.asarray(ds.ambient_temperature.values, float) if "ambient_temperature" in ds else None
+    if test == "etve" and air is None:
+        raise InputError(source, "ambient_temperature", "an ETVE evaluation needs the room air temperature")
+    length = segment or (86400.0 if test == "etve" else 3600.0)
+    steps = []
+    if test == "spindle" and "spindle_speed" in ds:
+        steps = speed_steps(t, np.asarray(ds.spindle_speed.values, float))
+    ev = Evaluation(test, source, t, channels, air, segments_of(t, length), steps)
+    ev.conditions = conditions(ds, ev)
+    return ev
+
+
+def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:
+    """The test conditions ISO 230-3 asks to be stated: machine, sensors, sampling, room."""
+    a = ds.attrs
+    t = ev.time
+    rows = [("machine", str(a.get("machine", "not stated"))),
+            ("source", ev.source),
+            ("test", a.get("scenario", "") or "measurement"),
+            ("duration", f"{(t[-1] - t[0]) / 3600:.4g} h"),
+            ("sampling", f"{t.size} samples, median interval {float(np.median(np.diff(t))):g} s")]
+    if "probe_id" in ds.coords:
+        rows.append(("displacement sensors", f"{ds.probe_id.size} probes ({', '.join(map(str, ds.probe_id.values))}) "
+                                             "on the test bar; drift and tilts by the five-probe evaluation"))
+    elif "drift" in ds:
+        rows.append(("displacement", "true tool-point drift (no probes in the file)"))
+    if "sensor" in ds.coords:
+        names = list(map(str, ds.sensor.values))
+        rows.append(("temperature sensors", f"{len(names)}: {', '.join(names)}"))
+    if ev.air is not None:
+        rows.append(("room air", f"{ev.air.min():.2f} to {ev.air.max():.2f} degC (range {ev.air_range:.2f} K, "
+                                  f"mean {ev.air.mean():.2f} degC)"))
+    if "spindle_speed" in ds:
+        n = np.asarray(ds.spindle_speed.values, float)
+        rows.append(("spindle", "stationary" if not np.any(n) else f"up to {n.max():g} rpm"))
+    if a.get("effects"):
+        rows.append(("model effects", str(a["effects"]) + " (a simulation: plausible, not a measured machine)"))
+    return rows
