@@ -214,3 +214,12 @@ def test_gpu_heat_steps_equal_cpu_ones():
     cpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6))
     gpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
     np.testing.assert_allclose(gpu, cpu, atol=1e-8)
+
+
+def test_a_result_says_the_units_of_its_solver_errors():
+    """The per-output error attributes are in the observers' raw SI units (m, K), not the variables'
+    um: the result says so in ``solver_error_units``."""
+    from twin.io.results import ERROR_UNITS, solver_attrs
+    attrs = solver_attrs({"solver": "rom", "rom_error_estimate": {"drift": [1e-7]}})
+    assert attrs["solver_error_units"] == ERROR_UNITS and "m" in ERROR_UNITS
+    assert "solver_error_units" not in solver_attrs({"solver": "direct"})

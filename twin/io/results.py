@@ -85,7 +85,17 @@ def solver_attrs(info: dict) -> dict:
     """What solved the run, as NetCDF attributes: scalars as they are, per-output errors
     (``solver_error_bound``, ``rom_error_estimate``: {observer key: [value per output]} in the
     observer's raw SI units, m or degC) as JSON."""
-    return {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()}
+    out = {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()}
+    if any(k in info for k in ERROR_KEYS):
+        out["solver_error_units"] = ERROR_UNITS
+    return out
+
+
+# the per-output solver errors a result may carry, and the units they are in (the observers' raw SI
+# units, not the variables' um)
+ERROR_KEYS = ("solver_error_bound", "rom_error_estimate", "rom_error_bound")
+ERROR_UNITS = ("raw SI per observer key: drift, probes, lasers and other displacements in m; temperature in K; "
+               "energy: the heat-balance rows (stored heat in J, convection sums in W)")
 
 
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, field: str = "output") -> Path:
