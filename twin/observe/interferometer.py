@@ -46,6 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
 from twin.observe.base import variable
@@ -200,7 +201,7 @@ class LaserInterferometer(DisplacementObserver):
         offset = np.repeat(R[:1], len(self.targets), axis=0)
         if self.axis.feedback == "closed":
             return sp.csr_matrix(R[1:] + offset)
-        screw = twin.machine.part(twin.machine.roles["feed_drive.screw"].names[0])
+        screw = twin.machine.part(twin.machine.roles[feed_drive_role(self.axis.name, "screw")].names[0])
         alpha = twin.materials.get(screw.name, screw.material).expansion
         return sp.csr_matrix(screw_line_rows(layout, self.axis, self.targets, alpha) + offset)
 

@@ -1,0 +1,109 @@
+"""The C-frame's X, Y and Z ball-screw drives, one set of feed-drive effects per axis (issue 11,
+item 2 on every axis): the energy each axis's drive delivers and the semi-closed loop's screw
+error, each against its closed form."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geometries import build_machine
+from geometries.axes import with_feed_drives
+from geometries.base import material
+from twin.effects.base import EFFECTS, HeatSource
+from twin.effects.moving import REFERENCE_FEED
+from twin.fem.mesh import mesh_machine
+from twin.motion import machine_for
+from twin.scenario import scenario_from_dict
+
+FAMILIES = ("feed_nut", "feed_bearings", "feed_motor", "feed_guideways")
+# whole strokes of each axis (within its travel), 20 mm/s, 10 mm/s2
+STROKES = {"X": ("50 mm", "450 mm", 0.40), "Y": ("0 mm", "400 mm", 0.40), "Z": ("0 mm", "330 mm", 0.33)}
+
+
+def axis_scenario(axes=("X", "Y", "Z"), count: int = 6, duration: str = "10 min"):
+    moves = [{"name": a, "move": [{"kind": "reciprocate", "between": [STROKES[a][0], STROKES[a][1]],
+                                   "feed": "20 mm/s", "acceleration": "10 mm/s2", "count": count}]} for a in axes]
+    return scenario_from_dict({"sample_interval": "10 s", "ambient": {"temperature": "20 degC"},
+                               "spindle": [{"speed": "0 rpm", "duration": duration}], "axis": moves}, "test.toml")
+
+
+@pytest.fixture(scope="module")
+def cframe_all():
+    """The C-frame with the three drives, coarse mesh, and a scenario moving all three axes."""
+    sc = axis_scenario()
+    machine = machine_for(build_machine("cframe-vmc"), sc)
+    return machine, mesh_machine(machine, "coarse"), sc
+
+
+def test_drives_are_added_only_for_the_axes_a_scenario_moves():
+    """No drive part without a moving axis (the spindle tests' meshes stay as they were); a Y move
+    adds the Y drive alone; a Z move brings z_axis_holding (its holding losses) beside the Z drive,
+    whose motor adds no second holding term (feed_motor_z's holding_power is 0)."""
+    base = build_machine("cframe-vmc")
+    spindle = scenario_from_dict({"sample_interval": "10 s", "ambient": {"temperature": "20 degC"},
+                                  "spindle": [{"speed": "1000 rpm", "duration": "1 min"}]}, "s.toml")
+    assert machine_for(base, spindle) is base
+    names = {p.name for p in machine_for(base, axis_scenario(("Y",))).parts} - {p.name for p in base.parts}
+    assert names == {"y_screw", "y_front_bearing", "y_rear_bearing"}
+    z = machine_for(base, axis_scenario(("Z",)))
+    assert {"feed_nut_z", "feed_motor_z", "z_axis_holding"} <= set(z.default_effects)
+    assert "feed_nut_y" not in z.default_effects
+    assert EFFECTS["feed_motor_z"].defaults()["holding_power"] == 0.0
+    assert all(EFFECTS[f"{f}_{a}"].applies_to(with_feed_drives(base)) for f in FAMILIES for a in "xyz")
+    assert not EFFECTS["feed_nut_x"].applies_to(with_feed_drives(build_machine("belt-vmc")))
+
+
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_each_drive_delivers_its_power_times_the_travelled_distance(cframe_all, axis):
+    """Energy balance per axis over whole strokes: the drive's sources deliver
+    E = (P_nut + P_bearings + P_motor + P_guideways) d / v_ref + P_hold T, d the distance travelled
+    (count x stroke), T the scenario's duration, on the C-frame's coarse mesh (exact: the path
+    basis integrates |v| exactly and the shares sum to one)."""
+    machine, mm, sc = cframe_all
+    t, dt = sc.times(), sc.sample_interval
+    d = 6 * STROKES[axis][2]
+    energy, expect = 0.0, 0.0
+    for fam in FAMILIES:
+        eff = EFFECTS[f"{fam}_{axis.lower()}"]
+        p = eff.defaults()
+        loads = eff.loads(mm, sc, p)
+        assert loads and all(isinstance(s, HeatSource) and len(s.cells) for s in loads)
+        energy += sum(np.sum(s.power(t[:-1] + 0.5 * dt)) * dt for s in loads)
+        expect += p["power"] * d / REFERENCE_FEED + p.get("holding_power", 0.0) * (t[-1] - t[0])
+    assert energy == pytest.approx(expect, rel=1e-12)
+
+
+def test_the_heat_integrator_stores_all_three_drives_heat(cframe_all):
+    """Through the Crank-Nicolson run with the three drives' feed effects alone (no convection):
+    the heat in equals the sum of the closed forms above, and all of it is stored."""
+    from twin.model import ModelSpec
+    from twin.observe import HeatBalance
+    from twin.simulate import run
+    machine, mm, sc = cframe_all
+    names = tuple(f"{f}_{a}" for f in FAMILIES for a in "xyz")
+    r = run(machine, sc, ModelSpec(names), mm=mm, observers=[HeatBalance()])
+    into, convected, stored = r.step_energy()
+    expect = 0.0
+    for a in "XYZ":
+        for f in FAMILIES:
+            p = EFFECTS[f"{f}_{a.lower()}"].defaults()
+            expect += p["power"] * 6 * STROKES[a][2] / REFERENCE_FEED + p.get("holding_power", 0.0) * 600.0
+    assert into == pytest.approx(expect, rel=1e-12)
+    assert convected == 0.0 and stored == pytest.approx(into, rel=1e-9)
+
+
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_semi_closed_screw_at_a_uniform_rise_reads_alpha_dT_times_the_nut_distance(cframe_all, axis):
+    """Semi-closed loop on each C-frame axis, its screw at a uniform rise dT: the screw's share of
+    the positioning error is e(p) = alpha dT (s(p) - s_fixed), s(p) the nut's machine coordinate
+    and s_fixed the fixed bearing's (negative where the nut lies below/left of it), exactly."""
+    from twin.observe.interferometer import screw_line_rows
+    machine, mm, _ = cframe_all
+    ax = machine.axis(axis)
+    lo, hi = ax.travel
+    targets = np.arange(lo, hi + 1e-9, 0.01)
+    alpha, dT = material("steel").expansion, 3.0
+    rows = screw_line_rows(mm, ax, targets, alpha)
+    e = rows @ np.full(mm.nheat, dT)
+    assert e == pytest.approx(alpha * dT * (ax.nut_coordinate(targets) - ax.drive.fixed_end), rel=1e-12, abs=1e-18)
