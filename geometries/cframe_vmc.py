@@ -172,7 +172,8 @@ def axes(col_y0: float) -> list[LinearAxis]:
     * X (table on the saddle): the screw along x in the saddle top under the table, y = 0,
       z 0.43-0.47 m, fixed bearing at the right (motor) end x 0.30..0.35, floating at the left
       x -0.35..-0.30; the motor's flange at the saddle's right end; the nut under the table's
-      centre. X = p puts the nut at x = -0.25 + p; the mesh's pose is X = 250 mm.
+      centre; its carriages within 100 mm of the table's centre (they stay on the saddle's rails
+      over the whole travel). X = p puts the nut at x = -0.25 + p; the mesh's pose is X = 250 mm.
     * Z (carrier on the column): the screw upright in the column's front, x = 0, y 0.47-0.51 m,
       z 1.25..1.85, fixed bearing at the top z 1.85..1.90 under the motor (in the column top,
       where ``z_axis_holding`` puts the holding losses), floating at the bottom z 1.20..1.25;
@@ -218,7 +219,7 @@ def axes(col_y0: float) -> list[LinearAxis]:
                            motor=InBox(Parts(("saddle",)), Box((0.27, -0.12, 0.35), (0.36, 0.12, 0.47))),
                            nut_body=InBox(Parts(("table",)), Box((-0.10, -0.08, 0.47), (0.10, 0.08, 0.51))),
                            rails=_pair("saddle", (-0.35, 0, 0.43), (0.35, 0, 0.47), 1, ((-0.22, -0.14), (0.04, 0.12))),
-                           carriages=_pair("table", (-0.35, 0, 0.47), (0.35, 0, 0.51), 1,
+                           carriages=_pair("table", (-0.10, 0, 0.47), (0.10, 0, 0.51), 1,
                                            ((-0.22, -0.14), (0.04, 0.12)))),
         points=(Point("X_motor", (0.35 - e, 0.10, 0.40), "saddle"),
                 Point("X_front_bearing", (0.325, 0.0, xh - e), "x_front_bearing"),

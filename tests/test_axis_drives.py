@@ -107,3 +107,45 @@ def test_semi_closed_screw_at_a_uniform_rise_reads_alpha_dT_times_the_nut_distan
     rows = screw_line_rows(mm, ax, targets, alpha)
     e = rows @ np.full(mm.nheat, dT)
     assert e == pytest.approx(alpha * dT * (ax.nut_coordinate(targets) - ax.drive.fixed_end), rel=1e-12, abs=1e-18)
+
+
+def test_pose_carry_of_an_affine_field_is_the_field_times_the_offset(cframe_all):
+    """Read-out at the pose (twin.observe.pose): for an affine structure displacement
+    u(x) = f(t) alpha dT (x - x0) (a free uniform expansion), the carry of each axis at pose p is
+    c(p) = f(t) alpha dT (p - p_ref) e, exactly (trilinear interpolation reproduces affine fields,
+    hats reproduce linear functions of p); a reading (u_a - u_b) . d gains (m_a - m_b) c . d, and
+    nothing at the mesh's pose."""
+    from twin.effects.moving import motion_of
+    from twin.observe.pose import PoseCarry, support_points
+    machine, mm, sc = cframe_all
+    g = 12e-6 * 2.0
+    x0 = np.array([0.1, -0.2, 0.3])
+    u = (g * (mm.mesh.p.T - x0)).ravel()                     # interleaved (x, y, z) per node
+    carry = PoseCarry(machine, [machine.tool_point, machine.workpiece_point])
+    assert [a.name for a in carry.axes] == ["X", "Y", "Z"]
+    for a in carry.axes:
+        s = support_points(machine, a)
+        assert len(s) == 4 and np.ptp(s[:, "xyz".index(a.direction)]) > 0
+    G = carry.functionals(mm)
+    f = np.linspace(0.0, 1.0, len(sc.times()))
+    raw = f[:, None] * (G @ u)[None, :]
+    c = carry.carry(raw, sc.times(), sc)
+    for j, a in enumerate(carry.axes):
+        p = motion_of(sc, a).position(sc.times())
+        expect = f[:, None] * g * (p - a.p_ref)[:, None] * np.eye(3)["xyz".index(a.direction)]
+        assert c[:, j] == pytest.approx(expect, rel=1e-9, abs=1e-17)
+    # drift = tool - workpiece: the workpiece rides on X and Y, the tool on Z
+    corr = carry.correction(raw, sc.times(), sc, [(0, 1, d) for d in np.eye(3)])
+    assert corr == pytest.approx(c[:, 2] - c[:, 0] - c[:, 1], rel=1e-9, abs=1e-17)
+    still = type(sc)(**{**sc.__dict__, "axes": ()})
+    assert np.abs(carry.correction(raw, sc.times(), still, [(0, 1, d) for d in np.eye(3)])).max() < 1e-20
+
+
+def test_no_pose_rows_without_a_moving_axis():
+    """A spindle-only machine has no carried axis: the drift and probes' functionals are the
+    plain ones (the gold results unchanged)."""
+    from twin.observe import FiveProbeTestBar, ToolDrift
+    base = build_machine("cframe-vmc")
+    mm = mesh_machine(base, "coarse")
+    for o in (ToolDrift(), FiveProbeTestBar()):
+        assert (o.all_functionals(mm) != o.functionals(mm)).nnz == 0

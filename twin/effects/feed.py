@@ -193,7 +193,7 @@ class FeedScrewGap(_AxisEffect):
 # geometries.cframe_vmc); carriages sit closer to the nut on the shorter X table and Z carrier.
 AXIS_DEFAULTS = {
     ("feed_motor", "Z"): {"holding_power": 0.0},
-    ("feed_guideways", "X"): {"carriage_offset": 0.20},
+    ("feed_guideways", "X"): {"carriage_offset": 0.05},
     ("feed_guideways", "Z"): {"carriage_offset": 0.12},
 }
 
