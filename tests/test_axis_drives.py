@@ -129,16 +129,16 @@ def test_pose_carry_of_an_affine_field_is_the_field_times_the_offset(cframe_all)
     G = carry.functionals(mm)
     f = np.linspace(0.0, 1.0, len(sc.times()))
     raw = f[:, None] * (G @ u)[None, :]
-    c = carry.carry(raw, sc.times(), sc)
+    c = carry.carry(raw, carry.positions(sc.times(), sc))
     for j, a in enumerate(carry.axes):
         p = motion_of(sc, a).position(sc.times())
         expect = f[:, None] * g * (p - a.p_ref)[:, None] * np.eye(3)["xyz".index(a.direction)]
         assert c[:, j] == pytest.approx(expect, rel=1e-9, abs=1e-17)
     # drift = tool - workpiece: the workpiece rides on X and Y, the tool on Z
-    corr = carry.correction(raw, sc.times(), sc, [(0, 1, d) for d in np.eye(3)])
+    corr = carry.correction(raw, carry.positions(sc.times(), sc), [(0, 1, d) for d in np.eye(3)])
     assert corr == pytest.approx(c[:, 2] - c[:, 0] - c[:, 1], rel=1e-9, abs=1e-17)
     still = type(sc)(**{**sc.__dict__, "axes": ()})
-    assert np.abs(carry.correction(raw, sc.times(), still, [(0, 1, d) for d in np.eye(3)])).max() < 1e-20
+    assert np.abs(carry.correction(raw, carry.positions(sc.times(), still), [(0, 1, d) for d in np.eye(3)])).max() < 1e-20
 
 
 def test_no_pose_rows_without_a_moving_axis():

@@ -61,7 +61,7 @@ class DisplacementObserver(Observer):
         if carry is None:
             return raw
         n = len(pairs)
-        return raw[:, :n] + carry.correction(raw[:, n:], ctx.times, ctx.scenario, pairs)
+        return raw[:, :n] + carry.correction(raw[:, n:], carry.positions(ctx.times, ctx.scenario), pairs)
 
     def rows(self, twin, loads):
         return twin.displacement_rows(self, loads.mm)

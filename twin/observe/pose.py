@@ -117,27 +117,33 @@ class PoseCarry:
                 blocks += [displacement_functional(mean, d) for d in _UNIT]
         return sp.vstack(blocks).tocsr() if blocks else sp.csr_matrix((0, 3 * mm.nnodes))
 
-    def carry(self, raw: np.ndarray, times: np.ndarray, scenario) -> np.ndarray:
-        """(n_t, n_axes, 3) the carry c(p(t)) [m] of each axis at its pose at each instant ``times``
-        [s], from the raw readings (n_t, nrows) of :meth:`functionals`: each node's change since
-        the first instant (the uniform start field, which displaces nothing), weighted by the
-        hats phi_k(p(t))."""
+    def positions(self, times, scenario) -> np.ndarray:
+        """(n_t, n_axes) each carried axis's commanded position [m] at ``times`` [s]."""
         from twin.effects.moving import motion_of
-        out = np.zeros((len(times), len(self.axes), 3))
+        t = np.asarray(times, float)
+        return np.column_stack([motion_of(scenario, a).position(t) for a in self.axes]).reshape(len(t), len(self.axes))
+
+    def carry(self, raw: np.ndarray, positions: np.ndarray) -> np.ndarray:
+        """(n_t, n_axes, 3) the carry c(p) [m] of each axis at ``positions`` (n_t, n_axes) [m]
+        (:meth:`positions`: where the axes are at each instant), from the raw readings (n_t,
+        nrows) of :meth:`functionals`: each node's change since the first instant (the uniform
+        start field, which displaces nothing), weighted by the hats phi_k(p)."""
+        out = np.zeros((len(raw), len(self.axes), 3))
         i = 0
-        for j, (a, nodes) in enumerate(zip(self.axes, self.nodes)):
-            block = raw[:, i:i + 3 * len(nodes)].reshape(len(times), len(nodes), 3)
+        for j, nodes in enumerate(self.nodes):
+            block = raw[:, i:i + 3 * len(nodes)].reshape(len(raw), len(nodes), 3)
             block = block - block[:1]
-            p = np.clip(motion_of(scenario, a).position(np.asarray(times, float)), nodes[0], nodes[-1])
+            p = np.clip(positions[:, j], nodes[0], nodes[-1])
             out[:, j] = np.einsum("tk,tkd->td", hat(nodes, p), block)
             i += 3 * len(nodes)
         return out
 
-    def correction(self, raw: np.ndarray, times, scenario, pairs) -> np.ndarray:
+    def correction(self, raw: np.ndarray, positions: np.ndarray, pairs) -> np.ndarray:
         """(n_t, len(pairs)) [m]: for each reading (a, b, direction) of ``pairs`` (indices into the
-        observer's points, a unit direction), sum over axes (m_a - m_b) c(p(t)) . direction."""
-        c = self.carry(raw, times, scenario)
-        out = np.zeros((len(times), len(pairs)))
+        observer's points, a unit direction), sum over axes (m_a - m_b) c(p) . direction, the axes
+        at ``positions`` (n_t, n_axes) [m]."""
+        c = self.carry(raw, positions)
+        out = np.zeros((len(raw), len(pairs)))
         for n, (a, b, d) in enumerate(pairs):
             w = self.moves[:, a] - self.moves[:, b]          # (n_axes,)
             out[:, n] = np.einsum("j,tjd,d->t", w, c, np.asarray(d, float))
