@@ -392,9 +392,9 @@ def _file_family(name, cases, file, source, folder, field, machines) -> Family:
         raise InputError(source, field, f"no scenario {file!r} (a bundled name or a path relative to the spec)")
     data, _ = read_toml(path, "scenario", "scenario file")
     sc = scenario_from_dict(data, str(path), default_name=path.stem)   # checked now; errors name the scenario file
-    if sc.axes or sc.interferometer is not None:
-        raise InputError(str(path), "axis" if sc.axes else "interferometer",
-                         "axis motion and the interferometer are not supported in datasets yet (run twin simulate)")
+    if sc.axes or sc.interferometer is not None or sc.probing is not None:
+        raise InputError(str(path), "axis" if sc.axes else "interferometer" if sc.probing is None else "probing",
+                         "axis motion, the interferometer and probing are not supported in datasets yet (run twin simulate)")
     for m in machines.values():
         limits.check_scenario(sc, m)
     return Family(name, cases, data=data, file=file, path=str(path))
