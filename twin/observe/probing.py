@@ -38,6 +38,7 @@ from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, DisplacementObserver, relative_displacement
+from twin.observe.instants import baseline_instants, check_on_grid
 from twin.units import UnitError, parse_quantity
 
 _UNIT = np.eye(3)
@@ -60,19 +61,14 @@ def probing_from_toml(raw, source: str, reader) -> ProbingConfig | None:
     times = r.get("times", required=True)
     datums = r.get("datums", required=True)
     r.finish()
-    try:
-        t = [parse_quantity(v, "time") for v in (times if isinstance(times, list) else [])]
-    except UnitError as err:
-        raise InputError(source, "probing.times", str(err)) from None
-    if not t or t[0] != 0 or np.any(np.diff(t) <= 0):
-        raise InputError(source, "probing.times", "expected increasing instants, the first at 0 s (the datum baseline)")
+    t = baseline_instants(times, source, "probing.times", "the datum baseline")
     if not isinstance(datums, list) or not datums or not all(isinstance(d, list) and len(d) == 3 for d in datums):
         raise InputError(source, "probing.datums", 'expected a list of [X, Y, Z] positions such as ["100 mm", "50 mm", "0 mm"]')
     try:
         xyz = tuple(tuple(parse_quantity(v, "length") for v in d) for d in datums)
     except UnitError as err:
         raise InputError(source, "probing.datums", str(err)) from None
-    return ProbingConfig(tuple(t), xyz, source)
+    return ProbingConfig(t, xyz, source)
 
 
 def check_probing(config: ProbingConfig, scenario, machine) -> None:
@@ -88,11 +84,7 @@ def check_probing(config: ProbingConfig, scenario, machine) -> None:
             if v < a.travel[0] - 1e-9 or v > a.travel[1] + 1e-9:
                 raise InputError(src, f"probing.datums[{i}]", f"{a.name} {v * 1e3:g} mm is outside the travel "
                                                              f"{a.travel[0] * 1e3:g} .. {a.travel[1] * 1e3:g} mm")
-    dt = scenario.sample_interval
-    for v in config.times:
-        if v > scenario.duration + 1e-6 or abs(v / dt - round(v / dt)) > 1e-6:
-            raise InputError(src, "probing.times", f"{v:g} s is not an output instant of the scenario "
-                                                   f"(every {dt:g} s up to {scenario.duration:g} s)")
+    check_on_grid(config.times, scenario, src, "probing.times")
 
 
 class DatumProbing(DisplacementObserver):
