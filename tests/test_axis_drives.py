@@ -149,3 +149,78 @@ def test_no_pose_rows_without_a_moving_axis():
     mm = mesh_machine(base, "coarse")
     for o in (ToolDrift(), FiveProbeTestBar()):
         assert (o.all_functionals(mm) != o.functionals(mm)).nnz == 0
+
+
+AXIS_SPEC = """\
+name = "axes"
+machines = ["cframe-vmc"]
+mesh = "coarse"
+seed = 5
+
+[[scenarios]]
+family = "axis-duty"
+cases = 2
+duration = "20 min"
+sample_interval = "60 s"
+[scenarios.spindle]
+step = ["4 min", "8 min"]
+speed = ["2000 rpm", "9000 rpm"]
+idle_probability = 0.3
+[scenarios.ambient]
+kind = "constant"
+temperature = "20 degC"
+[[scenarios.axis]]
+name = "Y"
+range = ["0 mm", "280 mm"]
+feed = ["5 mm/s", "30 mm/s"]
+[[scenarios.axis]]
+name = "X"
+range = ["50 mm", "450 mm"]
+feed = "20 mm/s"
+acceleration = "50 mm/s2"
+"""
+
+
+def test_dataset_generator_draws_axis_duty_cycles(tmp_path):
+    """An axis duty cycle in a dataset generator: deterministic draws, every drawn scenario
+    parses and stays in its range, the axes reciprocate only while the spindle runs, and a case
+    runs on the C-frame with the commanded axes' drives (their feed effects in its model)."""
+    from twin.dataset import load_spec, plan
+    from twin.dataset.runner import simulate_case
+    from twin.scenario import scenario_from_dict
+    (tmp_path / "s.toml").write_text(AXIS_SPEC)
+    cases = plan(load_spec(tmp_path / "s.toml"))
+    assert [c.hash for c in cases] == [c.hash for c in plan(load_spec(tmp_path / "s.toml"))]
+    for c in cases:
+        sc = scenario_from_dict(c.record["scenario"], "drawn")
+        assert [m.axis for m in sc.axes] == ["Y", "X"]
+        t = sc.times()
+        for m, (lo, hi) in zip(sc.axes, ((0.0, 0.28), (0.05, 0.45))):
+            x = m.position(t)
+            assert x.min() >= lo - 1e-12 and x.max() <= hi + 1e-12
+            still = np.array([sc.spindle_speed(tt) == 0 for tt in t[1:]])
+            assert np.all(m.velocity(t[1:] - 1e-3)[still] == 0.0)
+    moving = [c for c in cases if any(m["kind"] == "reciprocate" for a in c.record["scenario"]["axis"]
+                                      for m in a["move"])]
+    ds, result = simulate_case(moving[0].record, moving[0].hash, max_steps=3)
+    assert {"y_screw", "x_screw"} <= {p.name for p in result.machine.parts}
+    assert {"feed_nut_x", "feed_nut_y", "feed_motor_x"} <= set(ds.attrs["effects"].split(","))
+    assert "feed_nut_z" not in ds.attrs["effects"]
+
+
+@pytest.mark.parametrize("old,new,field", [
+    ('name = "Y"', 'name = "W"', "scenarios[0].axis[0].name"),
+    ('range = ["0 mm", "280 mm"]', 'range = ["0 mm", "600 mm"]', "scenarios[0].axis[0].range"),
+    ('feed = ["5 mm/s", "30 mm/s"]', 'feed = ["0 mm/s", "30 mm/s"]', "scenarios[0].axis[0].feed"),
+    ('acceleration = "50 mm/s2"', 'acceleration = "0 mm/s2"', "scenarios[0].axis[1].acceleration"),
+    ('acceleration = "50 mm/s2"', 'acceleration = "50 mm/s2"\nstroke = "1 mm"', "scenarios[0].axis[1].stroke"),
+])
+def test_a_bad_axis_duty_cycle_names_its_field(tmp_path, old, new, field):
+    """Bad axis generator values are InputErrors naming the spec file and the field."""
+    from twin.dataset import load_spec
+    from twin.errors import InputError
+    assert old in AXIS_SPEC
+    (tmp_path / "s.toml").write_text(AXIS_SPEC.replace(old, new, 1))
+    with pytest.raises(InputError) as err:
+        load_spec(tmp_path / "s.toml")
+    assert err.value.field == field

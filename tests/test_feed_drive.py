@@ -317,8 +317,9 @@ def test_seed003_protocol_study_runs_and_reports_beside_the_seed(exp1_coarse):
     assert ols_stats(x, 2 * x[:, 0] + 1)["R2"] == pytest.approx(1.0)
 
 
-def test_datasets_refuse_axis_scenarios_for_now(tmp_path):
-    """A dataset family whose scenario moves an axis is refused by name (not run without its drive)."""
+def test_datasets_take_axis_scenarios_but_refuse_the_interferometer(tmp_path):
+    """A dataset family whose scenario moves an axis is accepted (the runner adds its drive); one
+    with an interferometer is refused by name."""
     from twin.dataset import load_spec
     ref = ('name = "ref"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n[[spindle]]\n'
            'speed = "0 rpm"\nduration = "10 min"\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "hold"\n'
@@ -326,9 +327,11 @@ def test_datasets_refuse_axis_scenarios_for_now(tmp_path):
     (tmp_path / "ref.toml").write_text(ref)
     (tmp_path / "spec.toml").write_text('name = "s"\nmachines = ["cframe-vmc"]\nmesh = "coarse"\n'
                                         '[[scenarios]]\nfamily = "reference"\nfile = "ref.toml"\n')
+    assert load_spec(tmp_path / "spec.toml").families[0].data["axis"][0]["name"] == "Y"
+    (tmp_path / "ref.toml").write_text(ref + '[interferometer]\naxis = "Y"\nruns = ["0 min", "5 min"]\n')
     with pytest.raises(InputError, match="not supported in datasets") as err:
         load_spec(tmp_path / "spec.toml")
-    assert err.value.field == "axis"
+    assert err.value.field == "interferometer"
 
 
 def test_closed_loop_reads_the_scale_carriers_free_expansion():
