@@ -113,7 +113,9 @@ def at_pose(machine, axis_name: str, p: float):
     """A copy of ``machine`` built with axis ``axis_name`` at commanded position ``p`` [m]
     instead of its reference pose: the axis's moving parts, the points on them and the regions
     (boxes) of roles on them shifted by p - p_ref along the axis. For checking what the single
-    reference pose costs (:mod:`twin.motion`); the drive's own parts stay where they are."""
+    reference pose costs (:mod:`twin.motion`); the axis's own drive stays where it is (a drive that
+    rides on the axis, the C-frame's X drive on the Y saddle, moves with it when its parts are
+    among the axis's moving parts; its :class:`FeedDrive` line data do not)."""
     from dataclasses import replace
 
     from geometries.base import Box, Machine, Part, Point

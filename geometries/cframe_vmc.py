@@ -247,7 +247,8 @@ def axes(col_y0: float) -> list[LinearAxis]:
         screw_axis=(0.0, 0.5 * (zy0 + zy1)), fixed_end=1.85, lead=0.010, nut_offset=(0.0, -0.05),
         effects=_drive_effects("z", ("z_axis_holding",)))
     return [LinearAxis("X", "x", (0.0, 0.50), "semi-closed", ("table",), -0.25, 0.25, x_drive),
-            LinearAxis("Y", "y", (0.0, 0.40), "semi-closed", ("saddle", "table"), -0.25, 0.20, y_drive),
+            LinearAxis("Y", "y", (0.0, 0.40), "semi-closed", ("saddle", "table", "x_screw", "x_front_bearing",
+                                                             "x_rear_bearing"), -0.25, 0.20, y_drive),   # X rides on Y
             LinearAxis("Z", "z", (0.0, 0.33), "semi-closed", ("carrier", "spindle", "front_bearing", "rear_bearing",
                                                              "motor", "test_bar"), 1.30, 0.0, z_drive)]
 
