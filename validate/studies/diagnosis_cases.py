@@ -63,8 +63,9 @@ HIDDEN = {
                              "20 mm/s is the default."),
     "feed_motor_y": (AXIS, None, "the Y motor's losses enter the bed's front while the axis moves; 50 W at 20 mm/s "
                                "plus 5 W holding is the default."),
-    "feed_guideways_y": (AXIS, None, "guideway friction heats the rails under the carriages as they pass; 10 W at "
-                                   "20 mm/s is the default."),
+    "feed_guideways_y": (AXIS, "30 W", "guideway friction heats the rails under the carriages as they pass; 30 W at "
+                                     "20 mm/s is the top of its plausible range (the 10 W default, spread along "
+                                     "the rails, leaves a residual within the probes' noise)."),
     "feed_bearings_y": (AXIS, "6 W", "the screw's support bearings heat with the screw speed; 6 W at 20 mm/s is a "
                                    "strongly preloaded pair."),
 }
