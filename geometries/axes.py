@@ -24,7 +24,7 @@ FEEDBACK = ("semi-closed", "closed")
 class FeedDrive:
     """A ball-screw drive's description: ``parts`` (the screw and anything else of its own, added
     to the machine), ``surfaces``, the regions of the ``roles`` it binds (see
-    :data:`geometries.regions.ROLES`, the ``feed_drive.*`` roles), sensor ``points``,
+    :data:`geometries.regions.ROLES`, the axis's ``feed_drive.<axis>.*`` roles), sensor ``points``,
     ``screw_axis`` (x, z) [m]: the screw's centre line across ``direction`` (the two other machine
     coordinates, in x, y, z order), ``fixed_end`` [m]: the machine coordinate along the axis of the
     fixed (thrust) bearing, ``lead`` [m] per revolution and ``nut_offset`` (x, z) [m] from the
@@ -84,12 +84,16 @@ class LinearAxis:
         return self.nut_at_zero + p
 
 
-def with_feed_drives(machine):
-    """A copy of ``machine`` with the parts, surfaces, roles and sensor points of every axis that
-    has a :class:`FeedDrive` (the machine itself when none has)."""
-    drives = [a.drive for a in machine.axes if a.drive is not None]
+def with_feed_drives(machine, axes=None):
+    """A copy of ``machine`` with the parts, surfaces, roles, sensor points and default effects of
+    the :class:`FeedDrive` of every axis named in ``axes`` (all axes that have one when None; the
+    machine itself when none is left to add). A scenario adds only the drives of the axes it
+    commands (:func:`twin.motion.machine_for`), so a spindle test's mesh has no drive parts and
+    a Y-only scenario no X or Z screw."""
     have = {p.name for p in machine.parts}
-    if not drives or any(p.name in have for d in drives for p in d.parts):   # none, or added already
+    drives = [a.drive for a in machine.axes if a.drive is not None and (axes is None or a.name in axes)
+              and not any(p.name in have for p in a.drive.parts)]   # not added already
+    if not drives:
         return machine
     from geometries.base import Machine
     parts = list(machine.parts) + [p for d in drives for p in d.parts]
@@ -109,7 +113,9 @@ def at_pose(machine, axis_name: str, p: float):
     """A copy of ``machine`` built with axis ``axis_name`` at commanded position ``p`` [m]
     instead of its reference pose: the axis's moving parts, the points on them and the regions
     (boxes) of roles on them shifted by p - p_ref along the axis. For checking what the single
-    reference pose costs (:mod:`twin.motion`); the drive's own parts stay where they are."""
+    reference pose costs (:mod:`twin.motion`); the axis's own drive stays where it is (a drive that
+    rides on the axis, the C-frame's X drive on the Y saddle, moves with it when its parts are
+    among the axis's moving parts; its :class:`FeedDrive` line data do not)."""
     from dataclasses import replace
 
     from geometries.base import Box, Machine, Part, Point

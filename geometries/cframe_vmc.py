@@ -17,7 +17,7 @@ from geometries.axes import FeedDrive, LinearAxis
 from geometries.base import (PROBE_HEIGHTS, Box, CameraPose, Finish, Machine, Part, Point, Surface, material,
                              test_bar_nest)
 from geometries.finishes import GROUND_STEEL, MACHINE_PAINT, MASKING_TAPE
-from geometries.regions import Band, Facing, InBox, Named, Parts, Union
+from geometries.regions import Band, Facing, InBox, Named, Parts, Union, feed_drive_role
 
 NAME = "cframe-vmc"
 
@@ -126,40 +126,79 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
     )
 
 
-# The Y feed drive's effects, on by default when a scenario moves an axis (geometries.axes).
-FEED_DRIVE_EFFECTS = ("feed_nut", "feed_bearings", "feed_motor", "feed_guideways", "feed_screw_gap")
+def _drive_effects(axis: str, extra: tuple = ()) -> tuple[str, ...]:
+    """The effects an axis's feed drive adds to the machine's default set when a scenario moves it."""
+    return tuple(f"{f}_{axis}" for f in ("feed_nut", "feed_bearings", "feed_motor", "feed_guideways",
+                                         "feed_screw_gap")) + extra
+
+
+def _screw_parts(a: str, screw: Box, front: Box, rear: Box, chain: str) -> tuple[Part, ...]:
+    """Axis ``a``'s steel screw and its fixed (front) and floating (rear) support bearings."""
+    steel = material("steel")
+    return (Part(f"{a}_screw", steel, (screw,), chain), Part(f"{a}_front_bearing", steel, (front,), chain),
+            Part(f"{a}_rear_bearing", steel, (rear,), chain))
+
+
+def _drive_roles(a: str, structure: tuple[str, ...], motor, nut_body, rails, carriages) -> dict:
+    """Axis ``a``'s ``feed_drive.<a>.*`` roles over the parts :func:`_screw_parts` names."""
+    return {feed_drive_role(a, "screw"): Parts((f"{a}_screw",)),
+            feed_drive_role(a, "screw_gap"): Named(f"{a}_screw_gap"),
+            feed_drive_role(a, "structure_side"): Parts(structure),
+            feed_drive_role(a, "front_bearing"): Parts((f"{a}_front_bearing",)),
+            feed_drive_role(a, "rear_bearing"): Parts((f"{a}_rear_bearing",)),
+            feed_drive_role(a, "motor"): motor,
+            feed_drive_role(a, "nut_body"): nut_body,
+            feed_drive_role(a, "guideways"): rails,
+            feed_drive_role(a, "carriages"): carriages}
+
+
+def _pair(part: str, box_lo, box_hi, across: int, spans) -> Union:
+    """Two boxes in ``part`` (a pair of rails or of carriages), equal but for coordinate
+    ``across`` (0 x, 1 y), which takes each of the two ``spans`` (lo, hi) [m]."""
+    boxes = []
+    for lo, hi in spans:
+        a, b = list(box_lo), list(box_hi)
+        a[across], b[across] = lo, hi
+        boxes.append(InBox(Parts((part,)), Box(tuple(a), tuple(b))))
+    return Union(tuple(boxes))
 
 
 def axes(col_y0: float) -> list[LinearAxis]:
     """X 500, Y 400, Z 330 mm (seed 000), semi-closed loop (seed 000: ball screws with rotary
-    encoders). Only Y has its feed drive modelled (seed 003's servo axis): a 40 mm square steel
-    screw (the cross-section of a 45 mm ball screw, 1590 mm2) along y in a trough of the bed top
-    under the saddle, x = 0, z 0.31-0.35 m, fixed bearing at the front (motor) end y -0.55..-0.50,
-    floating bearing at the rear y 0.40..0.45, lead 10 mm; the nut under the saddle's centre.
-    Commanded Y = p puts the nut at y = -0.25 + p [m]; the mesh's pose is Y = 200 mm (the
-    saddle and table as built). Plausible, not a measured machine."""
-    steel = material("steel")
-    lo, hi = 0.31, 0.35                     # screw's bottom and top [m]
+    encoders), each with its ball-screw drive: a 40 mm square steel screw (the cross-section of a
+    40-45 mm ball screw), lead 10 mm, a fixed (thrust) bearing at the motor end and a floating one
+    at the other. Plausible, not a measured machine.
+
+    * Y (seed 003's servo axis; saddle and table on the bed): the screw along y in a trough of
+      the bed top under the saddle, x = 0, z 0.31-0.35 m, fixed bearing at the front (motor) end
+      y -0.55..-0.50, floating at the rear y 0.40..0.45; the nut under the saddle's centre.
+      Commanded Y = p puts the nut at y = -0.25 + p [m]; the mesh's pose is Y = 200 mm.
+    * X (table on the saddle): the screw along x in the saddle top under the table, y = 0,
+      z 0.43-0.47 m, fixed bearing at the right (motor) end x 0.30..0.35, floating at the left
+      x -0.35..-0.30; the motor's flange at the saddle's right end; the nut under the table's
+      centre; its carriages within 100 mm of the table's centre (they stay on the saddle's rails
+      over the whole travel). X = p puts the nut at x = -0.25 + p; the mesh's pose is X = 250 mm.
+    * Z (carrier on the column): the screw upright in the column's front, x = 0, y 0.47-0.51 m,
+      z 1.25..1.85, fixed bearing at the top z 1.85..1.90 under the motor (in the column top,
+      where ``z_axis_holding`` puts the holding losses), floating at the bottom z 1.20..1.25;
+      the nut in the carrier's rear at mid-height. Z = p puts the nut at z = 1.30 + p; the
+      mesh's pose is Z = 0 (the carrier as built, the spindle tests' position).
+    """
     e = 1e-3
+    col_top = 1.90
+    # Y: saddle on the bed
     gy = (-0.55, col_y0)                    # the rails' extent along y [m]
-    rails = Union(tuple(InBox(Parts(("bed",)), Box((x0, gy[0], 0.29), (x1, gy[1], 0.35)))
-                        for x0, x1 in ((-0.30, -0.20), (0.20, 0.30))))
-    carriages = Union(tuple(InBox(Parts(("saddle",)), Box((x0, -0.35, 0.35), (x1, 0.25, 0.42)))
-                            for x0, x1 in ((-0.30, -0.20), (0.20, 0.30))))
-    drive = FeedDrive(
-        parts=(Part("y_screw", steel, (Box((-0.02, -0.50, lo), (0.02, 0.40, hi)),), "workpiece"),
-               Part("y_front_bearing", steel, (Box((-0.02, -0.55, lo), (0.02, -0.50, hi)),), "workpiece"),
-               Part("y_rear_bearing", steel, (Box((-0.02, 0.40, lo), (0.02, 0.45, hi)),), "workpiece")),
+    lo, hi = 0.31, 0.35                     # screw's bottom and top [m]
+    y_drive = FeedDrive(
+        parts=_screw_parts("y", Box((-0.02, -0.50, lo), (0.02, 0.40, hi)), Box((-0.02, -0.55, lo), (0.02, -0.50, hi)),
+                           Box((-0.02, 0.40, lo), (0.02, 0.45, hi)), "workpiece"),
         surfaces=(Surface("y_screw_gap", ("y_screw",), interface_with=("bed", "saddle")),),
-        roles={"feed_drive.screw": Parts(("y_screw",)),
-               "feed_drive.screw_gap": Named("y_screw_gap"),
-               "feed_drive.structure_side": Parts(("bed", "saddle")),
-               "feed_drive.front_bearing": Parts(("y_front_bearing",)),
-               "feed_drive.rear_bearing": Parts(("y_rear_bearing",)),
-               "feed_drive.motor": InBox(Parts(("bed",)), Box((0.05, -0.56, 0.15), (0.30, -0.44, 0.36))),
-               "feed_drive.nut_body": InBox(Parts(("saddle",)), Box((-0.10, -0.15, 0.34), (0.10, 0.05, 0.42))),
-               "feed_drive.guideways": rails,
-               "feed_drive.carriages": carriages},
+        roles=_drive_roles("y", ("bed", "saddle"),
+                           motor=InBox(Parts(("bed",)), Box((0.05, -0.56, 0.15), (0.30, -0.44, 0.36))),
+                           nut_body=InBox(Parts(("saddle",)), Box((-0.10, -0.15, 0.34), (0.10, 0.05, 0.42))),
+                           rails=_pair("bed", (0, gy[0], 0.29), (0, gy[1], 0.35), 0, ((-0.30, -0.20), (0.20, 0.30))),
+                           carriages=_pair("saddle", (0, -0.35, 0.35), (0, 0.25, 0.42), 0,
+                                           ((-0.30, -0.20), (0.20, 0.30)))),
         # seed 003's eleven sites (Table 1), T1..T11 in its order
         points=(Point("Y_motor", (0.15, -0.55 + e, 0.28), "bed"),
                 Point("Y_column", (0.20, col_y0 + e, 0.80), "column"),
@@ -173,11 +212,49 @@ def axes(col_y0: float) -> list[LinearAxis]:
                 Point("Y_nut", (0.0, -0.05, 0.35 + e), "saddle"),
                 Point("Y_air_room", (0.0, -1.50, 1.50), "air")),
         screw_axis=(0.0, 0.5 * (lo + hi)), fixed_end=-0.50, lead=0.010, nut_offset=(0.0, 0.03),
-        effects=FEED_DRIVE_EFFECTS)
-    return [LinearAxis("X", "x", (0.0, 0.50), "semi-closed", ("table",), -0.25, 0.25),
-            LinearAxis("Y", "y", (0.0, 0.40), "semi-closed", ("saddle", "table"), -0.25, 0.20, drive),
+        effects=_drive_effects("y"))
+    # X: table on the saddle (saddle x -0.35..0.35, top z 0.47; table x -0.5..0.5, y -0.25..0.15)
+    xl, xh = 0.43, 0.47
+    x_drive = FeedDrive(
+        parts=_screw_parts("x", Box((-0.30, -0.02, xl), (0.30, 0.02, xh)), Box((0.30, -0.02, xl), (0.35, 0.02, xh)),
+                           Box((-0.35, -0.02, xl), (-0.30, 0.02, xh)), "workpiece"),
+        surfaces=(Surface("x_screw_gap", ("x_screw",), interface_with=("saddle", "table")),),
+        roles=_drive_roles("x", ("saddle", "table"),
+                           motor=InBox(Parts(("saddle",)), Box((0.27, -0.12, 0.35), (0.36, 0.12, 0.47))),
+                           nut_body=InBox(Parts(("table",)), Box((-0.10, -0.08, 0.47), (0.10, 0.08, 0.51))),
+                           rails=_pair("saddle", (-0.35, 0, 0.43), (0.35, 0, 0.47), 1, ((-0.22, -0.14), (0.04, 0.12))),
+                           carriages=_pair("table", (-0.10, 0, 0.47), (0.10, 0, 0.51), 1,
+                                           ((-0.22, -0.14), (0.04, 0.12)))),
+        points=(Point("X_motor", (0.35 - e, 0.10, 0.40), "saddle"),
+                Point("X_front_bearing", (0.325, 0.0, xh - e), "x_front_bearing"),
+                Point("X_rear_bearing", (-0.325, 0.0, xh - e), "x_rear_bearing"),
+                Point("X_nut", (0.0, -0.05, 0.47 + e), "table")),
+        screw_axis=(0.0, 0.5 * (xl + xh)), fixed_end=0.30, lead=0.010, nut_offset=(0.0, 0.03),
+        effects=_drive_effects("x"))
+    # Z: carrier on the column face (column y from col_y0, carrier z 1.10..1.55 at Z = 0)
+    zy0, zy1 = col_y0 + 0.02, col_y0 + 0.06
+    z_drive = FeedDrive(
+        parts=_screw_parts("z", Box((-0.02, zy0, 1.25), (0.02, zy1, 1.85)), Box((-0.02, zy0, 1.85), (0.02, zy1, col_top)),
+                           Box((-0.02, zy0, 1.20), (0.02, zy1, 1.25)), "tool"),
+        surfaces=(Surface("z_screw_gap", ("z_screw",), interface_with=("column",)),),
+        roles=_drive_roles("z", ("column",),
+                           motor=Band(Parts(("column",)), "z", col_top - 0.2, col_top),   # = z_drive.top
+                           nut_body=InBox(Parts(("carrier",)), Box((-0.10, col_y0 - 0.10, 1.25), (0.10, col_y0, 1.40))),
+                           rails=_pair("column", (0, col_y0, 0.90), (0, col_y0 + 0.04, col_top), 0,
+                                       ((-0.22, -0.14), (0.14, 0.22))),
+                           carriages=_pair("carrier", (0, col_y0 - 0.04, 1.10), (0, col_y0, 1.55), 0,
+                                           ((-0.18, -0.12), (0.12, 0.18)))),
+        points=(Point("Z_motor", (0.20, col_y0 + e, col_top - 0.10), "column"),
+                Point("Z_front_bearing", (0.0, zy0 + e, 1.875), "z_front_bearing"),
+                Point("Z_rear_bearing", (0.0, zy0 + e, 1.225), "z_rear_bearing"),
+                Point("Z_nut", (0.0, col_y0 - e, 1.32), "carrier")),
+        screw_axis=(0.0, 0.5 * (zy0 + zy1)), fixed_end=1.85, lead=0.010, nut_offset=(0.0, -0.05),
+        effects=_drive_effects("z", ("z_axis_holding",)))
+    return [LinearAxis("X", "x", (0.0, 0.50), "semi-closed", ("table",), -0.25, 0.25, x_drive),
+            LinearAxis("Y", "y", (0.0, 0.40), "semi-closed", ("saddle", "table", "x_screw", "x_front_bearing",
+                                                             "x_rear_bearing"), -0.25, 0.20, y_drive),   # X rides on Y
             LinearAxis("Z", "z", (0.0, 0.33), "semi-closed", ("carrier", "spindle", "front_bearing", "rear_bearing",
-                                                             "motor", "test_bar"), 1.10, 0.0)]
+                                                             "motor", "test_bar"), 1.30, 0.0, z_drive)]
 
 
 def camera_poses(nose: float, tip: float) -> list[CameraPose]:

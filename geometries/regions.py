@@ -100,19 +100,36 @@ ROLES: dict[str, tuple[str, str]] = {
     "floor.contact": ("surface", "the foot of the bed standing on the floor"),
     "cabinet.face": ("surface", "the structure face an electrical cabinet stands beside"),
     "z_drive.top": ("volume", "where the Z motor and its brake sit, holding the spindle carrier"),
-    # the ball-screw feed drive of the machine's driven axis (geometries.axes.FeedDrive)
-    "feed_drive.screw": ("parts", "the ball screw, its own steel part, on whose cells the nut's heat travels"),
-    "feed_drive.screw_gap": ("interface", "the screw's faces towards the structure between its bearings (an air gap)"),
-    "feed_drive.structure_side": ("parts", "the structure across the screw's air gap (gets its own temperatures there)"),
-    "feed_drive.front_bearing": ("volume", "the screw's fixed support bearing at the motor end"),
-    "feed_drive.rear_bearing": ("volume", "the screw's support bearing at the far end"),
-    "feed_drive.motor": ("volume", "where the feed motor's losses enter the structure (its flange)"),
-    "feed_drive.nut_body": ("volume", "the nut housing on the moving body (heat moves with the body)"),
-    "feed_drive.guideways": ("volume", "the guideway rails along the travel, where the carriages run"),
-    "feed_drive.carriages": ("volume", "the guideway carriages on the moving body"),
     "c_axis.motor": ("volume", "the C-axis (rotary) drive motor's body, where its losses arise"),
     "c_axis.bearing": ("volume", "the C-axis bearing zone, where its friction heat arises"),
 }
+
+
+# The ball-screw feed drive of each linear axis (geometries.axes.FeedDrive): role
+# ``feed_drive.<axis>.<what>``, axis x, y or z (the axis's name in lower case).
+FEED_DRIVE_ROLES = {
+    "screw": ("parts", "the ball screw, its own steel part, on whose cells the nut's heat travels"),
+    "screw_gap": ("interface", "the screw's faces towards the structure between its bearings (an air gap)"),
+    "structure_side": ("parts", "the structure across the screw's air gap (gets its own temperatures there)"),
+    "front_bearing": ("volume", "the screw's fixed support bearing at the motor end"),
+    "rear_bearing": ("volume", "the screw's support bearing at the far end"),
+    "motor": ("volume", "where the feed motor's losses enter the structure (its flange)"),
+    "nut_body": ("volume", "the nut housing on the moving body (heat moves with the body)"),
+    "guideways": ("volume", "the guideway rails along the travel, where the carriages run"),
+    "carriages": ("volume", "the guideway carriages on the moving body"),
+}
+DRIVEN_AXES = ("x", "y", "z")
+
+
+def feed_drive_role(axis: str, what: str) -> str:
+    """The role name of ``what`` (a key of :data:`FEED_DRIVE_ROLES`) of axis ``axis`` ("X" or "x")."""
+    if what not in FEED_DRIVE_ROLES:
+        raise KeyError(f"no feed-drive role {what!r}; known: {', '.join(FEED_DRIVE_ROLES)}")
+    return f"feed_drive.{axis.lower()}.{what}"
+
+
+ROLES.update({feed_drive_role(a, what): (kind, f"{a.upper()} axis: {doc}")
+              for a in DRIVEN_AXES for what, (kind, doc) in FEED_DRIVE_ROLES.items()})
 
 
 def check_roles(machine_name: str, roles: dict) -> None:

@@ -132,6 +132,7 @@ SCENARIO_EDITS = [
 AXIS = ('\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "reciprocate"\nbetween = ["0 mm", "280 mm"]\n'
         'feed = "20 mm/s"\nacceleration = "10 mm/s2"\nduration = "30 min"\n')
 LASER = '\n[interferometer]\naxis = "Y"\nruns = ["0 min", "10 min"]\n'
+PROBE = '\n[probing]\ntimes = ["0 min", "10 min"]\ndatums = [["100 mm", "100 mm", "50 mm"]]\n'
 
 
 def _ax(old: str, new: str, tail: str = "") -> str:
@@ -158,7 +159,13 @@ SCENARIO_EDITS += [
     ("axis-twice", SCENARIO + AXIS + AXIS, "axis[1].name"),
     ("interferometer-off-grid", _ax("", "", LASER.replace('"10 min"', '"90 s"')), "interferometer.runs"),
     ("interferometer-not-cold-first", _ax("", "", LASER.replace('"0 min", ', '')), "interferometer.runs"),
-    ("interferometer-unknown-axis", _ax("", "", LASER.replace('axis = "Y"', 'axis = "X"')), "interferometer.axis"),
+    ("interferometer-unknown-axis", _ax("", "", LASER.replace('axis = "Y"', 'axis = "W"')), "interferometer.axis"),
+    ("probing-not-cold-first", _ax("", "", PROBE.replace('"0 min", ', '')), "probing.times"),
+    ("probing-off-grid", _ax("", "", PROBE.replace('"10 min"', '"90 s"')), "probing.times"),
+    ("probing-datum-outside-travel", _ax("", "", PROBE.replace('[["100 mm"', '[["600 mm"')), "probing.datums[0]"),
+    ("probing-datum-two-coordinates", _ax("", "", PROBE.replace(', "50 mm"]]', ']]')), "probing.datums"),
+    ("probing-datum-no-unit", _ax("", "", PROBE.replace('"50 mm"]]', '"50"]]')), "probing.datums"),
+    ("probing-unknown-key", _ax("", "", PROBE + 'stylus = "50 mm"\n'), "probing.stylus"),
 ]
 
 # the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)

@@ -25,7 +25,7 @@ L, A = 0.40, 0.02   # rod length along y and square side [m]
 def rod_machine(feedback: str = "semi-closed") -> Machine:
     """A steel rod along y (0..L), its own screw: fixed end y = 0, the nut at y = p."""
     rod = Part("rod", material("steel"), (Box((0.0, 0.0, 0.0), (A, L, A)),))
-    drive = FeedDrive(roles={"feed_drive.screw": Parts(("rod",)), "feed_drive.nut_body": Parts(("rod",))},
+    drive = FeedDrive(roles={"feed_drive.y.screw": Parts(("rod",)), "feed_drive.y.nut_body": Parts(("rod",))},
                       screw_axis=(A / 2, A / 2), fixed_end=0.0)
     return with_feed_drives(Machine("rod", [rod], [Surface("skin", ("rod",))], [], [], "", "", [], {"coarse": 0.02},
                    roles={"structure.skin": Named("skin")},
@@ -73,7 +73,7 @@ def test_reciprocating_source_delivers_power_times_duty():
     machine = rod_machine()
     mm = build_mesh(machine, 0.02)
     P, v = 12.0, 0.02
-    srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, P / v, "distance")
+    srcs = travelling_sources("nut", mm, "feed_drive.y.screw", machine.axes[0], sc.axes[0], sc, P / v, "distance")
     t = sc.times()
     energy = sum(np.sum(s.power(t[:-1] + 0.5 * sc.sample_interval)) * sc.sample_interval for s in srcs)
     assert energy == pytest.approx(P * 20 * 0.4 / v, rel=1e-12)
@@ -87,7 +87,7 @@ def test_reciprocating_source_delivers_power_times_duty():
     from twin.model import ModelSpec
     from twin.observe import HeatBalance
     from twin.simulate import run
-    r = run(machine, sc, ModelSpec(("feed_nut",), {"feed_nut": {"power": P}}), resolution="coarse",
+    r = run(machine, sc, ModelSpec(("feed_nut_y",), {"feed_nut_y": {"power": P}}), resolution="coarse",
             observers=[HeatBalance()])
     into, convected, stored = r.step_energy()
     assert into == pytest.approx(P * 20 * 0.4 / v, rel=1e-12)
@@ -100,7 +100,7 @@ def test_standing_nut_equals_a_stationary_source():
     sc = scenario([{"kind": "hold", "position": "130 mm", "duration": "20 min"}])
     machine = rod_machine()
     mm = build_mesh(machine, 0.02)
-    srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, 5.0, "time")
+    srcs = travelling_sources("nut", mm, "feed_drive.y.screw", machine.axes[0], sc.axes[0], sc, 5.0, "time")
     t = sc.times()[1:]
     moving = sum(np.outer(s.power(t), source_pattern(mm, s)) for s in srcs)
     cells = mm.cells_of("rod")
@@ -119,7 +119,7 @@ def test_rod_with_a_uniform_source_and_convection_reaches_the_closed_form():
     machine = rod_machine()
     mm = build_mesh(machine, 0.02)
     P, h = 8.0, 15.0
-    srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, P / 0.01, "distance")
+    srcs = travelling_sources("nut", mm, "feed_drive.y.screw", machine.axes[0], sc.axes[0], sc, P / 0.01, "distance")
     t = sc.times()[1:]
     f = sum(np.mean(s.power(t)) * source_pattern(mm, s) for s in srcs)
     assert f.sum() == pytest.approx(P, rel=1e-12)
@@ -148,7 +148,7 @@ def test_path_basis_converges_as_its_spacing_shrinks():
         sc = scenario(moves, duration="80 s", dt="80 s")
         errors = []
         for h in (0.1, 0.05, 0.025, 0.0125, 0.003125):
-            srcs = travelling_sources("nut", mm, "feed_drive.screw", machine.axes[0], sc.axes[0], sc, 1.0, "time",
+            srcs = travelling_sources("nut", mm, "feed_drive.y.screw", machine.axes[0], sc.axes[0], sc, 1.0, "time",
                                       spacing=h)
             share = sum(s.power(np.array([40.0]))[0] * source_pattern(mm, s) for s in srcs)
             errors.append(np.abs(share - exact).sum())
@@ -257,7 +257,7 @@ def test_at_pose_moves_the_moving_body_only():
     assert moved.part("y_screw").boxes == base.part("y_screw").boxes
     assert moved.point("workpiece").xyz[1] == pytest.approx(base.point("workpiece").xyz[1] + dy)
     assert moved.point("tool").xyz == base.point("tool").xyz
-    assert moved.roles["feed_drive.nut_body"].box.lo[1] == pytest.approx(base.roles["feed_drive.nut_body"].box.lo[1] + dy)
+    assert moved.roles["feed_drive.y.nut_body"].box.lo[1] == pytest.approx(base.roles["feed_drive.y.nut_body"].box.lo[1] + dy)
     assert moved.axis("Y").p_ref == 0.06
     same = at_pose(base, "Y", base.axis("Y").p_ref)
     assert [p.boxes for p in same.parts] == [p.boxes for p in base.parts]
@@ -289,7 +289,7 @@ def test_logged_axis_positions_drive_the_axis(tmp_path):
     travelled = path_weights(m, nodes, sc.times(), "distance").sum() * sc.sample_interval
     assert travelled == pytest.approx(np.abs(np.diff(ys)).sum(), rel=1e-12)
     machine = machine_for(build_machine("cframe-vmc"), sc)
-    assert "y_screw" in [p.name for p in machine.parts] and "feed_nut" in machine.default_effects
+    assert "y_screw" in [p.name for p in machine.parts] and "feed_nut_y" in machine.default_effects
 
 
 def test_seed003_protocol_study_runs_and_reports_beside_the_seed(exp1_coarse):
@@ -317,8 +317,9 @@ def test_seed003_protocol_study_runs_and_reports_beside_the_seed(exp1_coarse):
     assert ols_stats(x, 2 * x[:, 0] + 1)["R2"] == pytest.approx(1.0)
 
 
-def test_datasets_refuse_axis_scenarios_for_now(tmp_path):
-    """A dataset family whose scenario moves an axis is refused by name (not run without its drive)."""
+def test_datasets_take_axis_scenarios_but_refuse_the_interferometer(tmp_path):
+    """A dataset family whose scenario moves an axis is accepted (the runner adds its drive); one
+    with an interferometer is refused by name."""
     from twin.dataset import load_spec
     ref = ('name = "ref"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n[[spindle]]\n'
            'speed = "0 rpm"\nduration = "10 min"\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "hold"\n'
@@ -326,9 +327,11 @@ def test_datasets_refuse_axis_scenarios_for_now(tmp_path):
     (tmp_path / "ref.toml").write_text(ref)
     (tmp_path / "spec.toml").write_text('name = "s"\nmachines = ["cframe-vmc"]\nmesh = "coarse"\n'
                                         '[[scenarios]]\nfamily = "reference"\nfile = "ref.toml"\n')
+    assert load_spec(tmp_path / "spec.toml").families[0].data["axis"][0]["name"] == "Y"
+    (tmp_path / "ref.toml").write_text(ref + '[interferometer]\naxis = "Y"\nruns = ["0 min", "5 min"]\n')
     with pytest.raises(InputError, match="not supported in datasets") as err:
         load_spec(tmp_path / "spec.toml")
-    assert err.value.field == "axis"
+    assert err.value.field == "interferometer"
 
 
 def test_closed_loop_reads_the_scale_carriers_free_expansion():
@@ -364,5 +367,5 @@ def test_the_diagnosis_study_hides_the_feed_drive_effects_on_the_axis_scenario()
     for effect in FEED_DRIVE_HIDDEN:
         c = cases[effect]
         assert c.scenario == "seed003-exp1" and c.model_effects == f"-{effect}" and c.expect[0][0] == effect
-    assert "feed_nut" not in {c.label for c in all_cases(build_machine("belt-vmc"), ["hidden"])}
+    assert "feed_nut_y" not in {c.label for c in all_cases(build_machine("belt-vmc"), ["hidden"])}
     assert load_case_scenario("seed003-exp1", quick=True).interferometer is None

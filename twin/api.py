@@ -12,6 +12,7 @@ from twin.motion import machine_for
 from twin.observe import standard_observers
 from twin.observe.camera import CameraConfig
 from twin.observe.interferometer import LaserInterferometer, check_interferometer
+from twin.observe.probing import DatumProbing, check_probing
 from twin.observe.camera import cameras as camera_observers
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
@@ -57,6 +58,9 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     if sc.interferometer is not None:
         check_interferometer(sc.interferometer, sc, m)
         observers = (observers or standard_observers(m, sensors)) + [LaserInterferometer(sc.interferometer, m)]
+    if sc.probing is not None:
+        check_probing(sc.probing, sc, m)
+        observers = (observers or standard_observers(m, sensors)) + [DatumProbing(sc.probing, m)]
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
                             mm=None if prepared is not None else mm, prepared=prepared, solver=solver,
                             observers=observers)

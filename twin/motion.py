@@ -312,14 +312,14 @@ def check_motions(scenario, machine) -> None:
 
 
 def machine_for(machine, scenario):
-    """The machine a scenario runs on: ``machine`` with its feed drives' parts
-    (:func:`geometries.axes.with_feed_drives`) when the scenario commands an axis, after checking
+    """The machine a scenario runs on: ``machine`` with the feed drives' parts of the axes the
+    scenario commands (:func:`geometries.axes.with_feed_drives`), after checking
     the motions against it (:func:`check_motions`); ``machine`` itself otherwise."""
     if not getattr(scenario, "axes", ()):
         return machine
     check_motions(scenario, machine)
     from geometries.axes import with_feed_drives
-    return with_feed_drives(machine)
+    return with_feed_drives(machine, {m.axis for m in scenario.axes})
 
 
 # --- path basis -------------------------------------------------------------------------------

@@ -56,6 +56,7 @@ from twin.io.paths import read_toml
 from twin.io.room_csv import read_room_csv
 from twin.motion import check_durations, motions_from_toml
 from twin.observe.interferometer import interferometer_from_toml
+from twin.observe.probing import probing_from_toml
 from twin.rotary import c_axis_from_toml, check_duration
 from twin.units import UnitError, parse_quantity
 
@@ -133,6 +134,7 @@ class Scenario:
     cameras: tuple = ()  # twin.observe.camera.CameraConfig, from the [camera] section
     axes: tuple = ()     # twin.motion.Motion, one per commanded axis ([[axis]], see twin.motion)
     interferometer: object = None   # twin.observe.interferometer.InterferometerConfig ([interferometer])
+    probing: object = None   # twin.observe.probing.ProbingConfig ([probing])
     c_axis: object = None  # twin.rotary.RotarySchedule, from the [[c_axis]] steps
 
     @property
@@ -250,6 +252,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     cameras = cameras_from_toml(top.get("camera"), source, _Reader)
     axes = motions_from_toml(top.get("axis"), source, _Reader)
     laser = interferometer_from_toml(top.get("interferometer"), source, _Reader)
+    probing = probing_from_toml(top.get("probing"), source, _Reader)
     c_axis = c_axis_from_toml(top.get("c_axis"), source, _Reader, dt)
     top.finish()
     if not isinstance(raw_steps, list) or not raw_steps:
@@ -269,7 +272,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
         raise InputError(source, "ambient.file", f"the room record {ambient.file} ends at {ambient.times[-1] / 3600:g} h, "
                                                  f"before the scenario's {total / 3600:g} h")
     return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes,
-                    interferometer=laser, c_axis=c_axis)
+                    interferometer=laser, probing=probing, c_axis=c_axis)
 
 
 def _ambient(table, source: str) -> Ambient:

@@ -56,7 +56,7 @@ class Engine:
         self.runs += 1
         ctx = RunContext(self.times, self.scenario, spec, self.machine, loads, np.random.default_rng(0))
         temps = self.temperature.true_values(raw["temperature"], ctx)
-        um = (lambda key: (raw[key] - raw[key][0]) * 1e6)
+        um = (lambda key: self.probes.change_um(self.probes.readings(raw[key], ctx)))   # at the pose
         probes = um("probes") if self.probes else np.zeros((len(self.times), 0))
         responses = np.zeros((len(materials), len(self.times), self.nsensor + probes.shape[1]))
         for k, o in enumerate(observers[2:] if self.probes else []):

@@ -60,6 +60,10 @@ def run(args) -> int:
         k = ds.positioning_slope.values
         print(f"  interferometer: {len(k)} runs; thermal slope k - k0 at the last ({ds.run_time.values[-1] / 60:g} min) "
               f"{k[-1]:.4f} um/mm, error at {ds.target.values[-1]:g} mm {float(ds.positioning_error[-1, -1, 0]):.1f} um")
+    if "probing_error" in ds:
+        worst = abs(ds.probing_error).max(("probe_time", "datum"))
+        print(f"  probing: {len(ds.probe_time)} routines of {len(ds.datum)} datums; largest error "
+              + ", ".join(f"{a} {float(worst.sel(axis=a)):.1f} um" for a in ds.axis.values))
     for cam in (o for o in result.observers if o.key.startswith("camera")):
         thermo = ds[cam.name("thermogram")]
         print(f"  camera {cam.config.label}: {thermo.shape[0]} frames of {thermo.shape[2]} x {thermo.shape[1]} px "

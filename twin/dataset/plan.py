@@ -27,10 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from twin.dataset.spec import DatasetSpec, DutyCycle
+from twin.dataset.spec import AxisDuty, DatasetSpec, DutyCycle
 from twin.io.results import package_version
 from twin.scenario import scenario_from_dict
-from twin.units import CANONICAL
+from twin.motion import stroke_time
+from twin.units import CANONICAL, parse_quantity
 
 FORMAT = 1   # the dataset format: a change to what a case file holds bumps it (and every hash)
 
@@ -86,7 +87,33 @@ def duty_cycle(gen: DutyCycle, name: str, r: np.random.Generator) -> dict:
     for key in sorted(gen.ambient):
         dist = gen.ambient[key]
         ambient[key] = _q(dist.sample(r), dist.dimension)
-    return {"name": name, "sample_interval": _q(dt, "time"), "ambient": ambient, "spindle": steps}
+    data = {"name": name, "sample_interval": _q(dt, "time"), "ambient": ambient, "spindle": steps}
+    if gen.axes:   # drawn after the spindle and the room, so families without axes draw as before
+        data["axis"] = [axis_duty(a, steps, r) for a in gen.axes]
+    return data
+
+
+def axis_duty(a: AxisDuty, steps: list[dict], r: np.random.Generator) -> dict:
+    """One axis's ``[[axis]]`` table following the spindle ``steps``: from the middle of its
+    range, while the spindle runs a reciprocation between where the axis is and a drawn end at a
+    drawn feed (whole strokes, then a dwell; a hold when not one stroke fits the step), while it
+    stands a hold."""
+    lo, hi = a.range
+    x = round(0.5 * (lo + hi), 6)
+    moves = []
+    for st in steps:
+        dur = parse_quantity(st["duration"], "time")
+        end, feed = round(float(r.uniform(lo, hi)), 6), a.feed.sample(r)   # drawn on every step: stable streams
+        running = parse_quantity(st["speed"], "speed") > 0
+        if running and abs(end - x) > 1e-3 and stroke_time(abs(end - x), feed, a.acceleration) <= dur:
+            n = int(np.floor(dur / stroke_time(abs(end - x), feed, a.acceleration) + 1e-9))
+            moves.append({"kind": "reciprocate", "between": [_q(x, "length"), _q(end, "length")],
+                          "feed": _q(feed, "velocity"), "acceleration": _q(a.acceleration, "acceleration"),
+                          "duration": st["duration"]})
+            x = end if n % 2 else x
+        else:
+            moves.append({"kind": "hold", "position": _q(x, "length"), "duration": st["duration"]})
+    return {"name": a.name, "start": _q(round(0.5 * (lo + hi), 6), "length"), "move": moves}
 
 
 def _scenario_info(data: dict) -> dict:

@@ -29,16 +29,20 @@ COMPRESSION = {"zlib": True, "complevel": 4, "shuffle": True}   # deterministic 
 _local = threading.local()
 
 
-def _prepared(machine_name: str, mesh: str, solver: str):
-    """This worker's PreparedTwin of (machine, mesh, solver), built on first use (call it under
-    the thread limits of :func:`simulate_case`)."""
+def _prepared(machine_name: str, mesh: str, solver: str, axes: tuple[str, ...] = ()):
+    """This worker's PreparedTwin of (machine, mesh, solver), with the feed drives of ``axes``
+    (the axes a scenario moves, :func:`geometries.axes.with_feed_drives`), built on first use
+    (call it under the thread limits of :func:`simulate_case`)."""
     cache = _local.__dict__.setdefault("twins", {})
-    key = (machine_name, mesh, solver)
+    key = (machine_name, mesh, solver, axes)
     if key not in cache:
         from geometries import build_machine
+        from geometries.axes import with_feed_drives
         from twin.physics.prepared import PreparedTwin
 
-        cache[key] = PreparedTwin(build_machine(machine_name), resolution=mesh, solver=solver)
+        machine = build_machine(machine_name)
+        cache[key] = PreparedTwin(with_feed_drives(machine, set(axes)) if axes else machine, resolution=mesh,
+                                  solver=solver)
     return cache[key]
 
 
@@ -66,11 +70,10 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
     from twin.observe import sensor_points, standard_observers
     from twin.observe.camera import cameras as camera_observers
     from twin.observe.sensor_grid import surface_sensor_grid
+    from twin.motion import check_motions
     from twin.scenario import scenario_from_dict
     from twin.simulate import run
 
-    twin = _prepared(record["machine"], record["mesh"], record["solver"])
-    machine = twin.machine
     family = record["family"]
     data = json.loads(json.dumps(record["scenario"]))
     cams = [{"pose": p} for p in record["observers"]["cameras"]]
@@ -78,6 +81,9 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
         own = data.get("camera", [])
         data["camera"] = (own if isinstance(own, list) else [own]) + cams
     sc = scenario_from_dict(data, f"dataset:{family}", default_name=family)
+    twin = _prepared(record["machine"], record["mesh"], record["solver"], tuple(sorted({m.axis for m in sc.axes})))
+    machine = twin.machine
+    check_motions(sc, machine)
     if max_steps is not None:
         sc = _truncated(sc, max_steps)
     spec = model_spec(machine, record["effects"], record["settings"])

@@ -40,6 +40,11 @@ Every quantity carries its unit (parsed by :mod:`twin.units`)::
     amplitude = ["0 K", "3 K"]
     coldest_at = ["0 h", "24 h"]        # the phase of the day
     start_time_of_day = "8 h"
+    [[scenarios.axis]]                  # optional: an axis duty cycle, one table per axis
+    name = "Y"                          # an axis with a feed drive on every machine of the spec
+    range = ["0 mm", "280 mm"]          # where the drawn stroke ends fall (within the travel)
+    feed = ["5 mm/s", "30 mm/s"]        # each running step's feed
+    acceleration = "100 mm/s2"          # optional (default 100 mm/s2)
 
     [splits]                            # optional (default: every case in "train")
     by = "case"                         # fractions, drawn within each family ...
@@ -47,6 +52,11 @@ Every quantity carries its unit (parsed by :mod:`twin.units`)::
     validation = 0.2
     test = 0.2
     # by = "family" with lists of families: train = ["random-duty"], test = ["reference"]
+
+An axis duty cycle follows the spindle's steps: while the spindle runs the axis reciprocates
+between where it is and a drawn end at a drawn feed (holding when not even one stroke fits the
+step), while it stands the axis holds; it starts at the middle of its range. Scenario files that
+move axes are accepted too; the interferometer and probing are not (run ``twin simulate``).
 
 A generator field given as ``[lo, hi]`` is uniform; a table names the distribution. Normal draws
 are truncated to the parameter's bounds (redrawn). A ``grid`` is allowed for parameters only: the
@@ -67,6 +77,7 @@ from twin.effects import EFFECTS
 from twin.errors import InputError
 from twin.io.paths import read_toml
 from twin.model import model_spec
+from twin.motion import check_motions
 from twin.observe.instruments import INSTRUMENTS
 from twin.scenario import SCENARIO_DIR, scenario_from_dict
 from twin.units import CANONICAL, UnitError, parse_quantity
@@ -116,8 +127,20 @@ class Dist:
 
 
 @dataclass(frozen=True)
+class AxisDuty:
+    """An axis duty cycle of a generator family: ``name``, the ``range`` (lo, hi) [m] of the drawn
+    stroke ends, the ``feed`` [m/s] drawn per running step and the ``acceleration`` [m/s2]."""
+
+    name: str
+    range: tuple[float, float]
+    feed: Dist
+    acceleration: float
+
+
+@dataclass(frozen=True)
 class DutyCycle:
-    """A generator family: random spindle steps [s, rpm] over ``duration`` [s] and a drawn room."""
+    """A generator family: random spindle steps [s, rpm] over ``duration`` [s], a drawn room and
+    optional axis duty cycles (:class:`AxisDuty`)."""
 
     duration: float
     sample_interval: float
@@ -127,6 +150,7 @@ class DutyCycle:
     idle_probability: float
     ambient_kind: str
     ambient: dict   # field -> Dist (SI: degC, K, s)
+    axes: tuple = ()   # AxisDuty, one per commanded axis
 
 
 @dataclass(frozen=True)
@@ -392,11 +416,12 @@ def _file_family(name, cases, file, source, folder, field, machines) -> Family:
         raise InputError(source, field, f"no scenario {file!r} (a bundled name or a path relative to the spec)")
     data, _ = read_toml(path, "scenario", "scenario file")
     sc = scenario_from_dict(data, str(path), default_name=path.stem)   # checked now; errors name the scenario file
-    if sc.axes or sc.interferometer is not None:
-        raise InputError(str(path), "axis" if sc.axes else "interferometer",
-                         "axis motion and the interferometer are not supported in datasets yet (run twin simulate)")
+    if sc.interferometer is not None or sc.probing is not None:
+        raise InputError(str(path), "interferometer" if sc.probing is None else "probing",
+                         "the interferometer and probing are not supported in datasets yet (run twin simulate)")
     for m in machines.values():
         limits.check_scenario(sc, m)
+        check_motions(sc, m)
     return Family(name, cases, data=data, file=file, path=str(path))
 
 
@@ -442,7 +467,42 @@ def _duty_cycle(r: _Table, source: str, machines: dict) -> DutyCycle:
     else:
         raise InputError(source, a.field("kind"), f"unknown kind {kind!r}; known for a generator: constant, daily")
     a.finish()
-    return DutyCycle(duration, dt, step, speed, quantum, float(idle), kind, amb)
+    axes = _axis_duties(r.get("axis", default=[], kind=list), source, r.field("axis"), machines)
+    return DutyCycle(duration, dt, step, speed, quantum, float(idle), kind, amb, axes)
+
+
+def _axis_duties(items: list, source: str, prefix: str, machines: dict) -> tuple[AxisDuty, ...]:
+    """The generator's ``[[scenarios.axis]]`` tables, checked against every machine's axes."""
+    out = []
+    for i, raw in enumerate(items):
+        if not isinstance(raw, dict):
+            raise InputError(source, f"{prefix}[{i}]", "expected a table with name, range and feed")
+        t = _Table(raw, source, f"{prefix}[{i}].")
+        name = t.get("name", required=True, kind=str)
+        if name in (a.name for a in out):
+            raise InputError(source, t.field("name"), f"axis {name!r} is given twice")
+        ends = t.get("range", required=True, kind=list)
+        if len(ends) != 2:
+            raise InputError(source, t.field("range"), 'expected [lo, hi], e.g. ["0 mm", "280 mm"]')
+        lo, hi = (quantity(v, "length", source, t.field(f"range[{k}]")) for k, v in enumerate(ends))
+        if not hi > lo:
+            raise InputError(source, t.field("range"), "expected hi > lo")
+        for m in machines.values():
+            axis = next((a for a in m.axes if a.name == name), None)
+            if axis is None or axis.drive is None:
+                raise InputError(source, t.field("name"), f"machine {m.name} has no axis {name!r} with a feed drive; "
+                                 f"its driven axes: {', '.join(a.name for a in m.axes if a.drive) or 'none'}")
+            if lo < axis.travel[0] - 1e-9 or hi > axis.travel[1] + 1e-9:
+                raise InputError(source, t.field("range"), f"outside the {name} travel {axis.travel[0] * 1e3:g} .. "
+                                                           f"{axis.travel[1] * 1e3:g} mm of {m.name}")
+        feed = distribution(t.get("feed", required=True), "velocity", source, t.field("feed"), 1e-6, 1.0,
+                            what="(0 .. 1 m/s]")
+        accel = quantity(t.get("acceleration", default="100 mm/s2"), "acceleration", source, t.field("acceleration"))
+        if accel <= 0:
+            raise InputError(source, t.field("acceleration"), "must be positive")
+        t.finish()
+        out.append(AxisDuty(name, (lo, hi), feed, accel))
+    return tuple(out)
 
 
 def _splits(table, source: str, families: list[str]):

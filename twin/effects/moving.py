@@ -24,14 +24,6 @@ PATH_SPACING = 0.01   # [m] between path-basis nodes (finer than any mesh's cell
 REFERENCE_FEED = 0.02   # [m/s] the feed at which the speed-proportional powers are given (seed 003)
 
 
-def driven_axis(machine):
-    """The machine's axis with a modelled feed drive (:class:`geometries.axes.LinearAxis`)."""
-    for a in machine.axes:
-        if a.drive is not None:
-            return a
-    raise KeyError(f"machine {machine.name!r} models no feed drive")
-
-
 def motion_of(scenario, axis) -> Motion:
     """The scenario's motion of ``axis``; an axis the scenario does not command stands at the
     mesh's pose (``axis.p_ref``)."""

@@ -29,10 +29,39 @@ def relative_displacement(mm, a: str, b: str, directions) -> sp.csr_matrix:
 
 
 class DisplacementObserver(Observer):
-    """Base of linear displacement observers: subclasses give :meth:`functionals`."""
+    """Base of linear displacement observers: subclasses give :meth:`functionals`, and those whose
+    points may ride on a moving body (:mod:`twin.observe.pose`) their :meth:`posed_points`."""
 
     def functionals(self, mm) -> sp.csr_matrix:
         raise NotImplementedError
+
+    def posed_points(self, machine):
+        """None, or (point names, readings): each reading (a, b, direction) of :meth:`functionals`'
+        rows, in order, is (u_a - u_b) . direction with a, b indices into the point names; such an
+        observer is read at the pose of the measurement (:class:`twin.observe.pose.PoseCarry`)."""
+        return None
+
+    def _carry(self, machine):
+        posed = self.posed_points(machine)
+        if posed is None:
+            return None, None
+        from twin.observe.pose import PoseCarry
+        carry = PoseCarry(machine, posed[0])
+        return (carry, posed[1]) if carry.nrows else (None, None)
+
+    def all_functionals(self, mm) -> sp.csr_matrix:
+        """What the twin solves adjoints for: :meth:`functionals`, then the pose carry's rows."""
+        G = self.functionals(mm)
+        carry, _ = self._carry(mm.machine)
+        return G if carry is None else sp.vstack([G, carry.functionals(mm)]).tocsr()
+
+    def readings(self, raw: np.ndarray, ctx) -> np.ndarray:
+        """(n_t, readings) [m] at the pose of each instant from the raw block of :meth:`all_functionals`."""
+        carry, pairs = self._carry(ctx.machine)
+        if carry is None:
+            return raw
+        n = len(pairs)
+        return raw[:, :n] + carry.correction(raw[:, n:], carry.positions(ctx.times, ctx.scenario), pairs)
 
     def rows(self, twin, loads):
         return twin.displacement_rows(self, loads.mm)
@@ -52,8 +81,11 @@ class ToolDrift(DisplacementObserver):
     def functionals(self, mm):
         return relative_displacement(mm, mm.machine.tool_point, mm.machine.workpiece_point, _UNIT)
 
+    def posed_points(self, machine):
+        return [machine.tool_point, machine.workpiece_point], [(0, 1, d) for d in _UNIT]
+
     def data(self, raw, ctx):
-        return ({"drift": variable(("time", "axis"), self.change_um(raw), "um",
+        return ({"drift": variable(("time", "axis"), self.change_um(self.readings(raw, ctx)), "um",
                                    "true tool-point drift, tool relative to table")},
                 {"axis": ("axis", list(AXES), {"long_name": "machine axis"})})
 
@@ -103,9 +135,14 @@ class FiveProbeTestBar(DisplacementObserver):
         rows = [relative_displacement(mm, p.target, p.fixture, [p.direction]) for p in self.sensors(mm.machine)]
         return sp.vstack(rows).tocsr()
 
+    def posed_points(self, machine):
+        probes = self.sensors(machine)
+        return ([n for p in probes for n in (p.target, p.fixture)],
+                [(2 * i, 2 * i + 1, p.direction) for i, p in enumerate(probes)])
+
     def data(self, raw, ctx):
         names = [p.name for p in self.sensors(ctx.machine)]
-        true = self.change_um(raw)
+        true = self.change_um(self.readings(raw, ctx))
         meas = probe_reading(true, ctx.spec.params[self.instrument], ctx.rng)
         data = {self.name: variable(("time", self.dim), meas, "um", f"{self.long_name} reading as measured"),
                 f"{self.name}_true": variable(("time", self.dim), true, "um", f"true {self.long_name} reading")}

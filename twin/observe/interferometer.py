@@ -46,10 +46,12 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
 from twin.observe.base import variable
 from twin.observe.displacement import DisplacementObserver
+from twin.observe.instants import baseline_instants, check_on_grid
 from twin.units import UnitError, parse_quantity
 
 LINE_STEP = 0.002   # [m] quadrature step along the screw (trapezoidal rule on the trilinear field)
@@ -87,18 +89,15 @@ def interferometer_from_toml(raw, source: str, reader) -> InterferometerConfig |
     r.finish()
     if not isinstance(axis, str):
         raise InputError(source, "interferometer.axis", "expected an axis name such as \"Y\"")
+    times = baseline_instants(runs, source, "interferometer.runs", "the cold reference run")
     try:
-        times = [parse_quantity(v, "time") for v in (runs if isinstance(runs, list) else [])]
         ends = [parse_quantity(v, "length") for v in targets] if isinstance(targets, list) else None
     except UnitError as err:
-        raise InputError(source, "interferometer.runs" if ends is None else "interferometer.targets", str(err)) from None
-    if not times or times[0] != 0 or np.any(np.diff(times) <= 0):
-        raise InputError(source, "interferometer.runs", "expected increasing instants, the first at 0 s (the cold "
-                                                        "reference run)")
+        raise InputError(source, "interferometer.targets", str(err)) from None
     if targets is not None and (ends is None or len(ends) != 2 or ends[1] <= ends[0]):
         raise InputError(source, "interferometer.targets", "expected [first, last] with last > first")
     first, last = (None, None) if ends is None else ends
-    return InterferometerConfig(axis, tuple(times), first, last, spacing, source)
+    return InterferometerConfig(axis, times, first, last, spacing, source)
 
 
 def check_interferometer(config: InterferometerConfig, scenario, machine) -> None:
@@ -117,11 +116,7 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
     if t[0] < axis.travel[0] - 1e-9 or t[-1] > axis.travel[1] + 1e-9:
         raise InputError(src, "interferometer.targets", f"outside the {axis.name} travel "
                                                         f"{axis.travel[0] * 1e3:g} .. {axis.travel[1] * 1e3:g} mm")
-    dt = scenario.sample_interval
-    for v in config.runs:
-        if v > scenario.duration + 1e-6 or abs(v / dt - round(v / dt)) > 1e-6:
-            raise InputError(src, "interferometer.runs", f"{v:g} s is not an output instant of the scenario "
-                                                         f"(every {dt:g} s up to {scenario.duration:g} s)")
+    check_on_grid(config.runs, scenario, src, "interferometer.runs")
 
 
 def screw_line_rows(layout, axis, targets: np.ndarray, expansion: float) -> sp.csr_matrix:
@@ -200,7 +195,7 @@ class LaserInterferometer(DisplacementObserver):
         offset = np.repeat(R[:1], len(self.targets), axis=0)
         if self.axis.feedback == "closed":
             return sp.csr_matrix(R[1:] + offset)
-        screw = twin.machine.part(twin.machine.roles["feed_drive.screw"].names[0])
+        screw = twin.machine.part(twin.machine.roles[feed_drive_role(self.axis.name, "screw")].names[0])
         alpha = twin.materials.get(screw.name, screw.material).expansion
         return sp.csr_matrix(screw_line_rows(layout, self.axis, self.targets, alpha) + offset)
 

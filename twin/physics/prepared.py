@@ -88,7 +88,7 @@ class PreparedTwin:
         """lam = K^-1 G^T (3 n_nodes, k) of a displacement observer's functionals G, solved once."""
         key = observer.cache_key()
         if key not in self._adjoints:
-            G = observer.functionals(self.mm)
+            G = observer.all_functionals(self.mm)
             self._adjoints[key] = self.elastic.solve(np.asarray(G.todense()).T)
         return self._adjoints[key]
 

@@ -1,5 +1,11 @@
 """What the single reference pose costs: ``seed003-exp1`` on meshes built with the Y axis at the
-ends of its stroke against the mesh at the reference pose.
+ends of its stroke against the mesh at the reference pose, and the read-out at the pose of the
+measurement (:mod:`twin.observe.pose`) against meshes built at that pose.
+
+Read-out (:func:`hold_scenario`): the spindle running and Y reciprocating, then holding at each
+pose of ``--poses``, on the mesh built at that pose (the truth: nothing is carried there) and on the
+reference-pose mesh read at the mesh's pose (the old read-out) and at the axis's pose (the new
+one); printed: the largest differences of the tool-point drift and the five probes [um].
 
 ``python -m validate.studies.axis_pose [--quick] [--poses 60,340]`` runs ``cframe-vmc`` with its
 feed drive on ``seed003-exp1`` three times, the saddle and table built at Y = p_ref (200 mm) and at
@@ -30,6 +36,61 @@ def run_at(machine, scenario, resolution: str):
                       resolution)
 
 
+HOLD_SPEED, WARM, HOLD = "6000 rpm", 110.0, 10.0   # spindle speed; minutes reciprocating, then holding
+
+
+def hold_scenario(axis: str, p_mm: float, travel_mm: tuple[float, float]):
+    """The spindle at :data:`HOLD_SPEED`; ``axis`` reciprocating over ``travel_mm`` at 20 mm/s for
+    :data:`WARM` minutes (its drive heats the structure under the body), then moving to ``p_mm``
+    [mm] and holding there to the end (:data:`HOLD` minutes), where the read-out is compared."""
+    from twin.scenario import scenario_from_dict
+    lo, hi = travel_mm
+    moves = [{"kind": "reciprocate", "between": [f"{lo:g} mm", f"{hi:g} mm"], "feed": "20 mm/s",
+              "acceleration": "10 mm/s2", "duration": f"{WARM:g} min"},
+             {"kind": "move", "to": f"{p_mm:g} mm", "feed": "20 mm/s", "acceleration": "10 mm/s2",
+              "duration": f"{HOLD:g} min"}]
+    return scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+                               "spindle": [{"speed": HOLD_SPEED, "duration": f"{WARM + HOLD:g} min"}],
+                               "axis": [{"name": axis, "start": f"{lo:g} mm", "move": moves}]},
+                              f"warm-up and hold {axis} {p_mm:g} mm")
+
+
+def readout_errors(machine, axis: str, p_mm: float, resolution: str) -> dict:
+    """Largest |drift| and |probe| differences [um] (X, Y, Z; the five probes) while ``axis``
+    holds at ``p_mm`` (the last :data:`HOLD` minutes of :func:`hold_scenario`) against the mesh
+    built at ``p_mm``, of the reference-pose mesh read at its own pose ("mesh_pose") and at the
+    axis's pose ("axis_pose"); and the truth's drift at the end ("truth_drift")."""
+    from dataclasses import replace
+
+    from geometries.axes import at_pose
+    from twin.io.results import to_dataset
+    from twin.model import default_spec
+    from twin.observe import standard_observers
+    from twin.simulate import run
+
+    a = machine.axis(axis)
+    sc = hold_scenario(axis, p_mm, tuple(np.multiply(a.travel, 1e3)))
+    truth = to_dataset(run(at_pose(machine, axis, p_mm * 1e-3), sc, resolution=resolution), 0, resolution)
+    ref = run(machine, sc, default_spec(machine), resolution=resolution,
+              observers=standard_observers(machine))
+    posed = to_dataset(ref, 0, resolution)
+    # the same raw readings packaged as if nothing moved: the scenario's axis standing at p_ref
+    still = replace(sc, axes=())
+    ctx = ref.context()
+    ctx.scenario = still
+    obs = {o.key: o for o in ref.observers}
+    held = truth.time.values >= (WARM + 1.0) * 60.0        # arrived (a move of <= 400 mm takes < 1 min)
+    out = {"truth_drift": truth.drift.values[-1]}
+    for name, c in (("mesh_pose", ctx), ("axis_pose", ref.context())):
+        drift = obs["drift"].change_um(obs["drift"].readings(ref.readings["drift"], c))
+        probe = obs["probes"].change_um(obs["probes"].readings(ref.readings["probes"], c))
+        out[name] = (np.abs(drift - truth.drift.values)[held].max(axis=0),
+                     np.abs(probe - truth.probe_true.values)[held].max(axis=0))
+    assert np.allclose(posed.drift.values, obs["drift"].change_um(obs["drift"].readings(ref.readings["drift"],
+                                                                                       ref.context())))
+    return out
+
+
 def differences(ds, ref) -> dict:
     """Largest differences of ``ds`` against ``ref``: slope [um/mm], its share of ref's last slope,
     error at the last target of the last run [um], site temperatures [K] (and where), drift [um]."""
@@ -49,10 +110,19 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m validate.studies.axis_pose", description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="coarse mesh (default: the default mesh)")
     p.add_argument("--poses", default="60,340", help="Y poses [mm] to compare with the reference (default 60,340)")
+    p.add_argument("--readout", action="store_true", help="only the read-out comparison (warm-up, then Y held)")
     args = p.parse_args(argv)
     resolution = "coarse" if args.quick else "default"
     sc = load_scenario(SCENARIO)
-    base = with_feed_drives(build_machine("cframe-vmc"))
+    base = with_feed_drives(build_machine("cframe-vmc"), {"Y"})
+    for mm in (float(v) for v in args.poses.split(",")):
+        r = readout_errors(base, "Y", mm, resolution)
+        print(f"read-out, {HOLD_SPEED}, Y {WARM:g} min to and fro then held at {mm:.0f} mm ({resolution}): drift X Y Z at the end on "
+              f"the mesh built there {np.round(r['truth_drift'], 2)} um; largest |error| of the reference-pose mesh read "
+              f"at its pose: drift {np.round(r['mesh_pose'][0], 2)}, probes {np.round(r['mesh_pose'][1], 2)} um; "
+              f"read at the axis's pose: drift {np.round(r['axis_pose'][0], 2)}, probes {np.round(r['axis_pose'][1], 2)} um")
+    if args.readout:
+        return 0
     ref = run_at(base, sc, resolution)
     p_ref = base.axis("Y").p_ref
     print(f"{SCENARIO} on {resolution}: reference pose Y = {p_ref * 1e3:.0f} mm, k - k0 at the end "

@@ -1,0 +1,226 @@
+"""The C-frame's X, Y and Z ball-screw drives, one set of feed-drive effects per axis (issue 11,
+item 2 on every axis): the energy each axis's drive delivers and the semi-closed loop's screw
+error, each against its closed form."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from geometries import build_machine
+from geometries.axes import with_feed_drives
+from geometries.base import material
+from twin.effects.base import EFFECTS, HeatSource
+from twin.effects.moving import REFERENCE_FEED
+from twin.fem.mesh import mesh_machine
+from twin.motion import machine_for
+from twin.scenario import scenario_from_dict
+
+FAMILIES = ("feed_nut", "feed_bearings", "feed_motor", "feed_guideways")
+# whole strokes of each axis (within its travel), 20 mm/s, 10 mm/s2
+STROKES = {"X": ("50 mm", "450 mm", 0.40), "Y": ("0 mm", "400 mm", 0.40), "Z": ("0 mm", "330 mm", 0.33)}
+
+
+def axis_scenario(axes=("X", "Y", "Z"), count: int = 6, duration: str = "10 min"):
+    moves = [{"name": a, "move": [{"kind": "reciprocate", "between": [STROKES[a][0], STROKES[a][1]],
+                                   "feed": "20 mm/s", "acceleration": "10 mm/s2", "count": count}]} for a in axes]
+    return scenario_from_dict({"sample_interval": "10 s", "ambient": {"temperature": "20 degC"},
+                               "spindle": [{"speed": "0 rpm", "duration": duration}], "axis": moves}, "test.toml")
+
+
+@pytest.fixture(scope="module")
+def cframe_all():
+    """The C-frame with the three drives, coarse mesh, and a scenario moving all three axes."""
+    sc = axis_scenario()
+    machine = machine_for(build_machine("cframe-vmc"), sc)
+    return machine, mesh_machine(machine, "coarse"), sc
+
+
+def test_drives_are_added_only_for_the_axes_a_scenario_moves():
+    """No drive part without a moving axis (the spindle tests' meshes stay as they were); a Y move
+    adds the Y drive alone; a Z move brings z_axis_holding (its holding losses) beside the Z drive,
+    whose motor adds no second holding term (feed_motor_z's holding_power is 0)."""
+    base = build_machine("cframe-vmc")
+    spindle = scenario_from_dict({"sample_interval": "10 s", "ambient": {"temperature": "20 degC"},
+                                  "spindle": [{"speed": "1000 rpm", "duration": "1 min"}]}, "s.toml")
+    assert machine_for(base, spindle) is base
+    names = {p.name for p in machine_for(base, axis_scenario(("Y",))).parts} - {p.name for p in base.parts}
+    assert names == {"y_screw", "y_front_bearing", "y_rear_bearing"}
+    z = machine_for(base, axis_scenario(("Z",)))
+    assert {"feed_nut_z", "feed_motor_z", "z_axis_holding"} <= set(z.default_effects)
+    assert "feed_nut_y" not in z.default_effects
+    assert EFFECTS["feed_motor_z"].defaults()["holding_power"] == 0.0
+    assert all(EFFECTS[f"{f}_{a}"].applies_to(with_feed_drives(base)) for f in FAMILIES for a in "xyz")
+    assert not EFFECTS["feed_nut_x"].applies_to(with_feed_drives(build_machine("belt-vmc")))
+
+
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_each_drive_delivers_its_power_times_the_travelled_distance(cframe_all, axis):
+    """Energy balance per axis over whole strokes: the drive's sources deliver
+    E = (P_nut + P_bearings + P_motor + P_guideways) d / v_ref + P_hold T, d the distance travelled
+    (count x stroke), T the scenario's duration, on the C-frame's coarse mesh (exact: the path
+    basis integrates |v| exactly and the shares sum to one)."""
+    machine, mm, sc = cframe_all
+    t, dt = sc.times(), sc.sample_interval
+    d = 6 * STROKES[axis][2]
+    energy, expect = 0.0, 0.0
+    for fam in FAMILIES:
+        eff = EFFECTS[f"{fam}_{axis.lower()}"]
+        p = eff.defaults()
+        loads = eff.loads(mm, sc, p)
+        assert loads and all(isinstance(s, HeatSource) and len(s.cells) for s in loads)
+        energy += sum(np.sum(s.power(t[:-1] + 0.5 * dt)) * dt for s in loads)
+        expect += p["power"] * d / REFERENCE_FEED + p.get("holding_power", 0.0) * (t[-1] - t[0])
+    assert energy == pytest.approx(expect, rel=1e-12)
+
+
+def test_the_heat_integrator_stores_all_three_drives_heat(cframe_all):
+    """Through the Crank-Nicolson run with the three drives' feed effects alone (no convection):
+    the heat in equals the sum of the closed forms above, and all of it is stored."""
+    from twin.model import ModelSpec
+    from twin.observe import HeatBalance
+    from twin.simulate import run
+    machine, mm, sc = cframe_all
+    names = tuple(f"{f}_{a}" for f in FAMILIES for a in "xyz")
+    r = run(machine, sc, ModelSpec(names), mm=mm, observers=[HeatBalance()])
+    into, convected, stored = r.step_energy()
+    expect = 0.0
+    for a in "XYZ":
+        for f in FAMILIES:
+            p = EFFECTS[f"{f}_{a.lower()}"].defaults()
+            expect += p["power"] * 6 * STROKES[a][2] / REFERENCE_FEED + p.get("holding_power", 0.0) * 600.0
+    assert into == pytest.approx(expect, rel=1e-12)
+    assert convected == 0.0 and stored == pytest.approx(into, rel=1e-9)
+
+
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_semi_closed_screw_at_a_uniform_rise_reads_alpha_dT_times_the_nut_distance(cframe_all, axis):
+    """Semi-closed loop on each C-frame axis, its screw at a uniform rise dT: the screw's share of
+    the positioning error is e(p) = alpha dT (s(p) - s_fixed), s(p) the nut's machine coordinate
+    and s_fixed the fixed bearing's (negative where the nut lies below/left of it), exactly."""
+    from twin.observe.interferometer import screw_line_rows
+    machine, mm, _ = cframe_all
+    ax = machine.axis(axis)
+    lo, hi = ax.travel
+    targets = np.arange(lo, hi + 1e-9, 0.01)
+    alpha, dT = material("steel").expansion, 3.0
+    rows = screw_line_rows(mm, ax, targets, alpha)
+    e = rows @ np.full(mm.nheat, dT)
+    assert e == pytest.approx(alpha * dT * (ax.nut_coordinate(targets) - ax.drive.fixed_end), rel=1e-12, abs=1e-18)
+
+
+def test_pose_carry_of_an_affine_field_is_the_field_times_the_offset(cframe_all):
+    """Read-out at the pose (twin.observe.pose): for an affine structure displacement
+    u(x) = f(t) alpha dT (x - x0) (a free uniform expansion), the carry of each axis at pose p is
+    c(p) = f(t) alpha dT (p - p_ref) e, exactly (trilinear interpolation reproduces affine fields,
+    hats reproduce linear functions of p); a reading (u_a - u_b) . d gains (m_a - m_b) c . d, and
+    nothing at the mesh's pose."""
+    from twin.effects.moving import motion_of
+    from twin.observe.pose import PoseCarry, support_points
+    machine, mm, sc = cframe_all
+    g = 12e-6 * 2.0
+    x0 = np.array([0.1, -0.2, 0.3])
+    u = (g * (mm.mesh.p.T - x0)).ravel()                     # interleaved (x, y, z) per node
+    carry = PoseCarry(machine, [machine.tool_point, machine.workpiece_point])
+    assert [a.name for a in carry.axes] == ["X", "Y", "Z"]
+    for a in carry.axes:
+        s = support_points(machine, a)
+        assert len(s) == 4 and np.ptp(s[:, "xyz".index(a.direction)]) > 0
+    G = carry.functionals(mm)
+    f = np.linspace(0.0, 1.0, len(sc.times()))
+    raw = f[:, None] * (G @ u)[None, :]
+    c = carry.carry(raw, carry.positions(sc.times(), sc))
+    for j, a in enumerate(carry.axes):
+        p = motion_of(sc, a).position(sc.times())
+        expect = f[:, None] * g * (p - a.p_ref)[:, None] * np.eye(3)["xyz".index(a.direction)]
+        assert c[:, j] == pytest.approx(expect, rel=1e-9, abs=1e-17)
+    # drift = tool - workpiece: the workpiece rides on X and Y, the tool on Z
+    corr = carry.correction(raw, carry.positions(sc.times(), sc), [(0, 1, d) for d in np.eye(3)])
+    assert corr == pytest.approx(c[:, 2] - c[:, 0] - c[:, 1], rel=1e-9, abs=1e-17)
+    still = type(sc)(**{**sc.__dict__, "axes": ()})
+    assert np.abs(carry.correction(raw, carry.positions(sc.times(), still), [(0, 1, d) for d in np.eye(3)])).max() < 1e-20
+
+
+def test_no_pose_rows_without_a_moving_axis():
+    """A spindle-only machine has no carried axis: the drift and probes' functionals are the
+    plain ones (the gold results unchanged)."""
+    from twin.observe import FiveProbeTestBar, ToolDrift
+    base = build_machine("cframe-vmc")
+    mm = mesh_machine(base, "coarse")
+    for o in (ToolDrift(), FiveProbeTestBar()):
+        assert (o.all_functionals(mm) != o.functionals(mm)).nnz == 0
+
+
+AXIS_SPEC = """\
+name = "axes"
+machines = ["cframe-vmc"]
+mesh = "coarse"
+seed = 5
+
+[[scenarios]]
+family = "axis-duty"
+cases = 2
+duration = "20 min"
+sample_interval = "60 s"
+[scenarios.spindle]
+step = ["4 min", "8 min"]
+speed = ["2000 rpm", "9000 rpm"]
+idle_probability = 0.3
+[scenarios.ambient]
+kind = "constant"
+temperature = "20 degC"
+[[scenarios.axis]]
+name = "Y"
+range = ["0 mm", "280 mm"]
+feed = ["5 mm/s", "30 mm/s"]
+[[scenarios.axis]]
+name = "X"
+range = ["50 mm", "450 mm"]
+feed = "20 mm/s"
+acceleration = "50 mm/s2"
+"""
+
+
+def test_dataset_generator_draws_axis_duty_cycles(tmp_path):
+    """An axis duty cycle in a dataset generator: deterministic draws, every drawn scenario
+    parses and stays in its range, the axes reciprocate only while the spindle runs, and a case
+    runs on the C-frame with the commanded axes' drives (their feed effects in its model)."""
+    from twin.dataset import load_spec, plan
+    from twin.dataset.runner import simulate_case
+    from twin.scenario import scenario_from_dict
+    (tmp_path / "s.toml").write_text(AXIS_SPEC)
+    cases = plan(load_spec(tmp_path / "s.toml"))
+    assert [c.hash for c in cases] == [c.hash for c in plan(load_spec(tmp_path / "s.toml"))]
+    for c in cases:
+        sc = scenario_from_dict(c.record["scenario"], "drawn")
+        assert [m.axis for m in sc.axes] == ["Y", "X"]
+        t = sc.times()
+        for m, (lo, hi) in zip(sc.axes, ((0.0, 0.28), (0.05, 0.45))):
+            x = m.position(t)
+            assert x.min() >= lo - 1e-12 and x.max() <= hi + 1e-12
+            still = np.array([sc.spindle_speed(tt) == 0 for tt in t[1:]])
+            assert np.all(m.velocity(t[1:] - 1e-3)[still] == 0.0)
+    moving = [c for c in cases if any(m["kind"] == "reciprocate" for a in c.record["scenario"]["axis"]
+                                      for m in a["move"])]
+    ds, result = simulate_case(moving[0].record, moving[0].hash, max_steps=3)
+    assert {"y_screw", "x_screw"} <= {p.name for p in result.machine.parts}
+    assert {"feed_nut_x", "feed_nut_y", "feed_motor_x"} <= set(ds.attrs["effects"].split(","))
+    assert "feed_nut_z" not in ds.attrs["effects"]
+
+
+@pytest.mark.parametrize("old,new,field", [
+    ('name = "Y"', 'name = "W"', "scenarios[0].axis[0].name"),
+    ('range = ["0 mm", "280 mm"]', 'range = ["0 mm", "600 mm"]', "scenarios[0].axis[0].range"),
+    ('feed = ["5 mm/s", "30 mm/s"]', 'feed = ["0 mm/s", "30 mm/s"]', "scenarios[0].axis[0].feed"),
+    ('acceleration = "50 mm/s2"', 'acceleration = "0 mm/s2"', "scenarios[0].axis[1].acceleration"),
+    ('acceleration = "50 mm/s2"', 'acceleration = "50 mm/s2"\nstroke = "1 mm"', "scenarios[0].axis[1].stroke"),
+])
+def test_a_bad_axis_duty_cycle_names_its_field(tmp_path, old, new, field):
+    """Bad axis generator values are InputErrors naming the spec file and the field."""
+    from twin.dataset import load_spec
+    from twin.errors import InputError
+    assert old in AXIS_SPEC
+    (tmp_path / "s.toml").write_text(AXIS_SPEC.replace(old, new, 1))
+    with pytest.raises(InputError) as err:
+        load_spec(tmp_path / "s.toml")
+    assert err.value.field == field
