@@ -29,8 +29,9 @@ weighted sum of squares SSE_k (nuisance fitted):
 
 Significance: the top candidate beats the baseline by >= ``bic_margin`` (10) BIC units and
 explains >= ``min_explained`` (50 %). Pairs are tried among the ``pair_pool`` best singles when
-none explains ``pair_threshold`` (80 %), and kept only if the second member passes the same test
-against the residual its better member leaves. The verdict (:mod:`validate.verdict`) then holds
+none explains ``pair_threshold`` (80 %), or when the best single leaves a residual above noise and
+model error (a factor > ``WITHIN`` in some group: a second cause may be what remains), and kept
+only if the second member passes the same test against the residual its better member leaves. The verdict (:mod:`validate.verdict`) then holds
 the residual against noise and model error; when it is not ``explained``, a generic heat input on
 every region of the machine's partition is fitted to it (:mod:`validate.localise`).
 """
@@ -269,7 +270,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     search = Search(evidence.observe, spec, base, fitter)
     fits = search.singles(pool, stage)
     sse0 = fitter.sse(zero)
-    if fits and 1 - fits[0].sse / sse0 < pair_threshold:
+    if fits and (1 - fits[0].sse / sse0 < pair_threshold or _leaves_a_residual(d, fits[0])):
         fits += _pairs(search, fits[:pair_pool], evidence, min_explained, bic_margin, stage)
         fits.sort(key=lambda f: f.sse)
     d.fits = fits
@@ -277,6 +278,14 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     _judge(d, machine, localise_regions, localise_steps, stage)
     d.runs = evidence.runs
     return d
+
+
+def _leaves_a_residual(d: Diagnosis, best: Fit) -> bool:
+    """True when the residual after ``best`` stands above noise and model error in some group
+    (a factor > ``WITHIN``, :mod:`validate.verdict`)."""
+    levels = V.group_levels(d.evidence, d.model_error_flat)
+    after = V.residual_factors(d.evidence, d.fitter.residual_after(best.response), levels)
+    return any(f > V.WITHIN for f in after.values())
 
 
 def _pairs(search: Search, top: list[Fit], evidence, min_explained, bic_margin, stage) -> list[Fit]:

@@ -49,6 +49,7 @@ from learners.metrics import rms
 
 WITHIN = 3.0
 BEYOND = 10.0
+BEYOND_CAP = 1e6
 VERDICTS = ("explained", "partly_explained", "unexplained", "nothing_missing")
 
 
@@ -78,13 +79,14 @@ def residual_factors(evidence, residual_flat: np.ndarray, levels: dict) -> dict[
 def beyond_model_error(fitter, fit, model_error_flat: np.ndarray) -> float:
     """min over the fit's members of |x_r| / |x_m| (module docstring): the fitted change over the
     change the signed model-error estimate alone produces along the member's column (unbounded
-    fit, nuisance within its band). inf where the model error does not move it at all."""
+    fit, nuisance within its band), capped at ``BEYOND_CAP`` (1e6: the model error does not move it
+    at all, e.g. a heat source the model lacks entirely)."""
     cols = np.column_stack(fit.slopes) if fit.slopes else fit.response[:, None]
     x_r = np.array([v - c.zero for c, v in zip(fit.candidates, fit.values)]) if fit.slopes else np.ones(1)
     free = np.full(cols.shape[1], np.inf)
     x_m = fitter.solve(cols, -free, free, model_error_flat)[0]
     ratio = np.abs(x_r) / np.maximum(np.abs(x_m), 1e-300)
-    return float(ratio.min())
+    return float(min(ratio.min(), BEYOND_CAP))
 
 
 def decide(factors: dict[str, float], significant: bool, after: dict[str, float] | None,
