@@ -4,10 +4,16 @@ A *channel* is one measured signal of a result or measurement, named ``<group>:<
 
 * ``temperature:<sensor>`` (degC as read; residuals in K) from ``temperature(time, sensor)``;
 * ``probe:<id>`` [um] from ``probe(time, probe_id)``;
-* ``tilt:<A|B>`` [urad] from ``tilt(time, rotation)``.
+* ``tilt:<A|B>`` [urad] from ``tilt(time, rotation)``;
+* ``laser:<id>`` [um] from ``laser(time, laser_id)`` (laser triangulation on a test bar);
+* ``strain:<gauge>`` [um/m] from ``strain(time, gauge)`` (FBG, compensated with the nearest
+  temperature sensor) and ``strain_raw:<gauge>`` [um/m] from ``strain_raw(time, gauge)`` (the
+  grating's reading, with its temperature cross-sensitivity).
 
 :func:`stack` reads any subset of the groups from a Dataset into one (n_t, n_ch) array with names,
-groups and units, using the noise-free ``*_true`` variables on request. Phases of the inputs
+groups and units, using the noise-free ``*_true`` variables on request. The strain groups have
+none: a result's ``strain_true`` is the strain itself, without the grating's cross-sensitivity
+and its compensation, so the model's reading (with its instrument noise) stands for it. Phases of the inputs
 (spindle on/off/speed change, ambient rising/falling/steady) come from :func:`detect_phases`.
 """
 
@@ -21,7 +27,9 @@ from twin.io.measured_inputs import speed_steps
 
 # group -> (dimension of the variable besides time, unit of a residual)
 GROUPS: dict[str, tuple[str, str]] = {"temperature": ("sensor", "K"), "probe": ("probe_id", "um"),
-                                      "tilt": ("rotation", "urad")}
+                                      "tilt": ("rotation", "urad"), "laser": ("laser_id", "um"),
+                                      "strain": ("gauge", "um/m"), "strain_raw": ("gauge", "um/m")}
+NO_TRUE = ("strain", "strain_raw")   # groups whose *_true variable is not the same reading
 
 
 def channel(group: str, label) -> str:
@@ -55,7 +63,7 @@ def stack(ds, groups=tuple(GROUPS), prefer_true: bool = False) -> Channels:
     cols, names, gs, units = [], [], [], []
     for group in groups:
         dim, unit = GROUPS[group]
-        var = f"{group}_true" if prefer_true and f"{group}_true" in ds else group
+        var = f"{group}_true" if prefer_true and f"{group}_true" in ds and group not in NO_TRUE else group
         if var not in ds or dim not in ds[var].dims:
             continue
         cols.append(np.asarray(ds[var].transpose("time", dim).values, float))
