@@ -110,7 +110,7 @@ def _reasoning_lines(c: dict, pad: str = " " * 6) -> list[str]:
     if why.get("channels"):
         out.append(pad + "channels (explained/share of residual): " + ", ".join(
             f"{x['channel']} {x['explained']:.0%}/{x['share']:.0%}" for x in why["channels"]))
-    for kind in ("spindle", "ambient"):
+    for kind in ("spindle", "c_axis", "ambient"):
         cells = [x for x in why.get("phases", []) if x["kind"] == kind]
         if cells:
             out.append(pad + f"{kind} phases: " + ", ".join(

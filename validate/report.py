@@ -23,7 +23,8 @@ def _png(fig) -> str:
     return base64.b64encode(buf.getvalue()).decode()
 
 
-_SPINDLE_COLOURS = {"spindle on": "orange", "speed change": "gold", "spindle off": None}
+_SPINDLE_COLOURS = {"spindle on": "orange", "speed change": "gold", "spindle off": None, "C axis on": "C4",
+                    "C axis speed change": "C6", "C axis off": None}
 _AMBIENT_COLOURS = {"ambient rising": "C3", "ambient falling": "C0", "ambient steady": None}
 
 
@@ -36,7 +37,7 @@ def _shade_phases(ax, phases, label: bool = False) -> list:
     seen = {}
     for p in phases:
         th = (p.start / 3600, p.end / 3600)
-        if p.kind == "spindle":
+        if p.kind in ("spindle", "c_axis"):
             key = next(k for k in _SPINDLE_COLOURS if p.label.startswith(k))
             colour = _SPINDLE_COLOURS[key]
             if colour:
