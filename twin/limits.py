@@ -99,31 +99,28 @@ def check_speeds(values, machine, source: str, field: str, logged: bool = False)
     return v
 
 
-def check_displacements(values, source: str, field: str) -> np.ndarray:
-    """Displacement-probe readings [m] checked: finite and within :data:`PROBE_RANGE` of zero."""
+def _within(values, limit: float, source: str, field: str, beyond) -> np.ndarray:
+    """``values`` checked: finite and within ``limit`` of zero; ``beyond(x)`` says why x is not."""
     v = np.asarray(values, dtype=float)
     flat = v.ravel()
-    bad = np.flatnonzero(~np.isfinite(flat) | (np.abs(flat) > PROBE_RANGE))
+    bad = np.flatnonzero(~np.isfinite(flat) | (np.abs(flat) > limit))
     if bad.size:
         x = flat[bad[0]]
-        what = "is not a finite number" if not np.isfinite(x) else (
-            f"{x * 1e3:g} mm is beyond a displacement probe's range of +-{PROBE_RANGE * 1e3:g} mm (check the unit)")
-        raise InputError(source, field, f"{_where(v, bad[0])}{what}")
+        raise InputError(source, field, f"{_where(v, bad[0])}{'is not a finite number' if not np.isfinite(x) else beyond(x)}")
     return v
+
+
+def check_displacements(values, source: str, field: str) -> np.ndarray:
+    """Displacement-probe readings [m] checked: finite and within :data:`PROBE_RANGE` of zero."""
+    return _within(values, PROBE_RANGE, source, field, lambda x: f"{x * 1e3:g} mm is beyond a displacement probe's "
+                                                                  f"range of +-{PROBE_RANGE * 1e3:g} mm (check the unit)")
 
 
 def check_strains(values, source: str, field: str) -> np.ndarray:
     """Strain readings [m/m] checked: finite and within :data:`STRAIN_RANGE` of zero."""
-    v = np.asarray(values, dtype=float)
-    flat = v.ravel()
-    bad = np.flatnonzero(~np.isfinite(flat) | (np.abs(flat) > STRAIN_RANGE))
-    if bad.size:
-        x = flat[bad[0]]
-        what = "is not a finite number" if not np.isfinite(x) else (
-            f"{x * 1e6:g} um/m is beyond +-{STRAIN_RANGE * 1e6:g} um/m, more than a machine structure survives "
-            "(check the unit)")
-        raise InputError(source, field, f"{_where(v, bad[0])}{what}")
-    return v
+    return _within(values, STRAIN_RANGE, source, field, lambda x: f"{x * 1e6:g} um/m is beyond +-{STRAIN_RANGE * 1e6:g} "
+                                                                   "um/m, more than a machine structure survives "
+                                                                   "(check the unit)")
 
 
 def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool = False) -> np.ndarray:
