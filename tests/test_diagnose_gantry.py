@@ -57,6 +57,25 @@ def test_engine_reads_what_a_simulation_records(gantry, coarse):
     assert np.abs(ds.strain_raw.values - ds.strain.values).max() > 1.0   # the compensation matters here
 
 
+def test_expansion_sensitivity_of_lasers_and_strain_is_exact(gantry, coarse):
+    """Laser readings and FBG strains (mechanical plus thermal, eps = d . (u(b) - u(a)) / L) are
+    linear in each material's alpha_m for given temperatures, and the grating's cross-sensitivity
+    k_T dT_g does not depend on alpha: the one-run response equals the difference quotient
+    (y(alpha_m (1 + s)) - y(alpha_m)) / s of a twin rebuilt with the scaled material, to round-off,
+    on lasers, compensated and raw strains alike; temperatures do not respond."""
+    from geometries.materials import MATERIALS
+    spec = model_spec(gantry)
+    engine = Engine(gantry, C_TEST, mm=coarse)
+    base, resp = engine.observe_with_expansion(spec, ["steel"])
+    scaled = Engine(gantry, C_TEST, mm=coarse, materials={"steel": MATERIALS["steel"].scaled(expansion=1.05)})
+    quotient = (scaled.observe(spec) - base) / 0.05
+    np.testing.assert_allclose(resp[0], quotient, atol=1e-8 * np.abs(quotient).max())
+    col = {n: i for i, n in enumerate(engine.names)}
+    assert abs(quotient[:, col["laser:Z"]]).max() > 10 and abs(quotient[:, col["strain:FBG-1"]]).max() > 10
+    np.testing.assert_array_equal(resp[0][:, col["strain:FBG-1"]], resp[0][:, col["strain_raw:FBG-1"]])
+    assert not resp[0][:, :engine.nsensor].any()
+
+
 def _write_log(ds, folder, duty):
     """A gantry log as a user would write it: minutes, C-axis speed, room air, T1, the lasers in mm,
     FBG-1 and FBG-2 compensated (ppm) and raw (um/m)."""
