@@ -22,8 +22,8 @@ import os
 
 import numpy as np
 
-from tests.fuzz_files import (CLI, COMPARE, COMPARE_NC, DEMO, DIAGNOSE, EFFECTS_FILE, FOLDERS, INPUTS, LEARN, MAPPING,
-                              OUTPUTS, REPORT, ROOM_SCENARIO,
+from tests.fuzz_files import (CLI, COMPARE, COMPARE_GANTRY, COMPARE_NC, DEMO, DIAGNOSE, EFFECTS_FILE, FOLDERS,
+                              GANTRY_MAPPING, INPUTS, LEARN, MAPPING, OUTPUTS, REPORT, ROOM_SCENARIO, gantry_csv,
                               PLOT, SCENARIO, SIM, TEXT, Case, bad_input_paths, bad_output_folders,
                               bad_output_paths, measurement_csv, netcdf_bytes, result_dataset, swap, table_csv)
 
@@ -306,6 +306,53 @@ CSV_EDITS_VIA_DIAGNOSE = ["speed-negative", "temperature-in-kelvin", "nan-cell",
 INPUTS_ONLY_CSV = _lines(lambda ls: [",".join(x.split(",")[:3]) for x in ls])
 INPUTS_ONLY_MAPPING = MAPPING.split("[columns.T_")[0]
 
+# --------------------------------------------- bad gantry measurements (lasers, FBG strain, C axis)
+def _gmap(old: str, new: str) -> str:
+    assert old in GANTRY_MAPPING, old
+    return GANTRY_MAPPING.replace(old, new, 1)
+
+
+# (id, mapping text, field); the source is the mapping
+GANTRY_MAPPING_EDITS = [
+    ("laser-unknown", _gmap('laser = "Y"', 'laser = "X"'), "columns.laser_Y_um.laser"),
+    ("laser-twice", _gmap('laser = "Z"', 'laser = "Y"'), "columns.laser_Z_um.laser"),
+    ("laser-unit-not-length", _gmap('laser = "Y"\nunit = "um"', 'laser = "Y"\nunit = "um/m"'), "columns.laser_Y_um.unit"),
+    ("laser-on-machine-without", _gmap('"gantry-ram"', '"cframe-vmc"'), "columns.c_rpm"),
+    ("gauge-unknown", _gmap('gauge = "FBG-1"', 'gauge = "FBG-9"'), "columns.FBG-1_comp.gauge"),
+    ("gauge-twice", _gmap('gauge = "FBG-4"\nreading = "compensated"', 'gauge = "FBG-1"\nreading = "compensated"'),
+     "columns.FBG-4_comp.gauge"),
+    ("reading-missing", _gmap('reading = "compensated"\n', ''), "columns.FBG-1_comp.reading"),
+    ("reading-unknown", _gmap('reading = "compensated"', 'reading = "corrected"'), "columns.FBG-1_comp.reading"),
+    ("strain-unit-length", _gmap('reading = "compensated"\nunit = "um/m"', 'reading = "compensated"\nunit = "um"'),
+     "columns.FBG-1_comp.unit"),
+    ("raw-and-compensated-differ", _gmap('gauge = "FBG-4"\nreading = "raw"', 'gauge = "FBG-5"\nreading = "raw"'),
+     "columns"),
+    ("strain-unknown-key", _gmap('reading = "raw"', 'reading = "raw"\nfibre = "x"'), "columns.FBG-1_raw.fibre"),
+    ("c-axis-unit-wrong", _gmap('duty = 0.5\nunit = "rpm"', 'duty = 0.5\nunit = "degC"'), "columns.c_rpm.unit"),
+    ("c-axis-duty-zero", _gmap("duty = 0.5", "duty = 0"), "columns.c_rpm.duty"),
+    ("c-axis-duty-above-one", _gmap("duty = 0.5", "duty = 1.5"), "columns.c_rpm.duty"),
+    ("c-axis-duty-string", _gmap("duty = 0.5", 'duty = "half"'), "columns.c_rpm.duty"),
+    ("second-c-axis-column", _gmap('role = "ambient_temperature"', 'role = "c_axis_speed"'), "columns.room_degC"),
+]
+
+
+def _gcsv(col: str, value) -> str:
+    def edit(cols):
+        a = np.array(cols[col], dtype=object)
+        a[5] = value
+        cols[col] = a
+    return gantry_csv(edit)
+
+
+# (id, CSV text, field); the source is the CSV
+GANTRY_CSV_EDITS = [
+    ("laser-beyond-range", _gcsv("laser_Z_um", 5e4), "laser_Z_um"),
+    ("strain-beyond-range", _gcsv("FBG-1_comp", 2e4), "FBG-1_comp"),
+    ("strain-nan", _gcsv("FBG-1_raw", "nan"), "FBG-1_raw"),
+    ("c-axis-negative", _gcsv("c_rpm", -10.0), "c_rpm"),
+    ("c-axis-beyond-machine", _gcsv("c_rpm", 4000.0), "c_rpm"),
+]
+
 # ------------------------------------------------------------------- bad results (NetCDF)
 def _nc(edit):
     """A callable giving the NetCDF bytes of the good result after ``edit(ds) -> ds``."""
@@ -571,6 +618,10 @@ def all_cases() -> list[Case]:
     for cid, csv_text, mapping, bad, fld in AXIS_LOG_EDITS:
         cases.append(Case(f"compare.axis-log:{cid}", COMPARE, "{d}/" + bad, fld,
                           files={"m.csv": csv_text, "m.toml": mapping}))
+    for cid, text, fld in GANTRY_MAPPING_EDITS:
+        cases.append(Case(f"compare.gantry-mapping:{cid}", COMPARE_GANTRY, "{d}/g.toml", fld, files={"g.toml": text}))
+    for cid, text, fld in GANTRY_CSV_EDITS:
+        cases.append(Case(f"compare.gantry-csv:{cid}", COMPARE_GANTRY, "{d}/g.csv", fld, files={"g.csv": text}))
     for cid, make, plot_field, compare_field in RESULT_EDITS:
         if plot_field is not None:
             cases.append(Case(f"plot.result:{cid}", PLOT, "{d}/r.nc", plot_field, files={"r.nc": make}))

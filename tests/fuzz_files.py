@@ -117,6 +117,35 @@ def table_csv(n: int = 40, seed: int = 0, edit: Callable | None = None) -> str:
 
 EFFECTS_FILE = '[effects.pump]\nkind = "heat_source"\nregion = "saddle"\npower = "80 W"\n'
 
+LASERS = ("Y", "Z", "A1", "A2")
+GAUGES = ("FBG-1", "FBG-4")
+
+
+def gantry_csv(edit: Callable | None = None) -> str:
+    """The good gantry measurement: C-axis speed (its rhythm's duty in the mapping), room air, T1,
+    the four laser triangulation sensors and two FBG gauges (compensated and raw)."""
+    t = np.arange(ROWS) * 60.0
+    rise = 1 - np.exp(-t / 900.0)
+    cols = {"t_s": t, "c_rpm": np.where(t < 600, 2500.0, 0.0), "room_degC": 20 + 0.001 * t / 60,
+            "T1": 20 + 3 * rise}
+    cols.update({f"laser_{p}_um": -(k + 1) * 3.0 * rise for k, p in enumerate(LASERS)})
+    cols.update({f"{g}_comp": (k + 1) * 5.0 * rise for k, g in enumerate(GAUGES)})
+    cols.update({f"{g}_raw": (k + 1) * 5.0 * rise + 8.64 * 3 * rise for k, g in enumerate(GAUGES)})
+    if edit:
+        edit(cols)
+    lines = [",".join(cols)] + [",".join(_cell(cols[c][i]) for c in cols) for i in range(len(cols["t_s"]))]
+    return "\n".join(lines) + "\n"
+
+
+GANTRY_MAPPING = "\n".join(
+    ['machine = "gantry-ram"', '[columns.t_s]\nrole = "time"\nunit = "s"',
+     '[columns.c_rpm]\nrole = "c_axis_speed"\nduty = 0.5\nunit = "rpm"',
+     '[columns.room_degC]\nrole = "ambient_temperature"\nunit = "degC"',
+     '[columns.T1]\nrole = "temperature"\nsite = "T1"\nunit = "degC"']
+    + [f'[columns.laser_{p}_um]\nrole = "laser"\nlaser = "{p}"\nunit = "um"' for p in LASERS]
+    + [f'[columns.{g}_{k}]\nrole = "strain"\ngauge = "{g}"\nreading = "{r}"\nunit = "um/m"'
+       for g in GAUGES for k, r in (("comp", "compensated"), ("raw", "raw"))]) + "\n"
+
 DATASET_SPEC = ('name = "tiny"\nmachines = ["cframe-vmc"]\nmesh = "coarse"\nseed = 1\n[parameters]\n'
                 '"spindle_motor.power" = { uniform = ["40 W", "80 W"] }\n[[scenarios]]\nfamily = "ref"\n'
                 'file = "short.toml"\ncases = 2\n')
@@ -126,7 +155,7 @@ ROOM_CSV = "time [min],air [degC]\n0,20\n10,20.5\n20,21\n30,20.8\n"
 ROOM_SCENARIO = SCENARIO.replace('[ambient]\ntemperature = "20 degC"', '[ambient]\nkind = "csv"\nfile = "room.csv"')
 
 TEXT = {"room.csv": ROOM_CSV, "room.toml": ROOM_SCENARIO, "short.toml": SCENARIO, "ds.toml": DATASET_SPEC, "m.csv": measurement_csv(), "m.toml": MAPPING, "train.csv": table_csv(),
-        "test.csv": table_csv(seed=1), "fx.toml": EFFECTS_FILE}
+        "test.csv": table_csv(seed=1), "fx.toml": EFFECTS_FILE, "g.csv": gantry_csv(), "g.toml": GANTRY_MAPPING}
 
 
 def good_files() -> dict[str, bytes]:
@@ -154,6 +183,7 @@ SIM = ["simulate", "cframe-vmc", "{d}/short.toml", "-o", "{d}/out.nc", "--mesh",
 PLOT = ["plot", "{d}/r.nc", "-o", "{d}/pic.png"]
 COMPARE = ["compare", "{d}/m.csv", "--mesh", "coarse"]
 COMPARE_NC = ["compare", "{d}/r.nc", "--mesh", "coarse"]
+COMPARE_GANTRY = ["compare", "{d}/g.csv", "--mesh", "coarse"]
 DIAGNOSE = ["diagnose", "{d}/m.csv", "--json", "{d}/d.json", "--report", "{d}/report", "--error-mesh", "none"]
 LEARN = ["learn", "--train", "{d}/train.csv", "--test", "{d}/test.csv", "--target", "drift_z", "--learner", "mlr",
          "-o", "{d}/scores.csv"]
@@ -215,6 +245,7 @@ INPUTS = [
     ("compare.scenario", COMPARE + ["--scenario", "{d}/short.toml"], "{d}/short.toml", "short.toml", True),
     ("compare.netcdf", COMPARE_NC, "{d}/r.nc", "r.nc", False),
     ("diagnose.measurement", DIAGNOSE, "{d}/m.csv", "m.csv", True),
+    ("compare.gantry-mapping", COMPARE_GANTRY + ["--mapping", "{d}/g.toml"], "{d}/g.toml", "g.toml", True),
     ("diagnose.scenario", DIAGNOSE + ["--scenario", "{d}/short.toml"], "{d}/short.toml", "short.toml", True),
     ("simulate.effects-file", SIM + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),
     ("compare.effects-file", COMPARE + ["--effects-file", "{d}/fx.toml"], "{d}/fx.toml", "fx.toml", True),

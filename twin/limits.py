@@ -14,7 +14,11 @@ affordable. Each check raises :class:`twin.errors.InputError` ``(source, field, 
   :data:`MAX_NODE_STEPS` node-steps (steps x temperature nodes): a run beyond them would take
   days or terabytes, so it is refused with the size it implies.
 * Probe readings [m] within :data:`PROBE_RANGE` (10 mm) of their zero: thermal drift is tens of
-  micrometres, a reading of metres is a unit mistake.
+  micrometres, a reading of metres is a unit mistake. Laser triangulation readings likewise.
+* Strain readings [m/m] within :data:`STRAIN_RANGE` (5000 um/m) of their zero: thermal strains of
+  a machine structure are tens to hundreds of um/m (steel yields near 2000 um/m).
+* C-axis speeds [rpm] from 0 to the machine's C-axis maximum (``parameters["c_axis_max_speed"]``),
+  with :data:`LOGGED_SPEED_MARGIN` for a log; a machine without a C axis has none.
 * Positions [m]: a sensor glued to the machine lies inside one of its parts (inside the named
   part when one is given); a sensor in the air (part ``"air"``) within :data:`AIR_REACH` of it.
 * Seeds: integers from 0 to 2**32 - 1 (stored in the result's attributes, reproducible).
@@ -34,6 +38,7 @@ LOGGED_SPEED_MARGIN = 0.05              # a measured speed may exceed the maximu
 MAX_STEPS = 1_000_000                   # time steps of one run
 MAX_NODE_STEPS = 2e10                   # steps x temperature nodes of one run
 PROBE_RANGE = 0.01                      # m: the measuring range of a displacement probe (10 mm)
+STRAIN_RANGE = 5e-3                     # m/m: beyond any strain a machine structure survives
 AIR_REACH = 10.0                        # m: how far from the machine an air sensor may sit
 MAX_SEED = 2**32 - 1
 
@@ -94,16 +99,47 @@ def check_speeds(values, machine, source: str, field: str, logged: bool = False)
     return v
 
 
-def check_displacements(values, source: str, field: str) -> np.ndarray:
-    """Displacement-probe readings [m] checked: finite and within :data:`PROBE_RANGE` of zero."""
+def _within(values, limit: float, source: str, field: str, beyond) -> np.ndarray:
+    """``values`` checked: finite and within ``limit`` of zero; ``beyond(x)`` says why x is not."""
     v = np.asarray(values, dtype=float)
     flat = v.ravel()
-    bad = np.flatnonzero(~np.isfinite(flat) | (np.abs(flat) > PROBE_RANGE))
+    bad = np.flatnonzero(~np.isfinite(flat) | (np.abs(flat) > limit))
     if bad.size:
         x = flat[bad[0]]
-        what = "is not a finite number" if not np.isfinite(x) else (
-            f"{x * 1e3:g} mm is beyond a displacement probe's range of +-{PROBE_RANGE * 1e3:g} mm (check the unit)")
-        raise InputError(source, field, f"{_where(v, bad[0])}{what}")
+        raise InputError(source, field, f"{_where(v, bad[0])}{'is not a finite number' if not np.isfinite(x) else beyond(x)}")
+    return v
+
+
+def check_displacements(values, source: str, field: str) -> np.ndarray:
+    """Displacement-probe readings [m] checked: finite and within :data:`PROBE_RANGE` of zero."""
+    return _within(values, PROBE_RANGE, source, field, lambda x: f"{x * 1e3:g} mm is beyond a displacement probe's "
+                                                                  f"range of +-{PROBE_RANGE * 1e3:g} mm (check the unit)")
+
+
+def check_strains(values, source: str, field: str) -> np.ndarray:
+    """Strain readings [m/m] checked: finite and within :data:`STRAIN_RANGE` of zero."""
+    return _within(values, STRAIN_RANGE, source, field, lambda x: f"{x * 1e6:g} um/m is beyond +-{STRAIN_RANGE * 1e6:g} "
+                                                                   "um/m, more than a machine structure survives "
+                                                                   "(check the unit)")
+
+
+def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool = False) -> np.ndarray:
+    """C-axis speeds [rpm] checked: finite, not negative, within the machine's C-axis maximum
+    (``parameters["c_axis_max_speed"]``; plus :data:`LOGGED_SPEED_MARGIN` for a log)."""
+    v = np.asarray(values, dtype=float)
+    flat = v.ravel()
+    top = (getattr(machine, "parameters", None) or {}).get("c_axis_max_speed")
+    if top is None:
+        raise InputError(source, field, f"machine {getattr(machine, 'name', '?')} has no C axis")
+    bad = np.flatnonzero(~np.isfinite(flat) | (flat < 0))
+    if bad.size:
+        raise InputError(source, field, f"{_where(v, bad[0])}{flat[bad[0]]:g} rpm: a C-axis speed is finite and not "
+                                        "negative (give the magnitude)")
+    limit = top * (1 + LOGGED_SPEED_MARGIN) if logged else top
+    fast = np.flatnonzero(flat > limit)
+    if fast.size:
+        raise InputError(source, field, f"{_where(v, fast[0])}{flat[fast[0]]:g} rpm is beyond machine "
+                                        f"{machine.name}'s C-axis maximum of {top:g} rpm")
     return v
 
 
@@ -141,17 +177,14 @@ def check_scenario(scenario, machine) -> None:
 
 def check_c_axis(scenario, machine, source: str) -> None:
     """The scenario's C-axis steps (:mod:`twin.rotary`) against the machine: it must have a C axis
-    (``parameters["c_axis_max_speed"]`` [rpm]) and every step's speed must be within it."""
+    (``parameters["c_axis_max_speed"]`` [rpm]) and every step's speed must be within it (with
+    :data:`LOGGED_SPEED_MARGIN` when the scenario was built from a log)."""
     schedule = getattr(scenario, "c_axis", None)
     if schedule is None:
         return
-    top = (getattr(machine, "parameters", None) or {}).get("c_axis_max_speed")
-    if top is None:
-        raise InputError(source, "c_axis", f"machine {getattr(machine, 'name', '?')} has no C axis")
+    logged = bool(getattr(scenario, "extra", {}).get("logged"))
     for i, (_, speed, _) in enumerate(schedule.steps):
-        if speed > top:
-            raise InputError(source, f"c_axis[{i}].speed", f"{speed:g} rpm is beyond machine {machine.name}'s "
-                                                           f"C-axis maximum of {top:g} rpm")
+        check_c_axis_speeds(speed, machine, source, "c_axis_speed" if logged else f"c_axis[{i}].speed", logged)
 
 
 def check_position(machine, xyz, part: str, source: str, field: str) -> None:

@@ -4,10 +4,16 @@ A *channel* is one measured signal of a result or measurement, named ``<group>:<
 
 * ``temperature:<sensor>`` (degC as read; residuals in K) from ``temperature(time, sensor)``;
 * ``probe:<id>`` [um] from ``probe(time, probe_id)``;
-* ``tilt:<A|B>`` [urad] from ``tilt(time, rotation)``.
+* ``tilt:<A|B>`` [urad] from ``tilt(time, rotation)``;
+* ``laser:<id>`` [um] from ``laser(time, laser_id)`` (laser triangulation on a test bar);
+* ``strain:<gauge>`` [um/m] from ``strain(time, gauge)`` (FBG, compensated with the nearest
+  temperature sensor) and ``strain_raw:<gauge>`` [um/m] from ``strain_raw(time, gauge)`` (the
+  grating's reading, with its temperature cross-sensitivity).
 
 :func:`stack` reads any subset of the groups from a Dataset into one (n_t, n_ch) array with names,
-groups and units, using the noise-free ``*_true`` variables on request. Phases of the inputs
+groups and units, using the noise-free ``*_true`` variables on request. The strain groups have
+none: a result's ``strain_true`` is the strain itself, without the grating's cross-sensitivity
+and its compensation, so the model's reading (with its instrument noise) stands for it. Phases of the inputs
 (spindle on/off/speed change, ambient rising/falling/steady) come from :func:`detect_phases`.
 """
 
@@ -21,7 +27,9 @@ from twin.io.measured_inputs import speed_steps
 
 # group -> (dimension of the variable besides time, unit of a residual)
 GROUPS: dict[str, tuple[str, str]] = {"temperature": ("sensor", "K"), "probe": ("probe_id", "um"),
-                                      "tilt": ("rotation", "urad")}
+                                      "tilt": ("rotation", "urad"), "laser": ("laser_id", "um"),
+                                      "strain": ("gauge", "um/m"), "strain_raw": ("gauge", "um/m")}
+NO_TRUE = ("strain", "strain_raw")   # groups whose *_true variable is not the same reading
 
 
 def channel(group: str, label) -> str:
@@ -55,7 +63,7 @@ def stack(ds, groups=tuple(GROUPS), prefer_true: bool = False) -> Channels:
     cols, names, gs, units = [], [], [], []
     for group in groups:
         dim, unit = GROUPS[group]
-        var = f"{group}_true" if prefer_true and f"{group}_true" in ds else group
+        var = f"{group}_true" if prefer_true and f"{group}_true" in ds and group not in NO_TRUE else group
         if var not in ds or dim not in ds[var].dims:
             continue
         cols.append(np.asarray(ds[var].transpose("time", dim).values, float))
@@ -90,30 +98,40 @@ def _segments(labels: list[str], t: np.ndarray) -> list[tuple[str, float, float]
 
 def detect_phases(time: np.ndarray, speed: np.ndarray | None = None, ambient: np.ndarray | None = None,
                   speed_tolerance: float = 50.0, ambient_rate: float = 0.1 / 3600.0,
-                  smooth: float = 1800.0) -> list[Phase]:
+                  smooth: float = 1800.0, c_axis: np.ndarray | None = None) -> list[Phase]:
     """Phases of the inputs.
 
     Spindle: steps of :func:`twin.io.measured_inputs.speed_steps` labelled "spindle off" (0 rpm),
     "spindle on N rpm" (after a stop or at the start) or "speed change to N rpm" (after another
-    speed). Ambient: the sign of dT_air/dt [K/s], smoothed by a centred moving average over
+    speed); the C axis (``c_axis``: its speed [rpm] where it turns, when it turns at all) likewise,
+    kind ``c_axis``, "C axis off" / "C axis on N rpm" (then without spindle phases when the spindle
+    never turns). Ambient: the sign of dT_air/dt [K/s], smoothed by a centred moving average over
     ``smooth`` [s], "rising" above ``ambient_rate`` (default 0.1 K/h), "falling" below its
     negative, else "steady"; ambient stretches shorter than ``smooth`` merge into their predecessor.
     """
     t = np.asarray(time, float)
     phases: list[Phase] = []
-    if speed is not None:
-        prev = 0.0
-        for t0, t1, n in speed_steps(t, speed, speed_tolerance):
+    axes = [("spindle", "spindle", speed)]
+    if c_axis is not None and np.any(np.asarray(c_axis) > 0):
+        axes.append(("c_axis", "C axis", c_axis))
+        if speed is None or not np.any(np.asarray(speed) > speed_tolerance):
+            axes = axes[1:]   # a C-axis test: the spindle at rest throughout says nothing
+    for kind, name, trace in axes:
+        if trace is None:
+            continue
+        prev, mine = 0.0, []
+        for t0, t1, n in speed_steps(t, trace, speed_tolerance):
             if n == 0:
-                label = "spindle off"
+                label = f"{name} off"
             elif prev == 0:
-                label = f"spindle on {n:.0f} rpm"
+                label = f"{name} on {n:.0f} rpm"
             else:
-                label = f"speed change to {n:.0f} rpm"
-            phases.append(Phase("spindle", label, t0, t1 if t1 > t0 else t0))
+                label = f"speed change to {n:.0f} rpm" if kind == "spindle" else f"{name} speed change to {n:.0f} rpm"
+            mine.append(Phase(kind, label, t0, t1 if t1 > t0 else t0))
             prev = n
-        if phases:
-            phases[-1].end = float(t[-1]) + (float(t[-1] - t[-2]) if len(t) > 1 else 0.0)
+        if mine:
+            mine[-1].end = float(t[-1]) + (float(t[-1] - t[-2]) if len(t) > 1 else 0.0)
+        phases += mine
     if ambient is not None and len(t) > 2:
         a = np.asarray(ambient, float)
         dt = float(np.median(np.diff(t)))
@@ -145,12 +163,19 @@ def resampler(t_model: np.ndarray, t_meas: np.ndarray):
 
 
 def input_phases(ds, t: np.ndarray, scenario=None) -> list[Phase]:
-    """Phases of the inputs on the grid ``t`` [s]: the Dataset's logged spindle speed and room air
-    where it has them, else the ``scenario``'s (no phases of an input neither gives)."""
+    """Phases of the inputs on the grid ``t`` [s]: the Dataset's logged spindle speed, C-axis speed
+    (where its duty is not 0) and room air where it has them, else the ``scenario``'s (no phases of an
+    input neither gives)."""
     def signal(var, of_scenario):
         if var in ds:
             return np.asarray(ds[var].values, float)
-        return None if scenario is None else np.asarray(of_scenario(t), float)
+        return None if scenario is None or of_scenario is None else np.asarray(of_scenario(t), float)
 
+    c_sched = getattr(scenario, "c_axis", None)
+    c_axis = (np.asarray(ds.c_axis_speed.values, float) * (np.asarray(ds.c_axis_duty.values, float) > 0
+                                                            if "c_axis_duty" in ds else 1.0)
+              if "c_axis_speed" in ds else
+              (c_sched.speed(t) * (c_sched.duty(t) > 0) if c_sched is not None else None))
     return detect_phases(t, signal("spindle_speed", getattr(scenario, "spindle_speed", None)),
-                         signal("ambient_temperature", getattr(scenario, "ambient_temperature", None)))
+                         signal("ambient_temperature", getattr(scenario, "ambient_temperature", None)),
+                         c_axis=c_axis)

@@ -169,7 +169,8 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
         worst = [c.name for c in cmp0.ranking()[:6]]
         say("\n".join(_rmse_table(cmp0, cmp1, worst)))
         say("  all channels: " + ", ".join(
-            f"{g} RMSE {_group_rmse(cmp0, g):.3g} -> {_group_rmse(cmp1, g):.3g} {u}" for g, (_, u) in GROUPS.items()))
+            f"{g} RMSE {_group_rmse(cmp0, g):.3g} -> {_group_rmse(cmp1, g):.3g} {u}" for g, (_, u) in GROUPS.items()
+            if any(c.name.startswith(g + ":") for c in cmp0.channels)))
         if top["effect"] == HIDDEN:
             fit = top["values_si"][HIDDEN][HIDDEN_PARAMETER]
             say(f"  the hidden truth was {HIDDEN}.{HIDDEN_PARAMETER} = {true_text}; fitted {_short(fit, par.dimension)} "

@@ -1,8 +1,8 @@
 """Diagnose: which missing effect, or which wrong parameter of the model's own effects, explains
 the residual between measurement(s) and twin, and where on the machine the rest comes from.
 
-Channels: every temperature sensor [K] and every ISO 230-3 probe [um] a measurement has (any
-subset); residual r = measured - model (model through the sensor lag and bias, no noise), on
+Channels: every temperature sensor [K], ISO 230-3 probe [um], laser triangulation sensor [um] and
+FBG strain gauge [um/m] a measurement has (any subset); residual r = measured - model (model through the sensor lag and bias, no noise), on
 each measurement's time grid; several measurements are fitted together
 (:mod:`validate.evidence`, which also gives the weights).
 
@@ -51,7 +51,7 @@ from validate.diagnosis_text import diagnosis_json, format_diagnosis, reasoning 
 from validate.evidence import Evidence, channel_weights, make_record, noise_levels
 from validate.fit import BoundedFitter
 from validate.search import Fit, Search
-from validate.signatures import Engine
+from validate.signatures import DISPLACEMENT_GROUPS, Engine
 
 
 @dataclass
@@ -218,8 +218,8 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
                   twin: PreparedTwin | None = None, progress=None) -> Diagnosis:
     """Rank the effects and parameters that explain the residual of ``measurements``.
 
-    ``measurements``: [(label, Dataset, Scenario)] (twin schema: ``temperature`` [degC] and/or
-    ``probe`` [um]); each scenario's grid must cover its measurement. ``machine``: a built
+    ``measurements``: [(label, Dataset, Scenario)] (twin schema: any of ``temperature`` [degC],
+    ``probe`` and ``laser`` [um], ``strain`` or ``strain_raw`` [um/m]); each scenario's grid must cover its measurement. ``machine``: a built
     machine; ``spec``: the diagnosing model (default: the machine's); ``mm``/``resolution``: its
     mesh. ``candidates``: the missing effects to try (default: every applicable registered effect
     not in ``spec``, custom effects included); ``parameters``: also try the declared uncertain
@@ -237,8 +237,8 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     twin = twin or PreparedTwin(machine, mm, resolution)
     evidence = Evidence([make_record(lab, ds, sc, machine, twin) for lab, ds, sc in measurements])
     bands = expansion_bands(machine)
-    with_probes = "probe" in evidence.groups()
-    materials = sorted(bands) if calibrate_expansion and with_probes else []
+    with_drift = bool(set(DISPLACEMENT_GROUPS) & set(evidence.groups()))   # channels alpha moves
+    materials = sorted(bands) if calibrate_expansion and with_drift else []
     base, responses = evidence.observe_with_expansion(spec, materials)
     keep = [k for k in range(len(materials)) if np.any(responses[k])]
     materials, responses = [materials[k] for k in keep], responses[keep]

@@ -61,7 +61,7 @@ def format_diagnosis(d, top: int = 8) -> str:
     base, err = d.baseline_rmse, d.model_error_rms
     lines = [f"Measurements: {', '.join(r.label for r in d.evidence.records)}; {len(names)} channels, "
              f"effective samples {d.n_eff:.0f}, {d.runs} twin runs", "Baseline RMSE per channel:"]
-    for g in ("temperature", "probe"):
+    for g in CHANNEL_GROUPS:
         idx = [i for i, k in enumerate(groups) if k == g]
         if idx:
             lines.append(f"  {g} [{_unit(g)}]: " + ", ".join(f"{names[i].split(':', 1)[1]} {base[i]:.3g}" for i in idx))
@@ -110,7 +110,7 @@ def _reasoning_lines(c: dict, pad: str = " " * 6) -> list[str]:
     if why.get("channels"):
         out.append(pad + "channels (explained/share of residual): " + ", ".join(
             f"{x['channel']} {x['explained']:.0%}/{x['share']:.0%}" for x in why["channels"]))
-    for kind in ("spindle", "ambient"):
+    for kind in ("spindle", "c_axis", "ambient"):
         cells = [x for x in why.get("phases", []) if x["kind"] == kind]
         if cells:
             out.append(pad + f"{kind} phases: " + ", ".join(

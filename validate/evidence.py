@@ -1,19 +1,24 @@
 """The evidence a diagnosis weighs: one or several measurements held against one model.
 
-A :class:`Record` is one measurement: its channels (any subset of the temperature sensors and
-the ISO 230-3 probes, :mod:`validate.channels`), the scenario that drives the twin, and an
+A :class:`Record` is one measurement: its channels (any subset of the temperature sensors, the
+ISO 230-3 probes, the laser triangulation sensors and the FBG strain gauges, compensated or raw,
+:mod:`validate.channels`), the scenario that drives the twin, and an
 :class:`validate.signatures.Engine` observing the twin at exactly those channels on the
 measurement's time grid. :class:`Evidence` stacks the records into flat vectors (record by
 record, each (n_t, n_ch) block row-major), so one set of strengths is fitted to all of them
 together: a spindle test and an ambient test separate effects that one run cannot.
 
-Weights (per record and channel group g, so that temperatures and probes count alike):
+Weights (per record and channel group g, so that temperatures, probes, lasers and strains count alike):
 
     w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)),   s_g = max(RMS of the group's baseline residual, sigma_g),
 
 m_g the group's channel count in the record, e_c the channel's estimated discretisation error
 (0 without an estimate) and sigma_g the group's noise level: the median over its channels of
 sqrt(mean(diff(y)^2) / 2), floored by half the instrument's quantisation step.
+
+A twin result carries each FBG gauge twice (``strain``, compensated, and ``strain_raw``); the
+diagnosis then uses the compensated reading only (the seed's), so no gauge counts twice; a
+measurement with raw readings alone is diagnosed on them (the model then adds k_T dT_g).
 """
 
 from __future__ import annotations
@@ -28,7 +33,18 @@ from twin.model import ModelSpec
 from validate.channels import input_phases, resampler, stack
 from validate.signatures import Engine
 
-GROUPS = ("temperature", "probe")   # the channel groups a diagnosis fits (validate.channels)
+# the channel groups a diagnosis fits (validate.channels), and the instrument whose resolution floors
+# each group's noise level: (parameter group, parameter, factor to the channel's unit)
+GROUPS = ("temperature", "probe", "laser", "strain", "strain_raw")
+RESOLUTION = {"temperature": ("temperature_sensor", "quantisation", 1.0), "probe": ("probe", "resolution", 1e6),
+              "laser": ("laser_triangulation", "resolution", 1e6), "strain": ("fbg", "quantisation", 1e6),
+              "strain_raw": ("fbg", "quantisation", 1e6)}
+
+
+def diagnosed_groups(ds) -> tuple[str, ...]:
+    """The groups of :data:`GROUPS` a diagnosis reads from ``ds``: ``strain_raw`` only without
+    the compensated ``strain`` (each gauge counted once)."""
+    return tuple(g for g in GROUPS if not (g == "strain_raw" and "strain" in ds))
 
 
 def sensor_points(ds, machine) -> list:
@@ -50,9 +66,8 @@ def sensor_points(ds, machine) -> list:
 
 def noise_levels(y: np.ndarray, groups: list[str], spec: ModelSpec) -> dict[str, float]:
     """Group noise sigma_g: median over channels of sqrt(mean(diff(y)^2)/2), floored at half the
-    instrument's quantisation step (K or um)."""
-    floors = {"temperature": 0.5 * spec.params["temperature_sensor"]["quantisation"],
-              "probe": 0.5 * spec.params["probe"]["resolution"] * 1e6}
+    instrument's quantisation step (K, um or um/m; :data:`RESOLUTION`)."""
+    floors = {g: 0.5 * spec.params[group][name] * f for g, (group, name, f) in RESOLUTION.items()}
     d = np.sqrt(np.mean(np.diff(y, axis=0) ** 2, axis=0) / 2) if len(y) > 1 else np.zeros(y.shape[1])
     g = np.array(groups)
     return {k: max(float(np.median(d[g == k])), floors[k], 1e-12) for k in GROUPS if np.any(g == k)}
@@ -124,17 +139,18 @@ class Record:
 
 def make_record(label: str, ds, scenario, machine, twin) -> Record:
     """A :class:`Record` of measurement ``ds`` driven by ``scenario`` on the prepared ``twin``;
-    InputError when it has neither temperatures nor probes, or when it outlasts the scenario."""
-    stacked = stack(ds, GROUPS)
+    InputError when it has no channel to diagnose, or when it outlasts the scenario."""
+    stacked = stack(ds, diagnosed_groups(ds))
     if not stacked.names:
-        raise InputError(label, "channels", "the measurement has neither temperature sensors nor probes to diagnose")
+        raise InputError(label, "channels", "the measurement has no temperature sensor, probe, laser or strain "
+                                            "gauge to diagnose")
     t = np.asarray(ds["time"].values, float)
     t = t - t[0]
     engine = Engine(machine, scenario, mm=twin.mm, sensors=sensor_points(ds, machine), prepared=twin)
-    names = [f"temperature:{p.name}" for p in engine.sensors] + [f"probe:{n}" for n in engine.probe_names]
+    names = engine.names
     missing = [c for c in stacked.names if c not in names]
     if missing:
-        raise InputError(label, missing[0], "the machine has no such probe")
+        raise InputError(label, missing[0], f"machine {machine.name} has no such instrument")
     columns = np.array([names.index(c) for c in stacked.names], int)
     try:
         rec = Record(label, ds, scenario, engine, t, stacked.names, stacked.groups, stacked.values, columns)

@@ -4,8 +4,10 @@ partition of the machine, fitted to the residual.
 Partition (:func:`geometries.regions.partition`): every part's cells (``"saddle"``, a volume
 source) and every part's outer faces by direction (``"column.+x"``, a surface flux); regions
 with no cells or faces on the mesh are dropped. Schedules: ``constant``, ``spindle_on`` (while
-the spindle turns) and, when the measurements run the spindle at more than one speed,
-``speed`` (proportional to n / n_max). A region j with schedule s puts P s(t) watts into the
+the spindle turns), when the measurements run the spindle at more than one speed, ``speed``
+(proportional to n / n_max), and ``c_axis_on`` (the fraction of time the C axis turns, its
+duty) when a measurement turns the C axis. The observables are those of the diagnosis
+(:meth:`validate.signatures.Engine.readings`); sensors in the air do not respond. A region j with schedule s puts P s(t) watts into the
 structure; the observables respond linearly, y = P u_js, so each (region, schedule) costs one
 column u_js, and all columns come from one integration with J right-hand sides
 (:meth:`twin.physics.prepared.PreparedTwin.responses`): the operator changes with the spindle
@@ -29,7 +31,6 @@ from geometries.regions import partition
 from twin.effects import HeatSource, SurfaceHeatFlux
 from twin.fem.regions import region_cells, region_facets
 from twin.physics.prepared import PreparedTwin
-from twin.signals import lag_series
 from validate.channels import resampler
 
 POWER_LIMIT = 5000.0   # W, either sign: a generic heat input (a cooler is a negative one)
@@ -60,7 +61,19 @@ def schedules(scenarios) -> dict[str, object]:
     if len(speeds) > 1:
         top = max(speeds)
         out["speed"] = lambda sc, t: np.abs(sc.spindle_speed(t)) / top
+    if any(_turns_c(sc) for sc in scenarios):
+        out["c_axis_on"] = lambda sc, t: (_c_duty(sc, t) if _turns_c(sc) else np.zeros(np.shape(t)))
     return out
+
+
+def _turns_c(sc) -> bool:
+    c = getattr(sc, "c_axis", None)
+    return c is not None and any(n > 0 and d > 0 for _, n, d in c.steps)
+
+
+def _c_duty(sc, t) -> np.ndarray:
+    """The C axis's duty [-] at t [s] where it turns (0 at rest)."""
+    return np.where(sc.c_axis.speed(t) > 0, sc.c_axis.duty(t), 0.0)
 
 
 def localisation_twin(evidence, machine) -> PreparedTwin:
@@ -86,15 +99,16 @@ def region_columns(evidence, spec, twin: PreparedTwin, max_steps: int = 100):
         grid = np.arange(max(n, 1) + 1) * dt
         loads = [shaped_load(name, kind, where, shapes[s], sc) for name, kind, where in sources for s in shapes]
         eng = rec.engine
-        observers = [eng.temperature] + ([eng.probes] if eng.probes else [])
-        raw = twin.responses(sc, spec, observers, loads, times=grid)
-        temps = raw["temperature"]
-        lag = spec.params["temperature_sensor"]["lag"]
-        temps = np.stack([lag_series(temps[:, :, j], dt, lag) for j in range(temps.shape[2])], axis=2)
-        probes = raw["probes"] * 1e6 if eng.probes else np.zeros((len(grid), 0, len(loads)))
-        y = np.concatenate([temps, probes], axis=1)[:, rec.columns, :]
+        raw = twin.responses(sc, spec, eng.observers(), loads, times=grid)
+        air = eng.temperature.air
         interp = resampler(grid, rec.times)
-        blocks.append(np.stack([interp(y[:, :, j]) for j in range(y.shape[2])], axis=0))   # (J, n_t, n_ch)
+        block = []
+        for j in range(len(loads)):
+            one = {k: v[:, :, j] for k, v in raw.items()}
+            one["temperature"] = np.where(air[None, :], 0.0, one["temperature"])   # the air is the room's
+            y = eng.readings(one, spec, dt, bias=False)
+            block.append(interp(y[:, rec.columns]))
+        blocks.append(np.stack(block, axis=0))   # (J, n_t, n_ch)
     cols = np.concatenate([b.reshape(b.shape[0], -1) for b in blocks], axis=1)   # (J, N)
     return cols, labels
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.io.atomic import atomic_write_text
+from validate.channels import GROUPS
 from validate.report_map import machine_outline as _machine_outline
 
 def _png(fig) -> str:
@@ -23,7 +24,8 @@ def _png(fig) -> str:
     return base64.b64encode(buf.getvalue()).decode()
 
 
-_SPINDLE_COLOURS = {"spindle on": "orange", "speed change": "gold", "spindle off": None}
+_SPINDLE_COLOURS = {"spindle on": "orange", "speed change": "gold", "spindle off": None, "C axis on": "C4",
+                    "C axis speed change": "C6", "C axis off": None}
 _AMBIENT_COLOURS = {"ambient rising": "C3", "ambient falling": "C0", "ambient steady": None}
 
 
@@ -36,7 +38,7 @@ def _shade_phases(ax, phases, label: bool = False) -> list:
     seen = {}
     for p in phases:
         th = (p.start / 3600, p.end / 3600)
-        if p.kind == "spindle":
+        if p.kind in ("spindle", "c_axis"):
             key = next(k for k in _SPINDLE_COLOURS if p.label.startswith(k))
             colour = _SPINDLE_COLOURS[key]
             if colour:
@@ -109,7 +111,7 @@ def _worst_channels(d, rec, after) -> str:
         ax.plot(th, rec.model[:, k], "C0-")
         if after is not None:
             ax.plot(th, after[:, k], "C3--")
-        unit = "degC" if rec.groups[k] == "temperature" else "um"
+        unit = "degC" if rec.groups[k] == "temperature" else GROUPS[rec.groups[k]][1]
         ax.set_ylabel(f"[{unit}]", fontsize=8)
         ax.set_title(f"{rec.channels[k]}: RMSE {base_rmse[k]:.3g}"
                      + (f" -> {rms(rec.measured[:, k] - after[:, k]):.3g}" if after is not None else "")
@@ -179,8 +181,9 @@ _CSS = ("body{font-family:sans-serif;max-width:1100px;margin:1em auto;padding:0 
 _CAPTIONS = {
     "Measured": "Black dots: the measurement; blue: the model as it is; red dashed: the model with the top "
                 "candidate at its fitted strength. Shading: the phases found from the inputs (spindle on, "
-                "speed changes; a red/blue strip at the bottom: room air rising/falling). Each panel's title "
-                "gives the channel's RMSE before -> after (temperatures in K, probes in um).",
+                "speed changes, the C axis turning; a red/blue strip at the bottom: room air rising/falling). Each panel's title "
+                "gives the channel's RMSE before -> after (temperatures in K, probes and lasers in um, strains in "
+                "um/m).",
     "The machine": "Each dot is a temperature sensor at its place on the machine (grey: the part outlines), "
                    "coloured by the RMSE of measured minus model; the numbers are keyed below the picture.",
     "Candidate": "Each effect the model lacks and each uncertain parameter of its own effects, fitted to the "

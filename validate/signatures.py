@@ -1,8 +1,15 @@
 """Signatures of candidates: how every observable responds to a change of the model.
 
-An *observable vector* stacks, over time, every temperature sensor [degC] (through the sensor's
-first-order lag and bias, without noise) and every ISO 230-3 probe reading [um]. For a model
-``spec`` and a candidate c at value p (:mod:`validate.candidates`) the signature is
+An *observable vector* stacks, over time, every channel a machine's instruments give
+(:mod:`validate.channels`): the temperature sensors [degC] (through the sensor's first-order lag
+and bias, without noise), the ISO 230-3 probes [um], the laser triangulation sensors [um] and the
+FBG strain gauges [um/m], each gauge both compensated (``strain``) and raw (``strain_raw``):
+
+    eps_raw = eps + k_T dT_g,   eps_comp = eps_raw - k_T (lag(T_s) - lag(T_s)(0)),
+
+eps the mean mechanical-plus-thermal strain along the fibre, T_g the grating's mean temperature,
+T_s the compensating sensor (:mod:`twin.observe.strain`), without noise or quantisation. For a
+model ``spec`` and a candidate c at value p (:mod:`validate.candidates`) the signature is
 
     g_c(p) = y(spec with c = p) - y(spec),
 
@@ -20,17 +27,20 @@ import numpy as np
 
 from twin.effects import EFFECTS
 from twin.model import ModelSpec
-from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, RunContext, TemperatureSensors,
-                           sensor_points)
+from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, LaserTriangulation, RunContext, StrainGauges,
+                          TemperatureSensors, sensor_points)
 from twin.physics.prepared import PreparedTwin
 from twin.signals import lag_series
+
+DISPLACEMENT_GROUPS = ("probe", "laser", "strain", "strain_raw")   # groups that respond to the expansion
 
 
 class Engine:
     """A twin prepared once (:class:`twin.physics.prepared.PreparedTwin`, or ``prepared``) for
-    many runs of one scenario, observed at the temperature sensors and the probes; :meth:`observe`
-    then costs one transient integration. Equivalent to :func:`twin.simulate.run` (tested)
-    restricted to sensors and probes.
+    many runs of one scenario, observed at the temperature sensors, the probes, the laser
+    triangulation sensors and the FBG gauges the machine has; :meth:`observe` then costs one
+    transient integration. Equivalent to :func:`twin.simulate.run` (tested) restricted to these
+    instruments. ``names``: the channel name of every output column.
     """
 
     def __init__(self, machine, scenario, resolution: str = "coarse", mm=None, materials: dict | None = None,
@@ -43,29 +53,77 @@ class Engine:
         self.nsensor = len(self.sensors)
         self.probes = FiveProbeTestBar() if machine.probes else None
         self.probe_names = [p.name for p in machine.probes]
+        self.lasers = LaserTriangulation() if machine.lasers else None
+        self.laser_names = [p.name for p in machine.lasers]
+        self.strain = StrainGauges(machine.strain_gauges) if machine.strain_gauges else None
+        self.gauge_names = [g.name for g in machine.strain_gauges]
+        self.displacements = [o for o in (self.probes, self.lasers, self.strain) if o is not None]
+        self.names = ([f"temperature:{p.name}" for p in self.sensors] + [f"probe:{n}" for n in self.probe_names]
+                      + [f"laser:{n}" for n in self.laser_names] + [f"strain:{n}" for n in self.gauge_names]
+                      + [f"strain_raw:{n}" for n in self.gauge_names])
+        self.groups = [n.split(":", 1)[0] for n in self.names]
         self.times = scenario.times()
         self.runs = 0
 
-    def _run(self, spec: ModelSpec, materials: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
-        """The true observables (nt, nsensor + nprobe) (sensor temperatures [degC], probe readings
-        [um]) and the responses (nmat, nt, nsensor + nprobe) to a unit relative change of each
-        material's expansion coefficient (zero on temperatures), from one run."""
-        observers = [self.temperature] + ([self.probes] if self.probes else [])
-        observers += [ExpansionSensitivity(m, self.probes) for m in materials if self.probes]
-        loads, raw = self.twin.run(self.scenario, spec, observers)
+    def observers(self, materials: tuple[str, ...] = ()) -> list:
+        """The observers of one run: temperatures, the displacement-like instruments, and each
+        material's expansion sensitivity of every displacement-like instrument."""
+        return ([self.temperature] + self.displacements
+                + [ExpansionSensitivity(m, o) for m in materials for o in self.displacements])
+
+    def readings(self, raw: dict, spec: ModelSpec, dt: float, lag: bool = True, bias: bool = True) -> np.ndarray:
+        """(n_t, n_columns) in the order of :attr:`names` from one run's (or one response's) raw
+        observer outputs ``raw`` on a grid of step ``dt`` [s]: temperatures [degC] (through the
+        sensor lag when ``lag``, plus its bias when ``bias``), probe and laser readings [um] and
+        strains [um/m] (module docstring; the compensating sensor lagged when ``lag``), changes
+        from the first instant for all but the temperatures."""
+        p = spec.params["temperature_sensor"]
+        delay = (lambda x: lag_series(x, dt, p["lag"])) if lag else (lambda x: x)
+        temps = delay(raw["temperature"]) + (p["bias"] if bias else 0.0)
+        cols = [temps]
+        cols += [(raw[o.key] - raw[o.key][0]) * 1e6 for o in (self.probes, self.lasers) if o is not None]
+        if self.strain is not None:
+            k = len(self.gauge_names)
+            s = raw[self.strain.key] - raw[self.strain.key][0]
+            kt = spec.params["fbg"]["cross_sensitivity"] * 1e6
+            apparent = s[:, :k] * 1e6 + kt * s[:, k:2 * k]
+            sensor = delay(s[:, 2 * k:])
+            cols += [apparent - kt * (sensor - sensor[0]), apparent]
+        return np.hstack(cols) if cols else np.zeros((len(temps), 0))
+
+    def expansion_columns(self, raw: dict, materials: tuple[str, ...]) -> np.ndarray:
+        """(nmat, n_t, n_columns): each material's expansion response (zero on temperatures; um on
+        probes and lasers, um/m on both strain readings: the grating's cross-sensitivity does not
+        depend on alpha)."""
+        out = np.zeros((len(materials), len(self.times), len(self.names)))
+        for k, m in enumerate(materials):
+            start = self.nsensor
+            for o in self.displacements:
+                key = ExpansionSensitivity(m, o).key
+                um = (raw[key] - raw[key][0]) * 1e6
+                copies = 2 if o is self.strain else 1
+                for _ in range(copies):
+                    out[k, :, start:start + um.shape[1]] = um
+                    start += um.shape[1]
+        return out
+
+    def _run(self, spec: ModelSpec, materials: tuple[str, ...] = (), instrument: bool = True):
+        """The observables (nt, n_columns) and the responses (nmat, nt, n_columns) to a unit
+        relative change of each material's expansion coefficient, from one run."""
+        loads, raw = self.twin.run(self.scenario, spec, self.observers(materials))
         self.runs += 1
         ctx = RunContext(self.times, self.scenario, spec, self.machine, loads, np.random.default_rng(0))
-        temps = self.temperature.true_values(raw["temperature"], ctx)
-        um = (lambda key: self.probes.change_um(self.probes.readings(raw[key], ctx)))   # at the pose
-        probes = um("probes") if self.probes else np.zeros((len(self.times), 0))
-        responses = np.zeros((len(materials), len(self.times), self.nsensor + probes.shape[1]))
-        for k, o in enumerate(observers[2:] if self.probes else []):
-            responses[k, :, self.nsensor:] = um(o.key)
-        return np.hstack([temps, probes]), responses
+        posed = {o.key: o.readings(raw[o.key], ctx) for o in (self.probes, self.lasers) if o is not None}
+        posed.update({ExpansionSensitivity(m, o).key: o.readings(raw[ExpansionSensitivity(m, o).key], ctx)
+                      for m in materials for o in (self.probes, self.lasers) if o is not None})
+        raw = dict(raw, temperature=self.temperature.true_values(raw["temperature"], ctx), **posed)   # at the pose
+        out = self.readings(raw, spec, self.scenario.sample_interval, lag=instrument, bias=instrument)
+        return out, self.expansion_columns(raw, materials)
 
     def true_outputs(self, spec: ModelSpec) -> np.ndarray:
-        """(nt, nsensor + nprobe): true sensor temperatures [degC], then probe readings [um]."""
-        return self._run(spec)[0]
+        """(nt, n_columns): true sensor temperatures [degC], probe and laser readings [um],
+        strains [um/m] (compensated by the sensor's true temperature), no instrument model."""
+        return self._run(spec, instrument=False)[0]
 
     def observe(self, spec: ModelSpec) -> np.ndarray:
         """Like :meth:`true_outputs` with the temperature-sensor lag and bias applied (no noise)."""
@@ -74,14 +132,11 @@ class Engine:
     def observe_with_expansion(self, spec: ModelSpec, materials: list[str]) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`observe` and, from the same run, the response of every observable to a unit
         relative change of each material's expansion coefficient, d y / d(alpha_m / alpha_m0)
-        (nmat, nt, nsensor + nprobe) (:class:`twin.observe.ExpansionSensitivity`): zero on the
-        temperatures, probe readings in um on the probes. Drift is linear in each alpha for the
-        run's temperatures, so y + sum_m c_m response_m is the run with every alpha_m scaled by
-        (1 + c_m), exactly."""
-        out, responses = self._run(spec, tuple(materials))
-        p = spec.params["temperature_sensor"]
-        out[:, :self.nsensor] = lag_series(out[:, :self.nsensor], self.scenario.sample_interval, p["lag"]) + p["bias"]
-        return out, responses
+        (nmat, nt, n_columns) (:class:`twin.observe.ExpansionSensitivity`): zero on the
+        temperatures, readings in um (um/m) on the displacement-like channels. Drift and strain
+        are linear in each alpha for the run's temperatures, so y + sum_m c_m response_m is the
+        run with every alpha_m scaled by (1 + c_m), exactly."""
+        return self._run(spec, tuple(materials))
 
 
 def with_effect(spec: ModelSpec, effect: str, values: dict[str, float]) -> ModelSpec:

@@ -26,9 +26,15 @@ INSTRUMENT_SETTINGS = ["temperature_sensor.bias=0.03 K", "temperature_sensor.noi
 
 
 def short_scenario(sc: Scenario, factor: float) -> Scenario:
-    """A copy of ``sc`` with every step ``factor`` times as long (rounded to the sample interval)."""
-    steps = tuple((max(round(d * factor / sc.sample_interval), 1) * sc.sample_interval, s) for d, s in sc.steps)
-    return replace(sc, steps=steps, name=f"{sc.name}-x{factor:g}")
+    """A copy of ``sc`` with every step ``factor`` times as long (rounded to the sample interval),
+    the C axis's steps too."""
+    scale = lambda d: max(round(d * factor / sc.sample_interval), 1) * sc.sample_interval
+    steps = tuple((scale(d), s) for d, s in sc.steps)
+    c_axis = sc.c_axis
+    if c_axis is not None:
+        from twin.rotary import RotarySchedule
+        c_axis = RotarySchedule(tuple((scale(d), n, duty) for d, n, duty in c_axis.steps))
+    return replace(sc, steps=steps, c_axis=c_axis, name=f"{sc.name}-x{factor:g}")
 
 
 def truth_twin(machine, resolution: str = "default", perturb: bool = True):

@@ -1,7 +1,7 @@
 """The verdict of a diagnosis, from numbers: is the residual above noise and model error, and does
 a candidate explain it?
 
-Per channel group g (temperatures in K, probes in um), over every channel of every measurement:
+Per channel group g (temperatures in K, probes and lasers in um, strains in um/m), over every channel of every measurement:
 
     factor_g = RMS_g(residual) / sqrt(sigma_g^2 + e_g^2),
 
@@ -46,6 +46,7 @@ from __future__ import annotations
 import numpy as np
 
 from learners.metrics import rms
+from validate.channels import GROUPS
 
 WITHIN = 3.0
 BEYOND = 10.0
@@ -117,7 +118,7 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
     best, where = -1.0, ""
     for rec, res, w in zip(evidence.records, evidence.split(residual_flat), evidence.split(weights_flat)):
         e = ((res * w) ** 2).sum(axis=1)
-        for p in (p for p in rec.phases if p.kind == "spindle") or ():
+        for p in (p for p in rec.phases if p.kind in ("spindle", "c_axis")) or ():
             sel = (rec.times >= p.start) & (rec.times < p.end)
             share = float(e[sel].sum())
             if share > best:
@@ -128,7 +129,7 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
 
 
 def _factors_text(factors: dict[str, float], levels: dict) -> str:
-    unit = {"temperature": "K", "probe": "um"}
+    unit = {g: u for g, (_, u) in GROUPS.items()}
     return ", ".join(f"{g} {f:.1f}x (noise {levels[g][0]:.2g} {unit[g]}, model error {levels[g][1]:.2g} {unit[g]})"
                      for g, f in factors.items())
 

@@ -49,18 +49,22 @@ def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = No
     Time is shifted to start at 0; the spindle steps come from :func:`speed_steps`, snapped to a
     grid of ``sample_interval`` [s] (default: the median logging interval); the room air is a
     ``table`` ambient through every sample; the machine starts uniform at the mean measured
-    temperature of the first sample (the room air when no temperatures were logged). The
+    temperature of the first sample (the room air when no temperatures were logged); a logged
+    C-axis speed (``c_axis_speed``, ``c_axis_duty``) becomes the C-axis schedule, and a log with
+    a C-axis speed but no spindle speed keeps the spindle at rest. The
     scenario is marked ``extra["logged"]``: its speeds are a log's, with a log's tolerance over the
     machine's maximum (:func:`twin.limits.check_scenario`).
     """
     src = ds.attrs.get("source", "measurement")
-    for var in ("spindle_speed", "ambient_temperature"):
+    needed = ("ambient_temperature",) + (() if "c_axis_speed" in ds else ("spindle_speed",))
+    for var in needed:
         if var not in ds:
             raise InputError(src, var, "needed to drive the twin from measured inputs (or name a --scenario)")
     t = np.asarray(ds.time.values, float)
     t = t - t[0]
     dt = float(sample_interval or np.median(np.diff(t)))
-    steps = [(d, n) for d, n, _ in snapped_steps(t, ds.spindle_speed.values, dt, tolerance)]
+    speed = ds.spindle_speed.values if "spindle_speed" in ds else np.zeros(len(t))   # a C-axis log: spindle at rest
+    steps = [(d, n) for d, n, _ in snapped_steps(t, speed, dt, tolerance)]
     ambient = Ambient("table", times=tuple(t), temperatures=tuple(np.asarray(ds.ambient_temperature.values, float)))
     t_init = float(np.mean(ds.temperature.values[0])) if "temperature" in ds else None
     axes = ()
@@ -93,7 +97,7 @@ def snapped_steps(t: np.ndarray, speed: np.ndarray, dt: float, tolerance: float 
 
 def c_axis_from_record(ds: xr.Dataset, t: np.ndarray, dt: float, tolerance: float = 50.0):
     """The C-axis schedule a record's ``c_axis_speed`` [rpm] and ``c_axis_duty`` [1] logged (a
-    twin result of a scenario with ``[[c_axis]]``), or None: steps as the spindle's, each with the
+    twin result of a scenario with ``[[c_axis]]``, or a measurement's ``c_axis_speed`` column), or None: steps as the spindle's, each with the
     median duty of its samples (:class:`twin.rotary.RotarySchedule`)."""
     if "c_axis_speed" not in ds or "c_axis_duty" not in ds:
         return None

@@ -29,6 +29,18 @@ unit::
     role = "probe"                        # one of X1 X2 Y1 Y2 Z, a length unit (um, mm ...)
     probe = "X1"
     unit = "um"
+    [columns.lz]
+    role = "laser"                        # a laser triangulation sensor of the machine (Y, Z, A1, A2
+    laser = "Z"                           # on gantry-ram), a length unit
+    unit = "um"
+    [columns.fbg1]
+    role = "strain"                       # an FBG gauge of the machine, a strain unit (um/m, ppm)
+    gauge = "FBG-1"
+    reading = "compensated"               # or "raw" (with the grating's cross-sensitivity)
+    unit = "um/m"
+    [columns.c]
+    role = "c_axis_speed"                 # rpm; duty = 0.5 when an on/dwell rhythm is faster than
+    unit = "rpm"                          # the log (the fraction of time turning, default 1)
     [columns.ypos]
     role = "axis_position"                # a logged axis position (drives the twin's axis motion)
     axis = "Y"
@@ -37,9 +49,12 @@ unit::
 The result has the variables of :func:`twin.io.results.to_dataset`: ``time`` [s],
 ``spindle_speed`` [rpm], ``ambient_temperature`` [degC], ``temperature(time, sensor)`` [degC] with
 ``x, y, z`` [m] and ``part`` coordinates, ``probe(time, probe_id)`` [um], ``axis_position(time, axis_name)`` [mm] and, with all five
-probes and a machine, ``probe_drift(time, axis)`` [um] and ``tilt(time, rotation)`` [urad].
-Probe readings are zeroed at the first sample (ISO 230-3 probes are nulled at the start); time is
-kept as logged. Every problem raises :class:`twin.errors.InputError` naming file and column.
+probes and a machine, ``probe_drift(time, axis)`` [um] and ``tilt(time, rotation)`` [urad];
+``laser(time, laser_id)`` [um]; ``strain`` (compensated) and ``strain_raw(time, gauge)`` [um/m]
+(a gauge given both ways must be given both ways for every gauge); ``c_axis_speed`` [rpm] and
+``c_axis_duty`` [1] (the mapping's ``duty`` while turning, 0 at rest). Probe, laser and strain
+readings are zeroed at the first sample (probes are nulled at the start, and the twin's strains
+are changes from a zero-strain start); time is kept as logged. Every problem raises :class:`twin.errors.InputError` naming file and column.
 """
 
 from __future__ import annotations
@@ -62,9 +77,13 @@ from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
 
 ROLES = {"time": "time", "spindle_speed": "speed", "ambient_temperature": "temperature",
-         "temperature": "temperature", "probe": "length", "axis_position": "length"}
+         "temperature": "temperature", "probe": "length", "axis_position": "length", "laser": "length",
+         "strain": "strain", "c_axis_speed": "speed"}
 _ROLE_KEYS = {"time": set(), "spindle_speed": set(), "ambient_temperature": set(),
-              "temperature": {"site", "x", "y", "z", "part", "name"}, "probe": {"probe"}, "axis_position": {"axis"}}
+              "temperature": {"site", "x", "y", "z", "part", "name"}, "probe": {"probe"}, "axis_position": {"axis"},
+              "laser": {"laser"}, "strain": {"gauge", "reading"}, "c_axis_speed": {"duty"}}
+SINGLE = ("time", "spindle_speed", "ambient_temperature", "c_axis_speed")   # one column each at most
+READINGS = {"compensated": "strain", "raw": "strain_raw"}   # FBG reading -> variable
 
 
 def probe_names(machine) -> list[str]:
@@ -91,7 +110,7 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
     the five probes; by default the mapping's ``machine`` key (a result's ``machine`` attribute).
     Values are checked against physical limits (:mod:`twin.limits`): temperatures above absolute
     zero and plausible, spindle speeds within the machine's maximum, sensor positions on the
-    machine; a measurement needs at least one temperature or probe channel.
+    machine; a measurement needs at least one temperature, probe, laser or strain channel.
     """
     path = input_file(path, "measurement", "measurement file")
     if _is_netcdf(path):
@@ -111,9 +130,13 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
     return _with_channels(_from_csv(path, mapping, spec, machine), str(path))
 
 
+CHANNEL_VARIABLES = ("temperature", "probe", "laser", "strain", "strain_raw")
+
+
 def _with_channels(ds: xr.Dataset, src: str) -> xr.Dataset:
-    if "temperature" not in ds and "probe" not in ds:
-        raise InputError(src, "channels", "no temperature or probe channel: nothing to compare the twin with")
+    if not any(v in ds for v in CHANNEL_VARIABLES):
+        raise InputError(src, "channels", "no temperature, probe, laser or strain channel: nothing to compare the "
+                                          "twin with")
     return ds
 
 
@@ -124,10 +147,16 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
         limits.check_speeds(ds.spindle_speed.values, mach, src, "spindle_speed", logged=True)
     if "ambient_temperature" in ds:
         limits.check_temperatures(ds.ambient_temperature.values, src, "ambient_temperature")
-    if "probe" in ds and "probe_id" in ds.coords:
-        um = ds.probe.transpose("time", "probe_id").values
-        for i, name in enumerate(ds.probe_id.values):
-            limits.check_displacements(um[:, i] * 1e-6, src, f"probe:{name}")
+    for var, dim in (("probe", "probe_id"), ("laser", "laser_id")):
+        if var in ds and dim in ds.coords:
+            um = ds[var].transpose("time", dim).values
+            for i, name in enumerate(ds[dim].values):
+                limits.check_displacements(um[:, i] * 1e-6, src, f"{var}:{name}")
+    for var in READINGS.values():
+        if var in ds and "gauge" in ds.coords:
+            limits.check_strains(ds[var].transpose("time", "gauge").values * 1e-6, src, var)
+    if "c_axis_speed" in ds:
+        limits.check_c_axis_speeds(ds.c_axis_speed.values, mach, src, "c_axis_speed", logged=True)
     if "temperature" in ds and "sensor" in ds.coords:
         temp = ds.temperature.transpose("time", "sensor").values
         for i, name in enumerate(ds.sensor.values):
@@ -233,6 +262,9 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     sensors: list[tuple[str, tuple[float, float, float], str, np.ndarray]] = []
     probes: dict[str, np.ndarray] = {}
     positions: dict[str, np.ndarray] = {}
+    lasers: dict[str, np.ndarray] = {}
+    strains: dict[str, dict[str, np.ndarray]] = {"strain": {}, "strain_raw": {}}
+    duty = 1.0
     for name, entry in cols.items():
         key = f"columns.{name}"
         if not isinstance(entry, dict):
@@ -246,12 +278,30 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
         if "unit" not in entry:
             raise InputError(msrc, key + ".unit", "missing")
         factor = _factor(entry["unit"], ROLES[role], msrc, key + ".unit")
+        if role == "c_axis_speed" and not (getattr(mach, "parameters", None) or {}).get("c_axis_max_speed"):
+            raise InputError(msrc, key, "a C-axis speed needs a machine with a C axis (top-level machine = "
+                                        f"\"...\"; {'none named' if mach is None else mach.name + ' has none'})")
         values = _column(path, rows, header.index(name), name) * factor
         _check_values(values, role, mach, src, name)
-        if role in ("time", "spindle_speed", "ambient_temperature"):
+        if role in SINGLE:
             if role in single:
                 raise InputError(msrc, key, f"a second column with role {role}")
             single[role] = values
+            if role == "c_axis_speed":
+                duty = _duty(entry.get("duty", 1.0), msrc, key + ".duty")
+        elif role == "laser":
+            lid = _instrument(entry, "laser", [p.name for p in mach.lasers] if mach is not None else None,
+                              lasers, msrc, key)
+            lasers[lid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
+        elif role == "strain":
+            if entry.get("reading") not in READINGS:
+                raise InputError(msrc, key + ".reading", f"expected \"compensated\" (with the nearest temperature "
+                                                         f"sensor) or \"raw\" (the grating's reading), got "
+                                                         f"{entry.get('reading')!r}")
+            var = READINGS[entry["reading"]]
+            gid = _instrument(entry, "gauge", [g.name for g in mach.strain_gauges] if mach is not None else None,
+                              strains[var], msrc, key)
+            strains[var][gid] = (values - values[0]) * 1e6  # m/m -> um/m, nulled at the start
         elif role == "probe":
             pid = entry.get("probe")
             known = probe_names(mach)
@@ -271,7 +321,11 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     names = [s[0] for s in sensors]
     if len(set(names)) != len(names):
         raise InputError(msrc, "columns", "two temperature columns have the same sensor name")
-    return _dataset(t, single, sensors, probes, mach, src, positions)
+    if strains["strain"] and strains["strain_raw"] and set(strains["strain"]) != set(strains["strain_raw"]):
+        raise InputError(msrc, "columns", "FBG gauges given both compensated and raw must be the same gauges "
+                                          f"(compensated: {', '.join(strains['strain'])}; raw: "
+                                          f"{', '.join(strains['strain_raw'])})")
+    return _dataset(t, single, sensors, probes, mach, src, positions, lasers, strains, duty)
 
 
 def _axis_column(entry: dict, values: np.ndarray, positions: dict, mach, msrc: str, src: str, key: str,
@@ -296,6 +350,25 @@ def _axis_column(entry: dict, values: np.ndarray, positions: dict, mach, msrc: s
     return axis
 
 
+def _instrument(entry: dict, kind: str, known: list[str] | None, seen: dict, msrc: str, key: str) -> str:
+    """The ``kind`` (laser, gauge) a column names: one of the machine's, given once."""
+    if known is None:
+        raise InputError(msrc, f"{key}.{kind}", f"a {kind} column needs the machine (top-level machine = \"...\")")
+    name = entry.get(kind)
+    if name not in known:
+        raise InputError(msrc, f"{key}.{kind}", f"unknown {kind} {name!r}; known: {', '.join(known) or 'none'}")
+    if name in seen:
+        raise InputError(msrc, f"{key}.{kind}", f"{kind} {name} mapped twice")
+    return name
+
+
+def _duty(value, msrc: str, key: str) -> float:
+    """The C axis's duty (fraction of the time turning, 0 < d <= 1)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= 1:
+        raise InputError(msrc, key, f"expected a fraction of the time turning, 0 < duty <= 1, got {value!r}")
+    return float(value)
+
+
 def _check_values(values: np.ndarray, role: str, mach, src: str, column: str) -> None:
     """Physical limits of one CSV column in SI units (:mod:`twin.limits`)."""
     if not np.all(np.isfinite(values)):
@@ -306,8 +379,12 @@ def _check_values(values: np.ndarray, role: str, mach, src: str, column: str) ->
         limits.check_temperatures(values, src, column, "air")
     elif role == "temperature":
         limits.check_temperatures(values, src, column, "structure")
-    elif role == "probe":
+    elif role in ("probe", "laser"):
         limits.check_displacements(values, src, column)
+    elif role == "strain":
+        limits.check_strains(values, src, column)
+    elif role == "c_axis_speed":
+        limits.check_c_axis_speeds(values, mach, src, column, logged=True)
 
 
 def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: str):
@@ -334,7 +411,7 @@ def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: st
     return (str(entry.get("name", name)), xyz, part, values)
 
 
-def _dataset(t, single, sensors, probes, mach, src, positions=None) -> xr.Dataset:
+def _dataset(t, single, sensors, probes, mach, src, positions=None, lasers=None, strains=None, duty=1.0) -> xr.Dataset:
     data, coords = {}, {"time": ("time", t, {"units": "s", "long_name": "time since start"})}
     if "spindle_speed" in single:
         data["spindle_speed"] = variable("time", single["spindle_speed"], "rpm", "spindle speed")
@@ -365,6 +442,23 @@ def _dataset(t, single, sensors, probes, mach, src, positions=None) -> xr.Datase
         data["axis_position"] = variable(("time", "axis_name"), np.column_stack([positions[a] for a in names]) * 1e3,
                                          "mm", "logged axis position")
         coords["axis_name"] = ("axis_name", names, {"long_name": "linear axis"})
+    if lasers:
+        ids = [p.name for p in mach.lasers if p.name in lasers]
+        data["laser"] = variable(("time", "laser_id"), np.column_stack([lasers[i] for i in ids]), "um",
+                                 "laser triangulation reading as measured")
+        coords["laser_id"] = ("laser_id", ids, {"long_name": "laser triangulation sensor"})
+    given = {var: g for var, g in (strains or {}).items() if g}
+    if given:
+        gauges = [g.name for g in mach.strain_gauges if any(g.name in v for v in given.values())]
+        what = {"strain": "FBG strain compensated with the nearest temperature sensor, as measured",
+                "strain_raw": "FBG reading with the grating's temperature cross-sensitivity, as measured"}
+        for var, g in given.items():
+            data[var] = variable(("time", "gauge"), np.column_stack([g[n] for n in gauges]), "um/m", what[var])
+        coords["gauge"] = ("gauge", gauges, {"long_name": "FBG strain gauge"})
+    if "c_axis_speed" in single:
+        speed = single["c_axis_speed"]
+        data["c_axis_speed"] = variable("time", speed, "rpm", "C-axis speed while turning")
+        data["c_axis_duty"] = variable("time", np.where(speed > 0, duty, 0.0), "1", "fraction of the time the C axis turns")
     attrs = {"title": f"measurement {Path(src).name}", "source": src, "kind": "measurement"}
     if mach is not None:
         attrs["machine"] = mach.name
