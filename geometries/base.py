@@ -107,6 +107,21 @@ class StrainGauge:
         return tuple(c - 0.5 * self.length * d), tuple(c + 0.5 * self.length * d)
 
 
+def common_surfaces(parts: list[Part], nose: float) -> list[Surface]:
+    """The surfaces every machine with a test bar in its spindle has: ``skin`` (every part's outer
+    faces above the floor), ``floor_contact`` (the bed's underside), ``test_bar_skin``,
+    ``test_bar_seat`` (the bar's interface with the spindle) and ``spindle_nose`` (the spindle's
+    faces at z = ``nose`` [m])."""
+    everything = tuple(p.name for p in parts)
+    return [
+        Surface("skin", everything, within=Box((-10, -10, 1e-4), (10, 10, 10))),
+        Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
+        Surface("test_bar_skin", ("test_bar",)),
+        Surface("test_bar_seat", ("test_bar",), interface_with=("spindle",)),
+        Surface("spindle_nose", ("spindle",), within=Box((-1, -1, nose - 1e-4), (1, 1, nose + 1e-4))),
+    ]
+
+
 PROBE_HEIGHTS = (0.03, 0.13)   # [m] above the test bar's tip: ISO 230-3 probe pairs 100 mm apart
 
 

@@ -61,7 +61,8 @@ is the line x = y = 0.
 from __future__ import annotations
 
 from geometries.axes import LinearAxis, Scale
-from geometries.base import PROBE_HEIGHTS, Box, Machine, Part, Point, Surface, material, test_bar_nest
+from geometries.base import (PROBE_HEIGHTS, Box, Machine, Part, Point, Surface, common_surfaces, material,
+                             test_bar_nest)
 from geometries.cframe_vmc import SPINDLE_EFFECTS
 from geometries.regions import Band, Facing, Named, Parts, Union
 
@@ -125,14 +126,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         Part("motor", steel, (Box((-mh, my0, car_top), (mh, my1, car_top + 0.25)),), "tool"),
         Part("test_bar", steel, (Box((-hb, -hb, tip), (hb, hb, nose)),), "tool", refine=1 / 3),
     ]
-    everything = tuple(p.name for p in parts)
-    above_floor = Box((-10, -10, 1e-4), (10, 10, 10))
-    surfaces = [
-        Surface("skin", everything, within=above_floor),
-        Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
-        Surface("test_bar_skin", ("test_bar",)),
-        Surface("test_bar_seat", ("test_bar",), interface_with=("spindle",)),
-        Surface("spindle_nose", ("spindle",), within=Box((-1, -1, nose - 1e-4), (1, 1, nose + 1e-4))),
+    surfaces = common_surfaces(parts, nose) + [
         Surface("motor_flange", ("motor",), interface_with=("carrier",)),
         Surface("front_bearing_seat", ("front_bearing",), interface_with=("spindle",)),
         Surface("rear_bearing_seat", ("rear_bearing",), interface_with=("spindle",)),

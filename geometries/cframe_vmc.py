@@ -14,8 +14,8 @@ is the line x = y = 0. The carrier is modelled at one Z position (the test posit
 from __future__ import annotations
 
 from geometries.axes import FeedDrive, LinearAxis
-from geometries.base import (PROBE_HEIGHTS, Box, CameraPose, Finish, Machine, Part, Point, Surface, material,
-                             test_bar_nest)
+from geometries.base import (PROBE_HEIGHTS, Box, CameraPose, Finish, Machine, Part, Point, Surface, common_surfaces,
+                             material, test_bar_nest)
 from geometries.finishes import GROUND_STEEL, MACHINE_PAINT, MASKING_TAPE
 from geometries.regions import Band, Facing, InBox, Named, Parts, Union, feed_drive_role
 
@@ -68,14 +68,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         Part("motor", steel, (Box((-0.11, -0.11, 1.55), (0.11, 0.11, 1.80)),), "tool"),
         Part("test_bar", steel, (Box((-hb, -hb, tip), (hb, hb, nose)),), "tool", refine=1 / 3),
     ]
-    everything = tuple(p.name for p in parts)
-    above_floor = Box((-10, -10, 1e-4), (10, 10, 10))
-    surfaces = [
-        Surface("skin", everything, within=above_floor),
-        Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
-        Surface("test_bar_skin", ("test_bar",)),
-        Surface("test_bar_seat", ("test_bar",), interface_with=("spindle",)),
-        Surface("spindle_nose", ("spindle",), within=Box((-1, -1, nose - 1e-4), (1, 1, nose + 1e-4))),
+    surfaces = common_surfaces(parts, nose) + [
         Surface("motor_flange", ("motor",), interface_with=("carrier", "spindle")),
         Surface("front_bearing_seat", ("front_bearing",), interface_with=("spindle",)),
         Surface("rear_bearing_seat", ("rear_bearing",), interface_with=("spindle",)),

@@ -39,7 +39,7 @@ binds the feed-drive roles.
 
 from __future__ import annotations
 
-from geometries.base import Box, Machine, Part, Point, Probe, StrainGauge, Surface, material
+from geometries.base import Box, Machine, Part, Point, Probe, StrainGauge, Surface, common_surfaces, material
 from geometries.regions import Facing, Named, Parts, Union
 
 NAME = "gantry-ram"
@@ -96,13 +96,7 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
         Part("z_bearing_upper", steel, (Box((ro, -0.06, ram_top - 0.10), (chan, 0.06, ram_top)),), "tool"),
         Part("z_motor", steel, (Box((-ri, -ri, ram_top), (ri, ri, ram_top + 0.30)),), "tool"),
     ]
-    everything = tuple(p.name for p in parts)
-    surfaces = [
-        Surface("skin", everything, within=Box((-10, -10, 1e-4), (10, 10, 10))),
-        Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
-        Surface("test_bar_skin", ("test_bar",)),
-        Surface("test_bar_seat", ("test_bar",), interface_with=("spindle",)),
-        Surface("spindle_nose", ("spindle",), within=Box((-1, -1, nose - 1e-4), (1, 1, nose + 1e-4))),
+    surfaces = common_surfaces(parts, nose) + [
         Surface("upright_left_outer", ("upright_left",),
                 within=Box((beam_x0, -up_y1 - 1e-4, bed_top), (beam_x1, -up_y1 + 1e-4, beam_bot))),
     ]
