@@ -27,7 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from twin.dataset.spec import AxisDuty, DatasetSpec, DutyCycle
+from twin.dataset.families import AxisDuty, DutyCycle
+from twin.dataset.spec import DatasetSpec
 from twin.io.results import package_version
 from twin.scenario import scenario_from_dict
 from twin.motion import stroke_time
