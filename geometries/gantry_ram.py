@@ -39,8 +39,9 @@ binds the feed-drive roles.
 
 from __future__ import annotations
 
+from geometries.axes import FeedDrive, LinearAxis
 from geometries.base import Box, Machine, Part, Point, Probe, StrainGauge, Surface, common_surfaces, material
-from geometries.regions import Facing, Named, Parts, Union
+from geometries.regions import Facing, InBox, Named, Parts, Union, feed_drive_role
 
 NAME = "gantry-ram"
 
@@ -161,6 +162,8 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
         roles=roles(ram_top),
         default_effects=DEFAULT_EFFECTS,
         max_speed=MAX_SPEED,
+        axes=axes(),
+        effect_defaults=Z_DRIVE_DEFAULTS,
     )
 
 
@@ -183,3 +186,57 @@ def roles(ram_top: float) -> dict:
         "cabinet.face": Named("upright_left_outer"),
         "z_drive.top": Parts(("z_motor", "z_bearing_upper")),
     }
+
+
+# The Z drive's own powers (twin.effects.feed gives every family's power at the reference feed
+# 20 mm/s, proportional to the feed): the ram's drive runs 58 times faster (70 m/min) than the
+# C-frame's seed-003 Y axis, with a larger screw, so its powers at 20 mm/s are set here; at
+# 70 m/min (x 58.3) they are about nut 175 W, bearings 120 W, motor 200 W, guideways 100 W while
+# the ram moves (README "Z axis"). Plausible, not measured; calibrated to the seed's Z-axis test.
+Z_DRIVE_DEFAULTS = {
+    "feed_nut_z": {"power": 6.3, "screw_share": 0.6},
+    "feed_bearings_z": {"power": 3.4, "front_share": 0.75},
+    "feed_motor_z": {"power": 3.4, "holding_power": 0.0},
+    "feed_guideways_z": {"power": 0.6, "rail_share": 0.7, "carriage_offset": 0.30},
+}
+
+Z_DRIVE_EFFECTS = ("feed_nut_z", "feed_bearings_z", "feed_motor_z", "feed_guideways_z")
+
+
+def axes(ro: float = 0.16, chan: float = 0.24, car_x1: float = 0.30, car_y: float = 0.40,
+         car_bot: float = 2.45, car_top: float = 3.25, ram_bot: float = 1.61, ram_top: float = 3.35) -> list[LinearAxis]:
+    """X 2.5 m (the gantry), Y 1.2 m (the carriage on the cross-beam), Z 0.7 m (the ram), all
+    closed loop (seed 000: linear scales on X, Y, Z; their mountings are not modelled, so the
+    interferometer refuses them); the mesh at mid-travel on every axis (X 1250, Y 600, Z 350 mm).
+    Commanded X = p puts the uprights' centre at x = 0.55 + (p - 1.25) [m], Y = p the carriage's
+    centre at y = p - 0.60, Z = p the ram (and the tool) p - 0.35 above the mesh's pose.
+
+    Only Z has its ball-screw drive modelled (the seed's Z-axis test; X and Y carry no feed heat).
+    The screw hangs on the ram (``screw_on_body``): its lower, floating bearing on the ram's rear
+    (``z_bearing_lower``, T2 "ram rear"), its fixed bearing under the Z motor on the ram's top
+    (``z_bearing_upper``), the rails on the ram's two sides; the nut and the guide blocks are
+    bolted to the carriage, the nut in the carriage's rear wall at z 2.85 m (the carriage's
+    middle), the blocks at its top and bottom (``carriage_offset`` 0.30 m from the nut). So the
+    nut's heat enters the screw at z 2.85 - (Z - 0.35) in the mesh (2.50-3.20 m over the travel)
+    and the blocks' heat the ram's sides 0.30 m above and below that. Plausible, not measured."""
+    tool_side = ("ram", "c_motor", "c_bearing", "head", "spindle", "test_bar", "z_bearing_lower", "z_screw",
+                 "z_bearing_upper", "z_motor")
+    nut = 0.5 * (car_bot + car_top)
+    sides = [(-car_y, -ro), (ro, car_y)]      # the carriage's side walls, beside the ram's sides
+    z_drive = FeedDrive(
+        roles={feed_drive_role("z", "screw"): Parts(("z_screw",)),
+               feed_drive_role("z", "front_bearing"): Parts(("z_bearing_upper",)),
+               feed_drive_role("z", "rear_bearing"): Parts(("z_bearing_lower",)),
+               feed_drive_role("z", "motor"): Parts(("z_motor",)),
+               feed_drive_role("z", "nut_body"): InBox(Parts(("carriage",)), Box((chan, -0.07, car_bot), (car_x1, 0.07, car_top))),
+               feed_drive_role("z", "guideways"): Union(tuple(
+                   InBox(Parts(("ram",)), Box((-ro, max(lo, -ro), ram_bot), (ro, min(hi, ro), ram_top)))
+                   for lo, hi in ((-ro, -ro + 0.04), (ro - 0.04, ro)))),
+               feed_drive_role("z", "carriages"): Union(tuple(
+                   InBox(Parts(("carriage",)), Box((-ro, lo, car_bot), (chan, hi, car_top))) for lo, hi in sides))},
+        screw_axis=(0.20, 0.0), fixed_end=ram_top - 0.10, lead=0.020, nut_offset=(0.07, 0.0),
+        effects=Z_DRIVE_EFFECTS)
+    return [LinearAxis("X", "x", (0.0, 2.5), "closed", ("upright_left", "upright_right", "cross_beam", "carriage")
+                       + tool_side, 0.55 - 1.25, 1.25),
+            LinearAxis("Y", "y", (0.0, 1.2), "closed", ("carriage",) + tool_side, -0.60, 0.60),
+            LinearAxis("Z", "z", (0.0, 0.7), "closed", tool_side, nut, 0.35, z_drive, screw_on_body=True)]
