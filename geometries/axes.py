@@ -151,6 +151,9 @@ def at_pose(machine, axis_name: str, p: float):
     parts = [Part(q.name, q.material, tuple(shift(b) for b in q.boxes), q.chain, q.refine) if q.name in move else q
              for q in machine.parts]
     points = [Point(q.name, tuple(np.add(q.xyz, delta)), q.part) if q.part in move else q for q in machine.points]
+    surfaces = [replace(s, within=shift(s.within)) if s.within is not None and set(s.parts) <= move else s
+                for s in machine.surfaces]
     roles = {name: region(r) for name, r in machine.roles.items()}
     axes = [replace(a, p_ref=p) if a.name == axis_name else a for a in machine.axes]
-    return Machine(**{**machine.__dict__, "parts": parts, "points": points, "roles": roles, "axes": axes})
+    return Machine(**{**machine.__dict__, "parts": parts, "points": points, "surfaces": surfaces, "roles": roles,
+                      "axes": axes})

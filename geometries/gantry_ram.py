@@ -207,21 +207,23 @@ def axes(ro: float = 0.16, chan: float = 0.24, car_x1: float = 0.30, car_y: floa
          car_bot: float = 2.45, car_top: float = 3.25, ram_bot: float = 1.61, ram_top: float = 3.35) -> list[LinearAxis]:
     """X 2.5 m (the gantry), Y 1.2 m (the carriage on the cross-beam), Z 0.7 m (the ram), all
     closed loop (seed 000: linear scales on X, Y, Z; their mountings are not modelled, so the
-    interferometer refuses them); the mesh at mid-travel on every axis (X 1250, Y 600, Z 350 mm).
-    Commanded X = p puts the uprights' centre at x = 0.55 + (p - 1.25) [m], Y = p the carriage's
-    centre at y = p - 0.60, Z = p the ram (and the tool) p - 0.35 above the mesh's pose.
+    interferometer refuses them); the mesh at mid-travel on X and Y (X 1250, Y 600 mm) and at
+    Z 150 mm (the test bar's tip 0.25 m above the table; at Z = 0 it is 0.10 m above it, mid-travel
+    would put it into the table). Commanded X = p puts the uprights' centre at x = 0.55 +
+    (p - 1.25) [m], Y = p the carriage's centre at y = p - 0.60, Z = p the ram (and the tool)
+    p - 0.15 above the mesh's pose.
 
     Only Z has its ball-screw drive modelled (the seed's Z-axis test; X and Y carry no feed heat).
     The screw hangs on the ram (``screw_on_body``): its lower, floating bearing on the ram's rear
     (``z_bearing_lower``, T2 "ram rear"), its fixed bearing under the Z motor on the ram's top
     (``z_bearing_upper``), the rails on the ram's two sides; the nut and the guide blocks are
-    bolted to the carriage, the nut in the carriage's rear wall at z 2.85 m (the carriage's
-    middle), the blocks at its top and bottom (``carriage_offset`` 0.30 m from the nut). So the
-    nut's heat enters the screw at z 2.85 - (Z - 0.35) in the mesh (2.50-3.20 m over the travel)
-    and the blocks' heat the ram's sides 0.30 m above and below that. Plausible, not measured."""
+    bolted to the carriage, the nut in the carriage's rear wall at z 2.95 m (0.1 m above the
+    carriage's middle), the blocks 0.30 m above and below it (``carriage_offset``). So the nut's
+    heat enters the screw at z 2.95 - (Z - 0.15) in the mesh (2.40-3.10 m over the travel) and the
+    blocks' heat the ram's sides 0.30 m above and below that. Plausible, not measured."""
     tool_side = ("ram", "c_motor", "c_bearing", "head", "spindle", "test_bar", "z_bearing_lower", "z_screw",
                  "z_bearing_upper", "z_motor")
-    nut = 0.5 * (car_bot + car_top)
+    nut = 0.5 * (car_bot + car_top) + 0.10
     sides = [(-car_y, -ro), (ro, car_y)]      # the carriage's side walls, beside the ram's sides
     z_drive = FeedDrive(
         roles={feed_drive_role("z", "screw"): Parts(("z_screw",)),
@@ -239,4 +241,4 @@ def axes(ro: float = 0.16, chan: float = 0.24, car_x1: float = 0.30, car_y: floa
     return [LinearAxis("X", "x", (0.0, 2.5), "closed", ("upright_left", "upright_right", "cross_beam", "carriage")
                        + tool_side, 0.55 - 1.25, 1.25),
             LinearAxis("Y", "y", (0.0, 1.2), "closed", ("carriage",) + tool_side, -0.60, 0.60),
-            LinearAxis("Z", "z", (0.0, 0.7), "closed", tool_side, nut, 0.35, z_drive, screw_on_body=True)]
+            LinearAxis("Z", "z", (0.0, 0.7), "closed", tool_side, nut, 0.15, z_drive, screw_on_body=True)]
