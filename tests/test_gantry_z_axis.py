@@ -148,7 +148,7 @@ def test_helical_test_lies_in_the_seeds_band():
 
 def test_lag_and_early_slope_read_their_closed_forms():
     """lag_minutes of a copy delayed by k samples is k x step (either sign); early_slope of
-    z = -2.7 T is -2.7 (exact)."""
+    z = -2.7 T is -2.7 (exact), and undefined for a sensor that has not warmed."""
     t = np.arange(0.0, 4 * 3600.0 + 1, 60.0)
     lead = np.where(t < 7200, 1 - np.exp(-t / 1800), (1 - np.exp(-4)) * np.exp(-(t - 7200) / 1800))
     for k in (0, 10, 25):
@@ -157,3 +157,4 @@ def test_lag_and_early_slope_read_their_closed_forms():
         assert lag_minutes(follower, lead, 60.0) == -k
     temp = 0.01 * t[:30]
     assert early_slope(-2.7 * temp, temp, t[:30]) == pytest.approx(-2.7, rel=1e-12)
+    assert np.isnan(early_slope(-2.7 * temp, 1e-3 * temp, t[:30]))   # 0.006 K in 10 min: no slope

@@ -43,11 +43,15 @@ def lag_minutes(lead: np.ndarray, follower: np.ndarray, step: float, max_shift: 
     return float(shifts[int(np.argmin(cost))] * step / 60.0)
 
 
-def early_slope(z: np.ndarray, temp: np.ndarray, time: np.ndarray, window: float = EARLY) -> float:
+def early_slope(z: np.ndarray, temp: np.ndarray, time: np.ndarray, window: float = EARLY,
+                min_rise: float = 0.05) -> float:
     """Least-squares slope dZ/dT [um/K] of the Z error against a temperature over the first
-    ``window`` [s] (both as changes from the start)."""
+    ``window`` [s] (both as changes from the start); NaN when the temperature rises less than
+    ``min_rise`` [K] in that window (a sensor the heat has not reached yet has no slope)."""
     k = time <= window + 1e-9
     dz, dt = z[k] - z[0], temp[k] - temp[0]
+    if np.abs(dt).max() < min_rise:
+        return float("nan")
     return float(np.dot(dt, dz) / np.dot(dt, dt))
 
 
