@@ -10,31 +10,32 @@ cross-beam) and four laser triangulation sensors on a test bar (Y, Z and two for
 measured). Dimensions, masses and materials are not given: plausible, not a measured machine.
 
 Chosen dimensions [m] (x along the X travel, y along the cross-beam, z up, floor z = 0; the
-spindle axis is x = y = 0, the machine modelled at one pose, mid-travel on every axis):
+spindle axis is x = y = 0, the machine modelled at one pose, mid-travel on X and Y, Z 150 mm
+above its lowest: see :func:`axes`):
 
 * bed 3.5 x 3.2 x 0.5 (grey cast iron), fixed table 2.5 x 1.5, 0.2 thick, top at z 0.70;
 * two uprights 0.5 (x) x 0.3 (y) from the bed to z 2.70 at y = +-(1.30..1.60), a cross-beam
   0.5 x 0.5 across them (z 2.70-3.20), both behind the ram (x 0.30-0.80), grey cast iron;
 * a carriage (saddle) on the beam's front face, 0.6 (x) x 0.8 (y) x 0.8 (z), a frame round the
   ram: front and side slabs guide the ram, a 80 mm channel behind the ram holds the Z screw;
-* a hollow square ram, 0.32 x 0.32 with 40 mm walls (steel weldment), z 1.61-3.35 (0.9 m
-  overhang below the carriage at the test pose, room for 0.35 m of Z either way);
+* a hollow square ram, 0.32 x 0.32 with 40 mm walls (steel weldment), z 1.61-3.35 (0.84 m
+  below the carriage at the mesh's pose, Z 150 mm: 0.15 m lower and 0.55 m higher over the travel);
 * inside the ram's lower end the C-axis bearing (a 60 mm steel slab across the ram's section,
   z 1.55-1.61) and the C-axis torque motor (steel, filling the 0.24 m bore, z 1.61-1.91);
 * the B/C fork head 0.32 x 0.32 x 0.30 below it (grey cast iron), the spindle cartridge
   (steel, 0.12 square, nose at z 1.20), a 40 mm square steel test bar 0.25 m long (tip z 0.95);
 * the Z ballscrew (steel, 40 mm) in the channel behind the ram from its lower support bearing
-  (steel block on the ram's rear face, z 1.90-2.00, T2 "ram rear") to the upper one under the
+  (steel block on the ram's rear face, z 2.20-2.30, T2 "ram rear") to the upper one under the
   Z motor (z 3.25-3.35); the Z motor (steel, 0.24 square, 0.30 tall) on the ram top. The nut
-  is not a separate part (it needs the moving-source machinery of linear axis motion).
+  is not a separate part: it is bolted to the carriage, its heat travels along the screw
+  (:func:`axes`).
 
 Castings are solid blocks (ribs unknown), every joint bonded; the linear scales are not meshed
 (closed-loop axes: ``linear_scales`` in ``parameters``); the rotary encoders on B and C neither.
 
 Roles: the C-axis motor and bearing (``c_axis.motor``, ``c_axis.bearing``) for the C-axis
-drive effect, the Z motor and upper screw bearing (``z_drive.top``); the Z screw's lower bearing
-is the part ``z_bearing_lower`` (a region custom effects can heat) until linear axis motion
-binds the feed-drive roles.
+drive effect, the Z motor and upper screw bearing (``z_drive.top``); the Z drive's
+``feed_drive.z.*`` roles when a scenario moves Z (:func:`axes`).
 """
 
 from __future__ import annotations

@@ -67,6 +67,15 @@ def test_the_gantry_declares_x_y_z_closed_loop_and_the_z_drive_on_the_ram(z_test
     assert cframe.params["feed_nut_z"] == EFFECTS["feed_nut_z"].defaults()
 
 
+def test_twin_list_effects_shows_the_machines_own_powers(capsys):
+    """`twin list effects --machine gantry-ram` prints the Z drive at the gantry's powers."""
+    from twin.cli import main
+    assert main(["list", "effects", "--machine", "gantry-ram"]) == 0
+    out = capsys.readouterr().out
+    block = out.split("feed_nut_z (", 1)[1].split("\nfeed_", 1)[0]
+    assert f"power = {Z_DRIVE_DEFAULTS['feed_nut_z']['power']:g} W" in block
+
+
 def test_a_screw_on_the_ram_meets_its_fixed_nut_the_other_way(z_test):
     """The nut stands in the carriage, so in the mesh (the ram at p_ref) the screw point under it
     is s(p) = s_0 - (p - p_ref): with the ram at its lowest (Z 0) the nut is near the screw's top,
