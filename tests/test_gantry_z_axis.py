@@ -133,6 +133,12 @@ def test_z_axis_test_heats_the_drive_and_moves_the_tool_towards_the_table(z_run)
     z = z_run.drift[:, 2]
     assert z.min() < 0 and abs(z.min()) == np.abs(z).max()
     assert z_run.times[np.argmin(z)] == pytest.approx(7200.0, abs=120.0)
+    # the study's row reads the same run (python -m validate.studies.gantry_tests)
+    from twin.io.results import to_dataset
+    from validate.studies.gantry_tests import markdown, summary
+    row = summary(to_dataset(z_run), "gantry-z-axis")
+    assert row["peak_z"] == pytest.approx(z.min() * 1e6, rel=1e-12) and row["rise_T2"] == pytest.approx(rise["T2"])
+    assert "over 100 um" in markdown([row], "cmd", "coarse")
 
 
 def test_time_step_does_not_change_the_z_axis_test(z_test, z_run):
