@@ -59,6 +59,10 @@ def test_the_gantry_declares_x_y_z_closed_loop_and_the_z_drive_on_the_ram(z_test
     for effect, values in Z_DRIVE_DEFAULTS.items():
         assert {k: spec.params[effect][k] for k in values} == values
     assert model_spec(machine, settings=["feed_nut_z.power=9W"]).params["feed_nut_z"]["power"] == 9.0
+    from geometries.base import Machine
+    for bad in ({"feed_nut_z": {"power": 1e6}}, {"feed_nut_z": {"torque": 1.0}}):
+        with pytest.raises(ValueError, match="effect_defaults feed_nut_z"):
+            default_spec(Machine(**{**machine.__dict__, "effect_defaults": bad}))
     cframe_z = scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
                                    "spindle": [{"speed": "0 rpm", "duration": "5 min"}],
                                    "axis": [{"name": "Z", "move": [{"kind": "hold", "position": "0 mm",

@@ -137,6 +137,11 @@ def with_machine_defaults(machine, effects, params: dict) -> dict:
     for name in effects:
         own = getattr(machine, "effect_defaults", {}).get(name)
         if own:
+            for key, value in own.items():   # a machine's description, not user input: a bug if wrong
+                param = next((q for q in EFFECTS[name].parameters if q.name == key), None)
+                if param is None or not param.lower <= value <= param.upper:
+                    raise ValueError(f"machine {machine.name}: effect_defaults {name}.{key} = {value!r} is not a "
+                                     f"parameter of {name} within its bounds")
             out[name] = {**own, **out.get(name, {})}
     return out
 
