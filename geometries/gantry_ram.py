@@ -58,9 +58,14 @@ LASERS: tuple[str, ...] = ("Y", "Z", "A1", "A2")
 TILT_SPACING = 0.10   # m between the tilt pair A1 (lower) and A2
 
 
-def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
+def build(bar_length: float = 0.25, gauge_length: float = 0.05, z_bearing_lower: tuple[float, float] = (2.20, 2.30),
+          nut_height: float = 2.95, screw_x: tuple[float, float] = (0.18, 0.22)) -> Machine:
     """Build the gantry with a ram. bar_length [m]: test-bar overhang below the spindle nose;
-    gauge_length [m]: the FBG gratings' gauge length (packaged surface gratings: 20-100 mm)."""
+    gauge_length [m]: the FBG gratings' gauge length (packaged surface gratings: 20-100 mm).
+    The Z drive's construction (the alternatives of ``validate.studies.gantry_z_variants``):
+    z_bearing_lower [m] the lower screw bearing's z extent at the mesh's pose, nut_height [m]
+    the nut's fixed height in the carriage, screw_x [m] the screw's faces across x (the ram's
+    rear face is at 0.16: from 0.16 the screw touches it along its length)."""
     iron, steel = material("grey_cast_iron"), material("steel")
     bed_top, table_top = 0.50, 0.70
     nose = 1.20
@@ -71,7 +76,7 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
     chan = 0.24                          # the screw channel behind the ram: x 0.16-0.24
     beam_x0, beam_x1, beam_bot, beam_top = 0.30, 0.80, 2.70, 3.20
     up_y0, up_y1 = 1.30, 1.60
-    zb_lo, zb_hi = 2.20, 2.30            # lower Z-screw bearing
+    zb_lo, zb_hi = z_bearing_lower       # lower Z-screw bearing
     hb = 0.02
 
     ram = (Box((-ro, -ro, ram_bot), (-ri, ro, ram_top)), Box((ri, -ro, ram_bot), (ro, ro, ram_top)),
@@ -94,7 +99,7 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
         Part("spindle", steel, (Box((-0.06, -0.06, nose), (0.06, 0.06, cbear_bot - 0.05)),), "tool"),
         Part("test_bar", steel, (Box((-hb, -hb, tip), (hb, hb, nose)),), "tool"),
         Part("z_bearing_lower", steel, (Box((ro, -0.06, zb_lo), (chan, 0.06, zb_hi)),), "tool"),
-        Part("z_screw", steel, (Box((0.18, -0.02, zb_hi), (0.22, 0.02, ram_top - 0.10)),), "tool"),
+        Part("z_screw", steel, (Box((screw_x[0], -0.02, zb_hi), (screw_x[1], 0.02, ram_top - 0.10)),), "tool"),
         Part("z_bearing_upper", steel, (Box((ro, -0.06, ram_top - 0.10), (chan, 0.06, ram_top)),), "tool"),
         Part("z_motor", steel, (Box((-ri, -ri, ram_top), (ri, ri, ram_top + 0.30)),), "tool"),
     ]
@@ -163,7 +168,7 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
         roles=roles(ram_top),
         default_effects=DEFAULT_EFFECTS,
         max_speed=MAX_SPEED,
-        axes=axes(),
+        axes=axes(nut_height=nut_height),
         effect_defaults=Z_DRIVE_DEFAULTS,
     )
 
@@ -205,7 +210,8 @@ Z_DRIVE_EFFECTS = ("feed_nut_z", "feed_bearings_z", "feed_motor_z", "feed_guidew
 
 
 def axes(ro: float = 0.16, chan: float = 0.24, car_x1: float = 0.30, car_y: float = 0.40,
-         car_bot: float = 2.45, car_top: float = 3.25, ram_bot: float = 1.61, ram_top: float = 3.35) -> list[LinearAxis]:
+         car_bot: float = 2.45, car_top: float = 3.25, ram_bot: float = 1.61, ram_top: float = 3.35,
+         nut_height: float = 2.95) -> list[LinearAxis]:
     """X 2.5 m (the gantry), Y 1.2 m (the carriage on the cross-beam), Z 0.7 m (the ram), all
     closed loop (seed 000: linear scales on X, Y, Z; their mountings are not modelled, so the
     interferometer refuses them); the mesh at mid-travel on X and Y (X 1250, Y 600 mm) and at
@@ -224,7 +230,7 @@ def axes(ro: float = 0.16, chan: float = 0.24, car_x1: float = 0.30, car_y: floa
     blocks' heat the ram's sides 0.30 m above and below that. Plausible, not measured."""
     tool_side = ("ram", "c_motor", "c_bearing", "head", "spindle", "test_bar", "z_bearing_lower", "z_screw",
                  "z_bearing_upper", "z_motor")
-    nut = 0.5 * (car_bot + car_top) + 0.10
+    nut = nut_height
     sides = [(-car_y, -ro), (ro, car_y)]      # the carriage's side walls, beside the ram's sides
     z_drive = FeedDrive(
         roles={feed_drive_role("z", "screw"): Parts(("z_screw",)),
