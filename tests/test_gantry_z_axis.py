@@ -177,3 +177,48 @@ def test_lag_and_early_slope_read_their_closed_forms():
     temp = 0.01 * t[:30]
     assert early_slope(-2.7 * temp, temp, t[:30]) == pytest.approx(-2.7, rel=1e-12)
     assert np.isnan(early_slope(-2.7 * temp, 1e-3 * temp, t[:30]))   # 0.006 K in 10 min: no slope
+
+
+def test_holding_loss_is_the_power_balance_of_a_screw_holding_its_weight():
+    """A vertical axis without counterbalance: the screw's torque M follows from the power balance
+    M omega eta = m g v with v = l omega / (2 pi), so M = m g l / (2 pi eta); the copper losses are
+    P = (M / k_t)^2 R (closed form; 1.1 t, 20 mm lead, eta 0.9, k_t 2 N m/A, R 1.05 ohm: 382 W)."""
+    from validate.studies.gantry_z_variants import G, HOLD, holding_loss
+    omega = 123.0                                              # any speed: the balance fixes M
+    torque = HOLD["mass"] * G * (HOLD["lead"] * omega / (2 * np.pi)) / (omega * HOLD["efficiency"])
+    expect = (torque / HOLD["torque_constant"]) ** 2 * HOLD["resistance"]
+    assert holding_loss(**HOLD) == pytest.approx(expect, rel=1e-12) and 370.0 < expect < 395.0
+    assert holding_loss(**{**HOLD, "mass": 2 * HOLD["mass"]}) == pytest.approx(4 * expect, rel=1e-12)
+
+
+def test_z_drive_variants_build_as_declared():
+    """The variants of validate.studies.gantry_z_variants: the defaults are the registered machine;
+    a moved nut moves the Z axis's nut and the screw point under it; the lower bearing and T2 move
+    together; a screw at x 0.16 touches the ram's rear face."""
+    from geometries.gantry_ram import build
+    from validate.studies.gantry_z_variants import variants
+    base = build_machine("gantry-ram")
+    assert [(p.name, p.boxes) for p in build().parts] == [(p.name, p.boxes) for p in base.parts]
+    assert build().axis("Z").nut_at_zero == base.axis("Z").nut_at_zero == pytest.approx(2.95)
+    low = build(**variants()[3]["build"])
+    assert low.axis("Z").nut_at_zero == pytest.approx(2.55)
+    bearing = next(p for p in low.parts if p.name == "z_bearing_lower").boxes[0]
+    t2 = next(p for p in low.points if p.name == "T2").xyz
+    assert bearing.lo[2] < t2[2] < bearing.hi[2] == pytest.approx(1.92)
+    touching = build(**variants()[4]["build"])
+    assert next(p for p in touching.parts if p.name == "z_screw").boxes[0].lo[0] == pytest.approx(0.16)
+
+
+def test_variant_study_row_reads_the_z_axis_test(z_test, z_run):
+    """validate.studies.gantry_z_variants, as built, coarse: the same peak Z as the Z-axis test's
+    run (its extra ram sites read, they do not heat), and the mean drive power over the heating is
+    the drive's energy in closed form, sum P_ref x n x 0.7 m / v_ref over 2 h (1e-9)."""
+    from validate.studies.gantry_z_variants import markdown, row, variants
+    r = row(variants()[0], "coarse")
+    assert r["peak_z"] == pytest.approx(z_run.drift[:, 2].min() * 1e6, rel=1e-9)
+    n = int(np.floor(7200.0 / (stroke_time(STROKE, FEED, ACCEL) + DWELL) + 1e-9))
+    spec = default_spec(z_test[0])
+    expect = sum(spec.params[e]["power"] for e in Z_DRIVE_EFFECTS) * n * STROKE / REFERENCE_FEED / 7200.0
+    assert r["drive_w"] == pytest.approx(expect, rel=1e-9)
+    assert r["w_for_100um"] == pytest.approx(expect * 100.0 / abs(r["peak_z"]), rel=1e-12)
+    assert "as built" in markdown([r], "cmd", "coarse")

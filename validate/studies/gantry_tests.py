@@ -14,8 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.io.atomic import atomic_write_text
-from validate.studies.common import markdown_table, parse_args, write_csv
+from validate.studies.common import markdown_table, table_main
 
 NAME = "gantry_tests"
 TESTS = ("gantry-z-axis", "gantry-c-axis", "gantry-helical")
@@ -97,18 +96,8 @@ def markdown(rows: list[dict], command: str, resolution: str) -> str:
 
 
 def main(argv=None) -> int:
-    args = parse_args(NAME, __doc__, argv)
-    from pathlib import Path
-
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    resolution = "coarse" if args.quick else "default"
-    rows = [summary(ds, test) for test, ds in simulate(resolution).items()]
-    write_csv(out / f"{NAME}.csv", rows)
-    command = f"python -m validate.studies.{NAME}{' --quick' if args.quick else ''}"
-    atomic_write_text(out / f"{NAME}.md", markdown(rows, command, resolution))
-    print(markdown(rows, command, resolution))
-    return 0
+    return table_main(NAME, __doc__, argv,
+                      lambda resolution: [summary(ds, test) for test, ds in simulate(resolution).items()], markdown)
 
 
 if __name__ == "__main__":
