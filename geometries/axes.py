@@ -61,7 +61,13 @@ class LinearAxis:
     ``moving`` (the parts that move with it), ``nut_at_zero`` [m] (machine coordinate of the nut,
     or of a closed loop's read head, at commanded position 0), ``p_ref`` [m] (the commanded
     position of the mesh's pose), its ``drive`` (a :class:`FeedDrive`, or None when the machine
-    does not model it) and, closed loop, its ``scale`` (a :class:`Scale`)."""
+    does not model it) and, closed loop, its ``scale`` (a :class:`Scale`).
+
+    ``screw_on_body``: the screw and the guide rails ride on the moving body and the nut and the
+    guide blocks stand in the structure (a ram: the gantry's Z screw hangs on the ram, its nut is
+    bolted to the carriage). ``nut_at_zero`` is then the nut's fixed machine coordinate, and
+    :meth:`nut_coordinate` the point of the screw (and of the rails) under it in the mesh, where
+    the body stands at ``p_ref``: it moves the other way, nut_at_zero - (p - p_ref)."""
 
     name: str
     direction: str
@@ -72,6 +78,7 @@ class LinearAxis:
     p_ref: float = 0.0
     drive: FeedDrive | None = None
     scale: Scale | None = None
+    screw_on_body: bool = False
 
     def __post_init__(self):
         if self.feedback not in FEEDBACK:
@@ -80,7 +87,11 @@ class LinearAxis:
             raise ValueError(f"axis {self.name}: needs a direction x, y or z and travel hi > lo")
 
     def nut_coordinate(self, p):
-        """Machine coordinate [m] along ``direction`` of the nut at commanded position(s) ``p`` [m]."""
+        """Machine coordinate [m] along ``direction``, in the mesh, of the screw point under the
+        nut at commanded position(s) ``p`` [m]: nut_at_zero + p when the nut rides on the body,
+        nut_at_zero - (p - p_ref) when the screw does (``screw_on_body``)."""
+        if self.screw_on_body:
+            return self.nut_at_zero - (np.asarray(p, float) - self.p_ref)
         return self.nut_at_zero + p
 
 
@@ -140,6 +151,9 @@ def at_pose(machine, axis_name: str, p: float):
     parts = [Part(q.name, q.material, tuple(shift(b) for b in q.boxes), q.chain, q.refine) if q.name in move else q
              for q in machine.parts]
     points = [Point(q.name, tuple(np.add(q.xyz, delta)), q.part) if q.part in move else q for q in machine.points]
+    surfaces = [replace(s, within=shift(s.within)) if s.within is not None and set(s.parts) <= move else s
+                for s in machine.surfaces]
     roles = {name: region(r) for name, r in machine.roles.items()}
     axes = [replace(a, p_ref=p) if a.name == axis_name else a for a in machine.axes]
-    return Machine(**{**machine.__dict__, "parts": parts, "points": points, "roles": roles, "axes": axes})
+    return Machine(**{**machine.__dict__, "parts": parts, "points": points, "surfaces": surfaces, "roles": roles,
+                      "axes": axes})

@@ -208,6 +208,7 @@ class Machine:
     axes: list = field(default_factory=list)   # geometries.axes.LinearAxis, commanded by name
     lasers: list[Probe] = field(default_factory=list)   # laser triangulation sensors (as probes)
     strain_gauges: list[StrainGauge] = field(default_factory=list)   # FBG strain gauges
+    effect_defaults: dict = field(default_factory=dict)   # {effect: {parameter: SI value}}: this machine's own
 
     def __post_init__(self):
         check_roles(self.name, self.roles)

@@ -10,37 +10,39 @@ cross-beam) and four laser triangulation sensors on a test bar (Y, Z and two for
 measured). Dimensions, masses and materials are not given: plausible, not a measured machine.
 
 Chosen dimensions [m] (x along the X travel, y along the cross-beam, z up, floor z = 0; the
-spindle axis is x = y = 0, the machine modelled at one pose, mid-travel on every axis):
+spindle axis is x = y = 0, the machine modelled at one pose, mid-travel on X and Y, Z 150 mm
+above its lowest: see :func:`axes`):
 
 * bed 3.5 x 3.2 x 0.5 (grey cast iron), fixed table 2.5 x 1.5, 0.2 thick, top at z 0.70;
 * two uprights 0.5 (x) x 0.3 (y) from the bed to z 2.70 at y = +-(1.30..1.60), a cross-beam
   0.5 x 0.5 across them (z 2.70-3.20), both behind the ram (x 0.30-0.80), grey cast iron;
 * a carriage (saddle) on the beam's front face, 0.6 (x) x 0.8 (y) x 0.8 (z), a frame round the
   ram: front and side slabs guide the ram, a 80 mm channel behind the ram holds the Z screw;
-* a hollow square ram, 0.32 x 0.32 with 40 mm walls (steel weldment), z 1.61-3.35 (0.9 m
-  overhang below the carriage at the test pose, room for 0.35 m of Z either way);
+* a hollow square ram, 0.32 x 0.32 with 40 mm walls (steel weldment), z 1.61-3.35 (0.84 m
+  below the carriage at the mesh's pose, Z 150 mm: 0.15 m lower and 0.55 m higher over the travel);
 * inside the ram's lower end the C-axis bearing (a 60 mm steel slab across the ram's section,
   z 1.55-1.61) and the C-axis torque motor (steel, filling the 0.24 m bore, z 1.61-1.91);
 * the B/C fork head 0.32 x 0.32 x 0.30 below it (grey cast iron), the spindle cartridge
   (steel, 0.12 square, nose at z 1.20), a 40 mm square steel test bar 0.25 m long (tip z 0.95);
 * the Z ballscrew (steel, 40 mm) in the channel behind the ram from its lower support bearing
-  (steel block on the ram's rear face, z 1.90-2.00, T2 "ram rear") to the upper one under the
+  (steel block on the ram's rear face, z 2.20-2.30, T2 "ram rear") to the upper one under the
   Z motor (z 3.25-3.35); the Z motor (steel, 0.24 square, 0.30 tall) on the ram top. The nut
-  is not a separate part (it needs the moving-source machinery of linear axis motion).
+  is not a separate part: it is bolted to the carriage, its heat travels along the screw
+  (:func:`axes`).
 
 Castings are solid blocks (ribs unknown), every joint bonded; the linear scales are not meshed
 (closed-loop axes: ``linear_scales`` in ``parameters``); the rotary encoders on B and C neither.
 
 Roles: the C-axis motor and bearing (``c_axis.motor``, ``c_axis.bearing``) for the C-axis
-drive effect, the Z motor and upper screw bearing (``z_drive.top``); the Z screw's lower bearing
-is the part ``z_bearing_lower`` (a region custom effects can heat) until linear axis motion
-binds the feed-drive roles.
+drive effect, the Z motor and upper screw bearing (``z_drive.top``); the Z drive's
+``feed_drive.z.*`` roles when a scenario moves Z (:func:`axes`).
 """
 
 from __future__ import annotations
 
+from geometries.axes import FeedDrive, LinearAxis
 from geometries.base import Box, Machine, Part, Point, Probe, StrainGauge, Surface, common_surfaces, material
-from geometries.regions import Facing, Named, Parts, Union
+from geometries.regions import Facing, InBox, Named, Parts, Union, feed_drive_role
 
 NAME = "gantry-ram"
 
@@ -56,9 +58,14 @@ LASERS: tuple[str, ...] = ("Y", "Z", "A1", "A2")
 TILT_SPACING = 0.10   # m between the tilt pair A1 (lower) and A2
 
 
-def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
+def build(bar_length: float = 0.25, gauge_length: float = 0.05, z_bearing_lower: tuple[float, float] = (2.20, 2.30),
+          nut_height: float = 2.95, screw_x: tuple[float, float] = (0.18, 0.22)) -> Machine:
     """Build the gantry with a ram. bar_length [m]: test-bar overhang below the spindle nose;
-    gauge_length [m]: the FBG gratings' gauge length (packaged surface gratings: 20-100 mm)."""
+    gauge_length [m]: the FBG gratings' gauge length (packaged surface gratings: 20-100 mm).
+    The Z drive's construction (the alternatives of ``validate.studies.gantry_z_variants``):
+    z_bearing_lower [m] the lower screw bearing's z extent at the mesh's pose, nut_height [m]
+    the nut's fixed height in the carriage, screw_x [m] the screw's faces across x (the ram's
+    rear face is at 0.16: from 0.16 the screw touches it along its length)."""
     iron, steel = material("grey_cast_iron"), material("steel")
     bed_top, table_top = 0.50, 0.70
     nose = 1.20
@@ -69,7 +76,7 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
     chan = 0.24                          # the screw channel behind the ram: x 0.16-0.24
     beam_x0, beam_x1, beam_bot, beam_top = 0.30, 0.80, 2.70, 3.20
     up_y0, up_y1 = 1.30, 1.60
-    zb_lo, zb_hi = 2.20, 2.30            # lower Z-screw bearing
+    zb_lo, zb_hi = z_bearing_lower       # lower Z-screw bearing
     hb = 0.02
 
     ram = (Box((-ro, -ro, ram_bot), (-ri, ro, ram_top)), Box((ri, -ro, ram_bot), (ro, ro, ram_top)),
@@ -92,7 +99,7 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
         Part("spindle", steel, (Box((-0.06, -0.06, nose), (0.06, 0.06, cbear_bot - 0.05)),), "tool"),
         Part("test_bar", steel, (Box((-hb, -hb, tip), (hb, hb, nose)),), "tool"),
         Part("z_bearing_lower", steel, (Box((ro, -0.06, zb_lo), (chan, 0.06, zb_hi)),), "tool"),
-        Part("z_screw", steel, (Box((0.18, -0.02, zb_hi), (0.22, 0.02, ram_top - 0.10)),), "tool"),
+        Part("z_screw", steel, (Box((screw_x[0], -0.02, zb_hi), (screw_x[1], 0.02, ram_top - 0.10)),), "tool"),
         Part("z_bearing_upper", steel, (Box((ro, -0.06, ram_top - 0.10), (chan, 0.06, ram_top)),), "tool"),
         Part("z_motor", steel, (Box((-ri, -ri, ram_top), (ri, ri, ram_top + 0.30)),), "tool"),
     ]
@@ -161,6 +168,8 @@ def build(bar_length: float = 0.25, gauge_length: float = 0.05) -> Machine:
         roles=roles(ram_top),
         default_effects=DEFAULT_EFFECTS,
         max_speed=MAX_SPEED,
+        axes=axes(nut_height=nut_height),
+        effect_defaults=Z_DRIVE_DEFAULTS,
     )
 
 
@@ -183,3 +192,60 @@ def roles(ram_top: float) -> dict:
         "cabinet.face": Named("upright_left_outer"),
         "z_drive.top": Parts(("z_motor", "z_bearing_upper")),
     }
+
+
+# The Z drive's own powers (twin.effects.feed gives every family's power at the reference feed
+# 20 mm/s, proportional to the feed): the ram's drive runs 58 times faster (70 m/min) than the
+# C-frame's seed-003 Y axis, with a larger screw, so its powers at 20 mm/s are set here; at
+# 70 m/min (x 58.3) they are about nut 175 W, bearings 120 W, motor 200 W, guideways 100 W while
+# the ram moves (README "Z axis"). Plausible, not measured; calibrated to the seed's Z-axis test.
+Z_DRIVE_DEFAULTS = {
+    "feed_nut_z": {"power": 6.3, "screw_share": 0.6},
+    "feed_bearings_z": {"power": 3.4, "front_share": 0.75},
+    "feed_motor_z": {"power": 3.4, "holding_power": 0.0},
+    "feed_guideways_z": {"power": 0.6, "rail_share": 0.7, "carriage_offset": 0.30},
+}
+
+Z_DRIVE_EFFECTS = ("feed_nut_z", "feed_bearings_z", "feed_motor_z", "feed_guideways_z")
+
+
+def axes(ro: float = 0.16, chan: float = 0.24, car_x1: float = 0.30, car_y: float = 0.40,
+         car_bot: float = 2.45, car_top: float = 3.25, ram_bot: float = 1.61, ram_top: float = 3.35,
+         nut_height: float = 2.95) -> list[LinearAxis]:
+    """X 2.5 m (the gantry), Y 1.2 m (the carriage on the cross-beam), Z 0.7 m (the ram), all
+    closed loop (seed 000: linear scales on X, Y, Z; their mountings are not modelled, so the
+    interferometer refuses them); the mesh at mid-travel on X and Y (X 1250, Y 600 mm) and at
+    Z 150 mm (the test bar's tip 0.25 m above the table; at Z = 0 it is 0.10 m above it, mid-travel
+    would put it into the table). Commanded X = p puts the uprights' centre at x = 0.55 +
+    (p - 1.25) [m], Y = p the carriage's centre at y = p - 0.60, Z = p the ram (and the tool)
+    p - 0.15 above the mesh's pose.
+
+    Only Z has its ball-screw drive modelled (the seed's Z-axis test; X and Y carry no feed heat).
+    The screw hangs on the ram (``screw_on_body``): its lower, floating bearing on the ram's rear
+    (``z_bearing_lower``, T2 "ram rear"), its fixed bearing under the Z motor on the ram's top
+    (``z_bearing_upper``), the rails on the ram's two sides; the nut and the guide blocks are
+    bolted to the carriage, the nut in the carriage's rear wall at z 2.95 m (0.1 m above the
+    carriage's middle), the blocks 0.30 m above and below it (``carriage_offset``). So the nut's
+    heat enters the screw at z 2.95 - (Z - 0.15) in the mesh (2.40-3.10 m over the travel) and the
+    blocks' heat the ram's sides 0.30 m above and below that. Plausible, not measured."""
+    tool_side = ("ram", "c_motor", "c_bearing", "head", "spindle", "test_bar", "z_bearing_lower", "z_screw",
+                 "z_bearing_upper", "z_motor")
+    nut = nut_height
+    sides = [(-car_y, -ro), (ro, car_y)]      # the carriage's side walls, beside the ram's sides
+    z_drive = FeedDrive(
+        roles={feed_drive_role("z", "screw"): Parts(("z_screw",)),
+               feed_drive_role("z", "front_bearing"): Parts(("z_bearing_upper",)),
+               feed_drive_role("z", "rear_bearing"): Parts(("z_bearing_lower",)),
+               feed_drive_role("z", "motor"): Parts(("z_motor",)),
+               feed_drive_role("z", "nut_body"): InBox(Parts(("carriage",)), Box((chan, -0.07, car_bot), (car_x1, 0.07, car_top))),
+               feed_drive_role("z", "guideways"): Union(tuple(
+                   InBox(Parts(("ram",)), Box((-ro, max(lo, -ro), ram_bot), (ro, min(hi, ro), ram_top)))
+                   for lo, hi in ((-ro, -ro + 0.04), (ro - 0.04, ro)))),
+               feed_drive_role("z", "carriages"): Union(tuple(
+                   InBox(Parts(("carriage",)), Box((-ro, lo, car_bot), (chan, hi, car_top))) for lo, hi in sides))},
+        screw_axis=(0.20, 0.0), fixed_end=ram_top - 0.10, lead=0.020, nut_offset=(0.07, 0.0),
+        effects=Z_DRIVE_EFFECTS)
+    return [LinearAxis("X", "x", (0.0, 2.5), "closed", ("upright_left", "upright_right", "cross_beam", "carriage")
+                       + tool_side, 0.55 - 1.25, 1.25),
+            LinearAxis("Y", "y", (0.0, 1.2), "closed", ("carriage",) + tool_side, -0.60, 0.60),
+            LinearAxis("Z", "z", (0.0, 0.7), "closed", tool_side, nut, 0.15, z_drive, screw_on_body=True)]

@@ -168,6 +168,29 @@ SCENARIO_EDITS += [
     ("probing-unknown-key", _ax("", "", PROBE + 'stylus = "50 mm"\n'), "probing.stylus"),
 ]
 
+# the gantry's linear axes (geometries.gantry_ram.axes: X 0-2500, Y 0-1200, Z 0-700 mm, closed loop, no
+# scale mounting modelled): run through `twin simulate gantry-ram`, a good 3000 rpm scenario plus one Z move
+GANTRY_SCENARIO = SCENARIO.replace('"6000 rpm"', '"3000 rpm"')
+GANTRY_AXIS = ('\n[[axis]]\nname = "Z"\n[[axis.move]]\nkind = "reciprocate"\nbetween = ["0 mm", "700 mm"]\n'
+               'feed = "70 m/min"\nacceleration = "3 m/s2"\ndwell = "1 s"\nduration = "20 min"\n')
+
+
+def _gz(old: str, new: str, tail: str = "") -> str:
+    assert old in GANTRY_AXIS, old
+    return GANTRY_SCENARIO + GANTRY_AXIS.replace(old, new) + tail
+
+
+GANTRY_AXIS_EDITS = [
+    ("z-beyond-travel", _gz('"700 mm"]', '"800 mm"]'), "axis[0].move"),
+    ("z-below-travel", _gz('["0 mm"', '["-10 mm"'), "axis[0].move"),
+    ("x-beyond-travel", _gz('name = "Z"', 'name = "X"').replace('"700 mm"]', '"2600 mm"]'), "axis[0].move"),
+    ("y-beyond-travel", _gz('name = "Z"', 'name = "Y"').replace('"700 mm"]', '"1300 mm"]'), "axis[0].move"),
+    ("c-as-linear-axis", _gz('name = "Z"', 'name = "C"'), "axis[0].name"),
+    ("z-feed-no-unit", _gz('"70 m/min"', '"70"'), "axis[0].move[0].feed"),
+    ("z-interferometer-scale-not-modelled", _gz("", "", LASER.replace('axis = "Y"', 'axis = "Z"')),
+     "interferometer.axis"),
+]
+
 # the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)
 SCENARIO_EDITS_VIA_MEASUREMENT = ["ambient-below-absolute-zero", "speed-beyond-machine", "speed-1e300-krpm",
                                   "interval-1-ns", "duration-1e300-s", "malformed-toml", "unknown-top-key"]
@@ -175,6 +198,7 @@ SCENARIO_EDITS_VIA_MEASUREMENT = ["ambient-below-absolute-zero", "speed-beyond-m
 # ------------------------------------------------------------- bad room-air records (CSV ambient)
 ROOM = "{d}/room.csv"
 SIM_ROOM = swap(SIM, "{d}/short.toml", "{d}/room.toml")
+SIM_GANTRY = swap(SIM, "cframe-vmc", "gantry-ram")
 
 
 def _room(rows: str) -> str:
@@ -604,6 +628,8 @@ def all_cases() -> list[Case]:
             for name, argv in (("compare", COMPARE), ("diagnose", DIAGNOSE)):
                 cases.append(Case(f"{name}.scenario:{cid}", argv + ["--scenario", "{d}/short.toml"], "{d}/short.toml",
                                   fld, files={"short.toml": text}))
+    for cid, text, fld in GANTRY_AXIS_EDITS:
+        cases.append(Case(f"simulate.gantry-axis:{cid}", SIM_GANTRY, "{d}/short.toml", fld, files={"short.toml": text}))
     for cid, files, source, fld in ROOM_EDITS:
         cases.append(Case(f"simulate.room-csv:{cid}", SIM_ROOM, source, fld, files=files))
     cases.append(Case("simulate.room-csv:folder", SIM_ROOM, ROOM, "ambient.file", setup=_room_folder))

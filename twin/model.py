@@ -127,7 +127,23 @@ def model_spec(machine, effects: str | None = None, settings: list[str] | None =
     effects (e.g. a user's custom effects) are switched on in addition."""
     chosen = tuple(dict.fromkeys(parse_effects(effects, tuple(machine.default_effects)) + tuple(extra)))
     check_applicable(chosen, machine)
-    return ModelSpec(chosen, parse_settings(settings, chosen))
+    return ModelSpec(chosen, with_machine_defaults(machine, chosen, parse_settings(settings, chosen)))
+
+
+def with_machine_defaults(machine, effects, params: dict) -> dict:
+    """``params`` over the machine's own defaults (``Machine.effect_defaults``: a drive of another
+    size than the registry's reference) for the ``effects`` switched on; what the user sets wins."""
+    out = {name: dict(values) for name, values in params.items()}
+    for name in effects:
+        own = getattr(machine, "effect_defaults", {}).get(name)
+        if own:
+            for key, value in own.items():   # a machine's description, not user input: a bug if wrong
+                param = next((q for q in EFFECTS[name].parameters if q.name == key), None)
+                if param is None or not param.lower <= value <= param.upper:
+                    raise ValueError(f"machine {machine.name}: effect_defaults {name}.{key} = {value!r} is not a "
+                                     f"parameter of {name} within its bounds")
+            out[name] = {**own, **out.get(name, {})}
+    return out
 
 
 def default_spec(machine) -> ModelSpec:

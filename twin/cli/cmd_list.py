@@ -31,11 +31,11 @@ def _effects(machine_name: str | None) -> None:
     from twin.effects import EFFECTS
     from twin.units import format_quantity
 
-    def show(name, tag, where=""):
+    def show(name, tag, where="", own=None):
         e = EFFECTS[name]
         print(f"{name}{tag}: {e.summary}\n  reference: {e.reference}{where}")
         for p in e.parameters:
-            print(f"    {p.describe()}")
+            print(f"    {p.describe((own or {}).get(p.name))}")
         for u in e.uncertain:
             dim = e.parameter(u.name).dimension
             print(f"    uncertain {u.name}: {format_quantity(u.lower, dim)} .. {format_quantity(u.upper, dim)} "
@@ -66,7 +66,7 @@ def _effects(machine_name: str | None) -> None:
         if missing:
             refused.append(f"{name} (needs {missing[0]})")
         else:
-            show(name, f" ({when(name, base, m)})" if when(name, base, m) else "")
+            show(name, f" ({when(name, base, m)})" if when(name, base, m) else "", own=m.effect_defaults.get(name))
     if refused:
         print(f"not applicable to {m.name}: {', '.join(refused)}")
 

@@ -124,7 +124,9 @@ class FeedMotor(_FeedEffect):
     role_keys = ("motor",)
     _power, _range = _feed_power(50.0, 500.0, "motor losses into the structure, above P_hold,",
                                  (10.0, 150.0, "motor size and how much heat its flange passes"))
-    parameters = (_power, Parameter("holding_power", "power", 5.0, 0.0, 200.0, "losses at standstill with the drive enabled"))
+    parameters = (_power, Parameter("holding_power", "power", 5.0, 0.0, 1000.0,
+                                    "losses at standstill with the drive enabled (hundreds of W for a vertical "
+                                    "axis without counterbalance)"))
     uncertain = (_range,)
 
     def loads(self, mm, scenario, p):

@@ -67,11 +67,14 @@ def travelling_sources(label: str, mm, role: str, axis, motion: Motion, scenario
     nodes = path_nodes(lo, hi, spacing)
     w = path_weights(motion, nodes, step_edges(scenario), per) * (scale / len(offsets))
     total = np.zeros((w.shape[0], len(lines) - 1))
+    ends = np.sort(axis.nut_coordinate(np.array([lo, hi])))      # a screw on the body runs the other way
+    flip = slice(None, None, -1) if axis.nut_coordinate(hi) < axis.nut_coordinate(lo) else slice(None)
     for off in offsets:
-        s = axis.nut_coordinate(nodes) + off
-        a = np.maximum(lines[:-1], axis.nut_coordinate(lo) + off)
-        b = np.maximum(np.minimum(lines[1:], axis.nut_coordinate(hi) + off), a)
-        overlap = (hat_integral(s, b) - hat_integral(s, a)).T          # (nodes, slabs)
+        s = axis.nut_coordinate(nodes)[flip] + off                       # increasing
+        a = np.maximum(lines[:-1], ends[0] + off)
+        b = np.maximum(np.minimum(lines[1:], ends[1] + off), a)
+        overlap = (hat_integral(s, b) - hat_integral(s, a)).T[flip]    # (nodes, slabs), nodes in path order
+        s = s[flip]
         inside = overlap.sum(axis=1)
         for i in np.flatnonzero(inside <= 0):    # a node beyond the role's cells: the nearest slab
             overlap[i, np.clip(np.searchsorted(lines, s[i]) - 1, 0, len(lines) - 2)] = 1.0

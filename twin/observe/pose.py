@@ -39,8 +39,12 @@ _UNIT = np.eye(3)
 
 def carried_axes(machine) -> list:
     """The axes whose drive is in ``machine`` (its guideways and carriages declared): those a
-    scenario moves (:func:`twin.motion.machine_for`)."""
-    return [a for a in machine.axes if a.drive is not None and feed_drive_role(a.name, "carriages") in machine.roles]
+    scenario moves (:func:`twin.motion.machine_for`). A body whose rails ride on it (a ram,
+    ``screw_on_body``) is not carried: its blocks stand in the structure, so what changes with the
+    pose is which stretch of the body is held, which this carry does not describe; it is read at
+    the mesh's pose."""
+    return [a for a in machine.axes if a.drive is not None and not a.screw_on_body
+            and feed_drive_role(a.name, "carriages") in machine.roles]
 
 
 def _boxes(region) -> list:

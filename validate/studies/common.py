@@ -12,7 +12,7 @@ import numpy as np
 from learners import make_learner, make_selector
 from learners.metrics import score_all
 
-__all__ = ["parse_args", "preset", "fit_score", "select", "write_csv", "markdown_table", "fmt"]
+__all__ = ["parse_args", "preset", "fit_score", "select", "write_csv", "markdown_table", "fmt", "table_main"]
 
 # Seed-like hyper-parameters (seed 001: ANFIS-FCM 6 rules for 1-5 inputs; ANN 4-10-1).
 # ANFIS: MATLAB anfis with checking data, as seed 001 split its training test into training and
@@ -84,6 +84,24 @@ def fit_score(est, X_train, y_train, X_test, y_test) -> tuple[dict, np.ndarray]:
     row = {**{f"train_{k}": float(v) for k, v in tr.items()}, **{f"test_{k}": float(v) for k, v in te.items()},
            "fit_time_s": fit_s}
     return row, pred
+
+
+def table_main(name: str, doc: str, argv, rows_for, markdown) -> int:
+    """``main`` of a study that writes one table: parse ``[--quick] [-o DIR]``, compute
+    ``rows_for(resolution)`` (coarse mesh with ``--quick``, else default), write ``<name>.csv`` and
+    ``<name>.md`` (``markdown(rows, command, resolution)``) into the output folder and print it."""
+    from twin.io.atomic import atomic_write_text
+
+    args = parse_args(name, doc, argv)
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    resolution = "coarse" if args.quick else "default"
+    rows = rows_for(resolution)
+    write_csv(out / f"{name}.csv", rows)
+    command = f"python -m validate.studies.{name}{' --quick' if args.quick else ''}"
+    atomic_write_text(out / f"{name}.md", markdown(rows, command, resolution))
+    print(markdown(rows, command, resolution))
+    return 0
 
 
 def write_csv(path: Path, rows: list[dict]) -> Path:
