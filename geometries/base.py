@@ -43,26 +43,31 @@ class Part:
     """A solid of the machine: a name, a material, a place in the kinematic chain, its boxes.
 
     Parts listed later in a machine overwrite earlier ones where their boxes overlap (a spindle
-    cartridge inside a carrier casting, a bearing zone inside a spindle).
+    cartridge inside a carrier casting, a bearing zone inside a spindle). ``voids`` are carved out
+    of the part's own cells: the closed hollows of a ribbed casting, whose faces are no skin
+    (:func:`common_surfaces`).
     """
 
     name: str
     material: Material
     boxes: tuple[Box, ...]
     chain: str = ""  # "workpiece" side (bed, saddle, table) or "tool" side (column, carrier, ...)
+    voids: tuple[Box, ...] = ()  # closed hollows carved out of the part's boxes (a box casting's cores)
     refine: float | tuple[float, float, float] = 1.0  # cells across the part's extent are at most
     # refine x the mesh spacing (one factor, or one per axis x, y, z)
 
 
 @dataclass(frozen=True)
 class Surface:
-    """A named surface: the exterior faces of ``parts`` (optionally inside ``within``), or, when
-    ``interface_with`` is given, the faces shared between ``parts`` and those parts."""
+    """A named surface: the exterior faces of ``parts`` (optionally inside ``within`` and outside
+    every box of ``without``: a closed cavity's walls), or, when ``interface_with`` is given, the
+    faces shared between ``parts`` and those parts."""
 
     name: str
     parts: tuple[str, ...]
     within: Box | None = None
     interface_with: tuple[str, ...] = ()
+    without: tuple[Box, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -109,12 +114,14 @@ class StrainGauge:
 
 def common_surfaces(parts: list[Part], nose: float) -> list[Surface]:
     """The surfaces every machine with a test bar in its spindle has: ``skin`` (every part's outer
-    faces above the floor), ``floor_contact`` (the bed's underside), ``test_bar_skin``,
+    faces above the floor, but not the walls of the parts' closed ``voids``, whose still air the
+    model leaves out), ``floor_contact`` (the bed's underside), ``test_bar_skin``,
     ``test_bar_seat`` (the bar's interface with the spindle) and ``spindle_nose`` (the spindle's
     faces at z = ``nose`` [m])."""
     everything = tuple(p.name for p in parts)
     return [
-        Surface("skin", everything, within=Box((-10, -10, 1e-4), (10, 10, 10))),
+        Surface("skin", everything, within=Box((-10, -10, 1e-4), (10, 10, 10)),
+                without=tuple(v for p in parts for v in p.voids)),
         Surface("floor_contact", ("bed",), within=Box((-10, -10, -1e-4), (10, 10, 1e-4))),
         Surface("test_bar_skin", ("test_bar",)),
         Surface("test_bar_seat", ("test_bar",), interface_with=("spindle",)),

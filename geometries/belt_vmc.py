@@ -64,7 +64,7 @@ from geometries.axes import LinearAxis, Scale
 from geometries.base import (PROBE_HEIGHTS, Box, Machine, Part, Point, Surface, common_surfaces, material,
                              test_bar_nest)
 from geometries.cframe_vmc import SPINDLE_EFFECTS
-from geometries.regions import Band, Facing, Named, Parts, Union
+from geometries.regions import Band, Facing, InBox, Named, Parts, Union
 
 NAME = "belt-vmc"
 
@@ -199,7 +199,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         resolutions={"coarse": 0.10, "default": 0.06, "fine": 0.04},
         description=("small 3-axis C-frame VMC with a belt-driven spindle (seed Machine B): X 400, Y 300, Z 300 mm, "
                      "60-8000 rpm, DC motor on the carrier top belted to a pulley on the spindle, linear scales on X, Y, Z"),
-        roles=roles(col_top),
+        roles=roles(col_top, col_y0),
         default_effects=DEFAULT_EFFECTS,
         max_speed=8000.0,
         axes=axes(bed_top),
@@ -222,7 +222,7 @@ def axes(bed_top: float) -> list[LinearAxis]:
                                                          "pulley", "motor", "test_bar"), 1.00, 0.0)]
 
 
-def roles(col_top: float) -> dict:
+def roles(col_top: float, col_y0: float) -> dict:
     """The machine contract of the belt-driven VMC (see :func:`geometries.cframe_vmc.roles`): the
     same places as the C-frame, plus the pulley's rim where the belt runs."""
     skin = Named("skin")
@@ -237,6 +237,9 @@ def roles(col_top: float) -> dict:
         "test_bar.body": Parts(("test_bar",)),
         "structure.skin": skin,
         "structure.front": Facing(skin, "-y"),
+        # the column's front carries the Z guideways under their way covers: a draft reaches the
+        # head, the spindle and the bed, saddle and table in front of it, not the column face
+        "structure.open_front": InBox(Facing(skin, "-y"), Box((-10, -10, -10), (10, col_y0 - 0.01, 10))),
         "structure.rear": Facing(skin, "+y"),
         "floor.contact": Named("floor_contact"),
         "cabinet.face": Named("column_side_left"),

@@ -4,8 +4,9 @@ Seed facts (thesis L4014-4038): table moving X 500 mm and Y 400 mm on a saddle o
 column at the rear, a spindle carrier sliding 330 mm in Z on the column face, a DC spindle motor
 on top of the carrier, 9000 rpm maximum. The castings' dimensions are not given in the seeds:
 the proportions below are those of a typical small VMC (about 5 t), chosen so that the travels fit.
-Castings are modelled as solid grey cast iron blocks (ribbed castings' effective properties are
-not known); the spindle cartridge, its bearing zones and the test mandrel are steel.
+Castings are modelled as solid grey cast iron blocks by default (ribbed castings' effective
+properties are not known; :func:`build` can make the column and carrier hollow); the spindle
+cartridge, its bearing zones and the test mandrel are steel.
 
 Axes: x along the X travel, y towards the column (rear), z up, floor at z = 0; the spindle axis
 is the line x = y = 0. The carrier is modelled at one Z position (the test position).
@@ -37,11 +38,16 @@ DEFAULT_EFFECTS = SPINDLE_EFFECTS + ("stratified_swing", "door_stream")
 _BEARING = (1.0, 1.0, 0.5)
 
 
-def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.45) -> Machine:
+def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.45,
+          column_wall: float | None = None, column_ribs: bool = False, carrier_wall: float | None = None) -> Machine:
     """Build the C-frame VMC.
 
     bar_length [m]: test-bar overhang below the spindle nose; bar_width [m]: square mandrel side;
-    throat [m]: distance from the spindle axis to the column face.
+    throat [m]: distance from the spindle axis to the column face; column_wall, carrier_wall [m]:
+    make the column (with ``column_ribs`` a web and two diaphragms inside) or the carrier a box
+    casting with walls that thick round closed cores (:func:`column_cores`, :func:`carrier_cores`;
+    default None: solid blocks, on which the calibrations stand; README "The workshop" gives what
+    hollow castings do to them).
 
     The test bar is meshed three times finer than the rest (``refine=1/3``): it is a fin whose
     length 1/m = sqrt(k A / (h P)) is about 5.5 cm while it rotates (h = 150 W/(m2 K)), one
@@ -60,8 +66,10 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         Part("bed", iron, (Box((-0.60, -0.55, 0.0), (0.60, col_y1, 0.35)),), "workpiece"),
         Part("saddle", iron, (Box((-0.35, -0.35, 0.35), (0.35, 0.25, 0.47)),), "workpiece"),
         Part("table", iron, (Box((-0.50, -0.25, 0.47), (0.50, 0.15, 0.55)),), "workpiece"),
-        Part("column", iron, (Box((-0.25, col_y0, 0.35), (0.25, col_y1, col_top)),), "tool"),
-        Part("carrier", iron, (Box((-0.18, -0.12, 1.10), (0.18, col_y0, 1.55)),), "tool"),
+        Part("column", iron, (Box((-0.25, col_y0, 0.35), (0.25, col_y1, col_top)),), "tool",
+             voids=column_cores(col_y0, col_y1, col_top, column_wall, column_ribs)),
+        Part("carrier", iron, (Box((-0.18, -0.12, 1.10), (0.18, col_y0, 1.55)),), "tool",
+             voids=carrier_cores(col_y0, carrier_wall)),
         Part("spindle", steel, (Box((-0.075, -0.075, nose), (0.075, 0.075, 1.45)),), "tool"),
         Part("front_bearing", steel, (Box((-0.075, -0.075, 0.99), (0.075, 0.075, 1.05)),), "tool", refine=_BEARING),
         Part("rear_bearing", steel, (Box((-0.075, -0.075, 1.35), (0.075, 0.075, 1.41)),), "tool", refine=_BEARING),
@@ -110,13 +118,41 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         resolutions={"coarse": 0.10, "default": 0.06, "fine": 0.04},
         description="small 3-axis C-frame vertical machining centre (seed Machine A): X 500, Y 400, Z 330 mm, 9000 rpm",
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "probe_spacing": PROBE_HEIGHTS[1] - PROBE_HEIGHTS[0]},
-        roles=roles(col_top),
+        roles=roles(col_top, col_y0),
         default_effects=DEFAULT_EFFECTS,
         max_speed=MAX_SPEED,
         camera_poses=camera_poses(nose, tip),
         finishes=finishes(nose, hb),
         axes=axes(col_y0),
     )
+
+
+def column_cores(y0: float, y1: float, top: float, wall: float | None, ribs: bool) -> tuple[Box, ...]:
+    """The closed hollows of the column (y0 to y1 front to rear, z 0.35 to ``top`` [m]): none
+    (``wall`` None: a solid block), or one core inside four walls ``wall`` thick, closed below by
+    the bed and above by a solid 0.2 m head (the Z motor and brake); with ``ribs`` a web at x = 0
+    joining the front and rear walls and two horizontal diaphragms (at a third and two thirds of
+    the height) divide it into six."""
+    if wall is None:
+        return ()
+    x0, x1, ya, yb, za, zb = -0.25 + wall, 0.25 - wall, y0 + wall, y1 - wall, 0.35, top - 0.2
+    if not ribs:
+        return (Box((x0, ya, za), (x1, yb, zb)),)
+    h = (zb - za - 2 * wall) / 3
+    xs = ((x0, -wall / 2), (wall / 2, x1))
+    zs = [(za + i * (h + wall), za + i * (h + wall) + h) for i in range(3)]
+    return tuple(Box((a, ya, lo), (b, yb, hi)) for a, b in xs for lo, hi in zs)
+
+
+def carrier_cores(y1: float, wall: float | None) -> tuple[Box, ...]:
+    """The carrier's hollows (x +-0.18, y -0.12 to ``y1``, z 1.10-1.55 [m]) round a solid boss
+    ``wall`` thick about the spindle cartridge (+-0.075): one core behind the boss, one each side."""
+    if wall is None:
+        return ()
+    b = 0.075 + wall
+    x0, x1, z0, z1 = -0.18 + wall, 0.18 - wall, 1.10 + wall, 1.55 - wall
+    return (Box((x0, b, z0), (x1, y1 - wall, z1)), Box((x0, -0.12 + wall, z0), (-b, b, z1)),
+            Box((b, -0.12 + wall, z0), (x1, b, z1)))
 
 
 def _drive_effects(axis: str, extra: tuple = ()) -> tuple[str, ...]:
@@ -281,11 +317,11 @@ def finishes(nose: float, hb: float) -> list[Finish]:
     ]
 
 
-def roles(col_top: float) -> dict:
+def roles(col_top: float, col_y0: float) -> dict:
     """The machine contract: where each role of :data:`geometries.regions.ROLES` lies on the C-frame.
     The operator and the hall door are in front (-y), the rear wall with its windows behind (+y),
     the electrical cabinet beside the column's left side, the Z motor and brake in the column's
-    top 0.2 m (``col_top`` [m]: the column's top)."""
+    top 0.2 m (``col_top`` [m]: the column's top; ``col_y0`` [m]: its front face)."""
     skin = Named("skin")
     return {
         "spindle.front_bearing": Parts(("front_bearing",)),
@@ -297,6 +333,9 @@ def roles(col_top: float) -> dict:
         "test_bar.body": Parts(("test_bar",)),
         "structure.skin": skin,
         "structure.front": Facing(skin, "-y"),
+        # the column's front carries the Z guideways under their way covers: a draft reaches the
+        # head, the spindle and the bed, saddle and table in front of it, not the column face
+        "structure.open_front": InBox(Facing(skin, "-y"), Box((-10, -10, -10), (10, col_y0 - 0.01, 10))),
         "structure.rear": Facing(skin, "+y"),
         "floor.contact": Named("floor_contact"),
         "cabinet.face": Named("column_side_left"),

@@ -187,6 +187,7 @@ def roles(ram_top: float) -> dict:
         "test_bar.body": Parts(("test_bar",)),
         "structure.skin": skin,
         "structure.front": Facing(skin, "-x"),
+        "structure.open_front": Facing(skin, "-x"),   # no way covers between the door and the front
         "structure.rear": Facing(skin, "+x"),
         "floor.contact": Named("floor_contact"),
         "cabinet.face": Named("upright_left_outer"),

@@ -96,6 +96,7 @@ ROLES: dict[str, tuple[str, str]] = {
     "test_bar.body": ("parts", "the test bar's parts: the side of the seat that gets its own temperatures"),
     "structure.skin": ("surface", "every face of the structure open to the room air"),
     "structure.front": ("surface", "the skin facing the operator's side and the hall door"),
+    "structure.open_front": ("surface", "the front skin a draft from the hall door reaches (not behind way covers)"),
     "structure.rear": ("surface", "the skin facing the rear wall and its windows"),
     "floor.contact": ("surface", "the foot of the bed standing on the floor"),
     "cabinet.face": ("surface", "the structure face an electrical cabinet stands beside"),

@@ -123,7 +123,7 @@ def build_mesh(machine, spacing: float) -> MachineMesh:
     heat peaks inside it (see module docstring)."""
     axes = []
     for d in range(3):
-        bounds = [c for part in machine.parts for box in part.boxes for c in (box.lo[d], box.hi[d])]
+        bounds = [c for part in machine.parts for box in part.boxes + part.voids for c in (box.lo[d], box.hi[d])]
         local = [(box.lo[d], box.hi[d], refine_factors(part)[d] * spacing)
                  for part in machine.parts if refine_factors(part)[d] < 1 for box in part.boxes]
         axes.append(grid_lines(bounds, spacing, local))
@@ -136,6 +136,8 @@ def build_mesh(machine, spacing: float) -> MachineMesh:
     for pid, part in enumerate(machine.parts):
         for box in part.boxes:
             label[box.contains(xyz, tol=-1e-12)] = pid
+        for void in part.voids:
+            label[void.contains(xyz, tol=-1e-12) & (label == pid)] = -1
     keep = label >= 0
     ijk, label = ijk[keep], label[keep]
 
@@ -175,6 +177,9 @@ def _surface_facets(mm: MachineMesh, surface) -> np.ndarray:
     if surface.within is not None and len(chosen):
         mid = mesh.p[:, mesh.facets[:, chosen]].mean(axis=1).T
         chosen = chosen[surface.within.contains(mid)]
+    if surface.without and len(chosen):
+        mid = mesh.p[:, mesh.facets[:, chosen]].mean(axis=1).T
+        chosen = chosen[~np.any([box.contains(mid) for box in surface.without], axis=0)]
     if len(chosen) == 0:
         raise ValueError(f"surface {surface.name!r} of machine {mm.machine.name!r} has no faces")
     return np.sort(chosen)
