@@ -70,10 +70,9 @@ def test_the_diagnosis_holds_the_interferometer_as_a_record_of_its_runs(axis_run
     the runs; it counts as the first record's samples: sum (w r)^2 = n_t of the first record for a
     residual at the noise level in every channel."""
     from twin.model import model_spec
-    from twin.physics.prepared import PreparedTwin
     from validate.evidence import make_records
     machine, sc, ds, engine = axis_run
-    recs = make_records("run", ds, sc, machine, PreparedTwin(machine, resolution="coarse"))
+    recs = make_records("run", ds, sc, machine, engine.twin)
     assert [r.label for r in recs] == ["run", "run"] and recs[0].engine is recs[1].engine
     main, pos = recs
     assert set(pos.groups) == {"positioning"} and np.allclose(pos.times, [0.0, 240.0, 600.0])
@@ -85,6 +84,18 @@ def test_the_diagnosis_holds_the_interferometer_as_a_record_of_its_runs(axis_run
     r = np.full(pos.measured.shape, 0.2)
     w = channel_weights(r, pos.groups, {"positioning": 0.2}, None, pos.counts_as)
     assert float(np.sum((w * r) ** 2)) == pytest.approx(11.0, rel=1e-12)
+
+
+def test_interferometer_runs_without_one_in_the_scenario_are_refused_by_name(axis_run):
+    """Runs the driving scenario does not make are an error naming the variable, never dropped."""
+    from dataclasses import replace
+
+    from twin.errors import InputError
+    from validate.evidence import make_records
+    machine, sc, ds, engine = axis_run
+    with pytest.raises(InputError) as err:
+        make_records("run.nc", ds, replace(sc, interferometer=None), machine, engine.twin)
+    assert err.value.field == "positioning_error" and "[interferometer]" in str(err.value)
 
 
 def test_positioning_noise_comes_from_second_differences_along_the_targets():

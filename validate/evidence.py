@@ -175,6 +175,9 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
     t = np.asarray(ds["time"].values, float)
     t0 = t[0]
     engine = Engine(machine, scenario, mm=twin.mm, sensors=sensor_points(ds, machine), prepared=twin)
+    if runs is not None and engine.positioning is None:
+        raise InputError(label, "positioning_error", "the measurement has laser-interferometer runs but the scenario "
+                                                     "driving the twin has no [interferometer]: give --scenario with it")
     names = engine.names
     out = []
     for chans, times in ((stacked, t - t0), (runs, None if runs is None else run_times - t0)):
@@ -182,7 +185,7 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
             continue
         missing = [c for c in chans.names if c not in names]
         if missing:
-            what = "such instrument" if chans is stacked else "interferometer target there (the scenario's runs differ)"
+            what = "such instrument" if chans is stacked else "interferometer target there (the scenario's targets differ)"
             raise InputError(label, missing[0], f"machine {machine.name} has no {what}")
         columns = np.array([names.index(c) for c in chans.names], int)
         try:
