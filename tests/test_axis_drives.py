@@ -141,6 +141,39 @@ def test_pose_carry_of_an_affine_field_is_the_field_times_the_offset(cframe_all)
     assert np.abs(carry.correction(raw, carry.positions(sc.times(), still), [(0, 1, d) for d in np.eye(3)])).max() < 1e-20
 
 
+def test_pose_carry_rolls_the_body_with_a_bilinear_field(cframe_all):
+    """Read-out at the pose with the body's rotation (twin.observe.pose): for a bilinear structure
+    displacement u_z = k x y (the rails rising more along y the further out in x) the support
+    points' change D_i = k Delta x_i e_z is a rigid motion, c = k Delta x_c e_z and
+    theta = -k Delta e_y (a roll of the saddle as it moves along Y), which trilinear interpolation
+    reproduces exactly; a point x of the body then moves by c + theta x (x - s_c) =
+    (-k Delta (z - z_c), 0, k Delta x), so a reading between a point on the saddle (or table) and
+    the tool or workpiece gains (-k Delta (z_a - z_b) m, 0, k Delta (x_a - x_b) m) with m the
+    share of the pair riding on Y (exact to round-off)."""
+    from twin.observe.pose import PoseCarry
+    machine, mm, sc = cframe_all
+    k = 3e-6   # [1/m]
+    u = np.zeros((mm.nnodes, 3))
+    u[:, 2] = k * mm.mesh.p[0] * mm.mesh.p[1]
+    names = [machine.tool_point, machine.workpiece_point, "table", "saddle"]
+    carry = PoseCarry(machine, names)
+    raw = np.vstack([np.zeros(carry.nrows), carry.functionals(mm) @ u.ravel()])
+    j = [a.name for a in carry.axes].index("Y")
+    ref = np.array([a.p_ref for a in carry.axes])
+    delta = 0.12
+    pos = np.vstack([ref, ref + delta * (np.arange(len(ref)) == j)])
+    theta = carry.motion(raw, pos)[1, j, 3:]
+    assert theta == pytest.approx([0.0, -k * delta, 0.0], abs=1e-12 * k)
+    xyz = {n: np.array(machine.point(n).xyz) for n in names}
+    centre = carry.rotations[j][0]
+    assert xyz["saddle"][0] - centre[0] > 0.3   # a long arm from the supports' centroid
+    moved = lambda n: (-k * delta * (xyz[n][2] - centre[2]), 0.0, k * delta * xyz[n][0])
+    for a, b in ((3, 0), (2, 1)):   # saddle - tool (the tool does not ride on Y), table - workpiece
+        corr = carry.correction(raw, pos, [(a, b, d) for d in np.eye(3)])[1]
+        expect = np.subtract(moved(names[a]), moved(names[b]) if b == 1 else 0.0)
+        assert corr == pytest.approx(expect, abs=1e-9 * k * delta)
+
+
 def test_no_pose_rows_without_a_moving_axis():
     """A spindle-only machine has no carried axis: the drift and probes' functionals are the
     plain ones (the gold results unchanged)."""

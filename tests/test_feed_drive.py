@@ -360,7 +360,8 @@ def test_closed_loop_reads_the_scale_carriers_free_expansion():
 
 def test_the_diagnosis_study_hides_the_feed_drive_effects_on_the_axis_scenario():
     """The hidden-effect study's hidden class holds the feed drive's effects on seed003-exp1, each
-    left out of the model of the moving axis (the model has the drive; the truth has the effect)."""
+    left out of the model of the moving axis (the model has the drive; the truth has the effect);
+    the scenario keeps its interferometer runs (a measured channel group)."""
     from geometries import build_machine
     from validate.studies.diagnosis_cases import FEED_DRIVE_HIDDEN, all_cases, load_case_scenario
     cases = {c.label: c for c in all_cases(build_machine("cframe-vmc"), ["hidden"])}
@@ -368,4 +369,6 @@ def test_the_diagnosis_study_hides_the_feed_drive_effects_on_the_axis_scenario()
         c = cases[effect]
         assert c.scenario == "seed003-exp1" and c.model_effects == f"-{effect}" and c.expect[0][0] == effect
     assert "feed_nut_y" not in {c.label for c in all_cases(build_machine("belt-vmc"), ["hidden"])}
-    assert load_case_scenario("seed003-exp1", quick=True).interferometer is None
+    runs = load_case_scenario("seed003-exp1", quick=True).interferometer.runs   # the runs within 195 min, and its end
+    assert runs == (0.0, 1200.0, 3600.0, 7200.0, 11700.0)
+    assert load_case_scenario("seed003-exp1", quick=False).interferometer.runs[-1] == 23400.0

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from learners.metrics import rms
-from validate.channels import GROUPS
+from validate.channels import residual_unit
 
 
 def top_spec(d):
@@ -59,7 +59,7 @@ def format_before_after(d, after: np.ndarray, calibrated: np.ndarray | None = No
         before_cal = d.calibrated_rmse
     lines = [head]
     for i, (c, g, b, a) in enumerate(zip(d.channels, d.groups, d.baseline_rmse, rms_after)):
-        line = f"{c:<32} {GROUPS[g][1]:>4} {b:>9.4g} {a:>9.4g} {(a / b - 1) if b else 0:>+8.0%}"
+        line = f"{c:<32} {residual_unit(g):>4} {b:>9.4g} {a:>9.4g} {(a / b - 1) if b else 0:>+8.0%}"
         if extra:
             bc, ac = before_cal[i], rms_cal[i]
             line += f" {bc:>9.4g} {ac:>9.4g} {(ac / bc - 1) if bc else 0:>+8.0%}"

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from validate.evidence import POSITIONING_FLOOR
 from validate.signatures import DISPLACEMENT_GROUPS, Engine
 
 
@@ -38,6 +39,7 @@ def _noise(spec) -> dict[str, float]:
     for g, (group, quant, f) in _INSTRUMENT.items():
         p = spec.params[group]
         out[g] = max(p["noise"], 0.5 * p[quant], 1e-12) * f
+    out["positioning"] = POSITIONING_FLOOR
     return out
 
 

@@ -8,7 +8,10 @@ A *channel* is one measured signal of a result or measurement, named ``<group>:<
 * ``laser:<id>`` [um] from ``laser(time, laser_id)`` (laser triangulation on a test bar);
 * ``strain:<gauge>`` [um/m] from ``strain(time, gauge)`` (FBG, compensated with the nearest
   temperature sensor) and ``strain_raw:<gauge>`` [um/m] from ``strain_raw(time, gauge)`` (the
-  grating's reading, with its temperature cross-sensitivity).
+  grating's reading, with its temperature cross-sensitivity);
+* ``positioning:<target mm>`` [um] from ``positioning_error(run_time, target, direction)`` (the
+  laser interferometer's thermal positioning error, ISO 230-2 runs), the mean of the two
+  directions; read at its runs, not on the ``time`` grid (:data:`RUN_GROUPS`).
 
 :func:`stack` reads any subset of the groups from a Dataset into one (n_t, n_ch) array with names,
 groups and units, using the noise-free ``*_true`` variables on request. The strain groups have
@@ -30,6 +33,13 @@ GROUPS: dict[str, tuple[str, str]] = {"temperature": ("sensor", "K"), "probe": (
                                       "tilt": ("rotation", "urad"), "laser": ("laser_id", "um"),
                                       "strain": ("gauge", "um/m"), "strain_raw": ("gauge", "um/m")}
 NO_TRUE = ("strain", "strain_raw")   # groups whose *_true variable is not the same reading
+# groups read at instants of their own: group -> (variable, channel dimension, time dimension, unit)
+RUN_GROUPS: dict[str, tuple[str, str, str, str]] = {"positioning": ("positioning_error", "target", "run_time", "um")}
+
+
+def residual_unit(group: str) -> str:
+    """The unit of a residual of channel ``group`` (:data:`GROUPS` and :data:`RUN_GROUPS`)."""
+    return GROUPS[group][1] if group in GROUPS else RUN_GROUPS[group][3]
 
 
 def channel(group: str, label) -> str:
@@ -73,6 +83,27 @@ def stack(ds, groups=tuple(GROUPS), prefer_true: bool = False) -> Channels:
         units += [unit] * len(labels)
     values = np.hstack(cols) if cols else np.zeros((ds.sizes.get("time", 0), 0))
     return Channels(values, names, gs, units)
+
+
+def target_label(position_mm: float) -> str:
+    """The label of an interferometer target at ``position_mm`` [mm] (``"30"``)."""
+    return f"{float(position_mm):.6g}"
+
+
+def stack_runs(ds, group: str = "positioning") -> tuple[np.ndarray, Channels]:
+    """(instants [s], channels) of a group of :data:`RUN_GROUPS` in ``ds`` (None, None when absent):
+    the interferometer's positioning error per run and target [um], the mean of both directions
+    (the twin has no reversal error; a measured one cancels in the mean)."""
+    var, dim, tdim, unit = RUN_GROUPS[group]
+    if var not in ds:
+        return None, None
+    v = ds[var]
+    if "direction" in v.dims:
+        v = v.mean("direction")
+    values = np.asarray(v.transpose(tdim, dim).values, float)
+    labels = [target_label(t) for t in ds[dim].values]
+    return (np.asarray(ds[tdim].values, float),
+            Channels(values, [channel(group, t) for t in labels], [group] * len(labels), [unit] * len(labels)))
 
 
 @dataclass

@@ -48,7 +48,7 @@ from twin.physics.prepared import PreparedTwin
 from validate import verdict as V
 from validate.candidates import candidate_pool
 from validate.diagnosis_text import diagnosis_json, format_diagnosis, reasoning  # noqa: F401  (re-exported)
-from validate.evidence import Evidence, channel_weights, make_record, noise_levels
+from validate.evidence import Evidence, channel_weights, make_records, noise_levels
 from validate.fit import BoundedFitter
 from validate.search import Fit, Search
 from validate.signatures import DISPLACEMENT_GROUPS, Engine
@@ -161,10 +161,11 @@ def _first_row(block: np.ndarray) -> np.ndarray:
     return block[0]
 
 
-def mesh_error(record, machine, spec: ModelSpec, resolution: str) -> np.ndarray:
+def mesh_error(record, machine, spec: ModelSpec, resolution: str, other: Engine | None = None) -> np.ndarray:
     """(model on ``resolution``) - (model on the record's mesh) (times, channels), on the
-    record's grid: the estimate of the diagnosing model's discretisation error, signed."""
-    other = Engine(machine, record.scenario, resolution, sensors=record.sensor_points)
+    record's grid: the estimate of the diagnosing model's discretisation error, signed
+    (``other``: an engine on ``resolution`` for the record's scenario and sensors, to reuse)."""
+    other = other or Engine(machine, record.scenario, resolution, sensors=record.sensor_points)
     return record.interp(other.observe(spec)[:, record.columns]) - record.observe(spec)
 
 
@@ -235,7 +236,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     pool = candidate_pool(machine, spec, candidates, parameters)
     stage = Stages(progress, 1 + len(measurements) + len(pool))
     twin = twin or PreparedTwin(machine, mm, resolution)
-    evidence = Evidence([make_record(lab, ds, sc, machine, twin) for lab, ds, sc in measurements])
+    evidence = Evidence([rec for lab, ds, sc in measurements for rec in make_records(lab, ds, sc, machine, twin)])
     bands = expansion_bands(machine)
     with_drift = bool(set(DISPLACEMENT_GROUPS) & set(evidence.groups()))   # channels alpha moves
     materials = sorted(bands) if calibrate_expansion and with_drift else []
@@ -244,18 +245,23 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     materials, responses = [materials[k] for k in keep], responses[keep]
     r = evidence.measured - base
     stage()
-    errors, series = [], []
-    for k, (rec, block) in enumerate(zip(evidence.records, evidence.split(base))):
+    errors, series, others = [], [], {}
+    k = -1
+    for rec, block in zip(evidence.records, evidence.split(base)):
+        k += rec.counts_as is None   # the measurement's index (its interferometer record follows it)
         rec.model = block
         rec.noise = noise_levels(rec.measured, rec.groups, spec)
         rec.model_error_series = None
         if model_error is not None:
-            rec.model_error = np.asarray(model_error[k], float)
+            rec.model_error = np.asarray(model_error[k], float) if rec.counts_as is None else None
         elif error_resolution:
-            rec.model_error_series = mesh_error(rec, machine, spec, error_resolution)
+            if id(rec.engine) not in others:   # one run on the other mesh serves the records of an engine
+                others[id(rec.engine)] = Engine(machine, rec.scenario, error_resolution, sensors=rec.sensor_points)
+            rec.model_error_series = mesh_error(rec, machine, spec, error_resolution, others[id(rec.engine)])
             rec.model_error = rms(rec.model_error_series, axis=0)
-        stage()
-        rec.weights = channel_weights(rec.measured - rec.model, rec.groups, rec.noise, rec.model_error)
+        if rec.counts_as is None:
+            stage()
+        rec.weights = channel_weights(rec.measured - rec.model, rec.groups, rec.noise, rec.model_error, rec.counts_as)
         errors.append(np.broadcast_to(rec.model_error if rec.model_error is not None else 0.0, rec.measured.shape))
         series.append(rec.model_error_series)
     w = evidence.flat([np.broadcast_to(rec.weights, rec.measured.shape) for rec in evidence.records])

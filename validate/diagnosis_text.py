@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from validate.channels import GROUPS as CHANNEL_GROUPS
+from validate.channels import GROUPS as CHANNEL_GROUPS, RUN_GROUPS, residual_unit
 
 
 def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
@@ -51,7 +51,7 @@ def _params_text(c: dict) -> str:
 
 
 def _unit(group: str) -> str:
-    return CHANNEL_GROUPS[group][1]
+    return residual_unit(group)
 
 
 def format_diagnosis(d, top: int = 8) -> str:
@@ -59,9 +59,9 @@ def format_diagnosis(d, top: int = 8) -> str:
     the regions and the verdict."""
     names, groups = d.channels, d.groups
     base, err = d.baseline_rmse, d.model_error_rms
-    lines = [f"Measurements: {', '.join(r.label for r in d.evidence.records)}; {len(names)} channels, "
+    lines = [f"Measurements: {', '.join(d.evidence.labels)}; {len(names)} channels, "
              f"effective samples {d.n_eff:.0f}, {d.runs} twin runs", "Baseline RMSE per channel:"]
-    for g in CHANNEL_GROUPS:
+    for g in list(CHANNEL_GROUPS) + list(RUN_GROUPS):
         idx = [i for i, k in enumerate(groups) if k == g]
         if idx:
             lines.append(f"  {g} [{_unit(g)}]: " + ", ".join(f"{names[i].split(':', 1)[1]} {base[i]:.3g}" for i in idx))
@@ -130,7 +130,7 @@ def diagnosis_json(d) -> dict:
         "verdict": d.verdict,
         "significant": d.significant,
         "message": d.message,
-        "measurements": [r.label for r in d.evidence.records],
+        "measurements": d.evidence.labels,
         "baseline": {"rmse": {c: float(v) for c, v in zip(names, d.baseline_rmse)}, "units": units},
         "residual_factor": d.residual_factor,
         "residual_factor_after": d.residual_factor_after,

@@ -4,7 +4,9 @@ A :class:`Record` is one measurement: its channels (any subset of the temperatur
 ISO 230-3 probes, the laser triangulation sensors and the FBG strain gauges, compensated or raw,
 :mod:`validate.channels`), the scenario that drives the twin, and an
 :class:`validate.signatures.Engine` observing the twin at exactly those channels on the
-measurement's time grid. :class:`Evidence` stacks the records into flat vectors (record by
+measurement's time grid. A measurement with laser-interferometer runs gives a second record of
+the same label, the positioning error at its targets on the runs' instants, observed by the same
+engine (one twin run serves both). :class:`Evidence` stacks the records into flat vectors (record by
 record, each (n_t, n_ch) block row-major), so one set of strengths is fitted to all of them
 together: a spindle test and an ambient test separate effects that one run cannot.
 
@@ -14,7 +16,12 @@ Weights (per record and channel group g, so that temperatures, probes, lasers an
 
 m_g the group's channel count in the record, e_c the channel's estimated discretisation error
 (0 without an estimate) and sigma_g the group's noise level: the median over its channels of
-sqrt(mean(diff(y)^2) / 2), floored by half the instrument's quantisation step.
+sqrt(mean(diff(y)^2) / 2), floored by half the instrument's quantisation step. So each group
+weighs about its record's sample count n_t; the interferometer's record, a few runs of its
+measurement, has its weights scaled by sqrt(n_t of the measurement / n_runs) so that its group
+weighs as much as each group of the measurement. Its noise comes from the second difference
+along the targets, sqrt(mean(d2^2) / 6) (the runs lie minutes apart: a difference in time is
+signal), floored at :data:`POSITIONING_FLOOR`.
 
 A twin result carries each FBG gauge twice (``strain``, compensated, and ``strain_raw``); the
 diagnosis then uses the compensated reading only (the seed's), so no gauge counts twice; a
@@ -30,21 +37,26 @@ import numpy as np
 from learners.metrics import rms
 from twin.errors import InputError
 from twin.model import ModelSpec
-from validate.channels import input_phases, resampler, stack
+from validate.channels import RUN_GROUPS, input_phases, resampler, stack, stack_runs
 from validate.signatures import Engine
 
 # the channel groups a diagnosis fits (validate.channels), and the instrument whose resolution floors
 # each group's noise level: (parameter group, parameter, factor to the channel's unit)
-GROUPS = ("temperature", "probe", "laser", "strain", "strain_raw")
+GROUPS = ("temperature", "probe", "laser", "positioning", "strain", "strain_raw")
 RESOLUTION = {"temperature": ("temperature_sensor", "quantisation", 1.0), "probe": ("probe", "resolution", 1e6),
               "laser": ("laser_triangulation", "resolution", 1e6), "strain": ("fbg", "quantisation", 1e6),
               "strain_raw": ("fbg", "quantisation", 1e6)}
+# [um] the positioning group's noise floor: half a 0.1 um step, the display resolution of ISO 230-2
+# positioning software (the laser's own resolution is nanometres; plausible, no seed states one)
+POSITIONING_FLOOR = 0.05
+ALONG_TARGETS = ("positioning",)   # groups whose noise comes from differences along the channels
 
 
 def diagnosed_groups(ds) -> tuple[str, ...]:
     """The groups of :data:`GROUPS` a diagnosis reads from ``ds``: ``strain_raw`` only without
-    the compensated ``strain`` (each gauge counted once)."""
-    return tuple(g for g in GROUPS if not (g == "strain_raw" and "strain" in ds))
+    the compensated ``strain`` (each gauge counted once); the interferometer's group, read at its
+    runs, has a record of its own (:func:`make_records`)."""
+    return tuple(g for g in GROUPS if not (g == "strain_raw" and "strain" in ds) and g not in RUN_GROUPS)
 
 
 def sensor_points(ds, machine) -> list:
@@ -68,15 +80,27 @@ def noise_levels(y: np.ndarray, groups: list[str], spec: ModelSpec) -> dict[str,
     """Group noise sigma_g: median over channels of sqrt(mean(diff(y)^2)/2), floored at half the
     instrument's quantisation step (K, um or um/m; :data:`RESOLUTION`)."""
     floors = {g: 0.5 * spec.params[group][name] * f for g, (group, name, f) in RESOLUTION.items()}
+    floors["positioning"] = POSITIONING_FLOOR
     d = np.sqrt(np.mean(np.diff(y, axis=0) ** 2, axis=0) / 2) if len(y) > 1 else np.zeros(y.shape[1])
     g = np.array(groups)
-    return {k: max(float(np.median(d[g == k])), floors[k], 1e-12) for k in GROUPS if np.any(g == k)}
+    out = {}
+    for k in GROUPS:
+        if not np.any(g == k):
+            continue
+        if k in ALONG_TARGETS:   # second difference along the targets (module docstring)
+            block = y[:, g == k]
+            level = float(np.sqrt(np.mean(np.diff(block, 2, axis=1) ** 2) / 6)) if block.shape[1] > 2 else 0.0
+        else:
+            level = float(np.median(d[g == k]))
+        out[k] = max(level, floors[k], 1e-12)
+    return out
 
 
 def channel_weights(residual: np.ndarray, groups: list[str], sigma: dict[str, float],
-                    model_error: np.ndarray | None = None) -> np.ndarray:
+                    model_error: np.ndarray | None = None, rows: int | None = None) -> np.ndarray:
     """w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)), s_g = max(group residual RMS, sigma_g), e_c the
-    RMS of the estimated model (discretisation) error of channel c (0 without an estimate)."""
+    RMS of the estimated model (discretisation) error of channel c (0 without an estimate); times
+    sqrt(rows / n_t) when the record counts as ``rows`` samples (module docstring)."""
     g = np.array(groups)
     w = np.zeros(len(groups))
     e = np.zeros(len(groups)) if model_error is None else np.asarray(model_error, float)
@@ -84,7 +108,7 @@ def channel_weights(residual: np.ndarray, groups: list[str], sigma: dict[str, fl
         m = g == k
         r = max(float(rms(residual[:, m])), s)
         w[m] = 1.0 / (np.sqrt(r ** 2 + e[m] ** 2) * np.sqrt(m.sum()))
-    return w
+    return w * (np.sqrt(rows / max(len(residual), 1)) if rows else 1.0)
 
 
 def effective_samples(res: np.ndarray) -> float:
@@ -118,6 +142,7 @@ class Record:
     noise: dict = field(default_factory=dict)
     model_error: np.ndarray | None = None
     model_error_series: np.ndarray | None = None
+    counts_as: int | None = None   # samples its groups weigh as (the interferometer's record), else n_t
 
     def __post_init__(self):
         self.interp = resampler(self.engine.times, self.times)
@@ -137,27 +162,41 @@ class Record:
         return self.interp(out[:, self.columns]), np.array([self.interp(r[:, self.columns]) for r in resp])
 
 
-def make_record(label: str, ds, scenario, machine, twin) -> Record:
-    """A :class:`Record` of measurement ``ds`` driven by ``scenario`` on the prepared ``twin``;
-    InputError when it has no channel to diagnose, or when it outlasts the scenario."""
+def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
+    """The :class:`Record` of measurement ``ds`` driven by ``scenario`` on the prepared ``twin``,
+    and, when ``ds`` has laser-interferometer runs, the record of their positioning error (same
+    label, same engine; module docstring); InputError when it has no channel to diagnose, when it
+    outlasts the scenario, or when its interferometer runs are not the scenario's."""
     stacked = stack(ds, diagnosed_groups(ds))
-    if not stacked.names:
-        raise InputError(label, "channels", "the measurement has no temperature sensor, probe, laser or strain "
-                                            "gauge to diagnose")
+    run_times, runs = stack_runs(ds)
+    if not stacked.names and runs is None:
+        raise InputError(label, "channels", "the measurement has no temperature sensor, probe, laser, strain "
+                                            "gauge or interferometer run to diagnose")
     t = np.asarray(ds["time"].values, float)
-    t = t - t[0]
+    t0 = t[0]
     engine = Engine(machine, scenario, mm=twin.mm, sensors=sensor_points(ds, machine), prepared=twin)
+    if runs is not None and engine.positioning is None:
+        raise InputError(label, "positioning_error", "the measurement has laser-interferometer runs but the scenario "
+                                                     "driving the twin has no [interferometer]: give --scenario with it")
     names = engine.names
-    missing = [c for c in stacked.names if c not in names]
-    if missing:
-        raise InputError(label, missing[0], f"machine {machine.name} has no such instrument")
-    columns = np.array([names.index(c) for c in stacked.names], int)
-    try:
-        rec = Record(label, ds, scenario, engine, t, stacked.names, stacked.groups, stacked.values, columns)
-    except ValueError as err:
-        raise InputError(label, "time", str(err)) from None
-    rec.phases = input_phases(ds, t, scenario)
-    return rec
+    out = []
+    for chans, times in ((stacked, t - t0), (runs, None if runs is None else run_times - t0)):
+        if chans is None or not chans.names:
+            continue
+        missing = [c for c in chans.names if c not in names]
+        if missing:
+            what = "such instrument" if chans is stacked else "interferometer target there (the scenario's targets differ)"
+            raise InputError(label, missing[0], f"machine {machine.name} has no {what}")
+        columns = np.array([names.index(c) for c in chans.names], int)
+        try:
+            rec = Record(label, ds, scenario, engine, times, chans.names, chans.groups, chans.values, columns)
+        except ValueError as err:
+            raise InputError(label, "run_time" if chans is runs else "time", str(err)) from None
+        rec.phases = input_phases(ds, t - t0, scenario) if chans is stacked else []
+        out.append(rec)
+    if len(out) > 1:
+        out[1].counts_as = len(out[0].times)
+    return out
 
 
 class Evidence:
@@ -169,8 +208,14 @@ class Evidence:
         self.offsets = np.concatenate([[0], np.cumsum(self.sizes)]).astype(int)
 
     @property
+    def labels(self) -> list[str]:
+        """The measurements' labels, each once (an interferometer record shares its measurement's)."""
+        return list(dict.fromkeys(r.label for r in self.records))
+
+    @property
     def multiple(self) -> bool:
-        return len(self.records) > 1
+        """Several measurements (a measurement's interferometer record shares its label)."""
+        return len(self.labels) > 1
 
     def flat(self, blocks) -> np.ndarray:
         """One flat vector from per-record (n_t, n_ch) blocks."""
@@ -202,7 +247,7 @@ class Evidence:
     def channel_names(self) -> list[str]:
         """Channel names over all records; with several records each ends in ``@label``."""
         if not self.multiple:
-            return list(self.records[0].channels)
+            return [c for r in self.records for c in r.channels]
         return [f"{c}@{r.label}" for r in self.records for c in r.channels]
 
     def per_channel(self, vector: np.ndarray, reduce=lambda x: rms(x, axis=0)) -> np.ndarray:

@@ -13,7 +13,7 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.io.atomic import atomic_write_text
-from validate.channels import GROUPS
+from validate.channels import residual_unit
 from validate.report_map import machine_outline as _machine_outline
 
 def _png(fig) -> str:
@@ -111,7 +111,7 @@ def _worst_channels(d, rec, after) -> str:
         ax.plot(th, rec.model[:, k], "C0-")
         if after is not None:
             ax.plot(th, after[:, k], "C3--")
-        unit = "degC" if rec.groups[k] == "temperature" else GROUPS[rec.groups[k]][1]
+        unit = "degC" if rec.groups[k] == "temperature" else residual_unit(rec.groups[k])
         ax.set_ylabel(f"[{unit}]", fontsize=8)
         ax.set_title(f"{rec.channels[k]}: RMSE {base_rmse[k]:.3g}"
                      + (f" -> {rms(rec.measured[:, k] - after[:, k]):.3g}" if after is not None else "")

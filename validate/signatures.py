@@ -3,7 +3,9 @@
 An *observable vector* stacks, over time, every channel a machine's instruments give
 (:mod:`validate.channels`): the temperature sensors [degC] (through the sensor's first-order lag
 and bias, without noise), the ISO 230-3 probes [um], the laser triangulation sensors [um] and the
-FBG strain gauges [um/m], each gauge both compensated (``strain``) and raw (``strain_raw``):
+FBG strain gauges [um/m], each gauge both compensated (``strain``) and raw (``strain_raw``), and,
+when the scenario runs a laser interferometer, its positioning error at every target [um] at every
+instant (``positioning``; a measurement has it at the runs only):
 
     eps_raw = eps + k_T dT_g,   eps_comp = eps_raw - k_T (lag(T_s) - lag(T_s)(0)),
 
@@ -23,16 +25,20 @@ Gauss-Newton on it.
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from twin.effects import EFFECTS
 from twin.model import ModelSpec
 from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, LaserTriangulation, RunContext, StrainGauges,
                           TemperatureSensors, sensor_points)
+from twin.observe.interferometer import PositioningTrace
 from twin.physics.prepared import PreparedTwin
+from validate.channels import target_label
 from twin.signals import lag_series
 
-DISPLACEMENT_GROUPS = ("probe", "laser", "strain", "strain_raw")   # groups that respond to the expansion
+DISPLACEMENT_GROUPS = ("probe", "laser", "positioning", "strain", "strain_raw")   # groups that respond to the expansion
 
 
 class Engine:
@@ -55,15 +61,22 @@ class Engine:
         self.probe_names = [p.name for p in machine.probes]
         self.lasers = LaserTriangulation() if machine.lasers else None
         self.laser_names = [p.name for p in machine.lasers]
+        config = getattr(scenario, "interferometer", None)
+        self.positioning = PositioningTrace(config, machine) if config is not None else None
+        self.target_names = ([target_label(t * 1e3) for t in self.positioning.targets]
+                             if self.positioning is not None else [])
         self.strain = StrainGauges(machine.strain_gauges) if machine.strain_gauges else None
         self.gauge_names = [g.name for g in machine.strain_gauges]
-        self.displacements = [o for o in (self.probes, self.lasers, self.strain) if o is not None]
+        self.readers = [o for o in (self.probes, self.lasers, self.positioning) if o is not None]
+        self.displacements = self.readers + ([self.strain] if self.strain is not None else [])
         self.names = ([f"temperature:{p.name}" for p in self.sensors] + [f"probe:{n}" for n in self.probe_names]
-                      + [f"laser:{n}" for n in self.laser_names] + [f"strain:{n}" for n in self.gauge_names]
+                      + [f"laser:{n}" for n in self.laser_names] + [f"positioning:{n}" for n in self.target_names]
+                      + [f"strain:{n}" for n in self.gauge_names]
                       + [f"strain_raw:{n}" for n in self.gauge_names])
         self.groups = [n.split(":", 1)[0] for n in self.names]
         self.times = scenario.times()
         self.runs = 0
+        self._last = None   # (spec, materials, outputs) of the last run: records sharing this engine reuse it
 
     def observers(self, materials: tuple[str, ...] = ()) -> list:
         """The observers of one run: temperatures, the displacement-like instruments, and each
@@ -75,13 +88,13 @@ class Engine:
         """(n_t, n_columns) in the order of :attr:`names` from one run's (or one response's) raw
         observer outputs ``raw`` on a grid of step ``dt`` [s]: temperatures [degC] (through the
         sensor lag when ``lag``, plus its bias when ``bias``), probe and laser readings [um] and
-        strains [um/m] (module docstring; the compensating sensor lagged when ``lag``), changes
-        from the first instant for all but the temperatures."""
+        strains [um/m] (module docstring; the compensating sensor lagged when ``lag``), positioning
+        errors [um], changes from the first instant for all but the temperatures."""
         p = spec.params["temperature_sensor"]
         delay = (lambda x: lag_series(x, dt, p["lag"])) if lag else (lambda x: x)
         temps = delay(raw["temperature"]) + (p["bias"] if bias else 0.0)
         cols = [temps]
-        cols += [(raw[o.key] - raw[o.key][0]) * 1e6 for o in (self.probes, self.lasers) if o is not None]
+        cols += [(raw[o.key] - raw[o.key][0]) * 1e6 for o in self.readers]
         if self.strain is not None:
             k = len(self.gauge_names)
             s = raw[self.strain.key] - raw[self.strain.key][0]
@@ -113,9 +126,9 @@ class Engine:
         loads, raw = self.twin.run(self.scenario, spec, self.observers(materials))
         self.runs += 1
         ctx = RunContext(self.times, self.scenario, spec, self.machine, loads, np.random.default_rng(0))
-        posed = {o.key: o.readings(raw[o.key], ctx) for o in (self.probes, self.lasers) if o is not None}
+        posed = {o.key: o.readings(raw[o.key], ctx) for o in self.readers}
         posed.update({ExpansionSensitivity(m, o).key: o.readings(raw[ExpansionSensitivity(m, o).key], ctx)
-                      for m in materials for o in (self.probes, self.lasers) if o is not None})
+                      for m in materials for o in self.readers})
         raw = dict(raw, temperature=self.temperature.true_values(raw["temperature"], ctx), **posed)   # at the pose
         out = self.readings(raw, spec, self.scenario.sample_interval, lag=instrument, bias=instrument)
         return out, self.expansion_columns(raw, materials)
@@ -135,8 +148,14 @@ class Engine:
         (nmat, nt, n_columns) (:class:`twin.observe.ExpansionSensitivity`): zero on the
         temperatures, readings in um (um/m) on the displacement-like channels. Drift and strain
         are linear in each alpha for the run's temperatures, so y + sum_m c_m response_m is the
-        run with every alpha_m scaled by (1 + c_m), exactly."""
-        return self._run(spec, tuple(materials))
+        run with every alpha_m scaled by (1 + c_m), exactly. The same ``spec`` and materials as the
+        last call return its arrays without a new run (records that share this engine)."""
+        key = (copy.deepcopy(spec), tuple(materials))
+        if self._last is not None and self._last[0] == key:
+            return self._last[1]
+        out = self._run(spec, tuple(materials))
+        self._last = (key, out)
+        return out
 
 
 def with_effect(spec: ModelSpec, effect: str, values: dict[str, float]) -> ModelSpec:

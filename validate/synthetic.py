@@ -7,12 +7,15 @@ Truth = a model spec (e.g. the default effects plus one hidden effect) simulated
 * with cast-iron and steel properties perturbed by up to 5 % (conductivity, heat capacity,
   expansion; fixed factors so that runs are reproducible),
 * through the instrument models with noise, quantisation and a small sensor bias
-  (``temperature_sensor.bias``), seeded.
+  (``temperature_sensor.bias``), seeded; the laser interferometer's positioning error (the twin's
+  is noise-free) gets Gaussian noise of :data:`INTERFEROMETER_NOISE` per reading, seeded.
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
+
+import numpy as np
 
 from twin.api import simulate
 from geometries.materials import MATERIALS
@@ -22,6 +25,7 @@ PERTURBED = {
     "grey_cast_iron": MATERIALS["grey_cast_iron"].scaled(conductivity=1.03, specific_heat=0.97, expansion=1.02),
     "steel": MATERIALS["steel"].scaled(conductivity=0.96, specific_heat=1.02, expansion=0.98),
 }
+INTERFEROMETER_NOISE = 0.1   # [um] per reading: plausible repeatability of an environment-compensated run
 INSTRUMENT_SETTINGS = ["temperature_sensor.bias=0.03 K", "temperature_sensor.noise=0.05 K", "probe.noise=0.05 um"]
 
 
@@ -51,4 +55,10 @@ def truth_measurement(machine: str, scenario: Scenario, effects: str | None = No
     fine = replace(scenario, sample_interval=scenario.sample_interval / 2)
     ds, _ = simulate(machine, fine, effects=effects, settings=list(settings or []) + INSTRUMENT_SETTINGS,
                      resolution=resolution, seed=seed, materials=PERTURBED if perturb else None, prepared=prepared)
-    return ds.isel(time=slice(None, None, 2))
+    ds = ds.isel(time=slice(None, None, 2))
+    if "positioning_error" in ds:
+        pe = ds["positioning_error"]
+        noise = INTERFEROMETER_NOISE * np.random.default_rng([seed, 230]).standard_normal(pe.shape)
+        noise[0] = 0.0   # the cold run is the reference the others are taken from
+        ds["positioning_error"] = pe.copy(data=pe.values + noise)
+    return ds

@@ -46,7 +46,7 @@ from __future__ import annotations
 import numpy as np
 
 from learners.metrics import rms
-from validate.channels import GROUPS
+from validate.channels import residual_unit
 
 WITHIN = 3.0
 BEYOND = 10.0
@@ -129,7 +129,7 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
 
 
 def _factors_text(factors: dict[str, float], levels: dict) -> str:
-    unit = {g: u for g, (_, u) in GROUPS.items()}
+    unit = {g: residual_unit(g) for g in levels}
     return ", ".join(f"{g} {f:.1f}x (noise {levels[g][0]:.2g} {unit[g]}, model error {levels[g][1]:.2g} {unit[g]})"
                      for g, f in factors.items())
 

@@ -66,6 +66,12 @@ class DisplacementObserver(Observer):
     def rows(self, twin, loads):
         return twin.displacement_rows(self, loads.mm)
 
+    def material_rows(self, twin, loads, material: str):
+        """The rows of one material's expansion alone (:class:`ExpansionSensitivity`): by default
+        those of :meth:`functionals` through that material's cells; an observer whose reading has
+        another term in alpha (the interferometer's screw) adds it."""
+        return twin.displacement_rows(self, loads.mm, material=material)
+
     @staticmethod
     def change_um(raw: np.ndarray) -> np.ndarray:
         """Readings [m] as changes from the first instant, in um."""
@@ -180,4 +186,4 @@ class ExpansionSensitivity(Observer):
         return (type(self).__name__, self.material) + self.of.cache_key()
 
     def rows(self, twin, loads):
-        return twin.displacement_rows(self.of, loads.mm, material=self.material)
+        return self.of.material_rows(twin, loads, self.material)

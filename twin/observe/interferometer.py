@@ -190,14 +190,23 @@ class LaserInterferometer(DisplacementObserver):
         return sp.csr_matrix(weights @ displacement_functional(P, d))
 
     def rows(self, twin, loads):
+        return self.material_rows(twin, loads, None)
+
+    def material_rows(self, twin, loads, material: str | None):
+        """The rows (n_targets, n_heat); with ``material``, those of that material's expansion alone
+        (d e / d s for alpha_m (1 + s): the structure's share through that material's cells, plus
+        the screw's line integral when the screw is of it), as
+        :class:`twin.observe.ExpansionSensitivity` needs."""
         layout = loads.mm
-        R = twin.displacement_rows(self, layout)               # (1 or 1 + n_targets, n_heat)
+        R = twin.displacement_rows(self, layout, material=material)   # (1 or 1 + n_targets, n_heat)
         offset = np.repeat(R[:1], len(self.targets), axis=0)
         if self.axis.feedback == "closed":
             return sp.csr_matrix(R[1:] + offset)
         screw = twin.machine.part(twin.machine.roles[feed_drive_role(self.axis.name, "screw")].names[0])
-        alpha = twin.materials.get(screw.name, screw.material).expansion
-        return sp.csr_matrix(screw_line_rows(layout, self.axis, self.targets, alpha) + offset)
+        steel = twin.materials.get(screw.name, screw.material)
+        if material is not None and steel.name != material:
+            return sp.csr_matrix(offset)
+        return sp.csr_matrix(screw_line_rows(layout, self.axis, self.targets, steel.expansion) + offset)
 
     def sample_steps(self, times):
         dt = times[1] - times[0] if len(times) > 1 else 1.0
@@ -215,3 +224,19 @@ class LaserInterferometer(DisplacementObserver):
                 {"run_time": ("run_time", np.asarray(self.config.runs, float), {"units": "s", "long_name": "run instant"}),
                  "target": ("target", tgt, {"units": "mm", "long_name": f"commanded {self.axis.name} position"}),
                  "direction": ("direction", ["forward", "backward"], {"long_name": "approach direction"})})
+
+
+class PositioningTrace(LaserInterferometer):
+    """The interferometer's positioning error at every output instant of the run (not only at
+    its runs): raw (n_t, n_targets) [m], the same rows as :class:`LaserInterferometer`. The
+    diagnosis reads it at the runs of a measurement (:mod:`validate.evidence`); no Dataset
+    variables of its own."""
+
+    key = "positioning_trace"
+
+    def sample_steps(self, times):
+        return None
+
+    def data(self, raw, ctx):
+        return {}, {}
+

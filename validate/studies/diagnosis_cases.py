@@ -252,12 +252,17 @@ def all_cases(machine, classes=CLASSES, hidden: list[str] | None = None) -> list
 
 def load_case_scenario(name: str, quick: bool):
     """The scenario; ``quick`` halves the spindle scenarios and samples them every 20 s, and samples
-    the day-night scenario (kept whole: its excitation is the 24 h cycle) every 2 min."""
-    sc = replace(load_scenario(name), interferometer=None)   # the diagnosis reads sensors and probes
+    the day-night scenario (kept whole: its excitation is the 24 h cycle) every 2 min. A laser
+    interferometer (``seed003-exp1``) is kept, a measured channel group of the diagnosis; halved,
+    its runs within the shorter test and one at its end."""
+    sc = load_scenario(name)
     if quick and name not in DAY_NIGHT:
         sc = short_scenario(replace(sc, sample_interval=20.0), 0.5)
     elif quick:
         sc = replace(sc, sample_interval=max(sc.sample_interval, 120.0), name=f"{sc.name}-2min")
+    if sc.interferometer is not None:
+        runs = tuple(t for t in sc.interferometer.runs if t < sc.duration) + (sc.duration,)
+        sc = replace(sc, interferometer=replace(sc.interferometer, runs=runs))
     return sc
 
 
