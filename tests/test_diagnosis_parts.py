@@ -198,3 +198,31 @@ def test_uncertain_parameters_are_declared_linear_or_not_truthfully(machine, mm,
     affine = all(np.allclose(y.power(t) - 2 * x.power(t) + z.power(t), 0, atol=1e-9 * (1 + np.abs(y.power(t)).max()))
                  for z, x, y in zip(zero, a, b) if hasattr(x, "power"))
     assert u.linear == (not operator and affine)
+
+
+def test_missing_contact_conductance_is_fitted_in_its_resistance():
+    """A seat of conductance G in series with the rest of the bar's path carries the heat flow Q:
+    the bar's temperature drops by Q / G (series resistances add, R = 1/G), so the response to
+    adding the contact is g(G) = -Q (1/G - 1/G_0) s exactly (G_0 = 1000 W/K, the upper bound,
+    where the contact adds nothing). With truth G = 5 W/K the linearised start in 1/G is exact;
+    linearised in G from G_0 through the 20 W/K reference it would need 1/G-like growth the
+    secant cannot give and would sit at the 0.1 W/K bound."""
+    from twin.model import ModelSpec
+    from validate.candidates import missing_effect
+    from validate.search import Search
+    c = missing_effect("test_bar_contact")
+    assert c.reciprocal and c.zero == c.upper == 1000.0 and c.reference == 20.0
+    s = np.linspace(0.0, 1.0, 300) ** 2                  # the bar's warming shape
+    q = 30.0                                             # W through the seat
+    observe = lambda spec: (-q * (1 / spec.params["test_bar_contact"]["conductance"] - 1 / c.zero) * s
+                            if "test_bar_contact" in spec.effects else 0 * s)
+    spec = ModelSpec((), {})
+    r = observe(c.spec(spec, 5.0))
+    search = Search(observe, spec, observe(spec), BoundedFitter(r, np.ones_like(r)))
+    p, sse = search.linearised(c)
+    assert p == pytest.approx(5.0, rel=1e-9) and sse < 1e-20
+    fit = search.single(c)
+    assert fit.values[0] == pytest.approx(5.0, rel=1e-9) and fit.sse < 1e-20
+    secant = Candidate(*(getattr(c, f) for f in ("name", "kind", "effect", "parameter", "lower", "upper", "zero",
+                                                 "reference", "linear", "in_model")))
+    assert search.linearised(secant)[0] == pytest.approx(c.lower)   # the old start: at the bound

@@ -8,7 +8,9 @@ nuisance (each material's expansion within its band) fitted jointly with every c
 * Linear candidates (heat sources): g(p) = (p - p_0) u with u from one run; the bounded fit is
   exact.
 * Nonlinear candidates: one run at the reference value gives the secant s = g(p_ref) / (p_ref -
-  p_0); the linearised fit g ~ (p - p_0) s gives a start, and one run there the actual SSE. The
+  p_0); the linearised fit g ~ (p - p_0) s gives a start, and one run there the actual SSE (a
+  reciprocal candidate, a contact conductance whose g vanishes at p_0 = infinity, is linearised
+  in its resistance: g ~ (1/p - 1/p_0) v, v = g(p_ref) / (1/p_ref - 1/p_0)). The
   ``refine`` best of them (by that SSE) then get bounded Gauss-Newton
   (:func:`validate.fit.gauss_newton`).
 * Pairs (when no single explains ``pair_threshold`` of the residual): every pair of the
@@ -79,9 +81,15 @@ class Search:
         return self._unit[c.name]
 
     def linearised(self, c: Candidate) -> tuple[float, float]:
-        """(p, SSE) of the fit g ~ (p - p_0) u within the candidate's bounds."""
-        x, _, sse = self.fitter.solve(self.unit(c)[:, None], [c.lower - c.zero], [c.upper - c.zero])
-        return float(c.zero + x[0]), sse
+        """(p, SSE) of the fit g ~ (p - p_0) u within the candidate's bounds; for a reciprocal
+        candidate of g ~ (1/p - 1/p_0) v, v = u (p_ref - p_0) / (1/p_ref - 1/p_0), within
+        0 <= 1/p - 1/p_0 <= 1/p_lower - 1/p_0."""
+        if not c.reciprocal:
+            x, _, sse = self.fitter.solve(self.unit(c)[:, None], [c.lower - c.zero], [c.upper - c.zero])
+            return float(c.zero + x[0]), sse
+        v = self.unit(c) * (c.reference - c.zero) / (1 / c.reference - 1 / c.zero)
+        x, _, sse = self.fitter.solve(v[:, None], [1 / c.upper - 1 / c.zero], [1 / c.lower - 1 / c.zero])
+        return float(min(max(1 / (1 / c.zero + x[0]), c.lower), c.upper)), sse
 
     def single(self, c: Candidate, gauss_newton_steps: bool = False) -> Fit:
         """A candidate's fit: exact for a linear one; for a nonlinear one the linearised start,
