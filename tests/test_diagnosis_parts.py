@@ -226,3 +226,31 @@ def test_missing_contact_conductance_is_fitted_in_its_resistance():
     secant = Candidate(*(getattr(c, f) for f in ("name", "kind", "effect", "parameter", "lower", "upper", "zero",
                                                  "reference", "linear", "in_model")))
     assert search.linearised(secant)[0] == pytest.approx(c.lower)   # the old start: at the bound
+
+
+def test_a_film_below_its_model_value_is_found_by_the_second_secant():
+    """A surface losing heat q through a film h in series with an internal conductance a (per
+    unit area): its excess temperature is q / (h + a), so a film changed from h_0 gives
+    g(h) = q s (1/(h + a) - 1/(h_0 + a)) exactly (s a time shape). Truth h = 90 for h_0 = 150,
+    reference run at 300 (the other side): the secant through 300 puts the start at the 50 bound,
+    where the residual is worse than nothing; the secant through the zero and that start lands at
+    h = 150 - 36 = 114 (closed form for a = 10), and Gauss-Newton from there reaches 90."""
+    from twin.model import ModelSpec
+    from validate.search import Search
+    c = Candidate("spindle_forced_convection.h_reference", "parameter", "spindle_forced_convection", "h_reference",
+                  50.0, 450.0, 150.0, 300.0, False, True)
+    s = np.linspace(0.0, 1.0, 300) ** 0.5
+    resp = lambda h: 40.0 * s * (1 / (h + 10.0) - 1 / 160.0)
+    observe = lambda spec: resp(spec.params["spindle_forced_convection"]["h_reference"])
+    spec = ModelSpec(("spindle_forced_convection",), {"spindle_forced_convection": {"h_reference": 150.0}})
+    r = resp(90.0)
+    search = Search(observe, spec, observe(spec), BoundedFitter(r, np.ones_like(r)), gn_iterations=8)
+    assert search.linearised(c)[0] == pytest.approx(50.0)
+    assert search.fitter.sse(resp(50.0)) > search.fitter.sse(0 * r)       # the first start: worse than nothing
+    fit = search.single(c)
+    a = 1 / 160.0
+    expected = 150.0 + (1 / 100.0 - a) / ((1 / 60.0 - a) / -100.0)       # secant through (150, 0), (50, g(50))
+    assert fit.values[0] == pytest.approx(expected, rel=1e-9) and expected == pytest.approx(114.0, abs=0.1)
+    assert fit.sse < search.fitter.sse(0 * r)
+    best = search.singles([c])[0]
+    assert best.values[0] == pytest.approx(90.0, rel=1e-3)

@@ -8,9 +8,10 @@ nuisance (each material's expansion within its band) fitted jointly with every c
 * Linear candidates (heat sources): g(p) = (p - p_0) u with u from one run; the bounded fit is
   exact.
 * Nonlinear candidates: one run at the reference value gives the secant s = g(p_ref) / (p_ref -
-  p_0); the linearised fit g ~ (p - p_0) s gives a start, and one run there the actual SSE (a
-  reciprocal candidate, a contact conductance whose g vanishes at p_0 = infinity, is linearised
-  in its resistance: g ~ (1/p - 1/p_0) v, v = g(p_ref) / (1/p_ref - 1/p_0)). The
+  p_0); the linearised fit g ~ (p - p_0) s gives a start p_1, and one run there the actual SSE;
+  a second secant through the zero and p_1 (on the fit's side of p_0, where p_ref may lie on the
+  other) gives p_2, one more run, kept if better (a reciprocal candidate, a contact conductance
+  whose g vanishes at p_0 = infinity, is linearised in its resistance: g ~ (1/p - 1/p_0) v). The
   ``refine`` best of them (by that SSE) then get bounded Gauss-Newton
   (:func:`validate.fit.gauss_newton`).
 * Pairs (when no single explains ``pair_threshold`` of the residual): every pair of the
@@ -81,28 +82,40 @@ class Search:
         return self._unit[c.name]
 
     def linearised(self, c: Candidate) -> tuple[float, float]:
-        """(p, SSE) of the fit g ~ (p - p_0) u within the candidate's bounds; for a reciprocal
-        candidate of g ~ (1/p - 1/p_0) v, v = u (p_ref - p_0) / (1/p_ref - 1/p_0), within
-        0 <= 1/p - 1/p_0 <= 1/p_lower - 1/p_0."""
-        if not c.reciprocal:
-            x, _, sse = self.fitter.solve(self.unit(c)[:, None], [c.lower - c.zero], [c.upper - c.zero])
-            return float(c.zero + x[0]), sse
-        v = self.unit(c) * (c.reference - c.zero) / (1 / c.reference - 1 / c.zero)
-        x, _, sse = self.fitter.solve(v[:, None], [1 / c.upper - 1 / c.zero], [1 / c.lower - 1 / c.zero])
-        return float(min(max(1 / (1 / c.zero + x[0]), c.lower), c.upper)), sse
+        """(p, SSE) of the fit g ~ (p - p_0) u within the candidate's bounds (a reciprocal
+        candidate: g ~ (1/p - 1/p_0) v), the secant taken through the reference run."""
+        return self.along(c, self.unit(c) * (c.reference - c.zero), c.reference)
+
+    def along(self, c: Candidate, g_at: np.ndarray, p_at: float) -> tuple[float, float]:
+        """(p, SSE) of the fit g ~ (t(p) - t(p_0)) v, v = g(p_at) / (t(p_at) - t(p_0)): the secant
+        through the zero and the run at ``p_at``, in t(p) = p, or t(p) = 1/p for a reciprocal
+        candidate; within the candidate's bounds."""
+        t = (lambda q: 1.0 / q) if c.reciprocal else (lambda q: q)
+        t0 = t(c.zero)
+        lo, hi = sorted((t(c.lower) - t0, t(c.upper) - t0))
+        x, _, sse = self.fitter.solve((g_at / (t(p_at) - t0))[:, None], [lo], [hi])
+        return float(min(max(t(t0 + x[0]), c.lower), c.upper)), sse
 
     def single(self, c: Candidate, gauss_newton_steps: bool = False) -> Fit:
         """A candidate's fit: exact for a linear one; for a nonlinear one the linearised start,
-        evaluated, and with ``gauss_newton_steps`` refined."""
+        evaluated, then one more secant through the zero and that start (on the fit's side of
+        p_0, where the reference may lie on the other: a film 0.6x its model value, the secant
+        through 2x), evaluated and kept if better; with ``gauss_newton_steps`` refined."""
         p, _ = self.linearised(c)
         u = self.unit(c)
         if c.linear:
             g = (p - c.zero) * u
             return Fit((c,), (p,), g, self.fitter.sse(g), (u,))
-        if not gauss_newton_steps:
-            g = self.response([c], [p])
-            return Fit((c,), (p,), g, self.fitter.sse(g), (u,))
-        return self.joint((c,), (p,))
+        g = self.response([c], [p])
+        fit = Fit((c,), (p,), g, self.fitter.sse(g), (u,))
+        if abs(p - c.zero) > 1e-6 * (c.upper - c.lower) and np.any(g):
+            q, _ = self.along(c, g, p)
+            if abs(q - p) > 1e-3 * (c.upper - c.lower):
+                g2 = self.response([c], [q])
+                sse2 = self.fitter.sse(g2)
+                if sse2 < fit.sse:
+                    fit = Fit((c,), (q,), g2, sse2, (u,))
+        return self.joint((c,), fit.values) if gauss_newton_steps else fit
 
     def joint(self, cands: tuple[Candidate, ...], start) -> Fit:
         """Bounded Gauss-Newton over ``cands`` from ``start`` (linear members: exact columns)."""
