@@ -1,5 +1,6 @@
 """The diagnosis's parts, each against a closed form: bounded least squares with a bounded
-nuisance, Gauss-Newton, the verdict rule, the region partition, the response of the observables
+nuisance, Gauss-Newton, the nonlinear candidates' starts (a contact conductance in its resistance,
+a second secant), the verdict rule, the region partition, the response of the observables
 to added heat inputs (superposition), and the declared uncertain parameters (linear or not)."""
 
 from __future__ import annotations
