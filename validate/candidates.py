@@ -19,9 +19,9 @@ response (g(p) / (p - zero)) is taken.
 A missing contact conductance G (the test bar's seat) adds nothing at G = infinity, not at 0: its
 ``zero`` is the upper bound and it is :attr:`Candidate.reciprocal`: the resistance R = 1/G adds in
 series, so g is nearly linear in 1/G - 1/G_zero and the fit's linearised start is taken in it
-(:mod:`validate.search`). Linearised in G from G_zero = 1000 W/K, a 5 W/K seat would need 3.4x the
-20 W/K response where the secant gives 1.02x (the C-frame's duty cycle: 3.4x fitted, 4.1x linear in
-1/G): the start hit the 0.1 W/K bound and the candidate ranked 14th.
+(:mod:`validate.search`). Linearised in G from G_zero = 1000 W/K, a 5 W/K seat would need 3.4x
+the 20 W/K response where the secant gives 1.02x (the C-frame's duty cycle on the coarse mesh;
+linear in 1/G: 4.1x): the start hit the 0.1 W/K bound and the candidate ranked 14th.
 """
 
 from __future__ import annotations
