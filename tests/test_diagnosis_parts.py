@@ -255,3 +255,30 @@ def test_a_film_below_its_model_value_is_found_by_the_second_secant():
     assert fit.sse < search.fitter.sse(0 * r)
     best = search.singles([c])[0]
     assert best.values[0] == pytest.approx(90.0, rel=1e-3)
+
+
+def test_a_pair_with_a_contact_is_linearised_in_its_resistance():
+    """Truth: a seat of 5 W/K (g_1 = -q (1/G - 1/G_0) s_1, exactly linear in 1/G, as above) and a
+    heat source of 30 W (g_2 = P s_2, linear): the pair fitted about the two singles (each fitted
+    alone, so biased by the other) is linear in (1/G, P) and recovers (5 W/K, 30 W) exactly."""
+    from twin.model import ModelSpec
+    from validate.candidates import missing_effect
+    from validate.search import Search
+    c1 = missing_effect("test_bar_contact")
+    c2 = missing_effect("electrical_cabinet")
+    t = np.linspace(0.0, 1.0, 300)
+    s1, s2 = t ** 2, np.sin(3 * t)
+    def observe(spec):
+        y = 0 * t
+        if "test_bar_contact" in spec.effects:
+            y = y - 30.0 * (1 / spec.params["test_bar_contact"]["conductance"] - 1 / c1.zero) * s1
+        if "electrical_cabinet" in spec.effects:
+            y = y + spec.params["electrical_cabinet"]["power"] * s2 / 100.0
+        return y
+    spec = ModelSpec((), {})
+    r = observe(c2.spec(c1.spec(spec, 5.0), 30.0))
+    search = Search(observe, spec, observe(spec), BoundedFitter(r, np.ones_like(r)))
+    a, b = search.single(c1), search.single(c2)
+    assert abs(a.values[0] - 5.0) > 0.05 and abs(b.values[0] - 30.0) > 0.5      # each alone is biased
+    pair = search.pair(a, b)
+    assert pair.values == pytest.approx((5.0, 30.0), rel=1e-9) and pair.sse < 1e-20

@@ -151,16 +151,28 @@ class Search:
 
     def pair(self, a: Fit, b: Fit) -> Fit:
         """Two singles fitted jointly, each linearised about its own fit (exact when both are
-        linear): g ~ sum_i g_i(p_i) + s_i (q_i - p_i)."""
-        members = [(f.candidates[0], f.values[0], f.response, f.slopes[0]) for f in (a, b)]
-        offset = sum(((g - (p - c.zero) * s) if not c.linear else 0 * g) for c, p, g, s in members)
-        cols = np.column_stack([s for _, _, _, s in members])
-        lo = [c.lower - c.zero for c, *_ in members]
-        hi = [c.upper - c.zero for c, *_ in members]
-        x, _, _ = self.fitter.solve(cols, lo, hi, self.fitter.r - offset)
+        linear): g ~ sum_i g_i(p_i) + s_i (q_i - p_i); a reciprocal member in its resistance,
+        g_i ~ (1/q_i - 1/p_0) g_i(p_i) / (1/p_i - 1/p_0)."""
+        cands = tuple(f.candidates[0] for f in (a, b))
+        lines = [self._line(f) for f in (a, b)]
+        offset = sum(off for off, *_ in lines)
+        cols = np.column_stack([col for _, col, *_ in lines])
+        x, _, _ = self.fitter.solve(cols, [lo for *_, (lo, _), _ in lines], [hi for *_, (_, hi), _ in lines],
+                                    self.fitter.r - offset)
         g = offset + cols @ x
-        cands = tuple(c for c, *_ in members)
-        values = tuple(float(c.zero + xi) for c, xi in zip(cands, x))
+        values = tuple(float(back(xi)) for (*_, back), xi in zip(lines, x))
         if any(not c.linear for c in cands):   # the linearisation is approximate: evaluate it
             g = self.response(cands, values)
-        return Fit(cands, values, g, self.fitter.sse(g), tuple(s for *_, s in members))
+        return Fit(cands, values, g, self.fitter.sse(g), tuple(f.slopes[0] for f in (a, b)))
+
+    @staticmethod
+    def _line(f: Fit):
+        """A single's linearisation for a pair: (offset, column, (lower, upper) of x, x -> value)
+        with g ~ offset + column x about the single's fit; x = q - p_0, or for a reciprocal member
+        fitted below p_0, x = 1/q - 1/p_0."""
+        c, p, g, s = f.candidates[0], f.values[0], f.response, f.slopes[0]
+        if c.reciprocal and p < c.zero:
+            t0 = 1.0 / c.zero
+            return 0 * g, g / (1.0 / p - t0), (1.0 / c.upper - t0, 1.0 / c.lower - t0), lambda x: 1.0 / (t0 + x)
+        offset = 0 * g if c.linear else g - (p - c.zero) * s
+        return offset, s, (c.lower - c.zero, c.upper - c.zero), lambda x: c.zero + x
