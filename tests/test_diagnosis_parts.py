@@ -1,5 +1,6 @@
 """The diagnosis's parts, each against a closed form: bounded least squares with a bounded
-nuisance, Gauss-Newton, the verdict rule, the region partition, the response of the observables
+nuisance, Gauss-Newton, the nonlinear candidates' starts (a contact conductance in its resistance,
+a second secant), the verdict rule, the region partition, the response of the observables
 to added heat inputs (superposition), and the declared uncertain parameters (linear or not)."""
 
 from __future__ import annotations
@@ -198,3 +199,86 @@ def test_uncertain_parameters_are_declared_linear_or_not_truthfully(machine, mm,
     affine = all(np.allclose(y.power(t) - 2 * x.power(t) + z.power(t), 0, atol=1e-9 * (1 + np.abs(y.power(t)).max()))
                  for z, x, y in zip(zero, a, b) if hasattr(x, "power"))
     assert u.linear == (not operator and affine)
+
+
+def test_missing_contact_conductance_is_fitted_in_its_resistance():
+    """A seat of conductance G in series with the rest of the bar's path carries the heat flow Q:
+    the bar's temperature drops by Q / G (series resistances add, R = 1/G), so the response to
+    adding the contact is g(G) = -Q (1/G - 1/G_0) s exactly (G_0 = 1000 W/K, the upper bound,
+    where the contact adds nothing). With truth G = 5 W/K the linearised start in 1/G is exact;
+    linearised in G from G_0 through the 20 W/K reference it would need 1/G-like growth the
+    secant cannot give and would sit at the 0.1 W/K bound."""
+    from twin.model import ModelSpec
+    from validate.candidates import missing_effect
+    from validate.search import Search
+    c = missing_effect("test_bar_contact")
+    assert c.reciprocal and c.zero == c.upper == 1000.0 and c.reference == 20.0
+    s = np.linspace(0.0, 1.0, 300) ** 2                  # the bar's warming shape
+    q = 30.0                                             # W through the seat
+    observe = lambda spec: (-q * (1 / spec.params["test_bar_contact"]["conductance"] - 1 / c.zero) * s
+                            if "test_bar_contact" in spec.effects else 0 * s)
+    spec = ModelSpec((), {})
+    r = observe(c.spec(spec, 5.0))
+    search = Search(observe, spec, observe(spec), BoundedFitter(r, np.ones_like(r)))
+    p, sse = search.linearised(c)
+    assert p == pytest.approx(5.0, rel=1e-9) and sse < 1e-20
+    fit = search.single(c)
+    assert fit.values[0] == pytest.approx(5.0, rel=1e-9) and fit.sse < 1e-20
+    secant = Candidate(*(getattr(c, f) for f in ("name", "kind", "effect", "parameter", "lower", "upper", "zero",
+                                                 "reference", "linear", "in_model")))
+    assert search.linearised(secant)[0] == pytest.approx(c.lower)   # the old start: at the bound
+
+
+def test_a_film_below_its_model_value_is_found_by_the_second_secant():
+    """A surface losing heat q through a film h in series with an internal conductance a (per
+    unit area): its excess temperature is q / (h + a), so a film changed from h_0 gives
+    g(h) = q s (1/(h + a) - 1/(h_0 + a)) exactly (s a time shape). Truth h = 90 for h_0 = 150,
+    reference run at 300 (the other side): the secant through 300 puts the start at the 50 bound,
+    where the residual is worse than nothing; the secant through the zero and that start lands at
+    h = 150 - 36 = 114 (closed form for a = 10), and Gauss-Newton from there reaches 90."""
+    from twin.model import ModelSpec
+    from validate.search import Search
+    c = Candidate("spindle_forced_convection.h_reference", "parameter", "spindle_forced_convection", "h_reference",
+                  50.0, 450.0, 150.0, 300.0, False, True)
+    s = np.linspace(0.0, 1.0, 300) ** 0.5
+    resp = lambda h: 40.0 * s * (1 / (h + 10.0) - 1 / 160.0)
+    observe = lambda spec: resp(spec.params["spindle_forced_convection"]["h_reference"])
+    spec = ModelSpec(("spindle_forced_convection",), {"spindle_forced_convection": {"h_reference": 150.0}})
+    r = resp(90.0)
+    search = Search(observe, spec, observe(spec), BoundedFitter(r, np.ones_like(r)), gn_iterations=8)
+    assert search.linearised(c)[0] == pytest.approx(50.0)
+    assert search.fitter.sse(resp(50.0)) > search.fitter.sse(0 * r)       # the first start: worse than nothing
+    fit = search.single(c)
+    a = 1 / 160.0
+    expected = 150.0 + (1 / 100.0 - a) / ((1 / 60.0 - a) / -100.0)       # secant through (150, 0), (50, g(50))
+    assert fit.values[0] == pytest.approx(expected, rel=1e-9) and expected == pytest.approx(114.0, abs=0.1)
+    assert fit.sse < search.fitter.sse(0 * r)
+    best = search.singles([c])[0]
+    assert best.values[0] == pytest.approx(90.0, rel=1e-3)
+
+
+def test_a_pair_with_a_contact_is_linearised_in_its_resistance():
+    """Truth: a seat of 5 W/K (g_1 = -q (1/G - 1/G_0) s_1, exactly linear in 1/G, as above) and a
+    heat source of 30 W (g_2 = P s_2, linear): the pair fitted about the two singles (each fitted
+    alone, so biased by the other) is linear in (1/G, P) and recovers (5 W/K, 30 W) exactly."""
+    from twin.model import ModelSpec
+    from validate.candidates import missing_effect
+    from validate.search import Search
+    c1 = missing_effect("test_bar_contact")
+    c2 = missing_effect("electrical_cabinet")
+    t = np.linspace(0.0, 1.0, 300)
+    s1, s2 = t ** 2, np.sin(3 * t)
+    def observe(spec):
+        y = 0 * t
+        if "test_bar_contact" in spec.effects:
+            y = y - 30.0 * (1 / spec.params["test_bar_contact"]["conductance"] - 1 / c1.zero) * s1
+        if "electrical_cabinet" in spec.effects:
+            y = y + spec.params["electrical_cabinet"]["power"] * s2 / 100.0
+        return y
+    spec = ModelSpec((), {})
+    r = observe(c2.spec(c1.spec(spec, 5.0), 30.0))
+    search = Search(observe, spec, observe(spec), BoundedFitter(r, np.ones_like(r)))
+    a, b = search.single(c1), search.single(c2)
+    assert abs(a.values[0] - 5.0) > 0.05 and abs(b.values[0] - 30.0) > 0.5      # each alone is biased
+    pair = search.pair(a, b)
+    assert pair.values == pytest.approx((5.0, 30.0), rel=1e-9) and pair.sse < 1e-20

@@ -74,6 +74,7 @@ def test_scores_and_rates_follow_the_numbers():
     (["--truth", "coarse", "--model", "default"], "coarser than --model"),
     (["--effects", "nonsense"], "unknown effects: nonsense"),
     (["--classes", "hidden,weird"], "unknown class 'weird'"),
+    (["--classes", "none", "--scenarios", "no-such-test"], "--scenarios: no planned case runs on 'no-such-test'"),
 ])
 def test_bad_options_are_one_clear_error(capsys, argv, needle):
     with pytest.raises(SystemExit) as e:

@@ -15,6 +15,13 @@ A :class:`Candidate` is one scalar the diagnosis fits: an effect's parameter p i
 The response of the observables is g(p) = y(model with p) - y(model); :attr:`Candidate.zero` is
 the p where g vanishes, :attr:`Candidate.reference` a p != zero where a linear candidate's unit
 response (g(p) / (p - zero)) is taken.
+
+A missing contact conductance G (the test bar's seat) adds nothing at G = infinity, not at 0: its
+``zero`` is the upper bound and it is :attr:`Candidate.reciprocal`: the resistance R = 1/G adds in
+series, so g is nearly linear in 1/G - 1/G_zero and the fit's linearised start is taken in it
+(:mod:`validate.search`). Linearised in G from G_zero = 1000 W/K, a 5 W/K seat would need 3.4x
+the 20 W/K response where the secant gives 1.02x (the C-frame's duty cycle on the coarse mesh;
+linear in 1/G: 4.1x): the start hit the 0.1 W/K bound and the candidate ranked 14th.
 """
 
 from __future__ import annotations
@@ -40,6 +47,7 @@ class Candidate:
     reference: float   # a value != zero for the unit response of a linear candidate, and the GN start
     linear: bool
     in_model: bool     # True: the model has the effect (a parameter); False: the candidate adds it
+    reciprocal: bool = False   # g vanishes at the upper bound (G -> infinity): linearise in 1/p
 
     @property
     def dimension(self) -> str:
@@ -78,15 +86,16 @@ def missing_effect(name: str) -> Candidate | None:
         return None
     par = eff.parameter(eff.strength)
     kind = "custom" if getattr(eff, "custom", False) else "effect"
-    return Candidate(name, kind, name, par.name, par.lower, par.upper, 0.0 if eff.linear else _zero_of(par),
-                     reference_value(par), eff.linear, False)
+    zero = 0.0 if eff.linear else _zero_of(par)
+    return Candidate(name, kind, name, par.name, par.lower, par.upper, zero, reference_value(par), eff.linear, False,
+                     reciprocal=not eff.linear and zero == par.upper > 0)
 
 
 def _zero_of(par) -> float:
     """Where a nonlinear missing effect's response vanishes, as far as the fit needs it: 0 (a
     film coefficient or jacket conductance of zero adds nothing); for parameters whose zero is not
-    'nothing' (a contact conductance: perfect contact is infinite) the fit starts from the
-    reference anyway."""
+    'nothing' (a contact conductance: perfect contact is infinite) the upper bound, and the
+    candidate is fitted in the reciprocal (module docstring)."""
     return 0.0 if par.lower <= 0.0 else par.upper
 
 

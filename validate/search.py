@@ -8,7 +8,10 @@ nuisance (each material's expansion within its band) fitted jointly with every c
 * Linear candidates (heat sources): g(p) = (p - p_0) u with u from one run; the bounded fit is
   exact.
 * Nonlinear candidates: one run at the reference value gives the secant s = g(p_ref) / (p_ref -
-  p_0); the linearised fit g ~ (p - p_0) s gives a start, and one run there the actual SSE. The
+  p_0); the linearised fit g ~ (p - p_0) s gives a start p_1, and one run there the actual SSE;
+  a second secant through the zero and p_1 (on the fit's side of p_0, where p_ref may lie on the
+  other) gives p_2, one more run, kept if better (a reciprocal candidate, a contact conductance
+  whose g vanishes at p_0 = infinity, is linearised in its resistance: g ~ (1/p - 1/p_0) v). The
   ``refine`` best of them (by that SSE) then get bounded Gauss-Newton
   (:func:`validate.fit.gauss_newton`).
 * Pairs (when no single explains ``pair_threshold`` of the residual): every pair of the
@@ -79,22 +82,40 @@ class Search:
         return self._unit[c.name]
 
     def linearised(self, c: Candidate) -> tuple[float, float]:
-        """(p, SSE) of the fit g ~ (p - p_0) u within the candidate's bounds."""
-        x, _, sse = self.fitter.solve(self.unit(c)[:, None], [c.lower - c.zero], [c.upper - c.zero])
-        return float(c.zero + x[0]), sse
+        """(p, SSE) of the fit g ~ (p - p_0) u within the candidate's bounds (a reciprocal
+        candidate: g ~ (1/p - 1/p_0) v), the secant taken through the reference run."""
+        return self.along(c, self.unit(c) * (c.reference - c.zero), c.reference)
+
+    def along(self, c: Candidate, g_at: np.ndarray, p_at: float) -> tuple[float, float]:
+        """(p, SSE) of the fit g ~ (t(p) - t(p_0)) v, v = g(p_at) / (t(p_at) - t(p_0)): the secant
+        through the zero and the run at ``p_at``, in t(p) = p, or t(p) = 1/p for a reciprocal
+        candidate; within the candidate's bounds."""
+        t = (lambda q: 1.0 / q) if c.reciprocal else (lambda q: q)
+        t0 = t(c.zero)
+        lo, hi = sorted((t(c.lower) - t0, t(c.upper) - t0))
+        x, _, sse = self.fitter.solve((g_at / (t(p_at) - t0))[:, None], [lo], [hi])
+        return float(min(max(t(t0 + x[0]), c.lower), c.upper)), sse
 
     def single(self, c: Candidate, gauss_newton_steps: bool = False) -> Fit:
         """A candidate's fit: exact for a linear one; for a nonlinear one the linearised start,
-        evaluated, and with ``gauss_newton_steps`` refined."""
+        evaluated, then one more secant through the zero and that start (on the fit's side of
+        p_0, where the reference may lie on the other: a film 0.6x its model value, the secant
+        through 2x), evaluated and kept if better; with ``gauss_newton_steps`` refined."""
         p, _ = self.linearised(c)
         u = self.unit(c)
         if c.linear:
             g = (p - c.zero) * u
             return Fit((c,), (p,), g, self.fitter.sse(g), (u,))
-        if not gauss_newton_steps:
-            g = self.response([c], [p])
-            return Fit((c,), (p,), g, self.fitter.sse(g), (u,))
-        return self.joint((c,), (p,))
+        g = self.response([c], [p])
+        fit = Fit((c,), (p,), g, self.fitter.sse(g), (u,))
+        if abs(p - c.zero) > 1e-6 * (c.upper - c.lower) and np.any(g):
+            q, _ = self.along(c, g, p)
+            if abs(q - p) > 1e-3 * (c.upper - c.lower):
+                g2 = self.response([c], [q])
+                sse2 = self.fitter.sse(g2)
+                if sse2 < fit.sse:
+                    fit = Fit((c,), (q,), g2, sse2, (u,))
+        return self.joint((c,), fit.values) if gauss_newton_steps else fit
 
     def joint(self, cands: tuple[Candidate, ...], start) -> Fit:
         """Bounded Gauss-Newton over ``cands`` from ``start`` (linear members: exact columns)."""
@@ -130,16 +151,28 @@ class Search:
 
     def pair(self, a: Fit, b: Fit) -> Fit:
         """Two singles fitted jointly, each linearised about its own fit (exact when both are
-        linear): g ~ sum_i g_i(p_i) + s_i (q_i - p_i)."""
-        members = [(f.candidates[0], f.values[0], f.response, f.slopes[0]) for f in (a, b)]
-        offset = sum(((g - (p - c.zero) * s) if not c.linear else 0 * g) for c, p, g, s in members)
-        cols = np.column_stack([s for _, _, _, s in members])
-        lo = [c.lower - c.zero for c, *_ in members]
-        hi = [c.upper - c.zero for c, *_ in members]
-        x, _, _ = self.fitter.solve(cols, lo, hi, self.fitter.r - offset)
+        linear): g ~ sum_i g_i(p_i) + s_i (q_i - p_i); a reciprocal member in its resistance,
+        g_i ~ (1/q_i - 1/p_0) g_i(p_i) / (1/p_i - 1/p_0)."""
+        cands = tuple(f.candidates[0] for f in (a, b))
+        lines = [self._line(f) for f in (a, b)]
+        offset = sum(off for off, *_ in lines)
+        cols = np.column_stack([col for _, col, *_ in lines])
+        x, _, _ = self.fitter.solve(cols, [lo for *_, (lo, _), _ in lines], [hi for *_, (_, hi), _ in lines],
+                                    self.fitter.r - offset)
         g = offset + cols @ x
-        cands = tuple(c for c, *_ in members)
-        values = tuple(float(c.zero + xi) for c, xi in zip(cands, x))
+        values = tuple(float(back(xi)) for (*_, back), xi in zip(lines, x))
         if any(not c.linear for c in cands):   # the linearisation is approximate: evaluate it
             g = self.response(cands, values)
-        return Fit(cands, values, g, self.fitter.sse(g), tuple(s for *_, s in members))
+        return Fit(cands, values, g, self.fitter.sse(g), tuple(f.slopes[0] for f in (a, b)))
+
+    @staticmethod
+    def _line(f: Fit):
+        """A single's linearisation for a pair: (offset, column, (lower, upper) of x, x -> value)
+        with g ~ offset + column x about the single's fit; x = q - p_0, or for a reciprocal member
+        fitted below p_0, x = 1/q - 1/p_0."""
+        c, p, g, s = f.candidates[0], f.values[0], f.response, f.slopes[0]
+        if c.reciprocal and p < c.zero:
+            t0 = 1.0 / c.zero
+            return 0 * g, g / (1.0 / p - t0), (1.0 / c.upper - t0, 1.0 / c.lower - t0), lambda x: 1.0 / (t0 + x)
+        offset = 0 * g if c.linear else g - (p - c.zero) * s
+        return offset, s, (c.lower - c.zero, c.upper - c.zero), lambda x: c.zero + x

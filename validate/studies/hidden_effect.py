@@ -179,6 +179,8 @@ def main(argv=None) -> int:
                                       "library effect the model lacks)")
     ap.add_argument("--cases", help="only the cases whose label contains one of these comma-separated texts "
                                     "(e.g. 'front_power x0.7,(none)'), to rerun a few")
+    ap.add_argument("--scenarios", help="only the cases on these comma-separated scenarios (a scenario name's "
+                                        "text, e.g. 'etve-day-night')")
     ap.add_argument("--quick", action="store_true", help="shortened spindle scenarios")
     ap.add_argument("--out", help="folder for hidden_effect.md/.csv (default: validate-out/hidden_effect/MACHINE)")
     ap.add_argument("--jobs", type=int, default=1, help="cases run in parallel processes (default 1)")
@@ -228,10 +230,16 @@ def main(argv=None) -> int:
         plan = [c for c in plan if any(w in c.label for w in wanted)]
         if not plan:
             ap.error(f"--cases: no case of the classes {', '.join(classes)} matches {a.cases!r}")
+    if a.scenarios:
+        wanted = [w.strip() for w in a.scenarios.split(",") if w.strip()]
+        plan = [c for c in plan if any(w in c.scenario for w in wanted)]
+        if not plan:
+            ap.error(f"--scenarios: no planned case runs on {a.scenarios!r}")
     work = [(c, a.quick, a.truth, a.model, error, machine.name) for c in plan]
     cmd = (f"python -m validate.studies.hidden_effect --machine {machine.name} --classes {','.join(classes)}"
            + (" --quick" if a.quick else "") + (f" --effects {a.effects}" if a.effects else "")
            + (f" --cases '{a.cases}'" if a.cases else "")
+           + (f" --scenarios {a.scenarios}" if a.scenarios else "")
            + (f" --jobs {a.jobs}" if a.jobs > 1 else "")
            + "".join(f" --{o.replace('_', '-')} {v}" for o, v, d in (("truth", a.truth, "fine"), ("model", a.model, "default"),
                                                                        ("error_mesh", a.error_mesh, "coarse")) if v != d))
