@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from twin.fem.assembly import ElasticMatrices, assemble_elastic
+from twin.fem.assembly import ElasticMatrices, assemble_coupling, assemble_elastic
 from twin.fem.mesh import MachineMesh
 from twin.physics.solvers import AmgElastic, rigid_body_modes
 
@@ -83,7 +83,7 @@ class ElasticSolver:
     @staticmethod
     def coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:
         """Thermal coupling C [N/K] on the temperature dofs of ``mm`` (see :mod:`twin.fem.assembly`)."""
-        return assemble_elastic(mm, materials).C
+        return assemble_coupling(mm, materials)
 
     def solve(self, load: np.ndarray) -> np.ndarray:
         """Displacements u [m] (3 per node, interleaved) for nodal forces ``load`` [N] (columns ok)."""
