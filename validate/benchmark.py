@@ -39,6 +39,9 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--device", default="cpu", choices=["cpu", "gpu"])
     ap.add_argument("--cases", type=int, default=1, help="number of batched cases (default 1: one plain run)")
     ap.add_argument("--rom-order", type=int, default=48)
+    ap.add_argument("--heat-tol", default=None,
+                    help="iterative heat solver: bound on the run's capacity-weighted RMS temperature error, "
+                         "with its unit (default 1e-6 K)")
     ap.add_argument("--no-reference", action="store_true", help="skip the full-order reference of the ROM")
     ap.add_argument("--heat-only", action="store_true",
                     help="observe temperatures and the heat balance only (no elastic adjoints): times the heat step")
@@ -82,7 +85,8 @@ def main(argv=None) -> int:
     try:
         machine = machine_by_name(args.machine)
         scenario = load_scenario(args.scenario)
-        options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order)
+        tol = {"heat_tol": parse_quantity(args.heat_tol, "temperature_difference")} if args.heat_tol else {}
+        options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order, **tol)
         spacing = parse_quantity(args.spacing, "length") if args.spacing else None
     except (InputError, UnitError) as err:
         print(f"error: {err}", file=sys.stderr)
