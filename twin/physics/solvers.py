@@ -219,7 +219,7 @@ class Projection:
         self.last = None
 
     def guess(self, b):
-        return self.Q @ (self.Q.T @ b)
+        return self.xp.zeros_like(b) if self.Q is None else self.Q @ (self.Q.T @ b)
 
     def add(self, x) -> None:
         """Add the solution x (restart from the last two solutions when the basis is full)."""
@@ -245,6 +245,7 @@ class Projection:
 
 
 PROJECTION_SIZE = 8     # solutions kept for the start of the next heat step (:class:`Projection`)
+ADJOINT_STARTS = 64     # elastic solutions kept for the start of the next adjoint solve
 
 
 @dataclass
@@ -349,10 +350,10 @@ class AmgElastic:
 
     The V-cycle smooths by one forward Gauss-Seidel sweep before the coarse correction and one
     backward sweep after it (a symmetric preconditioner at half the cost of two symmetric sweeps).
-    Every solve starts from the Galerkin projection of its load on the solutions found before,
-    x0 = Q Q^T f with Q their K-orthonormal basis (the energy-optimal start in that span): the
-    adjoints of nearby drift outputs share most of their far field, so later solves start closer
-    (one that is a combination of earlier ones needs no iteration)."""
+    Every solve starts from the Galerkin projection of its load on the solutions found before
+    (:class:`Projection`: x0 = Q Q^T f, Q their K-orthonormal basis, the energy-optimal start in
+    that span): the adjoints of nearby drift outputs share most of their far field, so later
+    solves start closer (one that is a combination of earlier ones needs no iteration)."""
 
     def __init__(self, k: sp.csr_matrix, modes: np.ndarray, rtol: float = 1e-10, max_iterations: int = 500):
         import pyamg
@@ -364,21 +365,7 @@ class AmgElastic:
                                                     presmoother=("gauss_seidel", {"sweep": "forward"}),
                                                     postsmoother=("gauss_seidel", {"sweep": "backward"}))
         self.iterations: list[int] = []
-        self._q = np.zeros((self.k.shape[0], 0))    # K-orthonormal basis of the solutions so far
-        self._kq = np.zeros((self.k.shape[0], 0))   # K Q
-
-    def _remember(self, x: np.ndarray) -> None:
-        """Add solution x to the K-orthonormal basis (twice-iterated Gram-Schmidt in the K inner
-        product; dropped when it adds less than 1e-8 of its energy)."""
-        kx = self.k @ x
-        energy = float(x @ kx)
-        for _ in range(2):
-            c = self._kq.T @ x
-            x, kx = x - self._q @ c, kx - self._kq @ c
-        rest = float(x @ kx)
-        if energy > 0 and rest > 1e-16 * energy:
-            self._q = np.column_stack([self._q, x / np.sqrt(rest)])
-            self._kq = np.column_stack([self._kq, kx / np.sqrt(rest)])
+        self.starts = Projection(lambda v: self.k @ v, ADJOINT_STARTS)
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         rhs = np.asarray(rhs, dtype=float)
@@ -388,11 +375,10 @@ class AmgElastic:
             if not np.any(cols[:, j]):
                 continue
             residuals: list[float] = []
-            x0 = self._q @ (self._q.T @ cols[:, j])
-            out[:, j] = self.ml.solve(cols[:, j], x0=x0, tol=self.rtol, accel="cg", maxiter=self.max_iterations,
-                                      residuals=residuals)
+            out[:, j] = self.ml.solve(cols[:, j], x0=self.starts.guess(cols[:, j]), tol=self.rtol, accel="cg",
+                                      maxiter=self.max_iterations, residuals=residuals)
             if residuals[-1] > self.rtol * np.linalg.norm(cols[:, j]) * (1 + 1e-6):
                 raise RuntimeError(f"AMG-CG did not reach rtol {self.rtol:.1e} in {self.max_iterations} iterations")
             self.iterations.append(len(residuals) - 1)
-            self._remember(out[:, j])
+            self.starts.add(out[:, j])
         return out[:, 0] if rhs.ndim == 1 else out
