@@ -1,7 +1,8 @@
 """Global sparse matrices of a machine mesh, assembled once.
 
 Element matrices come from :mod:`twin.fem.elements`, computed once per distinct (cell size,
-material) pair and scattered with one COO -> CSR conversion. Temperatures live on the
+material) pair and scattered pair of corners by pair into the sparsity pattern
+(:mod:`twin.fem.scatter`: no per-cell copies, so a million-node mesh assembles in bounded memory). Temperatures live on the
 temperature dofs ``mm.heat_t`` (the mesh nodes, plus copies where a contact interface splits
 the field, see :meth:`twin.fem.mesh.MachineMesh.split_heat`); displacements on the mesh nodes.
 Facet matrices of the axis-aligned rectangular faces are in closed form.
@@ -14,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from twin.fem import elements
+from twin.fem.scatter import Pattern
 from twin.fem.mesh import MachineMesh
 
 
@@ -52,10 +54,9 @@ def assemble_heat(mm: MachineMesh, materials: dict | None = None) -> HeatMatrice
     part = uniq[:, 3].astype(int)
     k_val = np.array([mats[p].conductivity for p in part])
     c_val = np.array([mats[p].volumetric_heat_capacity for p in part])
-    t = mm.heat_t.T
-    n = mm.nheat
-    K = _scatter(t, t, (k_ref * k_val[:, None, None])[inverse], (n, n))
-    M = _scatter(t, t, (m_ref * c_val[:, None, None])[inverse], (n, n))
+    pattern = Pattern(mm.heat_t, mm.heat_t, (mm.nheat, mm.nheat))
+    K = pattern.assemble(k_ref * k_val[:, None, None], inverse)
+    M = pattern.assemble(m_ref * c_val[:, None, None], inverse)
     return HeatMatrices(K, M)
 
 
@@ -68,20 +69,34 @@ class ElasticMatrices:
     C: sp.csr_matrix
 
 
-def assemble_elastic(mm: MachineMesh, materials: dict | None = None) -> ElasticMatrices:
-    """Assemble incompatible-mode brick stiffness and thermal coupling (see :mod:`twin.fem.elements`)."""
+def _elastic_groups(mm: MachineMesh, materials: dict | None, stiffness: bool):
+    """Per group (size, part): condensed stiffness (g, 8, 8, 3, 3) [N/m] (None unless
+    ``stiffness``) and coupling (g, 8, 8, 3, 1) [N/K] in node blocks, and each cell's group."""
     mats = cell_materials(mm, materials)
     uniq, inverse = _groups(mm)
     part = uniq[:, 3].astype(int)
     lame = np.array([mats[p].lame for p in part])
     alpha = np.array([mats[p].expansion for p in part])
     k_e, c_e = elements.elastic_matrices(uniq[:, :3], lame[:, 0], lame[:, 1], alpha)
-    t = mm.mesh.t.T
-    dofs = (3 * t[:, :, None] + np.arange(3)[None, None, :]).reshape(len(t), 24)
-    n = mm.nnodes
-    K = _scatter(dofs, dofs, k_e[inverse], (3 * n, 3 * n))
-    C = _scatter(dofs, mm.heat_t.T, c_e[inverse], (3 * n, mm.nheat))
+    g = len(uniq)
+    k_blocks = k_e.reshape(g, 8, 3, 8, 3).transpose(0, 1, 3, 2, 4) if stiffness else None
+    c_blocks = c_e.reshape(g, 8, 3, 8).transpose(0, 1, 3, 2)[..., None]
+    return k_blocks, c_blocks, inverse
+
+
+def assemble_elastic(mm: MachineMesh, materials: dict | None = None) -> ElasticMatrices:
+    """Assemble incompatible-mode brick stiffness and thermal coupling (see :mod:`twin.fem.elements`)."""
+    k_blocks, c_blocks, inverse = _elastic_groups(mm, materials, stiffness=True)
+    t, n = mm.mesh.t, mm.nnodes
+    K = Pattern(t, t, (n, n)).assemble(k_blocks, inverse)
+    C = Pattern(t, mm.heat_t, (n, mm.nheat)).assemble(c_blocks, inverse)
     return ElasticMatrices(K, C)
+
+
+def assemble_coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:
+    """The thermal coupling C [N/K] of :func:`assemble_elastic` alone (no stiffness)."""
+    _, c_blocks, inverse = _elastic_groups(mm, materials, stiffness=False)
+    return Pattern(mm.mesh.t, mm.heat_t, (mm.nnodes, mm.nheat)).assemble(c_blocks, inverse)
 
 
 @dataclass

@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from twin.fem.assembly import ElasticMatrices, assemble_elastic
+from twin.fem.assembly import ElasticMatrices, assemble_coupling, assemble_elastic
 from twin.fem.mesh import MachineMesh
 from twin.physics.solvers import AmgElastic, rigid_body_modes
 
@@ -43,10 +43,29 @@ def support_dofs(mm: MachineMesh) -> np.ndarray:
     return np.array([3 * a, 3 * a + 1, 3 * a + 2, 3 * b + 1, 3 * b + 2, 3 * c + 2])
 
 
+def constrained(K: sp.csr_matrix, fixed: np.ndarray, copy: bool = True) -> sp.csr_matrix:
+    """K with the rows and columns of the ``fixed`` dofs zeroed and 1 on their diagonal, in the
+    same sparsity pattern (no copies of the big matrix by fancy indexing; in place when not
+    ``copy``). Solved with a zero load on those dofs it gives u_fixed = 0 and on the rest exactly
+    the supported system K_ff u_f = f_f."""
+    K = K.tocsr(copy=copy)
+    mask = np.zeros(K.shape[0], dtype=bool)
+    mask[fixed] = True
+    rows = np.repeat(mask, np.diff(K.indptr))
+    hit = rows | mask[K.indices]
+    where = np.flatnonzero(hit)
+    on_diagonal = np.searchsorted(K.indptr, where, side="right") - 1 == K.indices[where]
+    values = np.zeros(int(hit.sum()))
+    values[on_diagonal] = 1.0
+    K.data[hit] = values
+    return K
+
+
 @dataclass
 class ElasticSolver:
     """The supported stiffness of a machine, ready to solve K u = f for any load: factorised
-    (``method="direct"``) or by AMG-preconditioned CG to ``rtol`` (``method="amg"``)."""
+    (``method="direct"``) or by AMG-preconditioned CG to ``rtol`` (``method="amg"``, where
+    ``matrices.K`` holds the support as identity rows, :func:`constrained`)."""
 
     matrices: ElasticMatrices
     fixed: np.ndarray
@@ -61,13 +80,17 @@ class ElasticSolver:
         mats = assemble_elastic(mm, materials)
         fixed = support_dofs(mm)
         free = np.setdiff1d(np.arange(mats.K.shape[0]), fixed)
-        kff = mats.K[free][:, free]
         if method == "direct":
+            kff = mats.K[free][:, free]
             solver = spla.splu(kff.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                                options={"SymmetricMode": True})
             rtol = 0.0
         elif method == "amg":
-            solver = AmgElastic(kff.tocsr(), rigid_body_modes(mm.mesh.p.T)[free], rtol)
+            modes = rigid_body_modes(mm.mesh.p.T)
+            modes[fixed] = 0.0
+            mats = ElasticMatrices(constrained(mats.K, fixed, copy=False), mats.C)   # one copy of K in memory
+            solver = AmgElastic(mats.K, modes, rtol)
+            free = np.arange(mats.K.shape[0])     # the fixed dofs are identity rows with zero load
         else:
             raise ValueError(f"unknown elastic method {method!r}")
         return cls(mats, fixed, free, solver, method, rtol)
@@ -83,13 +106,16 @@ class ElasticSolver:
     @staticmethod
     def coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:
         """Thermal coupling C [N/K] on the temperature dofs of ``mm`` (see :mod:`twin.fem.assembly`)."""
-        return assemble_elastic(mm, materials).C
+        return assemble_coupling(mm, materials)
 
     def solve(self, load: np.ndarray) -> np.ndarray:
         """Displacements u [m] (3 per node, interleaved) for nodal forces ``load`` [N] (columns ok)."""
         load = np.asarray(load, dtype=float)
         u = np.zeros(load.shape)
-        u[self.free] = self._lu.solve(np.ascontiguousarray(load[self.free]))
+        f = np.ascontiguousarray(load[self.free])
+        if len(self.free) == len(load):
+            f[self.fixed] = 0.0
+        u[self.free] = self._lu.solve(f)
         return u
 
     def displacement(self, dT: np.ndarray) -> np.ndarray:
