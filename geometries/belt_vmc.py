@@ -22,7 +22,8 @@ distance) and 20 mm clear of the column face; the same 40 mm square, 270 mm test
 
 Construction (issue 8's decision; plausible, not a measured machine): castings of a machine this
 size are hollow, ribbed boxes with walls of 15-30 mm, not solid blocks (as solid blocks the model
-weighed 5.2 t, about twice a real machine of this class), and a belt-driven spindle is a cartridge
+weighed 5.3 t against about 3 t for a real machine of this class; now 3.9 t, 2.7 t of it the bed,
+still solid: it carries no heat source in the spindle tests), and a belt-driven spindle is a cartridge
 located by its front flange in the head's boss, the rest of it sliding in a clearance bore so the
 shaft can grow. So:
 
