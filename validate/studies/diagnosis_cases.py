@@ -166,7 +166,10 @@ class Case:
 
 
 def _quantity(effect: str, pname: str, value: float) -> str:
-    return format_quantity(value, EFFECTS[effect].parameter(pname).dimension).replace(" ", "")
+    """``value`` in the parameter's unit without the space ("60W"), unless the unit starts with a
+    digit ("1 1/m": without the space it would read 11/m)."""
+    number, _, unit = format_quantity(value, EFFECTS[effect].parameter(pname).dimension).partition(" ")
+    return f"{number} {unit}" if unit[:1].isdigit() else number + unit
 
 
 def hidden_case(machine, effect: str) -> Case:
