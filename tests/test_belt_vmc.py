@@ -2,17 +2,20 @@
 its calibration against the seed's heating/cooling tests (thesis Table 5-3, L5203-5257).
 
 belt-vmc's default effect set is the C-frame's five plus ``belt_drive`` (``Machine.default_effects``).
-Runtime (about 60 s on 2 cores): the calibration runs on the ``default`` mesh, one module-scoped
-run per scenario (belt-test-6 5 s, belt-test-1 5 s, belt-test-4 12 s: the 8 h test is the
-longest, and Test IV is the seed's training test); the mesh-convergence check needs one ``fine``
-run (belt-test-6, the shortest test and the one with the largest drift, 26 s). The point checks
+Runtime (about 60 s on 2 idle cores with the solid castings; the hollow ones have 36 % more nodes on
+``default``, 5 % on ``fine``; 6.7 min measured beside a running diagnosis study): the calibration
+runs on the ``default`` mesh, one module-scoped run per scenario (belt-test-6, belt-test-1,
+belt-test-4: the 8 h test is the longest, and Test IV is the seed's training test); the
+mesh-convergence check needs one ``fine`` run (belt-test-6, the shortest test and the one with the
+largest drift). The point checks
 use the meshes only (no run). Test II, III and V are not run here: II and III repeat Test I's
 speed for longer, V is Test VI without the room drift.
 
 Two kinds of bands: the seed's range where the twin reaches it (peak X and Z at 8000 rpm, the
-mesh convergence), and where it does not (peak Y: 11 um against 60-79 at 8000 rpm) the twin's own
+mesh convergence), and where it does not (peak Y: 19 um against 60-79 at 8000 rpm) the twin's own
 calibrated value, held as a band, beside a strict ``xfail`` test that states the seed's band and
-fails loudly (XPASS) once a change reaches it. Why Y falls short: ``geometries/belt_vmc.py``.
+fails loudly (XPASS) once a change reaches it. Why Y falls short: ``geometries/belt_vmc.py``. The
+hollow construction's bending is checked against thin-walled beam theory (last test).
 """
 
 from __future__ import annotations
@@ -30,7 +33,8 @@ from twin.fem.points import locate
 from twin.observe.sensor_grid import owner_of
 
 AXES6 = np.vstack([np.eye(3), -np.eye(3)])
-Y_SHORT = "peak Y is 4-7x below the seed in this model: top and bottom heat tilt the head opposite ways (geometries/belt_vmc.py)"
+Y_SHORT = ("peak Y is 3-5x below the seed in this model: no heat path turns the twin's 330 W into the seed's Y "
+           "without as much Z (geometries/belt_vmc.py)")
 
 
 @pytest.fixture(scope="module")
@@ -100,8 +104,8 @@ def test_seventy_seven_points_in_the_seed_order(machine):
 
 def test_structural_sites_lie_in_their_part_one_mm_under_a_face(machine, meshes):
     """Each structural site is in a cell of its own part on every mesh (``twin.fem.points.locate``);
-    a glued sensor has air 2 mm away along one axis (it is 1 mm inside an exterior face), T71-T72
-    are at least 30 mm inside the column casting (no air within 30 mm)."""
+    a glued sensor has air 2 mm away along one axis (it is 1 mm inside an exterior face; T71-T72
+    "inside the column" are glued to the walls of the hollow column's cavity)."""
     pts = [machine.point(n) for n in machine.sensor_sites]
     xyz = np.array([p.xyz for p in pts])
     for mm in meshes.values():
@@ -110,22 +114,21 @@ def test_structural_sites_lie_in_their_part_one_mm_under_a_face(machine, meshes)
     index = {p.name: i for i, p in enumerate(machine.parts)}
     assert list(owner_of(machine, xyz)) == [index[p.part] for p in pts]
     for p in pts:
-        near = owner_of(machine, np.asarray(p.xyz) + 0.002 * AXES6)
-        far = owner_of(machine, np.asarray(p.xyz) + 0.03 * AXES6)
-        if p.name in ("T71", "T72"):
-            assert np.all(far == index["column"]), p.name
-        else:
-            assert np.any(near == -1), p.name
+        assert np.any(owner_of(machine, np.asarray(p.xyz) + 0.002 * AXES6) == -1), p.name
+    # T71 on the front wall's inner face, T72 on the rear wall's: the cavity 2 mm away
+    for name, inwards in (("T71", (0.0, 1.0, 0.0)), ("T72", (0.0, -1.0, 0.0))):
+        assert owner_of(machine, np.add(machine.point(name).xyz, np.multiply(0.002, inwards)))[0] == -1, name
 
 
 def test_sensor_groups_where_table_4_4_puts_them(machine):
     """Column T1-T7 on the column; strip 1 T8-T33 up the carrier's front face and strip 2 T34-T62
     down its right side, each spread evenly over the carrier's height (spacing h/n, first and last
     h/(2n) from the ends); boss T63-T65 below the carrier; Y bed T68-T69 on the bed; table T74."""
-    carrier = machine.part("carrier").boxes[0]
-    z0, z1 = carrier.lo[2], carrier.hi[2]
+    body = machine.part("carrier").boxes[:-1]  # the hollow carrier's boxes; the last is the boss under it
+    lo, hi = np.min([b.lo for b in body], axis=0), np.max([b.hi for b in body], axis=0)
+    z0, z1 = lo[2], hi[2]
     assert all(machine.point(f"T{i}").part == "column" for i in (*range(1, 8), 71, 72))
-    for first, n, rising, axis, face in ((8, 26, True, 1, carrier.lo[1]), (34, 29, False, 0, carrier.hi[0])):
+    for first, n, rising, axis, face in ((8, 26, True, 1, lo[1]), (34, 29, False, 0, hi[0])):
         xyz = np.array([machine.point(f"T{first + i}").xyz for i in range(n)])
         z = xyz[:, 2] if rising else xyz[::-1, 2]
         assert np.allclose(np.diff(z), (z1 - z0) / n) and z[0] == pytest.approx(z0 + (z1 - z0) / (2 * n))
@@ -187,10 +190,10 @@ def test_8000_rpm_x_and_z_in_the_seed_range(test6):
 
 
 def test_twin_calibration_of_peak_y(test6, test1, test4):
-    """The twin's own peak |Y| (not the seed's): Test VI 8-16 um (11.3), Test I 2.5-5.5 um (3.7),
-    Test IV 7-14 um (10.0); as in the seed, Y grows with heating time and speed (IV > I, VI > I)."""
+    """The twin's own peak |Y| (not the seed's): Test VI 15-23 um (18.9), Test I 3.5-7 um (5.2),
+    Test IV 10-17 um (13.7); as in the seed, Y grows with heating time and speed (IV > I, VI > I)."""
     y6, y1, y4 = peak(test6, "Y"), peak(test1, "Y"), peak(test4, "Y")
-    assert 8.0 <= y6 <= 16.0 and 2.5 <= y1 <= 5.5 and 7.0 <= y4 <= 14.0
+    assert 15.0 <= y6 <= 23.0 and 3.5 <= y1 <= 7.0 and 10.0 <= y4 <= 17.0
     assert y4 > y1 and y6 > y1
 
 
@@ -230,3 +233,37 @@ def test_diagnose_finds_a_cabinet_on_a_belt_vmc_measurement(tmp_path, capsys):
     top = json.loads(report.read_text())["candidates"][0]
     assert top["effect"] == "electrical_cabinet"
     assert float(top["parameters"]["electrical_cabinet"]["power"].split()[0]) == pytest.approx(150, rel=0.1)
+
+
+def test_hollow_column_bends_as_a_thin_walled_beam():
+    """The hollow column construction (``column_boxes``: 25 mm walls, one cell through each) with
+    its front wall heated: Euler-Bernoulli for a free beam of any section, plane sections,
+    kappa = alpha * integral T (y - y_c) dA / I (here T is the mesh's own nodal field, dT on the
+    front wall, falling linearly to 0 across the side walls' first cell), so the middle of a
+    length c of the column's rear wall bows kappa c^2 / 8 against its ends (within 2 %, away from
+    the open foot and the top plate; 0.9 % on this mesh: shear lag and the one-cell walls)."""
+    from geometries.base import Machine, Part, material
+    from geometries.belt_vmc import column_boxes
+    from twin.physics.elastic import ElasticSolver
+
+    b, depth, t, height, dT = 0.4, 0.4, 0.025, 2.4, 10.0
+    iron = material("grey_cast_iron")
+    part = Part("column", iron, column_boxes((0.0, 0.0, 0.0), (b, depth, height), t))
+    mm = mesh_machine(Machine("hollow", [part], [], [], [], "", "", [], {"test": 0.05}), "test")
+    y = mm.mesh.p[1]
+    grid = np.unique(y)
+    ramp_end = grid[grid > t + 1e-9][0]
+    T = dT * np.clip((ramp_end - y) / (ramp_end - t), 0.0, 1.0)
+    u = ElasticSolver.build(mm).displacement(T)
+    # the section: front and rear walls b x t, side walls t x (depth - 2t); centroid at depth / 2
+    ys = np.linspace(0.0, depth, 400001)
+    width = np.where((ys <= t) | (ys >= depth - t), b, 2 * t)
+    temp = dT * np.clip((ramp_end - ys) / (ramp_end - t), 0.0, 1.0)
+    yc = depth / 2
+    inertia = np.trapezoid(width * (ys - yc) ** 2, ys)
+    kappa = iron.expansion * np.trapezoid(width * temp * (ys - yc), ys) / inertia  # < 0: the hot front is longer
+    node = lambda z: int(np.argmin(np.sum((mm.mesh.p.T - np.array([b / 2, depth, z])) ** 2, axis=1)))
+    z0, z1 = 0.6, 1.8
+    ends, mid = (node(z0), node(z1)), node((z0 + z1) / 2)
+    bow = u[mid, 1] - 0.5 * (u[ends[0], 1] + u[ends[1], 1])
+    assert bow == pytest.approx(kappa * (z1 - z0) ** 2 / 8, rel=0.02)  # bows towards the hot front (-y)

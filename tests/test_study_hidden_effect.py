@@ -81,3 +81,18 @@ def test_bad_options_are_one_clear_error(capsys, argv, needle):
         study.main(argv)
     assert e.value.code == 2
     assert needle in capsys.readouterr().err
+
+
+def test_room_effects_are_hidden_only_where_the_room_moves():
+    """belt-vmc lacks the C-frame's workshop effects, so the study hides them: stratified_swing acts
+    only while the room air moves (flux h s (z - z_ref) (T_air(t) - T_air(0))), so it is hidden on
+    the day-night record, not on a spindle test in a constant room; door_stream acts only during a
+    scenario's door event, which no study scenario has, so it is not hidden at all."""
+    from twin.model import parse_settings
+    cases = {c.label: c for c in all_cases(build_machine("belt-vmc"), ["hidden"])}
+    assert cases["stratified_swing"].scenario == "etve-day-night"
+    assert "door_stream" not in cases
+    # its truth's setting reads back as the default 1 /m (a unit starting with a digit keeps its space)
+    assert cases["stratified_swing"].truth_settings == ("stratified_swing.growth=1 1/m",)
+    assert parse_settings(list(cases["stratified_swing"].truth_settings),
+                          ("stratified_swing",))["stratified_swing"]["growth"] == 1.0
