@@ -115,7 +115,8 @@ def test_bad_input_is_refused_cleanly(case, tmp_path, good, no_simulation, capsy
 SAMPLE = ["simulate.scenario:speed-1e300-krpm", "simulate.o:link-to-input", "compare.csv:temperature-in-kelvin",
           "learn:train-twice"]
 READY = """
-import sys
+import signal, sys
+signal.signal(signal.SIGINT, signal.default_int_handler)   # as at a terminal, even when pytest runs in a background job
 from twin.cli import main
 print("ready", flush=True)
 sys.exit(main(sys.argv[1:]))
