@@ -6,7 +6,7 @@ standing for the case's folder, or ``command line``) and a part of the field. Th
 every file argument come from ``tests/fuzz_files.py``; this module adds the bad contents and
 options. Add a command, an option or a file format by adding rows:
 
-* :data:`SCENARIO_EDITS`, :data:`MAPPING_EDITS`, :data:`CSV_EDITS`, :data:`RESULT_EDITS`,
+* :data:`tests.fuzz_scenarios.SCENARIO_EDITS`, :data:`MAPPING_EDITS`, :data:`CSV_EDITS`, :data:`RESULT_EDITS`,
   :data:`TABLE_EDITS` - bad contents of each file kind, each run through the commands that read it;
 * :data:`OPTION_CASES` - bad option values and repeated options, per command.
 
@@ -22,178 +22,13 @@ import os
 
 import numpy as np
 
+from tests.fuzz_scenarios import (GANTRY_AXIS_EDITS, SCENARIO_EDITS, SCENARIO_EDITS_VIA_MEASUREMENT, SPEED,
+                                  c_axis_scenario, edited)
 from tests.fuzz_files import (CLI, COMPARE, COMPARE_GANTRY, COMPARE_NC, DEMO, DIAGNOSE, EFFECTS_FILE, FOLDERS,
                               GANTRY_MAPPING, INPUTS, LEARN, MAPPING, OUTPUTS, REPORT, ROOM_SCENARIO, gantry_csv,
                               PLOT, SCENARIO, SIM, TEXT, Case, bad_input_paths, bad_output_folders,
                               bad_output_paths, measurement_csv, netcdf_bytes, result_dataset, swap, table_csv)
 
-
-# ------------------------------------------------------------------------- bad scenario files
-def _sc(old: str, new: str, count: int = 1) -> str:
-    assert old in SCENARIO, old
-    return SCENARIO.replace(old, new, count)
-
-
-AMBIENT = '[ambient]\ntemperature = "20 degC"'
-DAILY = '[ambient]\nkind = "daily"\nmean = "20 degC"\namplitude = "3 K"'
-TABLE = '[ambient]\nkind = "table"\ntimes = ["0 h", "1 h"]\ntemperatures = ["20 degC", "21 degC"]'
-EVENT = '\n[[ambient.events]]\nstart = "5 min"\nchange = "-9 K"\nfall = "30 min"\n'
-SPEED = 'speed = "6000 rpm"'
-DURATION = 'duration = "10 min"'
-INTERVAL = 'sample_interval = "60 s"'
-
-C_AXIS = '\n[[c_axis]]\nspeed = "2500 rpm"\nduration = "10 min"\non = "10 s"\ndwell = "10 s"\n'
-
-
-def _c_axis(speed: str = 'speed = "2500 rpm"', duration: str = 'duration = "10 min"') -> str:
-    """A [[c_axis]] step with ``speed`` and ``duration`` lines in place of the good ones."""
-    return C_AXIS.replace('speed = "2500 rpm"', speed).replace('duration = "10 min"', duration)
-
-
-# (id, scenario text, field)
-SCENARIO_EDITS = [
-    ("ambient-below-absolute-zero", _sc('"20 degC"', '"-300 degC"'), "ambient.temperature"),
-    ("ambient-1e6-degC", _sc('"20 degC"', '"1e6 degC"'), "ambient.temperature"),
-    ("ambient-implausible", _sc('"20 degC"', '"85 degC"'), "ambient.temperature"),
-    ("ambient-no-unit", _sc('"20 degC"', '"20"'), "ambient.temperature"),
-    ("ambient-kelvin-unit", _sc('"20 degC"', '"293 K"'), "ambient.temperature"),
-    ("ambient-nan", _sc('"20 degC"', '"nan degC"'), "ambient.temperature"),
-    ("ambient-overflow", _sc('"20 degC"', '"1e400 degC"'), "ambient.temperature"),
-    ("ambient-number", _sc('"20 degC"', '20'), "ambient.temperature"),
-    ("ambient-bool", _sc('"20 degC"', 'true'), "ambient.temperature"),
-    ("initial-below-absolute-zero", _sc(INTERVAL, INTERVAL + '\ninitial_temperature = "-300 degC"'), "initial_temperature"),
-    ("initial-1e6", _sc(INTERVAL, INTERVAL + '\ninitial_temperature = "1e6 degC"'), "initial_temperature"),
-    ("initial-no-unit", _sc(INTERVAL, INTERVAL + '\ninitial_temperature = "20"'), "initial_temperature"),
-    ("daily-negative-amplitude", _sc(AMBIENT, DAILY.replace('"3 K"', '"-3 K"')), "ambient.amplitude"),
-    ("daily-huge-amplitude", _sc(AMBIENT, DAILY.replace('"3 K"', '"300 K"')), "ambient.amplitude"),
-    ("daily-mean-below-zero", _sc(AMBIENT, DAILY.replace('"20 degC"', '"-300 degC"')), "ambient.mean"),
-    ("daily-missing-amplitude", _sc(AMBIENT, DAILY.replace('\namplitude = "3 K"', '')), "ambient.amplitude"),
-    ("daily-amplitude-in-degC", _sc(AMBIENT, DAILY.replace('"3 K"', '"3 degC"')), "ambient.amplitude"),
-    ("table-times-decrease", _sc(AMBIENT, TABLE.replace('"0 h", "1 h"', '"1 h", "0 h"')), "ambient.times"),
-    ("table-length-mismatch", _sc(AMBIENT, TABLE.replace('"20 degC", "21 degC"', '"20 degC"')), "ambient.temperatures"),
-    ("table-below-absolute-zero", _sc(AMBIENT, TABLE.replace('"21 degC"', '"-300 degC"')), "ambient.temperatures"),
-    ("table-time-no-unit", _sc(AMBIENT, TABLE.replace('"1 h"', '"1"')), "ambient.times[1]"),
-    ("table-times-not-a-list", _sc(AMBIENT, TABLE.replace('["0 h", "1 h"]', '"0 h"')), "ambient.times"),
-    ("ambient-unknown-kind", _sc(AMBIENT, '[ambient]\nkind = "weekly"'), "ambient.kind"),
-    ("ambient-unknown-key", _sc(AMBIENT, AMBIENT + '\ncolour = "red"'), "ambient.colour"),
-    ("ambient-missing", _sc(AMBIENT + "\n", ""), "ambient"),
-    ("ambient-not-a-table", _sc(AMBIENT + "\n", "").replace(INTERVAL, INTERVAL + '\nambient = "20 degC"'), "ambient"),
-    ("speed-1e6-rpm", _sc(SPEED, 'speed = "1e6 rpm"'), "spindle[0].speed"),
-    ("speed-1e300-krpm", _sc(SPEED, 'speed = "1e300 krpm"'), "spindle[0].speed"),
-    ("speed-beyond-machine", _sc(SPEED, 'speed = "9001 rpm"'), "spindle[0].speed"),
-    ("speed-negative", _sc(SPEED, 'speed = "-5 rpm"'), "spindle[0].speed"),
-    ("speed-no-unit", _sc(SPEED, 'speed = "6000"'), "spindle[0].speed"),
-    ("speed-wrong-unit", _sc(SPEED, 'speed = "6000 W"'), "spindle[0].speed"),
-    ("speed-inf", _sc(SPEED, 'speed = "inf rpm"'), "spindle[0].speed"),
-    ("speed-missing", _sc(SPEED + "\n", ""), "spindle[0].speed"),
-    ("duration-1e300-s", _sc(DURATION, 'duration = "1e300 s"'), "spindle"),
-    ("duration-zero", _sc(DURATION, 'duration = "0 s"'), "spindle[0].duration"),
-    ("duration-negative", _sc(DURATION, 'duration = "-10 min"'), "spindle[0].duration"),
-    ("duration-not-a-multiple", _sc(DURATION, 'duration = "90 s"'), "spindle[0].duration"),
-    ("duration-missing", _sc(DURATION + "\n", ""), "spindle[0].duration"),
-    ("interval-1-ns", _sc(INTERVAL, 'sample_interval = "1e-9 s"'), "sample_interval"),
-    ("interval-zero", _sc(INTERVAL, 'sample_interval = "0 s"'), "sample_interval"),
-    ("interval-negative", _sc(INTERVAL, 'sample_interval = "-1 s"'), "sample_interval"),
-    ("interval-no-unit", _sc(INTERVAL, 'sample_interval = "60"'), "sample_interval"),
-    ("unknown-top-key", _sc("sample_interval", "sampel_interval"), "sampel_interval"),
-    ("unknown-step-key", _sc(SPEED, SPEED + '\nfeed = "1 m/min"'), "spindle[0].feed"),
-    ("spindle-missing", SCENARIO.split("[[spindle]]")[0], "spindle"),
-    ("spindle-not-steps", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + "\nspindle = 3"), "spindle"),
-    ("spindle-empty", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + "\nspindle = []"), "spindle"),
-    ("spindle-step-not-a-table", SCENARIO.split("[[spindle]]")[0].replace(INTERVAL, INTERVAL + '\nspindle = ["a"]'),
-     "spindle[0]"),
-    ("event-missing-change", _sc(AMBIENT, AMBIENT + EVENT.replace('change = "-9 K"\n', '')), "ambient.events[0].change"),
-    ("event-negative-fall", _sc(AMBIENT, AMBIENT + EVENT.replace('"30 min"', '"-30 min"')), "ambient.events[0].fall"),
-    ("event-change-in-degC", _sc(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-9 degC"')), "ambient.events[0].change"),
-    ("event-door-not-bool", _sc(AMBIENT, AMBIENT + EVENT + 'door = "yes"\n'), "ambient.events[0].door"),
-    ("event-unknown-key", _sc(AMBIENT, AMBIENT + EVENT + 'colour = "red"\n'), "ambient.events[0].colour"),
-    ("event-below-absolute-zero", _sc(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-400 K"')), "ambient.events"),
-    ("events-not-tables", _sc(AMBIENT, AMBIENT + '\nevents = 3'), "ambient.events"),
-    ("csv-file-not-a-string", _sc(AMBIENT, '[ambient]\nkind = "csv"\nfile = 3'), "ambient.file"),
-    ("csv-file-missing-key", _sc(AMBIENT, '[ambient]\nkind = "csv"'), "ambient.file"),
-    ("malformed-toml", SCENARIO.replace("[ambient]", "[ambient"), "toml"),
-    ("duplicate-key", _sc(INTERVAL, INTERVAL + "\n" + INTERVAL), "toml"),
-    # the C axis (twin.rotary): parsed before any machine is asked; cframe-vmc has no C axis
-    ("c-axis-speed-no-unit", SCENARIO + _c_axis('speed = "2500"'), "c_axis[0].speed"),
-    ("c-axis-speed-negative", SCENARIO + _c_axis('speed = "-5 rpm"'), "c_axis[0].speed"),
-    ("c-axis-speed-missing", SCENARIO + C_AXIS.replace('speed = "2500 rpm"\n', ""), "c_axis[0].speed"),
-    ("c-axis-duration-zero", SCENARIO + _c_axis(duration='duration = "0 s"'), "c_axis[0].duration"),
-    ("c-axis-duration-not-a-multiple", SCENARIO + _c_axis(duration='duration = "90 s"'), "c_axis[0].duration"),
-    ("c-axis-outlasts-run", SCENARIO + _c_axis(duration='duration = "1 h"'), "c_axis"),
-    ("c-axis-on-without-dwell", SCENARIO + C_AXIS.replace('dwell = "10 s"\n', ""), "c_axis[0].dwell"),
-    ("c-axis-dwell-negative", SCENARIO + C_AXIS.replace('dwell = "10 s"', 'dwell = "-10 s"'), "c_axis[0].dwell"),
-    ("c-axis-on-zero", SCENARIO + C_AXIS.replace('on = "10 s"', 'on = "0 s"'), "c_axis[0].on"),
-    ("c-axis-unknown-key", SCENARIO + C_AXIS + 'feed = "1 m/min"\n', "c_axis[0].feed"),
-    ("c-axis-not-steps", SCENARIO.replace(INTERVAL, INTERVAL + "\nc_axis = 3"), "c_axis"),
-    ("c-axis-on-a-machine-without-one", SCENARIO + C_AXIS, "c_axis"),
-]
-
-# axis motion ([[axis]], twin.motion) and the interferometer: appended to the good scenario
-AXIS = ('\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "reciprocate"\nbetween = ["0 mm", "280 mm"]\n'
-        'feed = "20 mm/s"\nacceleration = "10 mm/s2"\nduration = "30 min"\n')
-LASER = '\n[interferometer]\naxis = "Y"\nruns = ["0 min", "10 min"]\n'
-PROBE = '\n[probing]\ntimes = ["0 min", "10 min"]\ndatums = [["100 mm", "100 mm", "50 mm"]]\n'
-
-
-def _ax(old: str, new: str, tail: str = "") -> str:
-    assert old in AXIS, old
-    return SCENARIO + AXIS.replace(old, new) + tail
-
-
-SCENARIO_EDITS += [
-    ("axis-feed-zero", _ax('"20 mm/s"', '"0 mm/s"'), "axis[0].move[0].feed"),
-    ("axis-feed-negative", _ax('"20 mm/s"', '"-20 mm/s"'), "axis[0].move[0].feed"),
-    ("axis-feed-no-unit", _ax('"20 mm/s"', '"20"'), "axis[0].move[0].feed"),
-    ("axis-feed-wrong-unit", _ax('"20 mm/s"', '"20 mm"'), "axis[0].move[0].feed"),
-    ("axis-acceleration-zero", _ax('"10 mm/s2"', '"0 mm/s2"'), "axis[0].move[0].acceleration"),
-    ("axis-unknown", _ax('name = "Y"', 'name = "W"'), "axis[0].name"),
-    ("axis-outside-travel", _ax('"280 mm"]', '"500 mm"]'), "axis[0].move"),
-    ("axis-longer-than-scenario", _ax('"30 min"', '"40 min"'), "axis[0].move"),
-    ("axis-unknown-kind", _ax('"reciprocate"', '"wobble"'), "axis[0].move[0].kind"),
-    ("axis-unknown-key", _ax('duration', 'speed = "1 mm/s"\nduration'), "axis[0].move[0].speed"),
-    ("axis-duration-and-count", _ax('duration', 'count = 3\nduration'), "axis[0].move[0].duration"),
-    ("axis-count-not-whole", _ax('duration = "30 min"', 'count = 2.5'), "axis[0].move[0].count"),
-    ("axis-one-end", _ax('["0 mm", "280 mm"]', '["0 mm"]'), "axis[0].move[0].between"),
-    ("axis-move-elsewhere", _ax('"30 min"', '"20 min"', '[[axis.move]]\nkind = "hold"\nposition = "100 mm"\n'
-                                                      'duration = "1 min"\n'), "axis[0].move[1]"),
-    ("axis-twice", SCENARIO + AXIS + AXIS, "axis[1].name"),
-    ("interferometer-off-grid", _ax("", "", LASER.replace('"10 min"', '"90 s"')), "interferometer.runs"),
-    ("interferometer-not-cold-first", _ax("", "", LASER.replace('"0 min", ', '')), "interferometer.runs"),
-    ("interferometer-unknown-axis", _ax("", "", LASER.replace('axis = "Y"', 'axis = "W"')), "interferometer.axis"),
-    ("probing-not-cold-first", _ax("", "", PROBE.replace('"0 min", ', '')), "probing.times"),
-    ("probing-off-grid", _ax("", "", PROBE.replace('"10 min"', '"90 s"')), "probing.times"),
-    ("probing-datum-outside-travel", _ax("", "", PROBE.replace('[["100 mm"', '[["600 mm"')), "probing.datums[0]"),
-    ("probing-datum-two-coordinates", _ax("", "", PROBE.replace(', "50 mm"]]', ']]')), "probing.datums"),
-    ("probing-datum-no-unit", _ax("", "", PROBE.replace('"50 mm"]]', '"50"]]')), "probing.datums"),
-    ("probing-unknown-key", _ax("", "", PROBE + 'stylus = "50 mm"\n'), "probing.stylus"),
-]
-
-# the gantry's linear axes (geometries.gantry_ram.axes: X 0-2500, Y 0-1200, Z 0-700 mm, closed loop, no
-# scale mounting modelled): run through `twin simulate gantry-ram`, a good 3000 rpm scenario plus one Z move
-GANTRY_SCENARIO = SCENARIO.replace('"6000 rpm"', '"3000 rpm"')
-GANTRY_AXIS = ('\n[[axis]]\nname = "Z"\n[[axis.move]]\nkind = "reciprocate"\nbetween = ["0 mm", "700 mm"]\n'
-               'feed = "70 m/min"\nacceleration = "3 m/s2"\ndwell = "1 s"\nduration = "20 min"\n')
-
-
-def _gz(old: str, new: str, tail: str = "") -> str:
-    assert old in GANTRY_AXIS, old
-    return GANTRY_SCENARIO + GANTRY_AXIS.replace(old, new) + tail
-
-
-GANTRY_AXIS_EDITS = [
-    ("z-beyond-travel", _gz('"700 mm"]', '"800 mm"]'), "axis[0].move"),
-    ("z-below-travel", _gz('["0 mm"', '["-10 mm"'), "axis[0].move"),
-    ("x-beyond-travel", _gz('name = "Z"', 'name = "X"').replace('"700 mm"]', '"2600 mm"]'), "axis[0].move"),
-    ("y-beyond-travel", _gz('name = "Z"', 'name = "Y"').replace('"700 mm"]', '"1300 mm"]'), "axis[0].move"),
-    ("c-as-linear-axis", _gz('name = "Z"', 'name = "C"'), "axis[0].name"),
-    ("z-feed-no-unit", _gz('"70 m/min"', '"70"'), "axis[0].move[0].feed"),
-    ("z-interferometer-scale-not-modelled", _gz("", "", LASER.replace('axis = "Y"', 'axis = "Z"')),
-     "interferometer.axis"),
-]
-
-# the scenario edits also run through compare/diagnose --scenario (a sample: they share the reader)
-SCENARIO_EDITS_VIA_MEASUREMENT = ["ambient-below-absolute-zero", "speed-beyond-machine", "speed-1e300-krpm",
-                                  "interval-1-ns", "duration-1e300-s", "malformed-toml", "unknown-top-key"]
 
 # ------------------------------------------------------------- bad room-air records (CSV ambient)
 ROOM = "{d}/room.csv"
@@ -589,7 +424,7 @@ EFFECTS_EDITS = [   # (id, text, field)
 # files an option case needs changed (id -> files)
 OPTION_FILES = {
     "compare:mapping-missing": {"m.toml": None},
-    "simulate:c-axis-beyond-machine": {"short.toml": _sc(SPEED, 'speed = "3000 rpm"') + _c_axis('speed = "4000 rpm"')},
+    "simulate:c-axis-beyond-machine": {"short.toml": edited(SPEED, 'speed = "3000 rpm"') + c_axis_scenario('speed = "4000 rpm"')},
     "compare:scenario-shorter": {"short.toml": SCENARIO.replace('duration = "20 min"', 'duration = "10 min"')},
     "compare:inputs-only": {"m.csv": INPUTS_ONLY_CSV, "m.toml": INPUTS_ONLY_MAPPING},
     "learn:too-few-rows-for-learner": {"train.csv": table_csv(n=5)},
