@@ -135,7 +135,7 @@ def with_machine_defaults(machine, effects, params: dict) -> dict:
     size than the registry's reference) for the ``effects`` switched on; what the user sets wins."""
     out = {name: dict(values) for name, values in params.items()}
     for name in effects:
-        own = getattr(machine, "effect_defaults", {}).get(name)
+        own = machine.effect_defaults.get(name)
         if own:
             for key, value in own.items():   # a machine's description, not user input: a bug if wrong
                 param = next((q for q in EFFECTS[name].parameters if q.name == key), None)

@@ -41,11 +41,12 @@ def _effects(machine_name: str | None) -> None:
             print(f"    uncertain {u.name}: {format_quantity(u.lower, dim)} .. {format_quantity(u.upper, dim)} "
                   f"({'linear' if u.linear else 'nonlinear'}): {u.why}")
 
-    def when(name, base, m):
-        """How ``name`` is on by default on machine ``m`` (with its feed drives) built from ``base``."""
+    def qualifier(name, base, m):
+        """None if ``name`` is not on by default on machine ``m`` (``base`` with its feed drives),
+        "" if it always is, " when a scenario moves an axis" if its feed drive brings it."""
         if name in base.default_effects:
-            return "default"
-        return "default when a scenario moves an axis" if name in m.default_effects else ""
+            return ""
+        return " when a scenario moves an axis" if name in m.default_effects else None
 
     if machine_name is None:
         # a machine with a feed drive offers its effects when a scenario moves an axis
@@ -53,8 +54,7 @@ def _effects(machine_name: str | None) -> None:
         machines = [with_feed_drives(b) for b in bases]
         for name in sorted(EFFECTS):
             on = [m.name for m in machines if EFFECTS[name].applies_to(m)]
-            default = [f"{m.name}{'' if when(name, b, m) == 'default' else ' when a scenario moves an axis'}"
-                       for b, m in zip(bases, machines) if when(name, b, m)]
+            default = [m.name + q for b, m in zip(bases, machines) if (q := qualifier(name, b, m)) is not None]
             show(name, f" (default on {', '.join(default)})" if default else "",
                  f"\n  applies to: {', '.join(on) or 'no bundled machine'}")
         return
@@ -66,7 +66,8 @@ def _effects(machine_name: str | None) -> None:
         if missing:
             refused.append(f"{name} (needs {missing[0]})")
         else:
-            show(name, f" ({when(name, base, m)})" if when(name, base, m) else "", own=m.effect_defaults.get(name))
+            q = qualifier(name, base, m)
+            show(name, "" if q is None else f" (default{q})", own=m.effect_defaults.get(name))
     if refused:
         print(f"not applicable to {m.name}: {', '.join(refused)}")
 

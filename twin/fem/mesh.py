@@ -174,12 +174,12 @@ def _surface_facets(mm: MachineMesh, surface) -> np.ndarray:
     else:
         outer = mesh.boundary_facets()
         chosen = outer[np.isin(mm.cell_part[f2t[0, outer]], ids)]
-    if surface.within is not None and len(chosen):
+    if (surface.within is not None or surface.without) and len(chosen):
         mid = mesh.p[:, mesh.facets[:, chosen]].mean(axis=1).T
-        chosen = chosen[surface.within.contains(mid)]
-    if surface.without and len(chosen):
-        mid = mesh.p[:, mesh.facets[:, chosen]].mean(axis=1).T
-        chosen = chosen[~np.any([box.contains(mid) for box in surface.without], axis=0)]
+        keep = np.ones(len(chosen), dtype=bool) if surface.within is None else surface.within.contains(mid)
+        for box in surface.without:
+            keep &= ~box.contains(mid)
+        chosen = chosen[keep]
     if len(chosen) == 0:
         raise ValueError(f"surface {surface.name!r} of machine {mm.machine.name!r} has no faces")
     return np.sort(chosen)
