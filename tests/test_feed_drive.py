@@ -295,6 +295,28 @@ def test_logged_axis_positions_drive_the_axis(tmp_path):
     assert "y_screw" in [p.name for p in machine.parts] and "feed_nut_y" in machine.default_effects
 
 
+def test_a_logged_feed_integrates_to_the_axis_position(tmp_path):
+    """An axis_feed column (signed feed [mm/min]) drives the axis like the position it integrates
+    to: x(t) = start + int v dt, trapezoidal between samples, exact for a feed linear between them
+    (here x = 50 mm + 0.5 mm/s t + 1.5e-3 mm/s2 t^2, v = 30 + 0.18 t mm/min: 1e-12)."""
+    from twin.io.measured_inputs import scenario_from_measurement
+    from twin.io.measurement import read_measurement
+    t = np.arange(0.0, 241.0, 4.0)
+    exact = 50.0 + 0.5 * t + 1.5e-3 * t ** 2              # mm
+    feed = (0.5 + 3e-3 * t) * 60.0                        # mm/min
+    rows = ["t_s,rpm,room,T_motor,x_feed"] + [f"{a:g},0,20,20,{float(b)!r}" for a, b in zip(t, feed)]
+    (tmp_path / "m.csv").write_text("\n".join(rows) + "\n")
+    (tmp_path / "m.toml").write_text(
+        'machine = "cframe-vmc"\n[columns.t_s]\nrole = "time"\nunit = "s"\n[columns.rpm]\nrole = "spindle_speed"\n'
+        'unit = "rpm"\n[columns.room]\nrole = "ambient_temperature"\nunit = "degC"\n[columns.T_motor]\n'
+        'role = "temperature"\nsite = "Y_motor"\nunit = "degC"\n'
+        '[columns.x_feed]\nrole = "axis_feed"\naxis = "X"\nstart = "50 mm"\nunit = "mm/min"\n')
+    ds = read_measurement(tmp_path / "m.csv")
+    assert ds.axis_position.sel(axis_name="X").values == pytest.approx(exact, rel=1e-12, abs=1e-12)
+    (m,) = scenario_from_measurement(ds).axes
+    assert m.axis == "X" and m.position(t) == pytest.approx(exact * 1e-3, abs=1e-15)
+
+
 def test_seed003_protocol_study_runs_and_reports_beside_the_seed(exp1_coarse):
     """The seed 003 study on coarse runs: the maximal-tree selection gives R^2 per level rising,
     MLR/PCR/ANN are scored on both experiments in um, and the report holds the seed's numbers."""

@@ -65,8 +65,8 @@ class MachineMesh:
         bearing between the screw and the bed, with an air gap along the screw), the nodes that
         part's cells hold are not split: the third part keeps its bond to ``parts``. Splitting
         them would cut a layer of the third part's bond one cell long, an error that shrinks only
-        as 1/cells along it (the C-frame's Y screw bearing, one cell long on the coarse and default
-        meshes, warmed the screw 2.7-3.3x as much as when converged; ``tests/test_contact.py``)."""
+        as 1/cells along it (the C-frame's Y screw bearing, one cell long on the default mesh,
+        put 3x too much of its heat into the screw; ``tests/test_contact.py``)."""
         cells = self.cells_of(*parts)
         nodes = np.unique(self.mesh.facets[:, facets])
         mine = [self.part_names.index(p) for p in parts]

@@ -45,6 +45,11 @@ unit::
     role = "axis_position"                # a logged axis position (drives the twin's axis motion)
     axis = "Y"
     unit = "mm"
+    [columns.xfeed]
+    role = "axis_feed"                    # a logged signed feed of an axis (drives it like a
+    axis = "X"                            # position: x(t) = start + the feed's integral, trapezoidal
+    start = "100 mm"                      # between samples); an axis is logged one way only
+    unit = "mm/min"
 
 The result has the variables of :func:`twin.io.results.to_dataset`: ``time`` [s],
 ``spindle_speed`` [rpm], ``ambient_temperature`` [degC], ``temperature(time, sensor)`` [degC] with
@@ -78,10 +83,11 @@ from twin.units import CANONICAL, UnitError, parse_quantity
 
 ROLES = {"time": "time", "spindle_speed": "speed", "ambient_temperature": "temperature",
          "temperature": "temperature", "probe": "length", "axis_position": "length", "laser": "length",
-         "strain": "strain", "c_axis_speed": "speed"}
+         "strain": "strain", "c_axis_speed": "speed", "axis_feed": "velocity"}
 _ROLE_KEYS = {"time": set(), "spindle_speed": set(), "ambient_temperature": set(),
               "temperature": {"site", "x", "y", "z", "part", "name"}, "probe": {"probe"}, "axis_position": {"axis"},
-              "laser": {"laser"}, "strain": {"gauge", "reading"}, "c_axis_speed": {"duty"}}
+              "laser": {"laser"}, "strain": {"gauge", "reading"}, "c_axis_speed": {"duty"},
+              "axis_feed": {"axis", "start"}}
 SINGLE = ("time", "spindle_speed", "ambient_temperature", "c_axis_speed")   # one column each at most
 READINGS = {"compensated": "strain", "raw": "strain_raw"}   # FBG reading -> variable
 
@@ -262,6 +268,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     sensors: list[tuple[str, tuple[float, float, float], str, np.ndarray]] = []
     probes: dict[str, np.ndarray] = {}
     positions: dict[str, np.ndarray] = {}
+    feeds: dict[str, tuple[np.ndarray, dict, str, str]] = {}   # axis -> (feed [m/s], entry, key, column)
     lasers: dict[str, np.ndarray] = {}
     strains: dict[str, dict[str, np.ndarray]] = {"strain": {}, "strain_raw": {}}
     duty = 1.0
@@ -311,13 +318,19 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
                 raise InputError(msrc, key + ".probe", f"probe {pid} mapped twice")
             probes[pid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
         elif role == "axis_position":
-            positions[_axis_column(entry, values, positions, mach, msrc, src, key, name)] = values
+            axis = _axis_name(entry, {**positions, **feeds}, mach, msrc, key)
+            _check_travel(axis, values, mach, src, name)
+            positions[axis] = values
+        elif role == "axis_feed":
+            feeds[_axis_name(entry, {**positions, **feeds}, mach, msrc, key)] = (values, entry, key, name)
         else:
             sensors.append(_sensor(entry, name, values, mach, msrc, key))
     if "time" not in single:
         raise InputError(msrc, "columns", "no column has role = \"time\"")
     t = single["time"]
     _check_time(t, src, next(c for c, e in cols.items() if e.get("role") == "time"))
+    for axis, (feed, entry, key, column) in feeds.items():
+        positions[axis] = _integrated_feed(t, feed, entry, mach, msrc, src, key, column)
     names = [s[0] for s in sensors]
     if len(set(names)) != len(names):
         raise InputError(msrc, "columns", "two temperature columns have the same sensor name")
@@ -328,26 +341,48 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     return _dataset(t, single, sensors, probes, mach, src, positions, lasers, strains, duty)
 
 
-def _axis_column(entry: dict, values: np.ndarray, positions: dict, mach, msrc: str, src: str, key: str,
-                 column: str) -> str:
-    """The axis of an ``axis_position`` column, checked: named once, known to the machine (when
-    one is given) and within its travel."""
+def _axis_name(entry: dict, seen: dict, mach, msrc: str, key: str) -> str:
+    """The axis an ``axis_position`` or ``axis_feed`` column names: given once, known to the
+    machine (when one is given)."""
     axis = entry.get("axis")
     if not isinstance(axis, str) or not axis:
         raise InputError(msrc, key + ".axis", "expected an axis name such as \"Y\"")
-    if axis in positions:
+    if axis in seen:
         raise InputError(msrc, key + ".axis", f"axis {axis} mapped twice")
     if mach is not None:
         try:
-            lo, hi = mach.axis(axis).travel
+            mach.axis(axis)
         except KeyError:
             known = ", ".join(a.name for a in mach.axes) or "none"
             raise InputError(msrc, key + ".axis", f"machine {mach.name} has no axis {axis!r}; its axes: {known}") from None
-        bad = np.flatnonzero((values < lo - 1e-9) | (values > hi + 1e-9))
-        if len(bad):
-            raise InputError(src, column, f"row {bad[0] + 1}: {values[bad[0]] * 1e3:g} mm is outside the {axis} travel "
-                                          f"{lo * 1e3:g} .. {hi * 1e3:g} mm")
     return axis
+
+
+def _integrated_feed(t: np.ndarray, feed: np.ndarray, entry: dict, mach, msrc: str, src: str, key: str,
+                     column: str) -> np.ndarray:
+    """Positions [m] of an ``axis_feed`` column: x(t) = start + integral of the signed feed [m/s],
+    trapezoidal between the samples (exact for a feed linear between them), held to the travel
+    like a logged position."""
+    if "start" not in entry:
+        raise InputError(msrc, key + ".start", "missing: the axis position at the first sample, e.g. \"0 mm\"")
+    try:
+        start = parse_quantity(entry["start"], "length")
+    except (UnitError, TypeError, ValueError) as err:
+        raise InputError(msrc, key + ".start", str(err)) from None
+    x = start + np.concatenate([[0.0], np.cumsum(0.5 * (feed[1:] + feed[:-1]) * np.diff(t))])
+    _check_travel(entry["axis"], x, mach, src, column, " (integrated from the feed)")
+    return x
+
+
+def _check_travel(axis: str, values: np.ndarray, mach, src: str, column: str, how: str = "") -> None:
+    """Positions [m] of ``axis`` within the machine's travel (when a machine is given)."""
+    if mach is None:
+        return
+    lo, hi = mach.axis(axis).travel
+    bad = np.flatnonzero((values < lo - 1e-9) | (values > hi + 1e-9))
+    if len(bad):
+        raise InputError(src, column, f"row {bad[0] + 1}: {values[bad[0]] * 1e3:g} mm{how} is outside the {axis} "
+                                      f"travel {lo * 1e3:g} .. {hi * 1e3:g} mm")
 
 
 def _instrument(entry: dict, kind: str, known: list[str] | None, seen: dict, msrc: str, key: str) -> str:
