@@ -266,6 +266,13 @@ def test_at_pose_moves_the_moving_body_only():
     assert [p.boxes for p in same.parts] == [p.boxes for p in base.parts]
 
 
+# the mapping of a log with time, spindle speed, room air and the Y motor's temperature (columns
+# t_s, rpm, room, T_motor); a test adds its axis column
+LOGGED_INPUTS = ('machine = "cframe-vmc"\n[columns.t_s]\nrole = "time"\nunit = "s"\n[columns.rpm]\n'
+                 'role = "spindle_speed"\nunit = "rpm"\n[columns.room]\nrole = "ambient_temperature"\nunit = "degC"\n'
+                 '[columns.T_motor]\nrole = "temperature"\nsite = "Y_motor"\nunit = "degC"\n')
+
+
 def test_logged_axis_positions_drive_the_axis(tmp_path):
     """A measurement's axis_position column becomes the scenario's motion, linear between samples:
     the nut's travelled distance is sum |y_{k+1} - y_k| exactly, and the machine gets its drive."""
@@ -277,11 +284,7 @@ def test_logged_axis_positions_drive_the_axis(tmp_path):
     y = 140.0 + 140.0 * np.sin(2 * np.pi * t / 28.0)          # mm
     rows = ["t_s,rpm,room,T_motor,y_mm"] + [f"{a:g},0,20,20,{b:.6f}" for a, b in zip(t, y)]
     (tmp_path / "m.csv").write_text("\n".join(rows) + "\n")
-    (tmp_path / "m.toml").write_text(
-        'machine = "cframe-vmc"\n[columns.t_s]\nrole = "time"\nunit = "s"\n[columns.rpm]\nrole = "spindle_speed"\n'
-        'unit = "rpm"\n[columns.room]\nrole = "ambient_temperature"\nunit = "degC"\n[columns.T_motor]\n'
-        'role = "temperature"\nsite = "Y_motor"\nunit = "degC"\n'
-        '[columns.y_mm]\nrole = "axis_position"\naxis = "Y"\nunit = "mm"\n')
+    (tmp_path / "m.toml").write_text(LOGGED_INPUTS + '[columns.y_mm]\nrole = "axis_position"\naxis = "Y"\nunit = "mm"\n')
     ds = read_measurement(tmp_path / "m.csv")
     assert ds.axis_position.attrs["units"] == "mm"
     sc = scenario_from_measurement(ds)
@@ -306,11 +309,8 @@ def test_a_logged_feed_integrates_to_the_axis_position(tmp_path):
     feed = (0.5 + 3e-3 * t) * 60.0                        # mm/min
     rows = ["t_s,rpm,room,T_motor,x_feed"] + [f"{a:g},0,20,20,{float(b)!r}" for a, b in zip(t, feed)]
     (tmp_path / "m.csv").write_text("\n".join(rows) + "\n")
-    (tmp_path / "m.toml").write_text(
-        'machine = "cframe-vmc"\n[columns.t_s]\nrole = "time"\nunit = "s"\n[columns.rpm]\nrole = "spindle_speed"\n'
-        'unit = "rpm"\n[columns.room]\nrole = "ambient_temperature"\nunit = "degC"\n[columns.T_motor]\n'
-        'role = "temperature"\nsite = "Y_motor"\nunit = "degC"\n'
-        '[columns.x_feed]\nrole = "axis_feed"\naxis = "X"\nstart = "50 mm"\nunit = "mm/min"\n')
+    (tmp_path / "m.toml").write_text(LOGGED_INPUTS + '[columns.x_feed]\nrole = "axis_feed"\naxis = "X"\nstart = "50 mm"\n'
+                                                  'unit = "mm/min"\n')
     ds = read_measurement(tmp_path / "m.csv")
     assert ds.axis_position.sel(axis_name="X").values == pytest.approx(exact, rel=1e-12, abs=1e-12)
     (m,) = scenario_from_measurement(ds).axes
