@@ -8,7 +8,8 @@ options. Add a command, an option or a file format by adding rows:
 
 * :data:`tests.fuzz_scenarios.SCENARIO_EDITS`, :data:`MAPPING_EDITS`, :data:`CSV_EDITS`, :data:`RESULT_EDITS`,
   :data:`TABLE_EDITS` - bad contents of each file kind, each run through the commands that read it;
-* :data:`OPTION_CASES` - bad option values and repeated options, per command.
+* :data:`OPTION_CASES` - bad option values and repeated options, per command;
+* :data:`tests.fuzz_axis_logs.AXIS_LOG_EDITS` - bad logged axis positions and feeds in a measurement.
 
 Later issues add theirs as rows: dataset specs (a ``twin dataset`` row in
 ``fuzz_files.INPUTS`` and a table of spec edits here), axis scenarios (more
@@ -22,6 +23,7 @@ import os
 
 import numpy as np
 
+from tests.fuzz_axis_logs import AXIS_LOG_EDITS
 from tests.fuzz_scenarios import (GANTRY_AXIS_EDITS, SCENARIO_EDITS, SCENARIO_EDITS_VIA_MEASUREMENT, SPEED,
                                   c_axis_scenario, edited)
 from tests.fuzz_files import (CLI, COMPARE, COMPARE_GANTRY, COMPARE_NC, DEMO, DIAGNOSE, EFFECTS_FILE, FOLDERS,
@@ -429,50 +431,6 @@ OPTION_FILES = {
     "compare:inputs-only": {"m.csv": INPUTS_ONLY_CSV, "m.toml": INPUTS_ONLY_MAPPING},
     "learn:too-few-rows-for-learner": {"train.csv": table_csv(n=5)},
 }
-
-
-# logged axis positions (role axis_position): a good CSV column y_mm with a bad mapping or values
-YPOS = '[columns.y_mm]\nrole = "axis_position"\naxis = "Y"\nunit = "mm"\n'
-
-
-def _ypos(value):
-    def edit(cols):
-        cols["y_mm"] = np.where(np.arange(len(cols["t_s"])) == 5, value, 140.0)
-    return measurement_csv(edit)
-
-
-# logged axis feeds (role axis_feed): a CSV column y_feed, integrated from the mapping's start
-YFEED = '[columns.y_feed]\nrole = "axis_feed"\naxis = "Y"\nstart = "140 mm"\nunit = "mm/s"\n'
-
-
-def _yfeed(value):
-    def edit(cols):
-        cols["y_feed"] = np.full(len(cols["t_s"]), value)
-    return measurement_csv(edit)
-
-
-def _yboth(cols):
-    cols["y_mm"], cols["y_feed"] = np.full(len(cols["t_s"]), 140.0), np.zeros(len(cols["t_s"]))
-
-
-# (id, CSV text, mapping text, source file, field)
-AXIS_LOG_EDITS = [
-    ("axis-feed-no-start", _yfeed(0.0), MAPPING + YFEED.replace('start = "140 mm"\n', ''), "m.toml",
-     "columns.y_feed.start"),
-    ("axis-feed-start-no-unit", _yfeed(0.0), MAPPING + YFEED.replace('"140 mm"', '"140"'), "m.toml",
-     "columns.y_feed.start"),
-    ("axis-feed-wrong-unit", _yfeed(0.0), MAPPING + YFEED.replace('"mm/s"', '"mm"'), "m.toml", "columns.y_feed.unit"),
-    ("axis-feed-leaves-travel", _yfeed(1.0), MAPPING + YFEED, "m.csv", "y_feed"),
-    ("axis-feed-and-position", measurement_csv(_yboth), MAPPING + YPOS + YFEED, "m.toml", "columns.y_feed.axis"),
-    ("axis-feed-unknown-key", _yfeed(0.0), MAPPING + YFEED.replace('axis = "Y"', 'axis = "Y"\nstop = "0 mm"'),
-     "m.toml", "columns.y_feed.stop"),
-    ("axis-position-unknown-axis", _ypos(140.0), MAPPING + YPOS.replace('"Y"', '"W"'), "m.toml", "columns.y_mm.axis"),
-    ("axis-position-no-axis", _ypos(140.0), MAPPING + YPOS.replace('axis = "Y"\n', ''), "m.toml",
-     "columns.y_mm.axis"),
-    ("axis-position-outside-travel", _ypos(900.0), MAPPING + YPOS, "m.csv", "y_mm"),
-    ("axis-position-wrong-unit", _ypos(140.0), MAPPING + YPOS.replace('"mm"', '"mm/s"'), "m.toml",
-     "columns.y_mm.unit"),
-]
 
 
 def all_cases() -> list[Case]:

@@ -75,6 +75,7 @@ import xarray as xr
 from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
+from twin.io.axis_logs import axis_name, check_travel, integrated_feed
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml
 from twin.io.results import read_result
 from twin.observe.base import variable
@@ -318,11 +319,11 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
                 raise InputError(msrc, key + ".probe", f"probe {pid} mapped twice")
             probes[pid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
         elif role == "axis_position":
-            axis = _axis_name(entry, {**positions, **feeds}, mach, msrc, key)
-            _check_travel(axis, values, mach, src, name)
+            axis = axis_name(entry, {**positions, **feeds}, mach, msrc, key)
+            check_travel(axis, values, mach, src, name)
             positions[axis] = values
         elif role == "axis_feed":
-            feeds[_axis_name(entry, {**positions, **feeds}, mach, msrc, key)] = (values, entry, key, name)
+            feeds[axis_name(entry, {**positions, **feeds}, mach, msrc, key)] = (values, entry, key, name)
         else:
             sensors.append(_sensor(entry, name, values, mach, msrc, key))
     if "time" not in single:
@@ -330,7 +331,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     t = single["time"]
     _check_time(t, src, next(c for c, e in cols.items() if e.get("role") == "time"))
     for axis, (feed, entry, key, column) in feeds.items():
-        positions[axis] = _integrated_feed(t, feed, entry, mach, msrc, src, key, column)
+        positions[axis] = integrated_feed(t, feed, entry, mach, msrc, src, key, column)
     names = [s[0] for s in sensors]
     if len(set(names)) != len(names):
         raise InputError(msrc, "columns", "two temperature columns have the same sensor name")
@@ -339,50 +340,6 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
                                           f"(compensated: {', '.join(strains['strain'])}; raw: "
                                           f"{', '.join(strains['strain_raw'])})")
     return _dataset(t, single, sensors, probes, mach, src, positions, lasers, strains, duty)
-
-
-def _axis_name(entry: dict, seen: dict, mach, msrc: str, key: str) -> str:
-    """The axis an ``axis_position`` or ``axis_feed`` column names: given once, known to the
-    machine (when one is given)."""
-    axis = entry.get("axis")
-    if not isinstance(axis, str) or not axis:
-        raise InputError(msrc, key + ".axis", "expected an axis name such as \"Y\"")
-    if axis in seen:
-        raise InputError(msrc, key + ".axis", f"axis {axis} mapped twice")
-    if mach is not None:
-        try:
-            mach.axis(axis)
-        except KeyError:
-            known = ", ".join(a.name for a in mach.axes) or "none"
-            raise InputError(msrc, key + ".axis", f"machine {mach.name} has no axis {axis!r}; its axes: {known}") from None
-    return axis
-
-
-def _integrated_feed(t: np.ndarray, feed: np.ndarray, entry: dict, mach, msrc: str, src: str, key: str,
-                     column: str) -> np.ndarray:
-    """Positions [m] of an ``axis_feed`` column: x(t) = start + integral of the signed feed [m/s],
-    trapezoidal between the samples (exact for a feed linear between them), held to the travel
-    like a logged position."""
-    if "start" not in entry:
-        raise InputError(msrc, key + ".start", "missing: the axis position at the first sample, e.g. \"0 mm\"")
-    try:
-        start = parse_quantity(entry["start"], "length")
-    except (UnitError, TypeError, ValueError) as err:
-        raise InputError(msrc, key + ".start", str(err)) from None
-    x = start + np.concatenate([[0.0], np.cumsum(0.5 * (feed[1:] + feed[:-1]) * np.diff(t))])
-    _check_travel(entry["axis"], x, mach, src, column, " (integrated from the feed)")
-    return x
-
-
-def _check_travel(axis: str, values: np.ndarray, mach, src: str, column: str, how: str = "") -> None:
-    """Positions [m] of ``axis`` within the machine's travel (when a machine is given)."""
-    if mach is None:
-        return
-    lo, hi = mach.axis(axis).travel
-    bad = np.flatnonzero((values < lo - 1e-9) | (values > hi + 1e-9))
-    if len(bad):
-        raise InputError(src, column, f"row {bad[0] + 1}: {values[bad[0]] * 1e3:g} mm{how} is outside the {axis} "
-                                      f"travel {lo * 1e3:g} .. {hi * 1e3:g} mm")
 
 
 def _instrument(entry: dict, kind: str, known: list[str] | None, seen: dict, msrc: str, key: str) -> str:

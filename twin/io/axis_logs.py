@@ -1,0 +1,55 @@
+"""Logged axis motion in a measurement (:mod:`twin.io.measurement`): the axis an
+``axis_position`` or ``axis_feed`` column names, positions held to the axis's travel, and a logged
+signed feed integrated to positions from the mapping's ``start``. Every problem is an
+:class:`twin.errors.InputError` naming the mapping's key or the CSV column."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from twin.errors import InputError
+from twin.units import UnitError, parse_quantity
+
+
+def axis_name(entry: dict, seen: dict, mach, msrc: str, key: str) -> str:
+    """The axis an ``axis_position`` or ``axis_feed`` column names: given once, known to the
+    machine (when one is given)."""
+    axis = entry.get("axis")
+    if not isinstance(axis, str) or not axis:
+        raise InputError(msrc, key + ".axis", "expected an axis name such as \"Y\"")
+    if axis in seen:
+        raise InputError(msrc, key + ".axis", f"axis {axis} mapped twice")
+    if mach is not None:
+        try:
+            mach.axis(axis)
+        except KeyError:
+            known = ", ".join(a.name for a in mach.axes) or "none"
+            raise InputError(msrc, key + ".axis", f"machine {mach.name} has no axis {axis!r}; its axes: {known}") from None
+    return axis
+
+
+def integrated_feed(t: np.ndarray, feed: np.ndarray, entry: dict, mach, msrc: str, src: str, key: str,
+                     column: str) -> np.ndarray:
+    """Positions [m] of an ``axis_feed`` column: x(t) = start + integral of the signed feed [m/s],
+    trapezoidal between the samples (exact for a feed linear between them), held to the travel
+    like a logged position."""
+    if "start" not in entry:
+        raise InputError(msrc, key + ".start", "missing: the axis position at the first sample, e.g. \"0 mm\"")
+    try:
+        start = parse_quantity(entry["start"], "length")
+    except (UnitError, TypeError, ValueError) as err:
+        raise InputError(msrc, key + ".start", str(err)) from None
+    x = start + np.concatenate([[0.0], np.cumsum(0.5 * (feed[1:] + feed[:-1]) * np.diff(t))])
+    check_travel(entry["axis"], x, mach, src, column, " (integrated from the feed)")
+    return x
+
+
+def check_travel(axis: str, values: np.ndarray, mach, src: str, column: str, how: str = "") -> None:
+    """Positions [m] of ``axis`` within the machine's travel (when a machine is given)."""
+    if mach is None:
+        return
+    lo, hi = mach.axis(axis).travel
+    bad = np.flatnonzero((values < lo - 1e-9) | (values > hi + 1e-9))
+    if len(bad):
+        raise InputError(src, column, f"row {bad[0] + 1}: {values[bad[0]] * 1e3:g} mm{how} is outside the {axis} "
+                                      f"travel {lo * 1e3:g} .. {hi * 1e3:g} mm")
