@@ -198,12 +198,14 @@ def roles(ram_top: float) -> dict:
 # The Z drive's own powers (twin.effects.feed gives every family's power at the reference feed
 # 20 mm/s, proportional to the feed): the ram's drive runs 58 times faster (70 m/min) than the
 # C-frame's seed-003 Y axis, with a larger screw, so its powers at 20 mm/s are set here; at
-# 70 m/min (x 58.3) they are about nut 175 W, bearings 120 W, motor 200 W, guideways 100 W while
-# the ram moves (README "Z axis"). Plausible, not measured; calibrated to the seed's Z-axis test.
+# 70 m/min (x 58.3) they are about nut 367 W, bearings 198 W, motor 198 W, guideways 35 W while
+# the ram moves (README "The linear axes"). The motor's inertia losses at 1 m/s2: the 1.19 t
+# that moves with the ram on a 20 mm lead (eta 0.9) and rotor + screw 0.013 kg m2 need
+# 8.4 N m, (8.4 / 2 N m/A)^2 x 1.05 ohm = 18 W. Plausible, not measured.
 Z_DRIVE_DEFAULTS = {
     "feed_nut_z": {"power": 6.3, "screw_share": 0.6},
     "feed_bearings_z": {"power": 3.4, "front_share": 0.75},
-    "feed_motor_z": {"power": 3.4, "holding_power": 0.0},
+    "feed_motor_z": {"power": 3.4, "holding_power": 0.0, "inertia_power": 18.0},
     "feed_guideways_z": {"power": 0.6, "rail_share": 0.7, "carriage_offset": 0.30},
 }
 

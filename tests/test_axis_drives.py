@@ -11,7 +11,7 @@ from geometries import build_machine
 from geometries.axes import with_feed_drives
 from geometries.base import material
 from twin.effects.base import EFFECTS, HeatSource
-from twin.effects.moving import REFERENCE_FEED
+from twin.effects.moving import REFERENCE_ACCELERATION, REFERENCE_FEED
 from twin.fem.mesh import mesh_machine
 from twin.motion import machine_for
 from twin.scenario import scenario_from_dict
@@ -26,6 +26,14 @@ def axis_scenario(axes=("X", "Y", "Z"), count: int = 6, duration: str = "10 min"
                                    "feed": "20 mm/s", "acceleration": "10 mm/s2", "count": count}]} for a in axes]
     return scenario_from_dict({"sample_interval": "10 s", "ambient": {"temperature": "20 degC"},
                                "spindle": [{"speed": "0 rpm", "duration": duration}], "axis": moves}, "test.toml")
+
+
+def drive_energy(p: dict, axis: str, duration: float, strokes: int = 6) -> float:
+    """A feed effect's heat [J] over whole strokes of :func:`axis_scenario`, closed form:
+    P_ref d / v_ref + P_hold T + P_a n 2 a v / a_ref^2 (d = n strokes x stroke, 2 a v each
+    stroke's integral of a^2: two ramps of v / a at 10 mm/s2 to 20 mm/s)."""
+    return (p["power"] * strokes * STROKES[axis][2] / REFERENCE_FEED + p.get("holding_power", 0.0) * duration
+            + p.get("inertia_power", 0.0) * strokes * 2 * 0.01 * 0.02 / REFERENCE_ACCELERATION ** 2)
 
 
 @pytest.fixture(scope="module")
@@ -57,12 +65,12 @@ def test_drives_are_added_only_for_the_axes_a_scenario_moves():
 @pytest.mark.parametrize("axis", ["X", "Y", "Z"])
 def test_each_drive_delivers_its_power_times_the_travelled_distance(cframe_all, axis):
     """Energy balance per axis over whole strokes: the drive's sources deliver
-    E = (P_nut + P_bearings + P_motor + P_guideways) d / v_ref + P_hold T, d the distance travelled
-    (count x stroke), T the scenario's duration, on the C-frame's coarse mesh (exact: the path
-    basis integrates |v| exactly and the shares sum to one)."""
+    E = (P_nut + P_bearings + P_motor + P_guideways) d / v_ref + P_hold T + P_a n 2 a v / a_ref^2,
+    d the distance travelled (n strokes x stroke), T the scenario's duration, 2 a v each stroke's
+    integral of a^2 (two ramps of v / a), on the C-frame's coarse mesh (exact: the path basis
+    integrates |v| exactly, the inertia signal a^2 exactly, and the shares sum to one)."""
     machine, mm, sc = cframe_all
     t, dt = sc.times(), sc.sample_interval
-    d = 6 * STROKES[axis][2]
     energy, expect = 0.0, 0.0
     for fam in FAMILIES:
         eff = EFFECTS[f"{fam}_{axis.lower()}"]
@@ -70,7 +78,7 @@ def test_each_drive_delivers_its_power_times_the_travelled_distance(cframe_all, 
         loads = eff.loads(mm, sc, p)
         assert loads and all(isinstance(s, HeatSource) and len(s.cells) for s in loads)
         energy += sum(np.sum(s.power(t[:-1] + 0.5 * dt)) * dt for s in loads)
-        expect += p["power"] * d / REFERENCE_FEED + p.get("holding_power", 0.0) * (t[-1] - t[0])
+        expect += drive_energy(p, axis, t[-1] - t[0])
     assert energy == pytest.approx(expect, rel=1e-12)
 
 
@@ -87,8 +95,7 @@ def test_the_heat_integrator_stores_all_three_drives_heat(cframe_all):
     expect = 0.0
     for a in "XYZ":
         for f in FAMILIES:
-            p = EFFECTS[f"{f}_{a.lower()}"].defaults()
-            expect += p["power"] * 6 * STROKES[a][2] / REFERENCE_FEED + p.get("holding_power", 0.0) * 600.0
+            expect += drive_energy(EFFECTS[f"{f}_{a.lower()}"].defaults(), a, 600.0)
     assert into == pytest.approx(expect, rel=1e-12)
     assert convected == 0.0 and stored == pytest.approx(into, rel=1e-9)
 

@@ -94,6 +94,29 @@ def test_reciprocating_source_delivers_power_times_duty():
     assert convected == 0.0 and stored == pytest.approx(into, rel=1e-9)
 
 
+@pytest.mark.parametrize("feed, accel, stroke", [("20 mm/s", "10 mm/s2", 0.4), ("200 mm/s", "50 mm/s2", 0.4)])
+def test_motor_inertia_losses_integrate_the_squared_acceleration(feed, accel, stroke):
+    """Copper losses of the inertia torque, P_a (a / a_ref)^2: per whole stroke the integral of
+    a^2 is 2 a v when the stroke reaches its feed (two ramps of v / a) and 2 a^(3/2) d^(1/2) when
+    it does not (two ramps of (d / a)^(1/2)); the step averages (held on each 10 s step, ramps
+    crossing the step edges) deliver P_a n int a^2 / a_ref^2 to round-off, and each step's energy
+    equals a 1 ms midpoint sum of a(t)^2 (to that sum's own error: a 1 ms sample on the wrong
+    side of each of the at most four ramp ends in a step)."""
+    from twin.effects.moving import acceleration_signal
+    sc = scenario([{**RECIP, "feed": feed, "acceleration": accel, "count": 6, "dwell": "3 s"}], duration="20 min")
+    v, a = float(feed.split()[0]) * 1e-3, float(accel.split()[0]) * 1e-3
+    per_stroke = 2 * a * v if v * v / a <= stroke else 2 * a ** 1.5 * stroke ** 0.5
+    P_a, t, dt = 12.0, sc.times(), sc.sample_interval
+    signal = acceleration_signal(sc, sc.axes[0], P_a)
+    steps = signal(t[:-1] + 0.5 * dt) * dt
+    assert steps.sum() == pytest.approx(P_a * 6 * per_stroke, rel=1e-12)
+    motion, fine = sc.axes[0], np.arange(0.0, t[-1], 1e-3) + 5e-4
+    i = np.clip(np.searchsorted(motion.t0, fine, side="right") - 1, 0, len(motion.t0) - 1)
+    a_fine = np.where(fine < motion.t0[i] + motion.dur[i], motion.a[i], 0.0)
+    np.testing.assert_allclose(steps, P_a * np.add.reduceat(a_fine ** 2 * 1e-3, np.searchsorted(fine, t[:-1])),
+                               rtol=0, atol=4 * 1e-3 * P_a * a ** 2)
+
+
 def test_standing_nut_equals_a_stationary_source():
     """A nut holding at p releases its heat where a stationary source on that slab of the screw
     would: sum_j pattern_j s_j(t) = pattern(slab) P at every step (phi sums to 1)."""

@@ -16,7 +16,7 @@ import pytest
 from geometries import build_machine
 from geometries.gantry_ram import Z_DRIVE_DEFAULTS, Z_DRIVE_EFFECTS
 from twin.effects.base import EFFECTS, HeatSource
-from twin.effects.moving import REFERENCE_FEED, travelling_sources
+from twin.effects.moving import REFERENCE_ACCELERATION, REFERENCE_FEED, travelling_sources
 from twin.fem.mesh import mesh_machine
 from twin.model import default_spec, model_spec
 from twin.motion import machine_for, stroke_time
@@ -109,7 +109,8 @@ def test_the_z_drive_delivers_its_power_times_the_distance_at_60_s_steps(z_test)
     """Energy balance of the Z-axis test, 0.6 s strokes on 60 s steps: each feed effect delivers
     E = P_ref d / v_ref, d = n x 0.7 m, n = floor(2 h / (stroke_time + dwell)) whole strokes
     (exact); and every step's energy is P_ref / v_ref times that step's travelled distance, the
-    integral of |v| (the trapezoid's closed form per piece, checked by 1 ms midpoint sums, 1e-6)."""
+    integral of |v| (the trapezoid's closed form per piece, checked by 1 ms midpoint sums, 1e-6).
+    The motor's inertia losses deliver P_a n 2 a v / a_ref^2 (each stroke's two ramps of v / a)."""
     machine, mm, sc = z_test
     period = stroke_time(STROKE, FEED, ACCEL) + DWELL
     n = int(np.floor(7200.0 / period + 1e-9))
@@ -120,10 +121,17 @@ def test_the_z_drive_delivers_its_power_times_the_distance_at_60_s_steps(z_test)
     per_step = np.add.reduceat(np.abs(motion.velocity(fine)) * 1e-3, np.searchsorted(fine, t[:-1]))
     for name in Z_DRIVE_EFFECTS:
         p = spec.params[name]
-        steps = sum(s.power(t[:-1] + 0.5 * dt) for s in EFFECTS[name].loads(mm, sc, p)) * dt
+        loads = EFFECTS[name].loads(mm, sc, p)
+        inertia = [s for s in loads if s.label.endswith(".inertia")]
+        steps = sum(s.power(t[:-1] + 0.5 * dt) for s in loads if s not in inertia) * dt
         assert steps.sum() == pytest.approx(p["power"] * n * STROKE / REFERENCE_FEED, rel=1e-12)
         np.testing.assert_allclose(steps, p["power"] / REFERENCE_FEED * per_step, rtol=0,
                                    atol=1e-6 * steps.max())
+        if inertia:
+            e = sum(np.sum(s.power(t[:-1] + 0.5 * dt)) * dt for s in inertia)
+            assert p["inertia_power"] > 0
+            assert e == pytest.approx(p["inertia_power"] * n * 2 * ACCEL * FEED / REFERENCE_ACCELERATION ** 2,
+                                      rel=1e-12)
 
 
 def test_z_axis_test_heats_the_drive_and_moves_the_tool_towards_the_table(z_run):
@@ -212,13 +220,15 @@ def test_z_drive_variants_build_as_declared():
 def test_variant_study_row_reads_the_z_axis_test(z_test, z_run):
     """validate.studies.gantry_z_variants, as built, coarse: the same peak Z as the Z-axis test's
     run (its extra ram sites read, they do not heat), and the mean drive power over the heating is
-    the drive's energy in closed form, sum P_ref x n x 0.7 m / v_ref over 2 h (1e-9)."""
+    the drive's energy in closed form, (sum P_ref x n x 0.7 m / v_ref + P_a n 2 a v / a_ref^2) over
+    2 h (1e-9)."""
     from validate.studies.gantry_z_variants import markdown, row, variants
     r = row(variants()[0], "coarse")
     assert r["peak_z"] == pytest.approx(z_run.drift[:, 2].min() * 1e6, rel=1e-9)
     n = int(np.floor(7200.0 / (stroke_time(STROKE, FEED, ACCEL) + DWELL) + 1e-9))
     spec = default_spec(z_test[0])
-    expect = sum(spec.params[e]["power"] for e in Z_DRIVE_EFFECTS) * n * STROKE / REFERENCE_FEED / 7200.0
+    inertia = spec.params["feed_motor_z"]["inertia_power"] * n * 2 * ACCEL * FEED / REFERENCE_ACCELERATION ** 2
+    expect = (sum(spec.params[e]["power"] for e in Z_DRIVE_EFFECTS) * n * STROKE / REFERENCE_FEED + inertia) / 7200.0
     assert r["drive_w"] == pytest.approx(expect, rel=1e-9)
     assert r["w_for_100um"] == pytest.approx(expect * 100.0 / abs(r["peak_z"]), rel=1e-12)
     assert "as built" in markdown([r], "cmd", "coarse")

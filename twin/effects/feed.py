@@ -15,7 +15,8 @@ plausible for a 45 mm screw with a preloaded double nut, not measured on a machi
 from __future__ import annotations
 
 from twin.effects.base import ContactConductance, Effect, HeatSource, Parameter, Uncertain, constant, register_effect
-from twin.effects.moving import REFERENCE_FEED, motion_of, speed_signal, travelling_sources
+from twin.effects.moving import (REFERENCE_ACCELERATION, REFERENCE_FEED, acceleration_signal, motion_of,
+                                speed_signal, travelling_sources)
 from geometries.regions import DRIVEN_AXES, feed_drive_role
 from twin.fem.regions import role_cells, role_facets, role_parts
 
@@ -111,29 +112,41 @@ class FeedBearings(_FeedEffect):
 class FeedMotor(_FeedEffect):
     """Losses of the servo motor that enter the structure through its flange.
 
-        P(t) = P_hold + P_ref |v(t)| / v_ref,
+        P(t) = P_hold + P_ref |v(t)| / v_ref + P_a (a(t) / a_ref)^2,
 
     P_hold the copper losses of the holding (standstill) current while the drive is enabled,
     P_ref the extra losses at the reference feed (copper losses of the friction torque, iron
-    losses growing with speed); the fan's share is not in P. Inertia torque is neglected.
+    losses growing with speed), P_a the copper losses of the inertia torque at the reference
+    acceleration a_ref = 1 m/s2: copper losses are R I^2 = R (M / k_t)^2 with the torque
+    M = (m l / (2 pi eta) + J 2 pi / l) a that accelerates the moving mass m (lead l, efficiency
+    eta) and the rotor and screw (J). The cross term of the inertia torque with the friction and
+    holding torques is left out (it changes sign between accelerating and braking). Every term
+    is a step average of a scalar signal of the schedule (mean |v|, mean a^2: exact), so the
+    loads stay linear. The fan's share is not in P.
     """
 
     family = "feed_motor"
-    summary = "servo motor losses into its flange, P = P_hold + P_ref |v|/v_ref"
+    summary = "servo motor losses into its flange, P = P_hold + P_ref |v|/v_ref + P_a (a/a_ref)^2"
     reference = "Mayr et al., CIRP Annals 61/2 (2012) 771, sec. 3.2 (feed drives); Y-motor sensor T1 of seed 003"
     role_keys = ("motor",)
     _power, _range = _feed_power(50.0, 500.0, "motor losses into the structure, above P_hold,",
                                  (10.0, 150.0, "motor size and how much heat its flange passes"))
     parameters = (_power, Parameter("holding_power", "power", 5.0, 0.0, 1000.0,
                                     "losses at standstill with the drive enabled (hundreds of W for a vertical "
-                                    "axis without counterbalance)"))
+                                    "axis without counterbalance)"),
+                  Parameter("inertia_power", "power", 12.0, 0.0, 2000.0,
+                            "copper losses of the inertia torque at 1 m/s2 (12 W: the C-frame's 0.6 t "
+                            "saddle and table on a 10 mm lead, rotor and screw 0.0044 kg m2, k_t 1.2 N m/A, "
+                            "R 1.2 ohm)"))
     uncertain = (_range,)
 
     def loads(self, mm, scenario, p):
         _, motion = self.axis_and_motion(mm, scenario)
         cells = role_cells(mm, self.role("motor"))
         return [HeatSource(f"{self.name}.hold", cells, constant(p["holding_power"])),
-                HeatSource(f"{self.name}.feed", cells, speed_signal(scenario, motion, p["power"] / REFERENCE_FEED))]
+                HeatSource(f"{self.name}.feed", cells, speed_signal(scenario, motion, p["power"] / REFERENCE_FEED)),
+                HeatSource(f"{self.name}.inertia", cells,
+                           acceleration_signal(scenario, motion, p["inertia_power"] / REFERENCE_ACCELERATION ** 2))]
 
 
 class FeedGuideways(_FeedEffect):
