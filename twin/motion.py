@@ -93,6 +93,24 @@ class Motion:
         inside = (t >= self.t0[i]) & (t < self.t0[i] + self.dur[i])
         return np.where(inside, self.v0[i] + self.a[i] * tau, 0.0)
 
+    def acceleration(self, t) -> np.ndarray:
+        """Acceleration [m/s2] at times t [s] (0 outside the pieces)."""
+        i, tau, t = self._at(t)
+        if i is None:
+            return np.zeros(t.shape)
+        inside = (t >= self.t0[i]) & (t < self.t0[i] + self.dur[i])
+        return np.where(inside, self.a[i], 0.0)
+
+    def squared_acceleration_integral(self, t) -> np.ndarray:
+        """int_0^t a(s)^2 ds [m2/s3] at times t [s], exact: a is constant on each piece, so the
+        integral is the full pieces before t plus a_i^2 times the part of piece i up to t."""
+        i, tau, t = self._at(t)
+        if i is None:
+            return np.zeros(t.shape)
+        a2 = self.a ** 2
+        before = np.concatenate([[0.0], np.cumsum(a2 * self.dur)[:-1]])
+        return before[i] + a2[i] * tau
+
 
 class _Builder:
     """Appends pieces while tracking time and position."""

@@ -50,17 +50,11 @@ def speed_signal(scenario, motion: Motion, scale: float):
 
 
 def acceleration_signal(scenario, motion: Motion, scale: float):
-    """Signal scale * (mean a(t)^2 over each time step) [W when scale is W s^4/m^2], exact: a is
-    constant on each piece of the motion, so int a^2 dt = sum_i a_i^2 (overlap of piece i)."""
+    """Signal scale * (mean a(t)^2 over each time step) [W when scale is W s^4/m^2], exact
+    (:meth:`twin.motion.Motion.squared_acceleration_integral`)."""
     edges = step_edges(scenario)
-    if not len(motion.t0):
-        return step_signal(np.zeros(len(edges) - 1), scenario.sample_interval)
-    a2 = motion.a ** 2
-    before = np.concatenate([[0.0], np.cumsum(a2 * motion.dur)[:-1]])   # int a^2 up to each piece's start
-    i = np.clip(np.searchsorted(motion.t0, edges, side="right") - 1, 0, len(motion.t0) - 1)
-    inside = np.clip(edges - motion.t0[i], 0.0, motion.dur[i])
-    cumulative = np.where(edges < motion.t0[0], 0.0, before[i] + a2[i] * inside)
-    return step_signal(scale * np.diff(cumulative) / np.diff(edges), scenario.sample_interval)
+    mean = np.diff(motion.squared_acceleration_integral(edges)) / np.diff(edges)
+    return step_signal(scale * mean, scenario.sample_interval)
 
 
 def travelling_sources(label: str, mm, role: str, axis, motion: Motion, scenario, scale: float, per: str,
