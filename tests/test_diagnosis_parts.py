@@ -82,6 +82,52 @@ def test_verdict_within_the_envelope_but_beyond_the_model_error_along_the_signat
     assert decide(factors, significant, {"temperature": 1.0, "probe": 1.0}, beyond) == expected
 
 
+class _TwoGroups:
+    """Evidence stand-in: the first n samples are group "laser", the rest "strain"."""
+
+    def __init__(self, n, m):
+        self.mask = {"laser": np.r_[np.ones(n, bool), np.zeros(m, bool)],
+                     "strain": np.r_[np.zeros(n, bool), np.ones(m, bool)]}
+
+    def group_mask(self, g):
+        return self.mask[g]
+
+
+def test_explained_share_counts_only_the_groups_above_noise():
+    """explained = 1 - SSE_k(A) / SSE_0(A), A the channels of the groups whose factor
+    RMS(r) / sqrt(sigma^2 + e^2) exceeds WITHIN before any candidate. Lasers at 10x their noise
+    and strain gauges at their noise (1x) carrying half the weighted residual: a candidate that
+    removes the lasers' residual exactly explains 100 % of A (to round-off) though only about
+    half of everything; with both groups at noise A is every channel and the share is the
+    all-channel 1 - SSE_k / SSE_0."""
+    from types import SimpleNamespace
+
+    from validate.diagnose import explained_share, share_mask
+    rng = np.random.default_rng(3)
+    n = 500
+    laser = 10 * 0.2 * np.sin(np.linspace(0, 6, n)) * np.sqrt(2)   # RMS 2.0 um = 10x a 0.2 um noise
+    strain = rng.standard_normal(n)                                  # RMS about 1 um/m = its noise
+    r = np.r_[laser, strain]
+    w = np.r_[np.full(n, 1 / 2.0), np.full(n, 1.0)]                  # each group's weighted SSE alike
+    fitter = BoundedFitter(r, w)
+    ev = _TwoGroups(n, n)
+    levels = {"laser": (0.2, 0.0), "strain": (float(np.sqrt(np.mean(strain ** 2))), 0.0)}
+    d = SimpleNamespace(fitter=fitter, share_mask=share_mask(ev, fitter, levels))
+    np.testing.assert_array_equal(d.share_mask, ev.mask["laser"])
+    g = np.r_[laser, np.zeros(n)]
+    assert explained_share(d, g) == pytest.approx(1.0, abs=1e-12)
+    everything = 1 - fitter.sse(g) / fitter.sse(np.zeros_like(r))
+    assert 0.4 < everything < 0.6
+    quiet = {"laser": (2.0, 0.0), "strain": levels["strain"]}
+    d.share_mask = share_mask(ev, fitter, quiet)
+    assert d.share_mask.all()
+    assert explained_share(d, g) == pytest.approx(everything, rel=1e-12)
+    # against a reference response (the pair test: the residual the better member leaves)
+    half = np.r_[laser / 2, np.zeros(n)]
+    d.share_mask = ev.mask["laser"]
+    assert explained_share(d, g, half) == pytest.approx(1.0, abs=1e-12)
+
+
 def test_beyond_model_error_is_the_ratio_of_the_projections():
     """Weighted least squares along one column u: with m = a u + v, v w-orthogonal to u (and to
     the nuisance column n), x_m = a exactly; the candidate's fitted change x_r = p - p_0, so

@@ -170,7 +170,7 @@ def _ranking(d) -> str:
                 va="center", fontsize=7)
     ax.set_xlim(0, 160)
     ax.set_xticks(range(0, 101, 20))
-    ax.set_xlabel("share of the weighted residual the candidate explains at its fitted value [%]")
+    ax.set_xlabel("share of the weighted residual (groups above noise) the candidate explains at its fitted value [%]")
     ax.set_title(f"verdict {d.verdict}; green: the candidate the verdict names; grey: not significant", fontsize=8)
     return _png(fig)
 
@@ -187,7 +187,8 @@ _CAPTIONS = {
     "The machine": "Each dot is a temperature sensor at its place on the machine (grey: the part outlines), "
                    "coloured by the RMSE of measured minus model; the numbers are keyed below the picture.",
     "Candidate": "Each effect the model lacks and each uncertain parameter of its own effects, fitted to the "
-                 "residual; the bar is the share of the weighted residual it explains, the label its fitted value "
+                 "residual; the bar is the share of the weighted residual it explains (over the channel groups "
+                 "above noise and model error, every group when none is), the label its fitted value "
                  "and its confidence (the Schwarz weight of the candidate among all candidates and 'nothing "
                  "missing').",
     "Where": "A generic heat input (constant, or while the spindle turns) fitted alone on each region of the "

@@ -10,7 +10,8 @@ the residual with the bounded nuisance fitted, sigma_g the instruments' noise le
 diagnosing model's estimated discretisation error (0 without an estimate). A factor of 1 is a
 residual the size of noise and model error; ``WITHIN`` (3) is the largest factor still called
 that. Then, with the top candidate (:mod:`validate.diagnose`'s significance test: >= 10 BIC units
-better than "nothing missing" and >= 50 % of the weighted residual explained):
+better than "nothing missing" and >= 50 % of the weighted residual of the groups above ``WITHIN``
+explained, of every group when none is above):
 
 * ``nothing_missing``: every group's factor <= ``WITHIN``, unless the top candidate is significant
   *and beyond the model error along its own signature* (below): a candidate that would fit part of
@@ -128,6 +129,14 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
     return where
 
 
+def _share_text(factors: dict[str, float]) -> str:
+    """Which groups the explained share counts: 'of the groups above noise (laser, temperature)'."""
+    above = [g for g, f in factors.items() if f > WITHIN]
+    if not above or len(above) == len(factors):
+        return "(all groups)" if above else "(all groups, none above noise)"
+    return f"(of the groups above noise: {', '.join(above)})"
+
+
 def _factors_text(factors: dict[str, float], levels: dict) -> str:
     unit = {g: residual_unit(g) for g in levels}
     return ", ".join(f"{g} {f:.1f}x (noise {levels[g][0]:.2g} {unit[g]}, model error {levels[g][1]:.2g} {unit[g]})"
@@ -145,8 +154,8 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
                 f"{top['delta_bic']:.1f}), not significant" if top else "")
         return f"nothing_missing: the residual is within noise and model error ({fac}){best}{along}"
     if verdict in ("explained", "partly_explained"):
-        head = (f"{verdict}: {top['statement']} explains {top['explained']:.0%} of the weighted residual, "
-                f"confidence {top['confidence']:.2f}")
+        head = (f"{verdict}: {top['statement']} explains {top['explained']:.0%} of the weighted residual "
+                f"{_share_text(factors)}, confidence {top['confidence']:.2f}")
         if verdict == "explained" and not any(f > WITHIN for f in factors.values()):
             return (head + f"; the residual before it was within noise and model error ({fac}), but{along[1:]}; "
                     f"after it: {_factors_text(after, levels)}")
