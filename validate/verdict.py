@@ -154,7 +154,7 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
                 f"{top['delta_bic']:.1f}), not significant" if top else "")
         return f"nothing_missing: the residual is within noise and model error ({fac}){best}{along}"
     if verdict in ("explained", "partly_explained"):
-        head = (f"{verdict}: {top['statement']} explains {top['explained']:.0%} of the weighted residual "
+        head = (f"{verdict}: {top['statement']}; this explains {top['explained']:.0%} of the weighted residual "
                 f"{_share_text(factors)}, confidence {top['confidence']:.2f}")
         if verdict == "explained" and not any(f > WITHIN for f in factors.values()):
             return (head + f"; the residual before it was within noise and model error ({fac}), but{along[1:]}; "
