@@ -152,14 +152,15 @@ def test_apply_rerun_reproduces_the_fitted_residual(hidden_motor):
 def test_reasoning_names_phases_and_channels(hidden_motor):
     """Per candidate, the explained fraction per input phase and per channel: the spindle phases
     tile the run, so their shares sum to 1 and share-weighted explained fractions add up to the
-    candidate's overall explained fraction (exact identity of sums of squares)."""
+    candidate's explained fraction over every channel, ``explained_all`` (exact identity of sums of
+    squares)."""
     d = hidden_motor
     labels = [p.label for p in d.phases if p.kind == "spindle"]
     assert labels[0].startswith("spindle on 9000") and labels[1] == "spindle off", labels
     top = d.candidates[0]
     spindle = [x for x in top["reasoning"]["phases"] if x["kind"] == "spindle"]
     assert sum(x["share"] for x in spindle) == pytest.approx(1.0)
-    assert sum(x["share"] * x["explained"] for x in spindle) == pytest.approx(top["explained"])
+    assert sum(x["share"] * x["explained"] for x in spindle) == pytest.approx(top["explained_all"], rel=1e-12)
     assert top["reasoning"]["channels"][0]["explained"] > 0.5
     text = format_diagnosis(d)
     assert "spindle phases: spindle on 9000 rpm" in text and "channels (explained/share of residual)" in text
