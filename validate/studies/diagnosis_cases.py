@@ -106,6 +106,9 @@ OUTSIDE = [
                                                    "the carriage"),
     ("upright_right.+y", "heat_flux", "60 W", "constant", "a hydraulic unit or lamp beside the right upright (the "
                                                           "cabinet is on the left)"),
+    ("ram.+y", "heat_flux", "40 W", "constant", "the warm return hoses of the head's hydraulic clamping along the "
+                                               "ram's right side: the third place, where the gantry's instruments "
+                                               "look (T3, T4, FBG-3, the lasers)"),
 ]
 OUTSIDE_SCENARIOS = (HEAT_COOL, DUTY)
 

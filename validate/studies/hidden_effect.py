@@ -97,7 +97,8 @@ def markdown(rows: list[dict], command: str, quick: bool) -> str:
     md = ["# Diagnosis study" + (" (quick)" if quick else ""), "",
           f"Command: `{command}`. Truth on the `{first.get('truth_mesh', '?')}` mesh with half the time step, cast "
           "iron and steel perturbed by 2-4 % (conductivity, heat capacity, expansion), sensor noise 0.05 K, probe "
-          "noise 0.05 um, quantisation, 0.03 K sensor bias (`validate.synthetic`); diagnosing model on "
+          "noise 0.05 um (laser triangulation and FBG gauges at their instruments' defaults, `twin list "
+          "instruments`; interferometer readings 0.1 um), quantisation, 0.03 K sensor bias (`validate.synthetic`); diagnosing model on "
           f"`{first.get('model_mesh', '?')}` with its discretisation error estimated against "
           f"`{first.get('error_mesh', '?')}`. Candidates: every library effect the model lacks and every declared "
           "uncertain parameter of its effects; each material's expansion fitted within its band. Verdicts from "
