@@ -328,3 +328,18 @@ def test_a_pair_with_a_contact_is_linearised_in_its_resistance():
     assert abs(a.values[0] - 5.0) > 0.05 and abs(b.values[0] - 30.0) > 0.5      # each alone is biased
     pair = search.pair(a, b)
     assert pair.values == pytest.approx((5.0, 30.0), rel=1e-9) and pair.sse < 1e-20
+
+
+def test_unexplained_message_says_a_candidate_that_makes_the_loud_groups_worse_explains_none():
+    """The share over the groups above noise is negative when the best fit over every channel leaves
+    those groups worse: the message says so with the number, never 'explains only -31 %'."""
+    from validate.verdict import message
+    top = {"effect": "z_axis_holding", "explained": -0.31, "delta_bic": 12.0, "statement": "x"}
+    levels = {"temperature": (0.05, 0.01), "probe": (0.05, 0.1)}
+    text = message("unexplained", top, {"temperature": 2.6, "probe": 3.5}, None, levels, [("probe:Z", 4.0)],
+                   "spindle on", [])
+    assert "explains none of it" in text and "31% worse" in text and "-31" not in text
+    top["explained"] = 0.2
+    text = message("unexplained", top, {"temperature": 2.6, "probe": 3.5}, None, levels, [("probe:Z", 4.0)],
+                   "spindle on", [])
+    assert "explains only 20%" in text

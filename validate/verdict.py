@@ -166,8 +166,11 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
                 f"worst at {left}" + (f"; a heat input on {regions[0]['region']} would explain "
                                       f"{regions[0]['explained']:.0%} of it" if regions else ""))
     left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
-    best = (f"the best library candidate {top['effect']} explains only {top['explained']:.0%} "
-            f"(dBIC {top['delta_bic']:.1f})" if top else "there are no library candidates")
+    best = ("there are no library candidates" if not top else
+            f"the best library candidate {top['effect']} explains only {top['explained']:.0%} (dBIC "
+            f"{top['delta_bic']:.1f})" if top["explained"] >= 0 else
+            f"the best library candidate {top['effect']} explains none of it: fitted, it leaves the groups "
+            f"above noise {-top['explained']:.0%} worse (dBIC {top['delta_bic']:.1f})")
     reg = (f"; a generic heat input fits best on {regions[0]['region']} ({regions[0]['power_W']:.3g} W "
            f"{regions[0]['schedule'].replace('_', ' ')}, explains {regions[0]['explained']:.0%})" if regions else "")
     return (f"unexplained: the residual is far above noise and model error ({fac}); {best}: the cause is "
