@@ -130,7 +130,8 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
 
 
 def _share_text(factors: dict[str, float]) -> str:
-    """Which groups the explained share counts: 'of the groups above noise (laser, temperature)'."""
+    """Which groups the explained share counts: '(of the groups above noise: laser, temperature)',
+    '(all groups)', or '(all groups, none above noise)'."""
     above = [g for g, f in factors.items() if f > WITHIN]
     if not above or len(above) == len(factors):
         return "(all groups)" if above else "(all groups, none above noise)"
