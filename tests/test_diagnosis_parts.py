@@ -100,9 +100,8 @@ def test_explained_share_counts_only_the_groups_above_noise():
     removes the lasers' residual exactly explains 100 % of A (to round-off) though only about
     half of everything; with both groups at noise A is every channel and the share is the
     all-channel 1 - SSE_k / SSE_0."""
-    from types import SimpleNamespace
-
-    from validate.diagnose import explained_share, share_mask
+    from validate.diagnose import Share
+    from validate.verdict import residual_factors
     rng = np.random.default_rng(3)
     n = 500
     laser = 10 * 0.2 * np.sin(np.linspace(0, 6, n)) * np.sqrt(2)   # RMS 2.0 um = 10x a 0.2 um noise
@@ -112,20 +111,20 @@ def test_explained_share_counts_only_the_groups_above_noise():
     fitter = BoundedFitter(r, w)
     ev = _TwoGroups(n, n)
     levels = {"laser": (0.2, 0.0), "strain": (float(np.sqrt(np.mean(strain ** 2))), 0.0)}
-    d = SimpleNamespace(fitter=fitter, share_mask=share_mask(ev, fitter, levels))
-    np.testing.assert_array_equal(d.share_mask, ev.mask["laser"])
+    share = Share(ev, fitter, residual_factors(ev, r, levels), r)
+    np.testing.assert_array_equal(share.mask, ev.mask["laser"])
     g = np.r_[laser, np.zeros(n)]
-    assert explained_share(d, g) == pytest.approx(1.0, abs=1e-12)
+    assert share.explained(g) == pytest.approx(1.0, abs=1e-12)
     everything = 1 - fitter.sse(g) / fitter.sse(np.zeros_like(r))
     assert 0.4 < everything < 0.6
     quiet = {"laser": (2.0, 0.0), "strain": levels["strain"]}
-    d.share_mask = share_mask(ev, fitter, quiet)
-    assert d.share_mask.all()
-    assert explained_share(d, g) == pytest.approx(everything, rel=1e-12)
+    share = Share(ev, fitter, residual_factors(ev, r, quiet), r)
+    assert share.mask.all()
+    assert share.explained(g) == pytest.approx(everything, rel=1e-12)
     # against a reference response (the pair test: the residual the better member leaves)
     half = np.r_[laser / 2, np.zeros(n)]
-    d.share_mask = ev.mask["laser"]
-    assert explained_share(d, g, half) == pytest.approx(1.0, abs=1e-12)
+    share = Share(ev, fitter, residual_factors(ev, r, levels), r)
+    assert share.explained(g, half) == pytest.approx(1.0, abs=1e-12)
 
 
 def test_beyond_model_error_is_the_ratio_of_the_projections():

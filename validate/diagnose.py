@@ -81,7 +81,7 @@ class Diagnosis:
     residual_factor: dict = field(default_factory=dict)
     residual_factor_after: dict = field(default_factory=dict)
     levels: dict = field(default_factory=dict)     # group -> (noise, model error)
-    share_mask: np.ndarray | None = None           # flat: the channels of the groups above noise
+    share: "Share | None" = None                   # the significance share (the groups above noise)
     nuisance: dict = field(default_factory=dict)
     nuisance_baseline: dict = field(default_factory=dict)
     regions: list = field(default_factory=list)
@@ -283,8 +283,10 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     search = Search(evidence.observe, spec, base, fitter)
     fits = search.singles(pool, stage)
     d.levels = V.group_levels(evidence, d.model_error_flat)
-    d.share_mask = share_mask(evidence, fitter, d.levels)
-    if fits and (explained_share(d, fits[0].response) < pair_threshold or _leaves_a_residual(d, fits[0])):
+    plain = fitter.residual_after(zero)
+    d.residual_factor = V.residual_factors(evidence, plain, d.levels)
+    d.share = Share(evidence, fitter, d.residual_factor, plain)
+    if fits and (d.share.explained(fits[0].response) < pair_threshold or _leaves_a_residual(d, fits[0])):
         fits += _pairs(search, fits[:pair_pool], d, min_explained, bic_margin, stage)
         fits.sort(key=lambda f: f.sse)
     d.fits = fits
@@ -294,27 +296,33 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     return d
 
 
-def share_mask(evidence: Evidence, fitter: BoundedFitter, levels: dict) -> np.ndarray:
-    """Flat mask of the channels whose group's residual (nuisance fitted, no candidate) stands
-    above noise and model error (factor > ``WITHIN``); every channel when no group does."""
-    factors = V.residual_factors(evidence, fitter.residual_after(np.zeros_like(fitter.r)), levels)
-    above = [g for g, f in factors.items() if f > V.WITHIN]
-    if not above:
-        return np.ones(fitter.r.shape, bool)
-    return np.logical_or.reduce([evidence.group_mask(g) for g in above])
+class Share:
+    """The significance share 1 - SSE(g) / SSE_0 over A, the channels of the groups whose residual
+    factor before any candidate (``factors``) is above ``WITHIN`` (every channel when none is); SSE
+    weighted, nuisance fitted. ``plain``: the baseline residual r - nuisance (flat), whose SSE over
+    A is kept as SSE_0."""
 
+    def __init__(self, evidence: Evidence, fitter: BoundedFitter, factors: dict, plain: np.ndarray):
+        above = V.above_noise(factors)
+        self.fitter = fitter
+        self.mask = (np.logical_or.reduce([evidence.group_mask(g) for g in above]) if above
+                     else np.ones(fitter.r.shape, bool))
+        self.sse0 = self.sse(plain)
 
-def masked_sse(d: Diagnosis, g: np.ndarray) -> float:
-    """Weighted sum of squares of r - g - nuisance over ``d.share_mask``."""
-    e = (d.fitter.w * d.fitter.residual_after(g))[d.share_mask]
-    return float(e @ e)
+    def sse(self, residual: np.ndarray) -> float:
+        """Weighted sum of squares of a flat residual over A."""
+        e = (self.fitter.w * residual)[self.mask]
+        return float(e @ e)
 
+    def of_residual(self, residual: np.ndarray, reference_sse: float | None = None) -> float:
+        """1 - SSE(residual) / SSE_ref over A (reference: the baseline's SSE_0)."""
+        ref = self.sse0 if reference_sse is None else reference_sse
+        return float(1 - self.sse(residual) / ref) if ref > 0 else 0.0
 
-def explained_share(d: Diagnosis, g: np.ndarray, reference: np.ndarray | None = None) -> float:
-    """1 - SSE(g) / SSE(reference) over the groups above noise (``share_mask``); the reference
-    defaults to the baseline (no candidate)."""
-    ref = masked_sse(d, np.zeros_like(d.fitter.r) if reference is None else reference)
-    return float(1 - masked_sse(d, g) / ref) if ref > 0 else 0.0
+    def explained(self, g: np.ndarray, reference: np.ndarray | None = None) -> float:
+        """The share a response g explains, of the baseline or of what ``reference`` leaves."""
+        ref = None if reference is None else self.sse(self.fitter.residual_after(reference))
+        return self.of_residual(self.fitter.residual_after(g), ref)
 
 
 def _leaves_a_residual(d: Diagnosis, best: Fit) -> bool:
@@ -349,13 +357,13 @@ def _pair_significant(d: Diagnosis, pair: Fit, singles: list[Fit], n_eff: float,
     """The second member of a pair must pass the same test as a single against the baseline, taken
     against the residual its better member leaves: BIC gain >= ``bic_margin`` for the extra
     parameter and at least ``min_explained`` of that residual explained (over the groups above
-    noise, ``share_mask``)."""
+    noise, :class:`Share`)."""
     names = {c.name for c in pair.candidates}
     better = min((f for f in singles if f.candidates[0].name in names), key=lambda f: f.sse)
     if better.sse <= 0:
         return False
     gain = n_eff * np.log(better.sse / max(pair.sse, 1e-300)) - (pair.nparams - better.nparams) * np.log(n_eff)
-    return bool(gain >= bic_margin and explained_share(d, pair.response, better.response) >= min_explained)
+    return bool(gain >= bic_margin and d.share.explained(pair.response, better.response) >= min_explained)
 
 
 def nuisance_report(fitter: BoundedFitter, materials: list[str], bands: dict, g: np.ndarray) -> dict:
@@ -402,7 +410,8 @@ def _score(d: Diagnosis, fits: list[Fit], min_explained: float, bic_margin: floa
             corr = float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b) or 1.0))
             if abs(bics[i] - bics[j]) < 6 or abs(corr) > 0.95:
                 twins.append(o.name)
-        rms_after = ev.per_channel(d.residual_after(f.response))
+        res = d.residual_after(f.response)
+        rms_after = ev.per_channel(res)
         per_ch = 1 - (rms_after / np.where(before > 0, before, 1)) ** 2
         d.candidates.append({
             "effect": f.name,
@@ -411,7 +420,7 @@ def _score(d: Diagnosis, fits: list[Fit], min_explained: float, bic_margin: floa
             "values_si": {c.effect: {c.parameter: v} for c, v in zip(f.candidates, f.values)},
             "model_values": {c.effect: {c.parameter: c.zero} for c in f.candidates if c.in_model},
             "statement": statement(f),
-            "explained": explained_share(d, f.response),
+            "explained": d.share.of_residual(res),
             "explained_all": float(1 - f.sse / sse0) if sse0 > 0 else 0.0,
             "rmse_after": {c: float(v) for c, v in zip(names, rms_after)},
             "delta_bic": float(bic0 - bics[i]),
@@ -430,7 +439,6 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     from validate.channel_cost import missing_channels
     ev, fitter = d.evidence, d.fitter
     zero = np.zeros_like(fitter.r)
-    d.residual_factor = V.residual_factors(ev, fitter.residual_after(zero), d.levels)
     top_fit = d.fits[0] if d.fits else None
     after = fitter.residual_after(top_fit.response) if top_fit is not None else fitter.residual_after(zero)
     d.residual_factor_after = V.residual_factors(ev, after, d.levels) if top_fit is not None else {}

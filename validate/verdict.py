@@ -129,10 +129,16 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
     return where
 
 
+def above_noise(factors: dict[str, float]) -> list[str]:
+    """The groups whose residual factor is above ``WITHIN`` (the groups the significance share
+    counts, :class:`validate.diagnose.Share`)."""
+    return [g for g, f in factors.items() if f > WITHIN]
+
+
 def _share_text(factors: dict[str, float]) -> str:
     """Which groups the explained share counts: '(of the groups above noise: laser, temperature)',
     '(all groups)', or '(all groups, none above noise)'."""
-    above = [g for g, f in factors.items() if f > WITHIN]
+    above = above_noise(factors)
     if not above or len(above) == len(factors):
         return "(all groups)" if above else "(all groups, none above noise)"
     return f"(of the groups above noise: {', '.join(above)})"
