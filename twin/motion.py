@@ -78,6 +78,11 @@ class Motion:
         tau = np.clip(t - self.t0[i], 0.0, self.dur[i])
         return i, tau, t
 
+    def _inside(self, i: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Whether each time t lies within its piece i (not before the first, after the last, or
+        in a gap)."""
+        return (t >= self.t0[i]) & (t < self.t0[i] + self.dur[i])
+
     def position(self, t) -> np.ndarray:
         """Position [m] at times t [s] (the start position before 0, the end after the last piece)."""
         i, tau, t = self._at(t)
@@ -90,16 +95,14 @@ class Motion:
         i, tau, t = self._at(t)
         if i is None:
             return np.zeros(t.shape)
-        inside = (t >= self.t0[i]) & (t < self.t0[i] + self.dur[i])
-        return np.where(inside, self.v0[i] + self.a[i] * tau, 0.0)
+        return np.where(self._inside(i, t), self.v0[i] + self.a[i] * tau, 0.0)
 
     def acceleration(self, t) -> np.ndarray:
         """Acceleration [m/s2] at times t [s] (0 outside the pieces)."""
         i, tau, t = self._at(t)
         if i is None:
             return np.zeros(t.shape)
-        inside = (t >= self.t0[i]) & (t < self.t0[i] + self.dur[i])
-        return np.where(inside, self.a[i], 0.0)
+        return np.where(self._inside(i, t), self.a[i], 0.0)
 
     def squared_acceleration_integral(self, t) -> np.ndarray:
         """int_0^t a(s)^2 ds [m2/s3] at times t [s], exact: a is constant on each piece, so the
