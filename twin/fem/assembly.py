@@ -99,6 +99,27 @@ def assemble_coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_
     return Pattern(mm.mesh.t, mm.heat_t, (mm.nnodes, mm.nheat)).assemble(c_blocks, inverse)
 
 
+def assemble_nested_coupling(nested, layout: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:
+    """Thermal coupling C [N/K] from the temperature dofs of ``layout`` (a layout of
+    ``nested.fine``, split or not) to the displacement dofs of the coarser ``nested.coarse``
+    (:mod:`twin.fem.nesting`): each fine cell adds int B_coarse^T D m alpha N_fine^T dV over its
+    own volume (:func:`twin.fem.elements.nested_coupling`) to its coarse cell's corners."""
+    coarse, parent = nested.coarse, nested.parent
+    mats = cell_materials(layout, materials)
+    offset = layout.mesh.p[:, layout.mesh.t[0]].T - coarse.mesh.p[:, coarse.mesh.t[0, parent]].T
+    geometry = np.column_stack([coarse.cell_size[parent], layout.cell_size, offset])
+    key = np.column_stack([np.round(geometry, 12), layout.cell_part])
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    part = layout.cell_part[first]
+    lame = np.array([mats[p].lame for p in part])
+    alpha = np.array([mats[p].expansion for p in part])
+    g = geometry[first]                       # each group's own values, not their rounded keys
+    blocks = elements.nested_coupling(g[:, 0:3], g[:, 3:6], g[:, 6:9], lame[:, 0], lame[:, 1], alpha)
+    blocks = blocks.reshape(len(first), 8, 3, 8).transpose(0, 1, 3, 2)[..., None]
+    return Pattern(coarse.mesh.t[:, parent], layout.heat_t, (coarse.nnodes, layout.nheat)).assemble(
+        blocks, inverse.ravel())
+
+
 @dataclass
 class FacetMatrices:
     """For a set of facets: H = int N N dA [m2] and r = int N dA [m2] (so r @ T = int T dA)."""

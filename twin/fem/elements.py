@@ -80,25 +80,67 @@ def elasticity_matrix(lam: np.ndarray, mu: np.ndarray) -> np.ndarray:
     return d
 
 
+def _brick_gradients(xi: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Physical gradients (m, q, 11, 3) of the eight Q1 shape functions and the three incompatible
+    modes P_i = 1 - xi_i^2 (gradient along i only, -2 xi_i) at reference points ``xi`` (q, 3) or
+    (m, q, 3) of bricks with half-sizes ``half`` (m, 3) [m]."""
+    xi = np.broadcast_to(xi, (len(half),) + np.shape(xi)[-2:])
+    m, q, _ = xi.shape
+    _, dn = shape_q1(xi.reshape(-1, 3))
+    dp = np.zeros((m * q, 3, 3))
+    for i in range(3):
+        dp[:, i, i] = -2.0 * xi.reshape(-1, 3)[:, i]
+    return np.concatenate([dn, dp], axis=1).reshape(m, q, 11, 3) / half[:, None, None, :]
+
+
+def _condense(k: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Static condensation of the incompatible modes (the last 9 dofs): K_cc - K_ci K_ii^-1 K_ic and
+    C_c - K_ci K_ii^-1 C_i, for stiffness k (m, 33, 33) and coupling c (m, 33, n)."""
+    kcc, kci, kii = k[:, :24, :24], k[:, :24, 24:], k[:, 24:, 24:]
+    return (kcc - kci @ np.linalg.solve(kii, np.transpose(kci, (0, 2, 1))),
+            c[:, :24, :] - kci @ np.linalg.solve(kii, c[:, 24:, :]))
+
+
+def _stiffness(size: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Uncondensed stiffness (m, 33, 33) [N/m] of bricks of ``size`` (m, 3) with elasticity D (m, 6, 6)."""
+    half = 0.5 * size
+    b = _b_matrix(_brick_gradients(GAUSS, half))
+    return np.einsum("mqia,mij,mqjb->mab", b, d, b) * half.prod(axis=1)[:, None, None]
+
+
 def elastic_matrices(size: np.ndarray, lam: np.ndarray, mu: np.ndarray, alpha: np.ndarray):
     """Condensed stiffness (m, 24, 24) [N/m] and thermal coupling (m, 24, 8) [N/K] of box elements.
 
     size (m, 3) [m], Lame constants lam, mu (m,) [Pa], expansion alpha (m,) [1/K].
     """
-    n, dn = shape_q1(GAUSS)
+    n, _ = shape_q1(GAUSS)
     half = 0.5 * size
-    det = half.prod(axis=1)
-    # incompatible modes P_i = 1 - xi_i^2: gradient along i only, -2 xi_i
-    dp = np.zeros((len(GAUSS), 3, 3))
-    for i in range(3):
-        dp[:, i, i] = -2.0 * GAUSS[:, i]
-    grads = np.concatenate([dn, dp], axis=1)[None] / half[:, None, None, :]  # (m, q, 11, 3)
-    b = _b_matrix(grads)  # (m, q, 6, 33)
     d = elasticity_matrix(lam, mu)
-    k = np.einsum("mqia,mij,mqjb->mab", b, d, b) * det[:, None, None]
+    b = _b_matrix(_brick_gradients(GAUSS, half))  # (m, q, 6, 33)
     dm = d[:, :, :3].sum(axis=2) * alpha[:, None]  # D m alpha: (m, 6)
-    c = np.einsum("mqia,mi,qn->man", b, dm, n) * det[:, None, None]  # (m, 33, 8)
-    kcc, kci, kii = k[:, :24, :24], k[:, :24, 24:], k[:, 24:, 24:]
-    kii_inv_kic = np.linalg.solve(kii, np.transpose(kci, (0, 2, 1)))
-    kii_inv_ci = np.linalg.solve(kii, c[:, 24:, :])
-    return kcc - kci @ kii_inv_kic, c[:, :24, :] - kci @ kii_inv_ci
+    c = np.einsum("mqia,mi,qn->man", b, dm, n) * half.prod(axis=1)[:, None, None]  # (m, 33, 8)
+    return _condense(_stiffness(size, d), c)
+
+
+def nested_coupling(size: np.ndarray, sub_size: np.ndarray, offset: np.ndarray, lam: np.ndarray,
+                    mu: np.ndarray, alpha: np.ndarray) -> np.ndarray:
+    """Thermal coupling (m, 24, 8) [N/K] of a brick of ``size`` (m, 3) [m] with the temperature of a
+    smaller brick inside it (``sub_size``, its low corner at ``offset`` from the brick's): the
+    nodal forces on the brick's eight corners from a trilinear temperature rise on the sub-brick's
+    eight corners,
+
+        C = int_sub B^T D m alpha N_sub^T dV,  condensed like :func:`elastic_matrices`' coupling.
+
+    2x2x2 Gauss points of the sub-brick integrate it exactly (B is bilinear and N_sub trilinear
+    there). Summed over the sub-bricks that tile the brick it is the coupling of an elastic cell
+    to a finer temperature grid (:func:`twin.fem.assembly.assemble_nested_coupling`); with the
+    sub-brick the brick itself it is :func:`elastic_matrices`' coupling.
+    """
+    n, _ = shape_q1(GAUSS)
+    inside = offset[:, None, :] + 0.5 * sub_size[:, None, :] * (1.0 + GAUSS[None])   # (m, q, 3) from the corner
+    xi = 2.0 * inside / size[:, None, :] - 1.0
+    d = elasticity_matrix(lam, mu)
+    b = _b_matrix(_brick_gradients(xi, 0.5 * size))
+    dm = d[:, :, :3].sum(axis=2) * alpha[:, None]
+    c = np.einsum("mqia,mi,qn->man", b, dm, n) * (0.5 * sub_size).prod(axis=1)[:, None, None]
+    return _condense(_stiffness(size, d), c)[1]

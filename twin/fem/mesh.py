@@ -129,17 +129,36 @@ def refine_factors(part) -> tuple[float, float, float]:
     return tuple(float(v) for v in r) if isinstance(r, (tuple, list)) else (float(r),) * 3
 
 
+def part_planes(machine, axis: int) -> np.ndarray:
+    """Sorted coordinates [m] along ``axis`` of every box and void face of every part: the planes
+    every grid of the machine has a line on."""
+    bounds = [c for part in machine.parts for box in part.boxes + part.voids for c in (box.lo[axis], box.hi[axis])]
+    return np.unique(np.round(np.asarray(bounds, dtype=float), 9))
+
+
+def grid_axes(machine, spacing: float) -> list[np.ndarray]:
+    """The grid lines along x, y, z of :func:`build_mesh` (no cell wider than ``spacing`` [m], or
+    ``part.refine * spacing`` across a refined part)."""
+    axes = []
+    for d in range(3):
+        local = [(box.lo[d], box.hi[d], refine_factors(part)[d] * spacing)
+                 for part in machine.parts if refine_factors(part)[d] < 1 for box in part.boxes]
+        axes.append(grid_lines(part_planes(machine, d), spacing, local))
+    return axes
+
+
 def build_mesh(machine, spacing: float) -> MachineMesh:
     """Mesh ``machine`` with cells no wider than ``spacing`` [m], and no wider than
     ``part.refine * spacing`` across a part with ``refine < 1`` (per axis if ``refine`` is three
     numbers): a thin test bar whose fin length sqrt(k A / h P) is a few cm, a bearing zone whose
     heat peaks inside it (see module docstring)."""
-    axes = []
-    for d in range(3):
-        bounds = [c for part in machine.parts for box in part.boxes + part.voids for c in (box.lo[d], box.hi[d])]
-        local = [(box.lo[d], box.hi[d], refine_factors(part)[d] * spacing)
-                 for part in machine.parts if refine_factors(part)[d] < 1 for box in part.boxes]
-        axes.append(grid_lines(bounds, spacing, local))
+    return mesh_on_lines(machine, grid_axes(machine, spacing), spacing)
+
+
+def mesh_on_lines(machine, axes: list[np.ndarray], spacing: float) -> MachineMesh:
+    """The machine's cells on the rectilinear grid ``axes`` (three sorted arrays of line
+    coordinates [m], a line on every part plane): a cell belongs to the last part whose box holds
+    its centre. ``spacing`` [m] is recorded as the mesh's nominal cell size."""
     centres = [0.5 * (a[1:] + a[:-1]) for a in axes]
     shape = tuple(len(c) for c in centres)
     ci, cj, ck = np.meshgrid(*[np.arange(n) for n in shape], indexing="ij")

@@ -29,8 +29,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from twin.errors import InputError
-from twin.fem.assembly import assemble_heat
+from twin.fem.assembly import assemble_heat, assemble_nested_coupling
 from twin.fem.mesh import mesh_machine
+from twin.fem.nesting import coarsen
 from twin.observe.base import Observer
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
@@ -52,6 +53,7 @@ class PreparedTwin:
                           if materials and p.material.name in materials}
         self.heat = assemble_heat(self.mm, self.materials)
         self._elastic = None
+        self._nested = None
         self._heat_cache = {layout_key(self.mm): self.heat}
         self._adjoints: dict[tuple, np.ndarray] = {}
         self._couplings: dict[tuple, sp.csr_matrix] = {}
@@ -62,35 +64,53 @@ class PreparedTwin:
         self.run_info: dict = {}
 
     @property
+    def elastic_mm(self):
+        """The mesh the displacements live on: the temperature mesh, or every
+        ``elastic_coarsening``-th line of it (:mod:`twin.fem.nesting`)."""
+        if self._nested is None and self.options.elastic_coarsening > 1:
+            self._nested = coarsen(self.mm, self.options.elastic_coarsening)
+        return self.mm if self._nested is None else self._nested.coarse
+
+    @property
     def elastic(self) -> ElasticSolver:
         """The factorised stiffness of the supported machine (built on first use)."""
         if self._elastic is None:
             method = "direct" if self.method == "direct" else "amg"
-            self._elastic = ElasticSolver.build(self.mm, self.materials, method, self.options.elastic_rtol)
+            self._elastic = ElasticSolver.build(self.elastic_mm, self.materials, method, self.options.elastic_rtol)
         return self._elastic
 
     def coupling(self, layout, material: str | None = None) -> sp.csr_matrix:
-        """Thermal coupling C [N/K] on the temperature dofs of ``layout``; with ``material``, the
-        coupling of that material's cells alone (every other expansion coefficient set to 0)."""
+        """Thermal coupling C [N/K] from the temperature dofs of ``layout`` to the displacements;
+        with ``material``, the coupling of that material's cells alone (every other expansion
+        coefficient set to 0)."""
         key = (layout_key(layout), material)
         if key not in self._couplings:
-            if material is None and layout.nheat == self.mm.nheat:
+            nested = self.elastic_mm is not self.mm
+            if material is None and layout.nheat == self.mm.nheat and not nested:
                 C = self.elastic.matrices.C
             else:
                 parts = {p.name: self.materials.get(p.name, p.material) for p in self.machine.parts}
                 if material is not None:
                     parts = {n: m if m.name == material else m.scaled(expansion=0.0) for n, m in parts.items()}
-                C = ElasticSolver.coupling(layout, parts)
+                C = assemble_nested_coupling(self._nested, layout, parts) if nested else ElasticSolver.coupling(layout, parts)
             self._couplings[key] = C
         return self._couplings[key]
 
     def adjoint(self, observer) -> np.ndarray:
-        """lam = K^-1 G^T (3 n_nodes, k) of a displacement observer's functionals G, solved once."""
+        """lam = K^-1 G^T (3 n_nodes, k) of a displacement observer's functionals G on the elastic
+        mesh, solved once."""
         key = observer.cache_key()
         if key not in self._adjoints:
-            G = observer.all_functionals(self.mm)
+            G = observer.all_functionals(self.elastic_mm)
             self._adjoints[key] = self.elastic.solve(np.asarray(G.todense()).T)
         return self._adjoints[key]
+
+    def elastic_info(self) -> dict:
+        """What solved the elasticity and on which mesh, for the result attributes."""
+        if self._elastic is None:
+            return {}
+        return {**self._elastic.info(), "elastic_nodes": int(self.elastic_mm.nnodes),
+                "elastic_coarsening": int(self.options.elastic_coarsening)}
 
     def displacement_rows(self, observer, layout, material: str | None = None) -> np.ndarray:
         """(k, n_heat) rows (C^T lam)^T of a displacement observer on ``layout`` (see
@@ -203,7 +223,7 @@ class PreparedTwin:
                 info["solver_error_bound"] = per_output(
                     output_bounds(outputs, mass_weights(loads.system.M), float(stepper.rho_sum)))
         self.run_info = {"solver": self.options.solver, "solver_method": self.method, "device": self.options.device,
-                         **info, **(self._elastic.info() if self._elastic is not None else {})}
+                         **info, **self.elastic_info()}
         readings = {o.key: out[:, a:b] for o, a, b in zip(dense, bounds[:-1], bounds[1:])}
         readings.update({s_.observer.key: s_.raw for s_ in sampled})
         readings = {o.key: readings[o.key] for o in observers}

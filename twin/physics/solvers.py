@@ -55,7 +55,9 @@ class SolverOptions:
     iterative heat step on a GPU with CuPy). ``heat_tol`` [K]: bound on the capacity-weighted RMS
     temperature error the iterative heat solver may add over a run (module docstring).
     ``elastic_rtol``: relative residual of the iterative elastic adjoint solves. ``rom_order``:
-    the reduced model's basis size (:mod:`twin.physics.rom`).
+    the reduced model's basis size (:mod:`twin.physics.rom`). ``elastic_coarsening``: solve the
+    elasticity on every n-th grid line of the temperature mesh (:mod:`twin.fem.nesting`; 1: the
+    same mesh), the thermal load still integrated on the temperature mesh's cells.
     """
 
     solver: str = "auto"
@@ -64,6 +66,7 @@ class SolverOptions:
     elastic_rtol: float = 1e-8
     rom_order: int = 48
     max_iterations: int = 2000
+    elastic_coarsening: int = 1
 
     def __post_init__(self):
         if self.solver not in SOLVERS:
@@ -75,6 +78,10 @@ class SolverOptions:
                                                          "iterative or auto with --device gpu")
         if not self.heat_tol > 0 or not self.elastic_rtol > 0 or self.rom_order < 2:
             raise InputError("command line", "--solver", "tolerances must be positive and the ROM order at least 2")
+        if isinstance(self.elastic_coarsening, bool) or not isinstance(self.elastic_coarsening, (int, np.integer)) \
+                or self.elastic_coarsening < 1:
+            raise InputError("command line", "--elastic-coarsening",
+                             f"must be a whole number >= 1 (1: the temperature mesh), got {self.elastic_coarsening!r}")
 
     def resolve(self, nheat: int) -> str:
         """The full-order method for a layout of ``nheat`` temperature dofs: direct or iterative."""

@@ -1,0 +1,82 @@
+"""An elastic mesh coarser than the temperature mesh, nested in it.
+
+The drift outputs are smooth functionals of the displacement, while the temperature field has
+steep gradients near its sources: a large model can solve the heat equation on a fine grid and
+the elasticity on a coarser one. The coarse grid keeps every part plane of the fine grid and
+every ``factor``-th line between two planes (evenly spread when an interval does not divide), so
+each coarse cell is a union of fine cells of one part. The thermal load of a fine temperature
+field on the coarse displacements is integrated exactly on the fine cells
+(:func:`twin.fem.assembly.assemble_nested_coupling`): a uniform or linear temperature rise gives
+the same free expansion and bending on either grid, and only the displacement's discretisation
+is coarser.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from twin.fem.mesh import MachineMesh, grid_axes, mesh_on_lines, part_planes
+
+
+@dataclass
+class NestedMesh:
+    """``coarse`` nested in ``fine``: ``parent[e]`` is the coarse cell that holds fine cell e."""
+
+    fine: MachineMesh
+    coarse: MachineMesh
+    parent: np.ndarray
+    factor: int
+
+
+def coarser_lines(lines: np.ndarray, planes: np.ndarray, factor: int) -> np.ndarray:
+    """Every plane of ``lines`` and, between two planes with n intervals, ceil(n / factor) - 1
+    lines spread evenly among the n - 1 between them."""
+    on_plane = np.isclose(lines[:, None], planes[None, :], rtol=0.0, atol=1e-9).any(axis=1)
+    ends = np.flatnonzero(on_plane)
+    keep = []
+    for a, b in zip(ends[:-1], ends[1:]):
+        m = int(np.ceil((b - a) / factor))
+        keep += [a + int(round(k * (b - a) / m)) for k in range(m)]
+    keep.append(ends[-1])
+    return lines[np.asarray(keep)]
+
+
+def coarsen(mm: MachineMesh, factor: int) -> NestedMesh:
+    """The mesh of ``mm.machine`` on every ``factor``-th line of ``mm``'s grid (module docstring).
+    ``factor`` 1 gives the same grid. Raises ValueError if ``mm`` is not the machine's grid at its
+    spacing (a coarse grid is defined only on the lines :func:`twin.fem.mesh.grid_axes` draws)."""
+    if int(factor) != factor or factor < 1:
+        raise ValueError(f"the elastic coarsening must be a whole number >= 1, got {factor!r}")
+    machine = mm.machine
+    axes = grid_axes(machine, mm.spacing)
+    lattice = [np.unique(mm.mesh.p[d]) for d in range(3)]
+    if any(not np.isin(np.round(lattice[d], 9), np.round(axes[d], 9)).all() for d in range(3)):
+        raise ValueError("the mesh is not the machine's grid at its spacing: it cannot be coarsened")
+    coarse_axes = [coarser_lines(axes[d], part_planes(machine, d), int(factor)) for d in range(3)]
+    coarse = mesh_on_lines(machine, coarse_axes, mm.spacing * factor)
+    parent = _parents(mm, coarse, coarse_axes)
+    if not np.array_equal(coarse.cell_part[parent], mm.cell_part):
+        raise ValueError("a coarse cell holds fine cells of two parts: the grids are not nested")
+    return NestedMesh(mm, coarse, parent, int(factor))
+
+
+def _cell_index(mm: MachineMesh, axes: list[np.ndarray]) -> np.ndarray:
+    """(ncells, 3) index of each cell's interval along each of ``axes`` (from its centre)."""
+    lo, hi = mm.mesh.p[:, mm.mesh.t[0]], mm.mesh.p[:, mm.mesh.t[7]]
+    centre = 0.5 * (lo + hi)
+    return np.stack([np.searchsorted(axes[d], centre[d]) - 1 for d in range(3)], axis=1)
+
+
+def _parents(fine: MachineMesh, coarse: MachineMesh, coarse_axes: list[np.ndarray]) -> np.ndarray:
+    """The coarse cell holding each fine cell."""
+    dims = tuple(len(a) - 1 for a in coarse_axes)
+    key_c = np.ravel_multi_index(_cell_index(coarse, coarse_axes).T, dims)
+    key_f = np.ravel_multi_index(_cell_index(fine, coarse_axes).T, dims)
+    order = np.argsort(key_c)
+    pos = np.searchsorted(key_c[order], key_f)
+    found = order[np.minimum(pos, len(order) - 1)]
+    if not np.array_equal(key_c[found], key_f):
+        raise ValueError("a fine cell lies in no coarse cell: the grids are not nested")
+    return found
