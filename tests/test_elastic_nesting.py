@@ -141,3 +141,39 @@ def test_cli_refuses_a_bad_elastic_coarsening(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and err.count("\n") == 1 and "--elastic-coarsening" in err
     assert not out.exists()
+
+
+def test_nested_coupling_follows_a_split_temperature_layout(machine):
+    """On a layout split at a contact (the test bar's seat), the nested coupling of factor 1 is the
+    element coupling of that layout, and any factor's coupling of a field continuous across the
+    split equals that of the unsplit field (the split copies carry the same temperatures)."""
+    from twin.fem.mesh import mesh_machine
+
+    mm = mesh_machine(machine, "coarse")
+    split = mm.split_heat(("test_bar",), mm.facets["test_bar_seat"])
+    assert split.nheat > mm.nheat
+    C0 = assemble_coupling(split)        # groups cells by their sizes rounded to 1e-12 m: 1e-11 relative
+    assert abs(assemble_nested_coupling(coarsen(split, 1), split) - C0).max() <= 1e-10 * abs(C0).max()
+    nested = coarsen(mm, 2)
+    T = np.random.default_rng(2).normal(size=mm.nnodes)
+    same = assemble_nested_coupling(nested, split) @ T[split.heat_node]
+    whole = assemble_nested_coupling(nested, mm) @ T
+    assert np.max(np.abs(same - whole)) <= 1e-12 * np.max(np.abs(whole))
+
+
+def test_benchmark_reports_the_coarser_elastic_mesh_and_its_error(capsys):
+    """``python -m validate.benchmark --elastic-coarsening 2`` prints the elastic mesh's nodes and
+    the drift's largest difference from the one-mesh elasticity on the same temperatures."""
+    import json
+
+    from validate.benchmark import main
+
+    assert main(["--mesh", "coarse", "--elastic-coarsening", "2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["elastic_coarsening"] == 2 and out["elastic_nodes"] < out["nodes"]
+    assert 0.0 < out["elastic_rel_error"] < 0.05
+    assert set(out["prepare_s"]) == {"mesh", "heat_assembly", "elastic_assembly", "adjoints", "rows"}
+    assert main(["--mesh", "coarse", "--elastic-coarsening", "2", "--prepare-only", "--json"]) == 0
+    prep = json.loads(capsys.readouterr().out)
+    assert "step_ms" not in prep and prep["elastic_nodes"] == out["elastic_nodes"]
+    assert prep["preparation_s"] >= sum(prep["prepare_s"].values()) - 1e-3

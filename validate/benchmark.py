@@ -50,6 +50,8 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--heat-only", action="store_true",
                     help="observe temperatures and the heat balance only (no elastic adjoints): times the heat step")
     ap.add_argument("--no-bound", action="store_true", help="batched ROM: skip the verified error bound")
+    ap.add_argument("--prepare-only", action="store_true",
+                    help="stop after the preparation (mesh, assembly, elastic adjoints, rows): its stages and memory")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", action="store_true", help="print only the JSON object")
     return ap
@@ -115,12 +117,21 @@ def main(argv=None) -> int:
     spec = model_spec(machine)
     twin.output_rows([o for o in observers if o.sample_steps(scenario.times()) is None], twin.loads(scenario, spec))
     stages["rows"] = time.perf_counter() - t0 - sum(stages.values())     # C^T lam on the run's layout, cached
+    if args.prepare_only:
+        result = {"machine": args.machine, "spacing_m": mm.spacing, "nodes": int(mm.nnodes), "nheat": int(mm.nheat),
+                  "prepare_s": {k: round(v, 3) for k, v in stages.items()},
+                  "preparation_s": round(time.perf_counter() - t0, 3), "cpu_s": round(time.process_time() - c0, 3),
+                  "peak_mib": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+                  **twin.elastic_info()}
+        print(json.dumps(result, sort_keys=True) if args.json else json.dumps(result, indent=2, sort_keys=True))
+        return 0
     cases = vary_cases(scenario, spec, args.cases, args.seed) if args.cases > 1 else [(scenario, spec)]
     t1 = time.perf_counter()
     if args.cases > 1:
         loads, readings, info = twin.run_batch(cases, observers, bound=not args.no_bound)
     else:
-        loads, readings = twin.run(scenario, spec, observers)
+        snapshots = _Snapshots(len(scenario.times()) - 1) if _elastic_reference(args) else None
+        loads, readings = twin.run(scenario, spec, observers, on_step=snapshots)
         info = twin.run_info
         readings = {k: v[:, :, None] for k, v in readings.items()}
     t2 = time.perf_counter()
@@ -137,8 +148,51 @@ def main(argv=None) -> int:
         result.update(rom_order=info["rom_order"], offline_s=round(offline, 3))
         if not args.no_reference:
             result["max_rel_error"] = _reference_error(twin, cases, observers, readings)
+    if args.cases == 1 and _elastic_reference(args):
+        result["elastic_rel_error"] = _elastic_error(twin, loads, scenario, observers, readings, snapshots)
     print(json.dumps(result, sort_keys=True) if args.json else json.dumps(result, indent=2, sort_keys=True))
     return 0
+
+
+def _elastic_reference(args) -> bool:
+    """Whether to compare a full-order run on a coarser elastic mesh with the one-mesh elasticity."""
+    return args.elastic_coarsening > 1 and args.solver != "rom" and not args.heat_only and not args.no_reference
+
+
+class _Snapshots:
+    """``on_step`` hook keeping the temperature field at about ``count`` evenly spaced steps."""
+
+    def __init__(self, nsteps: int, count: int = 24):
+        self.steps = set(np.unique(np.linspace(1, nsteps, count).round().astype(int)).tolist())
+        self.fields: dict[int, np.ndarray] = {}
+
+    def __call__(self, n, T):
+        if n in self.steps:
+            self.fields[n] = np.array(T)
+
+
+def _elastic_error(twin, loads, scenario, observers, readings, snapshots) -> float:
+    """max over the drift outputs of |coarse - one mesh| / max |one mesh| at the snapshot steps,
+    both as changes from the start: the elasticity of ``twin`` (on every n-th line) against the
+    same temperatures through the temperature mesh's own elasticity (built here, not timed)."""
+    from twin.physics.prepared import PreparedTwin
+
+    one = PreparedTwin(twin.machine, twin.mm, solver=replace(twin.options, elastic_coarsening=1))
+    steps = sorted(snapshots.fields)
+    fields = np.column_stack([snapshots.fields[n] for n in steps])
+    T0 = np.full(fields.shape[0], scenario.start_temperature)
+    worst = 0.0
+    for o in observers:
+        if o.key not in ("drift", "probes"):
+            continue
+        rows = one.displacement_rows(o, loads.mm)
+        ref = (rows @ fields).T
+        ref -= rows @ T0
+        got = readings[o.key][steps, :, 0] - readings[o.key][0, :, 0]
+        peak = np.abs(ref).max(axis=0)
+        ok = peak > 1e-3 * peak.max()
+        worst = max(worst, float(np.max(np.abs(got - ref).max(axis=0)[ok] / peak[ok])))
+    return worst
 
 
 def _reference_error(twin, cases, observers, readings, most: int = 3) -> float:

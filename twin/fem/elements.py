@@ -105,7 +105,8 @@ def _stiffness(size: np.ndarray, d: np.ndarray) -> np.ndarray:
     """Uncondensed stiffness (m, 33, 33) [N/m] of bricks of ``size`` (m, 3) with elasticity D (m, 6, 6)."""
     half = 0.5 * size
     b = _b_matrix(_brick_gradients(GAUSS, half))
-    return np.einsum("mqia,mij,mqjb->mab", b, d, b) * half.prod(axis=1)[:, None, None]
+    db = np.einsum("mij,mqjb->mqib", d, b)
+    return np.einsum("mqia,mqib->mab", b, db) * half.prod(axis=1)[:, None, None]
 
 
 def elastic_matrices(size: np.ndarray, lam: np.ndarray, mu: np.ndarray, alpha: np.ndarray):
@@ -143,4 +144,5 @@ def nested_coupling(size: np.ndarray, sub_size: np.ndarray, offset: np.ndarray, 
     b = _b_matrix(_brick_gradients(xi, 0.5 * size))
     dm = d[:, :, :3].sum(axis=2) * alpha[:, None]
     c = np.einsum("mqia,mi,qn->man", b, dm, n) * (0.5 * sub_size).prod(axis=1)[:, None, None]
-    return _condense(_stiffness(size, d), c)[1]
+    _, first, which = np.unique(np.column_stack([size, lam, mu]), axis=0, return_index=True, return_inverse=True)
+    return _condense(_stiffness(size[first], d[first])[which.ravel()], c)[1]    # one stiffness per brick kind
