@@ -11,7 +11,7 @@ from geometries.materials import MATERIALS
 from tests.conftest import box_body
 from twin.errors import InputError
 from twin.fem.assembly import assemble_coupling, assemble_nested_coupling
-from twin.fem.nesting import coarsen, coarser_lines
+from twin.fem.nesting import coarsen, coarser_lines, split_interval
 from twin.physics.elastic import ElasticSolver
 from twin.physics.solvers import SolverOptions
 
@@ -37,8 +37,20 @@ def test_coarser_lines_keep_every_plane_and_spread_the_rest():
     out = coarser_lines(lines, planes, 2)
     assert set(planes) <= set(out)
     assert np.isin(out, lines).all()
-    assert np.allclose(out, [0.0, 0.2, 0.3, 0.5, 0.65, 0.7])     # 5 intervals -> 3 (2, 1, 2); 3 -> 2 (2, 1)
+    assert np.allclose(out, [0.0, 0.2, 0.3, 0.5, 0.6, 0.65, 0.7])   # 5 intervals -> (2, 1, 2); 3 stay 3
     assert np.array_equal(coarser_lines(lines, planes, 1), lines)
+
+
+@pytest.mark.parametrize("factor", [2, 3, 4, 5])
+def test_interval_splits_are_symmetric_whole_and_about_factor_wide(factor):
+    """Each interval's coarse cells are whole fine intervals, mirror-symmetric about its middle
+    (a symmetric machine keeps a symmetric grid), none wider than factor + 1 fine intervals."""
+    for n in range(1, 40):
+        cuts = split_interval(n, factor)
+        widths = np.diff(cuts)
+        assert cuts[0] == 0 and cuts[-1] == n and widths.min() >= 1
+        assert np.array_equal(widths, widths[::-1])
+        assert widths.max() <= factor + 1 and len(widths) >= np.ceil(n / factor)
 
 
 def test_nested_mesh_tiles_each_coarse_cell_with_fine_cells_of_its_part():
@@ -122,6 +134,8 @@ def test_a_run_with_a_coarser_elastic_mesh_reports_it_and_stays_close(machine):
     d1, d2 = one.drift - one.drift[0], two.drift - two.drift[0]
     assert np.max(np.abs(d2 - d1)) <= 0.03 * np.max(np.abs(d1))
     assert np.max(np.abs(d2 - d1)) > 0.0                       # a different mesh, not the same numbers
+    # the C-frame is symmetric about x = 0 and so is the coarse grid: X stays at round-off
+    assert np.max(np.abs(d2[:, 0])) <= 1e-9 * np.max(np.abs(d1)) + np.max(np.abs(d1[:, 0]))
     assert two.solver_info["elastic_coarsening"] == 2
     assert two.solver_info["elastic_nodes"] < one.solver_info["elastic_nodes"] == one.mm.nnodes
 

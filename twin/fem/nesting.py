@@ -30,16 +30,26 @@ class NestedMesh:
     factor: int
 
 
+def split_interval(n: int, factor: int) -> list[int]:
+    """Where to cut n fine intervals into about n / factor coarse ones: the cut indices 0 .. n,
+    symmetric about the middle (cut k and cut m - k mirror each other), so that a grid symmetric
+    about a plane stays symmetric (an asymmetric split gives a symmetric machine a spurious
+    drift across its plane of symmetry). m = ceil(n / factor), plus one when n is odd and m even
+    (a middle cut would fall inside a fine interval)."""
+    m = int(np.ceil(n / factor))
+    if n % 2 and not m % 2:
+        m += 1
+    half = [int(np.floor(k * n / m + 0.5)) for k in range(m // 2 + 1)]
+    return sorted(set(half) | {n - c for c in half})
+
+
 def coarser_lines(lines: np.ndarray, planes: np.ndarray, factor: int) -> np.ndarray:
-    """Every plane of ``lines`` and, between two planes with n intervals, ceil(n / factor) - 1
-    lines spread evenly among the n - 1 between them."""
+    """Every plane of ``lines`` and, between two planes, the cuts of :func:`split_interval`."""
     on_plane = np.isclose(lines[:, None], planes[None, :], rtol=0.0, atol=1e-9).any(axis=1)
     ends = np.flatnonzero(on_plane)
-    keep = []
+    keep = [ends[0]]
     for a, b in zip(ends[:-1], ends[1:]):
-        m = int(np.ceil((b - a) / factor))
-        keep += [a + int(round(k * (b - a) / m)) for k in range(m)]
-    keep.append(ends[-1])
+        keep += [a + c for c in split_interval(int(b - a), factor)[1:]]
     return lines[np.asarray(keep)]
 
 
