@@ -120,11 +120,8 @@ def main(argv=None) -> int:
     if args.prepare_only:
         result = {"machine": args.machine, "spacing_m": mm.spacing, "nodes": int(mm.nnodes), "nheat": int(mm.nheat),
                   "prepare_s": {k: round(v, 3) for k, v in stages.items()},
-                  "preparation_s": round(time.perf_counter() - t0, 3), "cpu_s": round(time.process_time() - c0, 3),
-                  "peak_mib": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-                  **twin.elastic_info()}
-        print(json.dumps(result, sort_keys=True) if args.json else json.dumps(result, indent=2, sort_keys=True))
-        return 0
+                  "preparation_s": round(time.perf_counter() - t0, 3), **_process_use(c0), **twin.elastic_info()}
+        return _print(result, args)
     cases = vary_cases(scenario, spec, args.cases, args.seed) if args.cases > 1 else [(scenario, spec)]
     t1 = time.perf_counter()
     if args.cases > 1:
@@ -141,8 +138,7 @@ def main(argv=None) -> int:
               "prepare_s": {k: round(v, 3) for k, v in stages.items()},
               "solver": args.solver, "device": args.device, "cases": len(cases),
               "preparation_s": round(t1 - t0 + offline, 3), "step_ms": round(1e3 * (t2 - t1 - offline) / steps, 4),
-              "total_s": round(t2 - t0, 3), "cpu_s": round(time.process_time() - c0, 3),
-              "peak_mib": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
+              "total_s": round(t2 - t0, 3), **_process_use(c0)}
     result.update({k: v for k, v in info.items() if isinstance(v, (int, float, str)) and k not in result})
     if args.solver == "rom":
         result.update(rom_order=info["rom_order"], offline_s=round(offline, 3))
@@ -150,6 +146,17 @@ def main(argv=None) -> int:
             result["max_rel_error"] = _reference_error(twin, cases, observers, readings)
     if args.cases == 1 and _elastic_reference(args):
         result["elastic_rel_error"] = _elastic_error(twin, loads, scenario, observers, readings, snapshots)
+    return _print(result, args)
+
+
+def _process_use(c0: float) -> dict:
+    """``cpu_s`` (the process's CPU time since ``c0``) and ``peak_mib`` (its largest resident size)."""
+    return {"cpu_s": round(time.process_time() - c0, 3),
+            "peak_mib": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
+
+
+def _print(result: dict, args) -> int:
+    """Print ``result`` as one JSON object (on one line with --json) and return the exit code 0."""
     print(json.dumps(result, sort_keys=True) if args.json else json.dumps(result, indent=2, sort_keys=True))
     return 0
 
@@ -186,13 +193,17 @@ def _elastic_error(twin, loads, scenario, observers, readings, snapshots) -> flo
         if o.key not in ("drift", "probes"):
             continue
         rows = one.displacement_rows(o, loads.mm)
-        ref = (rows @ fields).T
-        ref -= rows @ T0
-        got = readings[o.key][steps, :, 0] - readings[o.key][0, :, 0]
-        peak = np.abs(ref).max(axis=0)
-        ok = peak > 1e-3 * peak.max()
-        worst = max(worst, float(np.max(np.abs(got - ref).max(axis=0)[ok] / peak[ok])))
+        ref = (rows @ fields).T - rows @ T0
+        worst = max(worst, _worst_relative(readings[o.key][steps, :, 0] - readings[o.key][0, :, 0], ref))
     return worst
+
+
+def _worst_relative(got: np.ndarray, ref: np.ndarray) -> float:
+    """max over the outputs (columns) of max_t |got - ref| / max_t |ref|; an output whose peak is
+    below 1e-3 of the largest does not move and has no relative error."""
+    peak = np.abs(ref).max(axis=0)
+    ok = peak > 1e-3 * peak.max()
+    return float(np.max(np.abs(got - ref).max(axis=0)[ok] / peak[ok]))
 
 
 def _reference_error(twin, cases, observers, readings, most: int = 3) -> float:
@@ -208,10 +219,7 @@ def _reference_error(twin, cases, observers, readings, most: int = 3) -> float:
                 if key not in full:
                     continue
                 ref = full[key] - full[key][0]
-                rom = readings[key][:, :, j] - readings[key][0, :, j]
-                peak = np.abs(ref).max(axis=0)
-                ok = peak > 1e-3 * peak.max()          # an output that does not move has no relative error
-                worst = max(worst, float(np.max(np.abs(rom - ref).max(axis=0)[ok] / peak[ok])))
+                worst = max(worst, _worst_relative(readings[key][:, :, j] - readings[key][0, :, j], ref))
     finally:
         twin.options = reduced_options
     return worst

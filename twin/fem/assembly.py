@@ -100,8 +100,8 @@ def assemble_coupling(mm: MachineMesh, materials: dict | None = None) -> sp.csr_
 
 
 def assemble_nested_coupling(nested, layout: MachineMesh, materials: dict | None = None) -> sp.csr_matrix:
-    """Thermal coupling C [N/K] from the temperature dofs of ``layout`` (a layout of
-    ``nested.fine``, split or not) to the displacement dofs of the coarser ``nested.coarse``
+    """Thermal coupling C [N/K] from the temperature dofs of ``layout`` (a layout of the mesh
+    ``nested`` was made from, split or not) to the displacement dofs of the coarser ``nested.coarse``
     (:mod:`twin.fem.nesting`): each fine cell adds int B_coarse^T D m alpha N_fine^T dV over its
     own volume (:func:`twin.fem.elements.nested_coupling`) to its coarse cell's corners."""
     coarse, parent = nested.coarse, nested.parent

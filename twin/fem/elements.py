@@ -109,18 +109,24 @@ def _stiffness(size: np.ndarray, d: np.ndarray) -> np.ndarray:
     return np.einsum("mqia,mqib->mab", b, db) * half.prod(axis=1)[:, None, None]
 
 
+def _thermal_load(b: np.ndarray, d: np.ndarray, alpha: np.ndarray, det: np.ndarray) -> np.ndarray:
+    """Uncondensed coupling (m, 33, 8) [N/K]: sum over the Gauss points of B^T D m alpha N^T det,
+    for strain matrices ``b`` (m, q, 6, 33) at the points of a cell whose trilinear temperature
+    N (the 2x2x2 Gauss points of that cell, Jacobian determinant ``det`` (m,) [m3]) loads them."""
+    n, _ = shape_q1(GAUSS)
+    dm = d[:, :, :3].sum(axis=2) * alpha[:, None]  # D m alpha: (m, 6)
+    return np.einsum("mqia,mi,qn->man", b, dm, n) * det[:, None, None]
+
+
 def elastic_matrices(size: np.ndarray, lam: np.ndarray, mu: np.ndarray, alpha: np.ndarray):
     """Condensed stiffness (m, 24, 24) [N/m] and thermal coupling (m, 24, 8) [N/K] of box elements.
 
     size (m, 3) [m], Lame constants lam, mu (m,) [Pa], expansion alpha (m,) [1/K].
     """
-    n, _ = shape_q1(GAUSS)
     half = 0.5 * size
     d = elasticity_matrix(lam, mu)
     b = _b_matrix(_brick_gradients(GAUSS, half))  # (m, q, 6, 33)
-    dm = d[:, :, :3].sum(axis=2) * alpha[:, None]  # D m alpha: (m, 6)
-    c = np.einsum("mqia,mi,qn->man", b, dm, n) * half.prod(axis=1)[:, None, None]  # (m, 33, 8)
-    return _condense(_stiffness(size, d), c)
+    return _condense(_stiffness(size, d), _thermal_load(b, d, alpha, half.prod(axis=1)))
 
 
 def nested_coupling(size: np.ndarray, sub_size: np.ndarray, offset: np.ndarray, lam: np.ndarray,
@@ -137,12 +143,10 @@ def nested_coupling(size: np.ndarray, sub_size: np.ndarray, offset: np.ndarray, 
     to a finer temperature grid (:func:`twin.fem.assembly.assemble_nested_coupling`); with the
     sub-brick the brick itself it is :func:`elastic_matrices`' coupling.
     """
-    n, _ = shape_q1(GAUSS)
     inside = offset[:, None, :] + 0.5 * sub_size[:, None, :] * (1.0 + GAUSS[None])   # (m, q, 3) from the corner
     xi = 2.0 * inside / size[:, None, :] - 1.0
     d = elasticity_matrix(lam, mu)
     b = _b_matrix(_brick_gradients(xi, 0.5 * size))
-    dm = d[:, :, :3].sum(axis=2) * alpha[:, None]
-    c = np.einsum("mqia,mi,qn->man", b, dm, n) * (0.5 * sub_size).prod(axis=1)[:, None, None]
+    c = _thermal_load(b, d, alpha, (0.5 * sub_size).prod(axis=1))
     _, first, which = np.unique(np.column_stack([size, lam, mu]), axis=0, return_index=True, return_inverse=True)
     return _condense(_stiffness(size[first], d[first])[which.ravel()], c)[1]    # one stiffness per brick kind

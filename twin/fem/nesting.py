@@ -22,12 +22,11 @@ from twin.fem.mesh import MachineMesh, grid_axes, mesh_on_lines, part_planes
 
 @dataclass
 class NestedMesh:
-    """``coarse`` nested in ``fine``: ``parent[e]`` is the coarse cell that holds fine cell e."""
+    """``coarse`` nested in the temperature mesh it was made from: ``parent[e]`` is the coarse cell
+    that holds that mesh's cell e (and the cell e of any layout of it)."""
 
-    fine: MachineMesh
     coarse: MachineMesh
     parent: np.ndarray
-    factor: int
 
 
 def split_interval(n: int, factor: int) -> list[int]:
@@ -69,7 +68,7 @@ def coarsen(mm: MachineMesh, factor: int) -> NestedMesh:
     parent = _parents(mm, coarse, coarse_axes)
     if not np.array_equal(coarse.cell_part[parent], mm.cell_part):
         raise ValueError("a coarse cell holds fine cells of two parts: the grids are not nested")
-    return NestedMesh(mm, coarse, parent, int(factor))
+    return NestedMesh(coarse, parent)
 
 
 def _cell_index(mm: MachineMesh, axes: list[np.ndarray]) -> np.ndarray:
