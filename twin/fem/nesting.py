@@ -16,8 +16,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
-from twin.fem.mesh import MachineMesh, grid_axes, mesh_on_lines, part_planes
+from twin.fem.mesh import _CORNERS, MachineMesh, grid_axes, mesh_on_lines, part_planes
 
 
 @dataclass
@@ -89,3 +90,29 @@ def _parents(fine: MachineMesh, coarse: MachineMesh, coarse_axes: list[np.ndarra
     if not np.array_equal(key_c[found], key_f):
         raise ValueError("a fine cell lies in no coarse cell: the grids are not nested")
     return found
+
+
+def prolongation(nested: NestedMesh, layout: MachineMesh) -> sp.csr_matrix:
+    """Trilinear interpolation (layout.nheat, coarse nodes) of a field on the coarse grid's nodes
+    onto the temperature dofs of ``layout`` (the mesh ``nested`` was made from, split or not):
+    each dof takes the value at its node of the coarse cell that holds one of its cells,
+
+        u(x) = sum_k N_k(xi) u_k,  xi = (x - x_low) / H  in the coarse cell [x_low, x_low + H],
+
+    so a field trilinear on every coarse cell (a constant, a linear field) is reproduced exactly
+    and every row sums to 1. A dof split by a contact takes its value from its own side's cell;
+    the coarse field is continuous there (the coarse grid has no split)."""
+    coarse, mesh = nested.coarse, layout.mesh
+    dofs, first = np.unique(layout.heat_t.ravel(), return_index=True)
+    corner, cell = np.unravel_index(first, layout.heat_t.shape)
+    holder = nested.parent[cell]
+    low = coarse.mesh.p[:, coarse.mesh.t[0, holder]]
+    xi = (mesh.p[:, mesh.t[corner, cell]] - low) / coarse.cell_size[holder].T         # (3, ndofs) in [0, 1]
+    weights = np.ones((8, len(dofs)))
+    for k in range(8):
+        for d in range(3):
+            weights[k] *= xi[d] if _CORNERS[k, d] else 1.0 - xi[d]
+    rows = np.broadcast_to(dofs, weights.shape)
+    cols = coarse.mesh.t[:, holder]
+    nonzero = weights > 1e-14
+    return sp.csr_matrix((weights[nonzero], (rows[nonzero], cols[nonzero])), shape=(layout.nheat, coarse.nnodes))

@@ -1,0 +1,192 @@
+"""What a heat step costs with each preconditioner and start (issue 10): Jacobi-PCG as the twin
+runs it, against larger projection starts and a geometric two-grid preconditioner on the nested
+coarse grid.
+
+    python -m validate.studies.heat_step [--spacing 40mm] [--steps 300] [--heat-tol "1e-6 K"]
+                                         [--coarsening 2,3] [--quick] [-o DIR]
+
+On ``cframe-vmc``'s ``etve-day-night`` (the temperature sensors and the heat balance observed, no
+elasticity), the first ``--steps`` of the 24 h run are solved by each variant with the
+per-step tolerance of the whole run (``heat_tol`` sqrt(C) / 1440, as :class:`twin.physics.
+solvers.IterativeStepper` sets it), so every variant meets the same verified bound:
+
+* ``jacobi, start on k solutions``: the twin's stepper (k = 8, the default, is the first row)
+  with k = 8, 2, 16, 32 solutions kept for the projected start (:class:`twin.physics.solvers.Projection`);
+* ``two-grid, coarse grid N``: the same CG and start, preconditioned by one damped Jacobi sweep,
+  the Galerkin coarse correction P (P^T A P)^-1 P^T r on the grid of every N-th line
+  (:func:`twin.fem.nesting.coarsen`, P the trilinear interpolation :func:`twin.fem.nesting.
+  prolongation`, the coarse operator factorised once per operator) and a second sweep: a
+  symmetric multiplicative two-grid cycle, SPD, so CG stays CG. The damping is 1 / lambda_max
+  of D^-1 A (power iteration).
+
+Per variant: the mean and largest number of CG iterations a step, the wall time a step (a
+shared machine inflates it; the iterations do not vary), and the largest difference of the
+sensors from the first variant [K] beside the verified bound of that difference (the sum of the
+two runs' bounds). Writes ``heat_step.md`` and ``.csv`` into ``validate-out/heat_step/``.
+``--quick``: the coarse mesh and 60 steps (a smoke run).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from twin.physics.solvers import IterativeStepper, jacobi
+from validate.studies.common import markdown_table, write_csv
+
+NAME = "heat_step"
+SCENARIO = "etve-day-night"
+MACHINE = "cframe-vmc"
+STARTS = (8, 2, 16, 32)    # the first is the twin's default and the reference row
+POWER_ITERATIONS = 30
+
+
+class TwoGridStepper(IterativeStepper):
+    """:class:`IterativeStepper` preconditioned by a symmetric two-grid cycle (module docstring)
+    on the coarse grid given by the prolongation ``P`` (fine dofs x coarse nodes)."""
+
+    def __init__(self, P, heat_tol: float):
+        super().__init__(heat_tol)
+        self.P, self.PT = P.tocsr(), P.T.tocsr()
+        self.coarse = {}
+
+    def operator(self, key, system, dt, theta, h):
+        op = super().operator(key, system, dt, theta, h)
+        if key not in self.coarse:
+            lhs, dinv = op[0], op[2]
+            factor = spla.splu((self.PT @ lhs @ self.P).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                               options={"SymmetricMode": True})
+            self.coarse[key] = (factor, 1.0 / largest_eigenvalue(lambda v: dinv * (lhs @ v), len(dinv)))
+        self._key = key
+        return op
+
+    def preconditioner(self, op):
+        lhs, dinv = op[0], op[2]
+        factor, omega = self.coarse[self._key]
+
+        def cycle(R):
+            one = R.ndim == 1
+            R = R[:, None] if one else R
+            Z = omega * dinv[:, None] * R
+            Z = Z + self.P @ factor.solve(np.asarray(self.PT @ (R - lhs @ Z)))
+            Z = Z + omega * dinv[:, None] * (R - lhs @ Z)
+            return Z[:, 0] if one else Z
+        return cycle
+
+
+def largest_eigenvalue(apply, n: int) -> float:
+    """lambda_max of ``apply`` (similar to an SPD matrix) by power iteration from a seeded start."""
+    v = np.random.default_rng(0).standard_normal(n)
+    lam = 1.0
+    for _ in range(POWER_ITERATIONS):
+        v = apply(v)
+        lam = float(np.linalg.norm(v))
+        v /= lam
+    return lam
+
+
+def variants(mm, coarsenings: list[int], heat_tol: float) -> list[tuple[str, IterativeStepper]]:
+    from twin.fem.nesting import coarsen, prolongation
+
+    out = [(f"jacobi, start on {k} solutions", IterativeStepper(heat_tol, projection_size=k)) for k in STARTS]
+    for n in coarsenings:
+        nested = coarsen(mm, n)
+        P = prolongation(nested, mm)
+        out.append((f"two-grid, coarse grid N = {n} ({nested.coarse.nnodes} nodes), start on 8",
+                    TwoGridStepper(P, heat_tol)))
+    return out
+
+
+def rows_for(spacing: float | None, steps: int, heat_tol: float, coarsenings: list[int], progress=print) -> list[dict]:
+    from twin.api import machine_by_name
+    from twin.fem.mesh import build_mesh, mesh_machine
+    from twin.model import model_spec
+    from twin.observe import TemperatureSensors, sensor_points
+    from twin.physics.heat import integrate
+    from twin.physics.solvers import mass_weights, output_bounds
+    from twin.scenario import load_scenario
+    from twin.physics.prepared import PreparedTwin
+
+    machine, scenario = machine_by_name(MACHINE), load_scenario(SCENARIO)
+    mm = build_mesh(machine, spacing) if spacing else mesh_machine(machine, "coarse")
+    twin = PreparedTwin(machine, mm, solver="iterative")
+    loads = twin.loads(scenario, model_spec(machine))
+    sensors = TemperatureSensors(sensor_points(machine))
+    outputs, _ = twin.output_rows([sensors], loads)
+    dt, theta, total = scenario.sample_interval, 0.5, len(scenario.times()) - 1
+    h, air, s = loads.signals(scenario.times()[:-1] + theta * dt)
+    weights = mass_weights(loads.system.M)
+    rows, first = [], None
+    # the steppers spread their tolerance over the steps they run: scaled so that each step gets
+    # the whole run's heat_tol sqrt(C) / 1440
+    for name, stepper in variants(loads.mm, coarsenings, heat_tol * steps / total):
+        t0 = time.perf_counter()
+        y = integrate(loads.system, np.full(loads.mm.nheat, scenario.start_temperature), dt, steps, h, air, s,
+                      outputs, theta, stepper=stepper, operator_key=loads.operator_key)
+        wall = time.perf_counter() - t0
+        bound = output_bounds(outputs, weights, float(stepper.rho_sum))
+        if first is None:
+            first = (y, bound)
+        its = np.asarray(stepper.iterations)
+        row = {"variant": name, "nodes": int(loads.mm.nheat), "steps": steps, "iterations_mean": float(its.mean()),
+               "iterations_max": int(its.max()), "step_ms": 1e3 * wall / steps,
+               "difference_K": float(np.abs(y - first[0]).max()), "bound_K": float((bound + first[1]).max())}
+        progress(f"  {name}: {row['iterations_mean']:.2f} iterations a step, {row['step_ms']:.1f} ms")
+        rows.append(row)
+    return rows
+
+
+def markdown(rows: list[dict], command: str) -> str:
+    cols = ["variant", "iterations_mean", "iterations_max", "step_ms", "difference_K", "bound_K"]
+    heads = ["variant", "CG iterations a step (mean)", "largest", "wall time a step [ms]",
+             "sensors' largest difference from the first row [K]", "verified bound of it [K]"]
+    r = rows[0]
+    rows = [{**x, "difference_K": f"{x['difference_K']:.2e}", "bound_K": f"{x['bound_K']:.2e}"} for x in rows]
+    return "\n".join([
+        "# The heat step's preconditioner and start (issue 10)", "",
+        f"Command: `{command}`; `{MACHINE}`, `{SCENARIO}`, {r['nodes']} temperature dofs, the first {r['steps']} "
+        "of 1440 steps at the whole run's per-step tolerance. One CG iteration is one product with the "
+        "heat matrix; a two-grid iteration is three and a coarse solve.", "",
+        markdown_table(rows, cols, heads), ""])
+
+
+def main(argv=None) -> int:
+    from twin.errors import InputError
+    from twin.io.atomic import atomic_write_text
+    from twin.units import UnitError, parse_quantity
+
+    p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
+    p.add_argument("--spacing", default="40mm", help="cell size with its unit (default 40mm)")
+    p.add_argument("--steps", type=int, default=300, help="steps solved by each variant (default 300)")
+    p.add_argument("--heat-tol", default="1e-6 K", help="the run's verified tolerance with its unit (default 1e-6 K)")
+    p.add_argument("--coarsening", default="2,3", help="two-grid coarse grids: every N-th line, comma-separated")
+    p.add_argument("--quick", action="store_true", help="the coarse mesh and 60 steps (a smoke run)")
+    p.add_argument("-o", "--output", default=f"validate-out/{NAME}")
+    args = p.parse_args(argv)
+    try:
+        spacing = None if args.quick else parse_quantity(args.spacing, "length")
+        heat_tol = parse_quantity(args.heat_tol, "temperature_difference")
+        coarsenings = [int(c) for c in args.coarsening.split(",") if c.strip()]
+        if heat_tol <= 0 or not 1 <= args.steps <= 1440 or any(c < 2 for c in coarsenings):
+            raise ValueError("--heat-tol must be positive, --steps within 1..1440, every --coarsening >= 2")
+    except (InputError, UnitError, ValueError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    steps = 60 if args.quick else args.steps
+    rows = rows_for(spacing, steps, heat_tol, coarsenings)
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    command = "python -m validate.studies.heat_step " + " ".join(argv if argv is not None else sys.argv[1:])
+    write_csv(out / f"{NAME}.csv", rows)
+    atomic_write_text(out / f"{NAME}.md", markdown(rows, command.strip()))
+    print(markdown(rows, command.strip()))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
