@@ -19,7 +19,7 @@ from skfem import MeshHex
 
 # Local node order of a scikit-fem hexahedron (as MeshHex.init_tensor builds it): offsets in
 # (i, j, k) of the cell's eight corners.
-_CORNERS = np.array([[0, 0, 0], [0, 1, 0], [1, 0, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]])
+CORNERS = np.array([[0, 0, 0], [0, 1, 0], [1, 0, 0], [0, 0, 1], [1, 1, 0], [0, 1, 1], [1, 0, 1], [1, 1, 1]])
 
 
 @dataclass
@@ -175,7 +175,7 @@ def mesh_on_lines(machine, axes: list[np.ndarray], spacing: float) -> MachineMes
 
     # corner node indices on the full lattice, then compress to the used ones
     dims = np.array([len(a) for a in axes])
-    corner_ijk = ijk[:, None, :] + _CORNERS[None, :, :]
+    corner_ijk = ijk[:, None, :] + CORNERS[None, :, :]
     lattice_id = np.ravel_multi_index(corner_ijk.reshape(-1, 3).T, dims)
     used, t = np.unique(lattice_id, return_inverse=True)
     t = t.reshape(-1, 8).T

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from twin.fem.mesh import _CORNERS, MachineMesh, grid_axes, mesh_on_lines, part_planes
+from twin.fem.mesh import CORNERS, MachineMesh, grid_axes, mesh_on_lines, part_planes
 
 
 @dataclass
@@ -111,7 +111,7 @@ def prolongation(nested: NestedMesh, layout: MachineMesh) -> sp.csr_matrix:
     weights = np.ones((8, len(dofs)))
     for k in range(8):
         for d in range(3):
-            weights[k] *= xi[d] if _CORNERS[k, d] else 1.0 - xi[d]
+            weights[k] *= xi[d] if CORNERS[k, d] else 1.0 - xi[d]
     rows = np.broadcast_to(dofs, weights.shape)
     cols = coarse.mesh.t[:, holder]
     nonzero = weights > 1e-14

@@ -327,8 +327,9 @@ class IterativeStepper:
         return x
 
     def preconditioner(self, op):
-        """R -> an SPD approximation of A^-1 R for the operator ``op`` (Jacobi: its inverse
-        diagonal; ``validate.studies.heat_step`` measures a two-grid one against it)."""
+        """R -> an SPD approximation of A^-1 R for the operator ``op``: Jacobi, its inverse
+        diagonal (a subclass may return another; the README's "Scale" section compares a
+        two-grid cycle with it)."""
         return jacobi(op[2])
 
     def info(self) -> dict:
