@@ -55,6 +55,7 @@ def test_two_grid_cycle_is_symmetric_positive_definite(machine):
     stepper = TwoGridStepper(prolongation(coarsen(mm, 2), loads.mm), 1e-6)
     op = stepper.operator(("k",), loads.system, 60.0, 0.5, h[0])
     cycle = stepper.preconditioner(op)
+    assert stepper.preconditioner(op) is cycle          # factorised once per operator
     rng = np.random.default_rng(4)
     U, V = rng.standard_normal((2, loads.mm.nheat, 3))
     BU, BV = cycle(U), cycle(V)
@@ -79,7 +80,8 @@ def test_heat_step_study_keeps_every_variant_within_its_verified_bound(tmp_path,
 
 
 @pytest.mark.parametrize("argv", [["--heat-tol", "1e-6"], ["--spacing", "40"], ["--coarsening", "1"],
-                                  ["--steps", "0"], ["--heat-tol", "-1 K"]])
+                                  ["--steps", "0"], ["--heat-tol", "-1 K"], ["--quick", "--steps", "100"],
+                                  ["--quick", "--spacing", "30mm"]])
 def test_heat_step_study_refuses_bad_options(argv, capsys, tmp_path):
     from validate.studies.heat_step import main
 

@@ -23,7 +23,7 @@ Per variant: the mean and largest number of CG iterations a step, the wall time 
 shared machine inflates it; the iterations do not vary), and the largest difference of the
 sensors from the first variant [K] beside the verified bound of that difference (the sum of the
 two runs' bounds). Writes ``heat_step.md`` and ``.csv`` into ``validate-out/heat_step/``.
-``--quick``: the coarse mesh and 60 steps (a smoke run).
+``--quick``: the coarse mesh and 60 steps (a smoke run; not with ``--spacing`` or ``--steps``).
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from twin.physics.solvers import IterativeStepper, jacobi
+from twin.physics.solvers import IterativeStepper
 from validate.studies.common import markdown_table, write_csv
 
 NAME = "heat_step"
@@ -53,21 +53,19 @@ class TwoGridStepper(IterativeStepper):
     def __init__(self, P, heat_tol: float):
         super().__init__(heat_tol)
         self.P, self.PT = P.tocsr(), P.T.tocsr()
-        self.coarse = {}
-
-    def operator(self, key, system, dt, theta, h):
-        op = super().operator(key, system, dt, theta, h)
-        if key not in self.coarse:
-            lhs, dinv = op[0], op[2]
-            factor = spla.splu((self.PT @ lhs @ self.P).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                               options={"SymmetricMode": True})
-            self.coarse[key] = (factor, 1.0 / largest_eigenvalue(lambda v: dinv * (lhs @ v), len(dinv)))
-        self._key = key
-        return op
+        self.cycles = {}      # per operator (the cached op tuple lives as long as the stepper)
 
     def preconditioner(self, op):
-        lhs, dinv = op[0], op[2]
-        factor, omega = self.coarse[self._key]
+        if id(op) not in self.cycles:
+            self.cycles[id(op)] = self._cycle(op[0], op[2])
+        return self.cycles[id(op)]
+
+    def _cycle(self, lhs, dinv):
+        """The cycle for A = ``lhs`` with inverse diagonal ``dinv``: the coarse operator P^T A P
+        factorised and the damping 1 / lambda_max(D^-1 A) found once."""
+        factor = spla.splu((self.PT @ lhs @ self.P).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+        omega = 1.0 / largest_eigenvalue(lambda v: dinv * (lhs @ v), len(dinv))
 
         def cycle(R):
             one = R.ndim == 1
@@ -161,30 +159,33 @@ def main(argv=None) -> int:
     from twin.units import UnitError, parse_quantity
 
     p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
-    p.add_argument("--spacing", default="40mm", help="cell size with its unit (default 40mm)")
-    p.add_argument("--steps", type=int, default=300, help="steps solved by each variant (default 300)")
+    p.add_argument("--spacing", help="cell size with its unit (default 40mm)")
+    p.add_argument("--steps", type=int, help="steps solved by each variant (default 300)")
     p.add_argument("--heat-tol", default="1e-6 K", help="the run's verified tolerance with its unit (default 1e-6 K)")
     p.add_argument("--coarsening", default="2,3", help="two-grid coarse grids: every N-th line, comma-separated")
     p.add_argument("--quick", action="store_true", help="the coarse mesh and 60 steps (a smoke run)")
     p.add_argument("-o", "--output", default=f"validate-out/{NAME}")
     args = p.parse_args(argv)
     try:
-        spacing = None if args.quick else parse_quantity(args.spacing, "length")
+        if args.quick and (args.spacing or args.steps):
+            raise ValueError("--quick sets the mesh (coarse) and the steps (60): leave out --spacing and --steps")
+        steps = 60 if args.quick else (300 if args.steps is None else args.steps)
+        spacing = None if args.quick else parse_quantity(args.spacing or "40mm", "length")
         heat_tol = parse_quantity(args.heat_tol, "temperature_difference")
         coarsenings = [int(c) for c in args.coarsening.split(",") if c.strip()]
-        if heat_tol <= 0 or not 1 <= args.steps <= 1440 or any(c < 2 for c in coarsenings):
+        if heat_tol <= 0 or not 1 <= steps <= 1440 or any(c < 2 for c in coarsenings):
             raise ValueError("--heat-tol must be positive, --steps within 1..1440, every --coarsening >= 2")
     except (InputError, UnitError, ValueError) as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
-    steps = 60 if args.quick else args.steps
     rows = rows_for(spacing, steps, heat_tol, coarsenings)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     command = "python -m validate.studies.heat_step " + " ".join(argv if argv is not None else sys.argv[1:])
+    text = markdown(rows, command.strip())
     write_csv(out / f"{NAME}.csv", rows)
-    atomic_write_text(out / f"{NAME}.md", markdown(rows, command.strip()))
-    print(markdown(rows, command.strip()))
+    atomic_write_text(out / f"{NAME}.md", text)
+    print(text)
     return 0
 
 
