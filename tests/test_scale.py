@@ -203,6 +203,49 @@ def test_contact_split_runs_through_the_reduced_model(twins, machine):
         assert np.all(np.abs(got[key] - ref[key]).max(axis=0) <= np.asarray(info["rom_error_bound"][key]))
 
 
+def test_amg_cycle_is_pyamgs_v_cycle_to_round_off():
+    """amg_cycle(ml) R is the operator of pyamg's aspreconditioner(cycle="V") (the same smoothing,
+    restriction, coarse solve and prolongation, without its residual norms): equal to round-off,
+    and symmetric, u^T B v = v^T B u, for the symmetric and the forward/backward smoothers."""
+    import pyamg
+    import scipy.sparse as sp
+    from twin.physics.solvers import amg_cycle
+    A = (pyamg.gallery.poisson((12, 12, 12), format="csr") + 1e-3 * sp.eye(12 ** 3)).tocsr()
+    u, v = np.random.default_rng(0).standard_normal((2, A.shape[0]))
+    for smoothers in ({}, {"presmoother": ("gauss_seidel", {"sweep": "forward"}),
+                           "postsmoother": ("gauss_seidel", {"sweep": "backward"})}):
+        ml = pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=50, coarse_solver="splu",
+                                               **smoothers)
+        assert len(ml.levels) >= 3
+        cycle, ref = amg_cycle(ml), ml.aspreconditioner(cycle="V")
+        assert np.abs(cycle(v) - ref @ v).max() <= 1e-13 * np.abs(ref @ v).max()
+        np.testing.assert_allclose(cycle(np.column_stack([u, v]))[:, 1], cycle(v), rtol=0, atol=0)
+        assert abs(u @ cycle(v) - v @ cycle(u)) <= 1e-12 * abs(u @ cycle(v))
+
+
+def test_reduced_model_with_amg_basis_solves_stays_within_its_bound_and_estimate(twins, machine, monkeypatch):
+    """The basis of a large layout is built by AMG-CG started from the Galerkin projection on the
+    basis so far, to BASIS_RTOL (1e-6) of that start's residual, not by LU. Forced on the coarse
+    mesh, the spindle run stays within the verified bound on every output and within the estimate
+    |y_r - y_(r-b)| on every moving drift output, as the LU-built model does."""
+    import twin.physics.rom as rom
+    from twin.physics.prepared import PreparedTwin
+    monkeypatch.setattr(rom, "DIRECT_LIMIT", 0)
+    spec = model_spec(machine, ",".join(SPINDLE_EFFECTS))
+    obs = lambda: [TemperatureSensors(sensor_points(machine)), ToolDrift()]  # noqa: E731
+    _, ref = twins["direct"].run(SHORT, spec, obs())
+    amg = PreparedTwin(machine, twins["rom"].mm, solver="rom")
+    _, got = amg.run(SHORT, spec, obs())
+    info = amg.run_info
+    assert info["rom_order"] >= 40
+    for key in ref:
+        assert np.all(np.abs(got[key] - ref[key]).max(axis=0) <= np.asarray(info["rom_error_bound"][key])), key
+    peak = np.abs(ref["drift"] - ref["drift"][0]).max(axis=0)
+    moving = peak > 1e-3 * peak.max()
+    err = np.abs(got["drift"] - ref["drift"]).max(axis=0)
+    assert moving.sum() == 2 and np.all(err[moving] <= np.asarray(info["rom_error_estimate"]["drift"])[moving])
+
+
 def test_cli_writes_the_solver_and_its_errors_into_the_result(tmp_path):
     from twin.cli import main
     import xarray as xr

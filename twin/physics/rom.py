@@ -14,7 +14,12 @@ H_c 1 = 0 for a contact, so T_0 drops out of the operator) the full model is
 (hbar the mean film coefficients of the run that built it, sigma_0 = 1 / (10 days) keeps A_ref
 definite without any film), M-orthonormalised block by block (twice-iterated Gram-Schmidt, rank
 deflation by the eigenvalues of each block's M-Gram matrix). Modal truncation is not used: local
-heat inputs excite many modes quasi-statically (notes/engine-performance.md).
+heat inputs excite many modes quasi-statically (notes/engine-performance.md). On large layouts
+each block is solved by AMG-CG when it is used, started from the Galerkin projection on the basis
+built so far and stopped at :data:`BASIS_RTOL` of that start's residual: what the basis gains from
+a block is its part outside the basis, which this resolves to a fixed relative accuracy (a
+tolerance on the whole block would resolve it ever worse as the moments converge, and a second
+operator's first block, nearly inside the first operator's span, would enter as solver error).
 
 **Reduced model** (online): with V^T M V = I, z' + (K_r + sum_k h_k(t) H_k,r) z = F_r s +
 sum_k h_k (T_air,k - T_0) r_k,r, K_r = V^T K V, H_k,r = V^T H_k V, F_r = V^T F, r_k,r = V^T r_k:
@@ -44,9 +49,12 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from twin.physics.solvers import DIRECT_LIMIT, mass_weights, output_bounds, pcg
+from twin.physics.solvers import DIRECT_LIMIT, amg_cycle, mass_weights, output_bounds, pcg
 
 SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
+BASIS_RTOL = 1e-6   # residual reduction of the basis's iterative solves (large layouts), relative to
+                    # the Galerkin start's: the span is what the reduced model needs, and its error is
+                    # bounded and estimated from the basis actually built (README "Scale")
 
 
 @dataclass
@@ -160,22 +168,33 @@ def _batched_step(A: np.ndarray, z: np.ndarray, f: np.ndarray, dt: float, theta:
     return np.linalg.solve(lhs, rhs[:, :, None])[:, :, 0].T
 
 
-def _reference_solver(A: sp.csr_matrix, rtol: float = 1e-10):
-    """X -> A^-1 X for the SPD reference operator: sparse LU on small layouts, CG with a
-    smoothed-aggregation AMG preconditioner (pyamg) on large ones."""
+def _reference_solver(A: sp.csr_matrix, rtol: float | None = None):
+    """(X, V) -> A^-1 X for the SPD reference operator: sparse LU on small layouts (V unused), CG
+    with a smoothed-aggregation AMG preconditioner (pyamg) on large ones.
+
+    The CG starts from the Galerkin projection on the basis so far, x0 = V (V^T A V)^-1 V^T X, and
+    stops when each column's residual has fallen to ``rtol`` (default :data:`BASIS_RTOL`) of the
+    start's, ||X - A x|| <= rtol ||X - A x0||: the part of the moment that is new to the basis, which
+    is all the basis gains from it, is then resolved to ``rtol`` however small it has become (a
+    tolerance relative to ||X|| would resolve it ever worse as the moments converge)."""
     if A.shape[0] <= DIRECT_LIMIT:
         lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-        return lu.solve
+        return lambda X, V: lu.solve(X)
     import pyamg
 
-    ml = pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=500, coarse_solver="splu")
-    prec = ml.aspreconditioner(cycle="V")
+    rtol = BASIS_RTOL if rtol is None else rtol
+    cycle = amg_cycle(pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=500, coarse_solver="splu"))
     ones = np.ones(A.shape[0])
+    AV = np.zeros((A.shape[0], 0))
 
-    def solve(X):
-        tol = rtol * np.linalg.norm(X, axis=0)
-        Y, _, _ = pcg(lambda V: A @ V, X, np.zeros_like(X), lambda R: np.column_stack([prec @ R[:, j] for j in range(R.shape[1])]),
-                      ones, tol, max_iterations=500)
+    def solve(X, V):
+        nonlocal AV
+        if V.shape[1] > AV.shape[1]:
+            AV = np.hstack([AV, A @ V[:, AV.shape[1]:]])
+        AVk = AV[:, :V.shape[1]]
+        c = np.linalg.solve(V.T @ AVk, V.T @ X) if V.shape[1] else np.zeros((0, X.shape[1]))
+        start = np.linalg.norm(X - AVk @ c, axis=0)
+        Y, _, _ = pcg(lambda U: A @ U, X, V @ c, cycle, ones, rtol * start, max_iterations=500)
         return Y
 
     return solve
@@ -215,19 +234,19 @@ def build_reduced(system, h_refs: list, order: int = 48) -> ReducedModel:
     B = B[:, np.any(B != 0, axis=0)]
     V = np.zeros((M.shape[0], 0))
     starts = [0]
-    X = [solve(B) for solve in solves]
+    pending = [B for _ in solves]           # each operator's next right-hand sides, solved when used
     while V.shape[1] < order:
         for i, solve in enumerate(solves):
-            if X[i] is None:
+            if pending[i] is None:
                 continue
-            Y = _m_orthonormalise(X[i], V, M)
+            Y = _m_orthonormalise(solve(pending[i], V), V, M)
             if Y.shape[1] == 0:
-                X[i] = None
+                pending[i] = None
                 continue
             V = np.hstack([V, Y])
             starts.append(V.shape[1])
-            X[i] = solve(M @ Y) if V.shape[1] < order else None
-        if all(x is None for x in X):
+            pending[i] = M @ Y if V.shape[1] < order else None
+        if all(x is None for x in pending):
             break
     if len(starts) < 4:
         raise ValueError("the reduced model needs at least three blocks of moments to estimate its error; "

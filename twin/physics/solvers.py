@@ -171,6 +171,28 @@ def jacobi(dinv):
     return lambda R: dinv[:, None] * R if R.ndim == 2 else dinv * R
 
 
+def amg_cycle(ml):
+    """The V-cycle of an algebraic multigrid hierarchy ``ml`` (pyamg) as a preconditioner
+    R -> B R, column by column: from x = 0 on each level, pre-smoothing, the coarse correction
+    x += P (cycle of the coarse level on R_l (b - A x)), post-smoothing; a direct solve on the
+    coarsest level. The same operator as pyamg's ``aspreconditioner(cycle="V")`` (symmetric when
+    the post-smoother is the pre-smoother's adjoint), without the two residual norms that wrapper
+    computes on the finest level every call (about a quarter of its cost)."""
+    levels = ml.levels
+
+    def cycle(lvl: int, b: np.ndarray) -> np.ndarray:
+        level = levels[lvl]
+        if lvl == len(levels) - 1:
+            return np.asarray(ml.coarse_solver(level.A, b)).reshape(b.shape)
+        x = np.zeros_like(b)
+        level.presmoother(level.A, x, b)
+        x += level.P @ cycle(lvl + 1, level.R @ (b - level.A @ x))
+        level.postsmoother(level.A, x, b)
+        return x
+
+    return lambda R: cycle(0, R) if R.ndim == 1 else np.column_stack([cycle(0, R[:, j]) for j in range(R.shape[1])])
+
+
 def theta_operators(system, dt: float, theta: float, h: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """(M + theta dt A, M - (1 - theta) dt A) with A = K + sum_k h_k H_k, as CSR."""
     A = system.K + sum((hk * Hk for hk, Hk in zip(h, system.H) if hk != 0), sp.csr_matrix(system.K.shape))
@@ -378,6 +400,7 @@ class AmgElastic:
                                                     smooth="jacobi", max_coarse=500, coarse_solver="splu",
                                                     presmoother=("gauss_seidel", {"sweep": "forward"}),
                                                     postsmoother=("gauss_seidel", {"sweep": "backward"}))
+        self.cycle, self.ones = amg_cycle(self.ml), np.ones(self.k.shape[0])
         self.iterations: list[int] = []
         self.starts = Projection(lambda v: self.k @ v, ADJOINT_STARTS)
 
@@ -388,11 +411,9 @@ class AmgElastic:
         for j in range(cols.shape[1]):
             if not np.any(cols[:, j]):
                 continue
-            residuals: list[float] = []
-            out[:, j] = self.ml.solve(cols[:, j], x0=self.starts.guess(cols[:, j]), tol=self.rtol, accel="cg",
-                                      maxiter=self.max_iterations, residuals=residuals)
-            if residuals[-1] > self.rtol * np.linalg.norm(cols[:, j]) * (1 + 1e-6):
-                raise RuntimeError(f"AMG-CG did not reach rtol {self.rtol:.1e} in {self.max_iterations} iterations")
-            self.iterations.append(len(residuals) - 1)
+            b = cols[:, j]
+            out[:, j], it, _ = pcg(lambda v: self.k @ v, b, self.starts.guess(b), self.cycle, self.ones,
+                                   self.rtol * np.linalg.norm(b), max_iterations=self.max_iterations)
+            self.iterations.append(it)
             self.starts.add(out[:, j])
         return out[:, 0] if rhs.ndim == 1 else out
