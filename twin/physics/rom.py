@@ -172,13 +172,13 @@ def _batched_step(A: np.ndarray, z: np.ndarray, f: np.ndarray, dt: float, theta:
     return np.linalg.solve(lhs, rhs[:, :, None])[:, :, 0].T
 
 
-def _reference_solver(A: sp.csr_matrix, rtol: float | None = None):
+def _reference_solver(A: sp.csr_matrix, rtol: float = BASIS_RTOL):
     """(solve, rtol): solve (X, V) -> A^-1 X for the SPD reference operator, by sparse LU on small
     layouts (V unused, rtol 0), by CG with a smoothed-aggregation AMG preconditioner (pyamg) on
     large ones.
 
     The CG starts from the Galerkin projection on the basis so far, x0 = V (V^T A V)^-1 V^T X, and
-    stops when each column's residual has fallen to ``rtol`` (default :data:`BASIS_RTOL`) of the
+    stops when each column's residual has fallen to ``rtol`` (:data:`BASIS_RTOL`) of the
     start's, ||X - A x|| <= rtol ||X - A x0||: the part of the moment that is new to the basis, which
     is all the basis gains from it, is then resolved to ``rtol`` however small it has become (a
     tolerance relative to ||X|| would resolve it ever worse as the moments converge)."""
@@ -187,7 +187,6 @@ def _reference_solver(A: sp.csr_matrix, rtol: float | None = None):
         return (lambda X, V: lu.solve(X)), 0.0
     import pyamg
 
-    rtol = BASIS_RTOL if rtol is None else rtol
     cycle = amg_cycle(pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=500, coarse_solver="splu"))
     ones = np.ones(A.shape[0])
     AV = np.zeros((A.shape[0], 0))

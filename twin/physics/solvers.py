@@ -396,11 +396,11 @@ class AmgElastic:
 
         self.rtol, self.max_iterations = rtol, max_iterations
         self.k = k.tocsr()
-        self.ml = pyamg.smoothed_aggregation_solver(self.k, B=modes, symmetry="hermitian", strength="symmetric",
-                                                    smooth="jacobi", max_coarse=500, coarse_solver="splu",
-                                                    presmoother=("gauss_seidel", {"sweep": "forward"}),
-                                                    postsmoother=("gauss_seidel", {"sweep": "backward"}))
-        self.cycle, self.ones = amg_cycle(self.ml), np.ones(self.k.shape[0])
+        self.cycle = amg_cycle(pyamg.smoothed_aggregation_solver(
+            self.k, B=modes, symmetry="hermitian", strength="symmetric", smooth="jacobi", max_coarse=500,
+            coarse_solver="splu", presmoother=("gauss_seidel", {"sweep": "forward"}),
+            postsmoother=("gauss_seidel", {"sweep": "backward"})))
+        self.ones = np.ones(self.k.shape[0])
         self.iterations: list[int] = []
         self.starts = Projection(lambda v: self.k @ v, ADJOINT_STARTS)
 
