@@ -114,9 +114,7 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "def
     observers = observers if observers is not None else standard_observers(machine, sensors)
     t0 = _time.perf_counter()
     twin = prepared or PreparedTwin(machine, mm, resolution, materials, solver)
-    for o in observers:   # factorise and solve the adjoints now, so that "preparation" holds them
-        if hasattr(o, "functionals"):
-            twin.adjoint(o)
+    twin.adjoints(observers)   # factorise and solve the adjoints now, so that "preparation" holds them
     prep = _time.perf_counter() - t0
     times = scenario.times()
 

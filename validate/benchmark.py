@@ -110,9 +110,7 @@ def main(argv=None) -> int:
     if not args.heat_only:
         twin.elastic
         stages["elastic_assembly"] = time.perf_counter() - t0 - sum(stages.values())
-    for o in observers:
-        if hasattr(o, "functionals"):
-            twin.adjoint(o)
+    twin.adjoints(observers)
     stages["adjoints"] = time.perf_counter() - t0 - sum(stages.values())
     spec = model_spec(machine)
     twin.output_rows([o for o in observers if o.sample_steps(scenario.times()) is None], twin.loads(scenario, spec))

@@ -105,6 +105,23 @@ class PreparedTwin:
             self._adjoints[key] = self.elastic.solve(np.asarray(G.todense()).T)
         return self._adjoints[key]
 
+    def adjoints(self, observers) -> None:
+        """Solve the adjoints of every displacement observer among ``observers`` (those with
+        ``functionals``) not solved yet, all of their rows as one block: an iterative elastic
+        solver then advances them together (:class:`twin.physics.solvers.AmgElastic`), a
+        factorised one back-substitutes each column as it would alone."""
+        todo = {}
+        for o in observers:
+            key = o.cache_key() if hasattr(o, "functionals") else None
+            if key is not None and key not in self._adjoints and key not in todo:
+                todo[key] = o.all_functionals(self.elastic_mm)
+        if not todo:
+            return
+        lam = self.elastic.solve(np.asarray(sp.vstack(list(todo.values())).todense()).T)
+        ends = np.cumsum([G.shape[0] for G in todo.values()])
+        for key, a, b in zip(todo, np.r_[0, ends[:-1]], ends):
+            self._adjoints[key] = lam[:, a:b]
+
     def elastic_info(self) -> dict:
         """What solved the elasticity and on which mesh, for the result attributes."""
         if self._elastic is None:

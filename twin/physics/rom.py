@@ -52,6 +52,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from twin.physics import kernels
 from twin.physics.solvers import DIRECT_LIMIT, amg_cycle, mass_weights, output_bounds, pcg
 
 SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
@@ -194,11 +195,11 @@ def _reference_solver(A: sp.csr_matrix, rtol: float = BASIS_RTOL):
     def solve(X, V):
         nonlocal AV
         if V.shape[1] > AV.shape[1]:
-            AV = np.hstack([AV, A @ V[:, AV.shape[1]:]])
+            AV = np.hstack([AV, kernels.product(A, V[:, AV.shape[1]:])])
         AVk = AV[:, :V.shape[1]]
         c = np.linalg.solve(V.T @ AVk, V.T @ X) if V.shape[1] else np.zeros((0, X.shape[1]))
         start = np.linalg.norm(X - AVk @ c, axis=0)
-        Y, _, _ = pcg(lambda U: A @ U, X, V @ c, cycle, ones, rtol * start, max_iterations=500)
+        Y, _, _ = pcg(lambda U: kernels.product(A, U), X, V @ c, cycle, ones, rtol * start, max_iterations=500)
         return Y
 
     return solve, rtol

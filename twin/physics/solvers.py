@@ -39,6 +39,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from twin.errors import InputError
+from twin.physics import kernels
 
 SOLVERS = ("auto", "direct", "iterative", "rom")
 DEVICES = ("cpu", "gpu")
@@ -173,12 +174,21 @@ def jacobi(dinv):
 
 def amg_cycle(ml):
     """The V-cycle of an algebraic multigrid hierarchy ``ml`` (pyamg) as a preconditioner
-    R -> B R, column by column: from x = 0 on each level, pre-smoothing, the coarse correction
+    R -> B R: from x = 0 on each level, pre-smoothing, the coarse correction
     x += P (cycle of the coarse level on R_l (b - A x)), post-smoothing; a direct solve on the
     coarsest level. The same operator as pyamg's ``aspreconditioner(cycle="V")`` (symmetric when
     the post-smoother is the pre-smoother's adjoint), without the two residual norms that wrapper
-    computes on the finest level every call (about a quarter of its cost)."""
+    computes on the finest level every call (about a quarter of its cost).
+
+    A block R (n, m) goes through every level as one block when the smoothers are pyamg's
+    one-sweep Gauss-Seidel: the sweeps and products of :mod:`twin.physics.kernels` read each
+    level's matrices once per eight columns instead of once per column, with the same arithmetic
+    per column (equal to the column-by-column cycle to round-off). Other smoothers, and a single
+    vector, take pyamg's own level functions column by column."""
     levels = ml.levels
+    sweeps = [(_gs_sweep(lv.presmoother), _gs_sweep(lv.postsmoother)) for lv in levels[:-1]]
+    blockwise = all(pre and post for pre, post in sweeps)
+    csr = [(sp.csr_matrix(lv.A), sp.csr_matrix(lv.P), sp.csr_matrix(lv.R)) for lv in levels[:-1]] if blockwise else []
 
     def cycle(lvl: int, b: np.ndarray) -> np.ndarray:
         level = levels[lvl]
@@ -190,7 +200,36 @@ def amg_cycle(ml):
         level.postsmoother(level.A, x, b)
         return x
 
-    return lambda R: cycle(0, R) if R.ndim == 1 else np.column_stack([cycle(0, R[:, j]) for j in range(R.shape[1])])
+    def block(lvl: int, B: np.ndarray) -> np.ndarray:
+        if lvl == len(levels) - 1:
+            return np.column_stack([cycle(lvl, B[:, j]) for j in range(B.shape[1])])
+        (A, P, R), (pre, post) = csr[lvl], sweeps[lvl]
+        X = np.zeros_like(B)
+        kernels.gauss_seidel(A, X, B, pre)
+        X += kernels.product(P, block(lvl + 1, kernels.product(R, B - kernels.product(A, X))))
+        kernels.gauss_seidel(A, X, B, post)
+        return X
+
+    def apply(R: np.ndarray) -> np.ndarray:
+        if R.ndim == 1:
+            return cycle(0, R)
+        if blockwise and kernels.compiled(R.shape[1], None):
+            return block(0, np.ascontiguousarray(R))
+        return np.column_stack([cycle(0, R[:, j]) for j in range(R.shape[1])])
+
+    return apply
+
+
+def _gs_sweep(smoother) -> str | None:
+    """The sweep of a pyamg smoother that is one plain Gauss-Seidel sweep ("forward", "backward" or
+    "symmetric"), else None (another relaxation, or several sweeps)."""
+    from pyamg.relaxation.relaxation import gauss_seidel
+
+    kw = getattr(smoother, "keywords", {})
+    if getattr(smoother, "func", None) is gauss_seidel and kw.get("iterations", 1) == 1 \
+            and kw.get("omega", 1.0) == 1.0 and not getattr(smoother, "args", ()):
+        return kw.get("sweep", "forward")
+    return None
 
 
 def theta_operators(system, dt: float, theta: float, h: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
@@ -386,10 +425,13 @@ class AmgElastic:
 
     The V-cycle smooths by one forward Gauss-Seidel sweep before the coarse correction and one
     backward sweep after it (a symmetric preconditioner at half the cost of two symmetric sweeps).
-    Every solve starts from the Galerkin projection of its load on the solutions found before
-    (:class:`Projection`: x0 = Q Q^T f, Q their K-orthonormal basis, the energy-optimal start in
-    that span): the adjoints of nearby drift outputs share most of their far field, so later
-    solves start closer (one that is a combination of earlier ones needs no iteration)."""
+    A block of loads is solved as one CG run (each column to its own tolerance), whose V-cycles
+    and products take all columns in one pass over each matrix (:mod:`twin.physics.kernels`):
+    the prepared twin solves the adjoints of all its displacement observers so, as one block
+    (:meth:`twin.physics.prepared.PreparedTwin.adjoints`). Every solve starts from the Galerkin
+    projection of its loads on the solutions found before (:class:`Projection`: x0 = Q Q^T f, Q
+    their K-orthonormal basis, the energy-optimal start in that span), so a later adjoint (an
+    interferometer's) starts closer."""
 
     def __init__(self, k: sp.csr_matrix, modes: np.ndarray, rtol: float = 1e-10, max_iterations: int = 500):
         import pyamg
@@ -405,15 +447,19 @@ class AmgElastic:
         self.starts = Projection(lambda v: self.k @ v, ADJOINT_STARTS)
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """K^-1 rhs for a load (n,) or a block (n, m): the block's non-zero columns are solved
+        together (one V-cycle and one product a CG iteration for all of them, each column to
+        its own tolerance), started from the projection on the solutions found before."""
         rhs = np.asarray(rhs, dtype=float)
         cols = rhs[:, None] if rhs.ndim == 1 else rhs
         out = np.zeros(cols.shape)
-        for j in range(cols.shape[1]):
-            if not np.any(cols[:, j]):
-                continue
-            b = cols[:, j]
-            out[:, j], it, _ = pcg(lambda v: self.k @ v, b, self.starts.guess(b), self.cycle, self.ones,
-                                   self.rtol * np.linalg.norm(b), max_iterations=self.max_iterations)
+        live = np.flatnonzero(np.any(cols != 0, axis=0))
+        if len(live):
+            b = np.ascontiguousarray(cols[:, live])
+            x, it, _ = pcg(lambda v: kernels.product(self.k, v), b, self.starts.guess(b), self.cycle, self.ones,
+                           self.rtol * np.linalg.norm(b, axis=0), max_iterations=self.max_iterations)
+            out[:, live] = x
             self.iterations.append(it)
-            self.starts.add(out[:, j])
+            for j in range(x.shape[1]):
+                self.starts.add(x[:, j])
         return out[:, 0] if rhs.ndim == 1 else out

@@ -1,0 +1,116 @@
+"""The block kernels of :mod:`twin.physics.kernels` (numba) against their fallback (pyamg's
+Gauss-Seidel column by column, scipy's sparse product), against closed forms, and the block
+V-cycle and the block adjoint solves built on them."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from twin.physics import kernels
+
+needs_numba = pytest.mark.skipif(not kernels.HAVE_NUMBA, reason="numba not installed: only the fallback runs")
+
+
+def _spd(n: int = 300, seed: int = 0) -> sp.csr_matrix:
+    """A sparse SPD matrix with an irregular pattern (a random graph Laplacian plus a diagonal)."""
+    rng = np.random.default_rng(seed)
+    i, j = rng.integers(0, n, (2, 6 * n))
+    W = sp.coo_matrix((rng.uniform(0.1, 1.0, i.size), (i, j)), shape=(n, n)).tocsr()
+    W = W + W.T
+    W.setdiag(0.0)
+    W.eliminate_zeros()
+    L = sp.diags(np.asarray(W.sum(axis=1)).ravel()) - W
+    A = (L + sp.diags(rng.uniform(0.5, 2.0, n))).tocsr()
+    A.sort_indices()
+    return A
+
+
+@needs_numba
+@pytest.mark.parametrize("m", [2, 3, 8, 11])
+@pytest.mark.parametrize("sweep", ["forward", "backward", "symmetric"])
+def test_block_gauss_seidel_equals_pyamg_column_by_column(m, sweep):
+    """Each column of the compiled block sweep is pyamg's one-column sweep,
+    x_i <- (b_i - sum_(j != i) a_ij x_j) / a_ii in the same order: equal to round-off (the sums are
+    the same sums in the same order; measured bit for bit), for widths below, at and above eight."""
+    A = _spd()
+    rng = np.random.default_rng(1)
+    X0, B = rng.standard_normal((2, A.shape[0], m))
+    fast, slow = X0.copy(), X0.copy()
+    kernels.gauss_seidel(A, fast, B, sweep)
+    kernels.gauss_seidel(A, slow, B, sweep, use_numba=False)
+    assert kernels.compiled(m, None)
+    np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-14 * np.abs(slow).max())
+
+
+@pytest.mark.parametrize("use_numba", [None, False])
+def test_gauss_seidel_solves_a_triangular_system_in_one_sweep(use_numba):
+    """Closed form: for a lower-triangular A one forward sweep is forward substitution,
+    x = A^-1 b exactly; for an upper-triangular A one backward sweep is back substitution."""
+    if use_numba is None and not kernels.HAVE_NUMBA:
+        pytest.skip("numba not installed")
+    A = _spd(200)
+    rng = np.random.default_rng(2)
+    B = rng.standard_normal((200, 5))
+    for part, sweep in ((sp.tril(A).tocsr(), "forward"), (sp.triu(A).tocsr(), "backward")):
+        part.sort_indices()
+        X = rng.standard_normal(B.shape)               # the start does not matter for a triangular A
+        kernels.gauss_seidel(part, X, B, sweep, use_numba=use_numba)
+        np.testing.assert_allclose(part @ X, B, rtol=0, atol=1e-12 * np.abs(B).max())
+
+
+@needs_numba
+@pytest.mark.parametrize("m", [2, 8, 13])
+def test_block_product_equals_scipys(m):
+    """A X by the compiled kernel equals scipy's product, for a rectangular A (the prolongations
+    and restrictions are), to round-off."""
+    rng = np.random.default_rng(3)
+    A = sp.random(170, 90, density=0.05, random_state=4, format="csr")
+    X = rng.standard_normal((90, m))
+    np.testing.assert_allclose(kernels.product(A, X), A @ X, rtol=0, atol=1e-14 * np.abs(A @ X).max())
+    np.testing.assert_array_equal(kernels.product(A, X[:, 0]), A @ X[:, 0])
+
+
+def test_gauss_seidel_refuses_an_unknown_sweep():
+    with pytest.raises(ValueError, match="sweep"):
+        kernels.gauss_seidel(_spd(20), np.zeros((20, 2)), np.ones((20, 2)), "sideways")
+
+
+@pytest.mark.parametrize("smoothers", [{}, {"presmoother": ("gauss_seidel", {"sweep": "forward"}),
+                                            "postsmoother": ("gauss_seidel", {"sweep": "backward"})}])
+def test_block_v_cycle_equals_the_cycle_column_by_column(smoothers, monkeypatch):
+    """amg_cycle on a block (n, m) takes every level as one block through the kernels; each of its
+    columns is the one-vector cycle to round-off, with and without numba (then column by column)."""
+    import pyamg
+
+    from twin.physics.solvers import amg_cycle
+    A = (pyamg.gallery.poisson((10, 10, 10), format="csr") + 1e-3 * sp.eye(1000)).tocsr()
+    ml = pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=50, coarse_solver="splu", **smoothers)
+    R = np.random.default_rng(5).standard_normal((1000, 6))
+    cycle = amg_cycle(ml)
+    one = np.column_stack([cycle(R[:, j]) for j in range(6)])
+    np.testing.assert_allclose(cycle(R), one, rtol=0, atol=1e-13 * np.abs(one).max())
+    monkeypatch.setattr(kernels, "HAVE_NUMBA", False)
+    np.testing.assert_array_equal(amg_cycle(ml)(R), one)
+
+
+def test_block_adjoints_equal_the_direct_ones_within_their_tolerance():
+    """The elastic adjoints of several outputs solved as one block by AMG-CG equal the direct
+    solves to the relative residual asked (||K x - f|| <= rtol ||f|| per column, so
+    ||x - x_direct|| <= cond(K) rtol ||x||; checked at rtol 1e-10 to 1e-6 relative), the columns
+    of an all-zero load stay zero, and one block is one CG run."""
+    from geometries import build_machine
+    from twin.fem.mesh import mesh_machine
+    from twin.physics.elastic import ElasticSolver
+
+    mm = mesh_machine(build_machine("cframe-vmc"), "coarse")
+    direct = ElasticSolver.build(mm, method="direct")
+    amg = ElasticSolver.build(mm, method="amg", rtol=1e-10)
+    rng = np.random.default_rng(6)
+    F = rng.standard_normal((3 * mm.nnodes, 4))
+    F[:, 2] = 0.0
+    x_amg, x_lu = amg.solve(F), direct.solve(F)
+    assert not x_amg[:, 2].any()
+    live = [0, 1, 3]
+    rel = np.linalg.norm(x_amg[:, live] - x_lu[:, live], axis=0) / np.linalg.norm(x_lu[:, live], axis=0)
+    assert rel.max() < 1e-6
+    assert len(amg._lu.iterations) == 1

@@ -1,0 +1,164 @@
+"""Sparse kernels on blocks of vectors: Gauss-Seidel sweeps and products of a CSR matrix with an
+(n, m) block, compiled with numba when it is installed, with a numpy/pyamg fallback that gives
+the same numbers.
+
+Why: the elastic adjoints and the reduced model's basis solve several right-hand sides with one
+matrix (3-8 adjoints, blocks of about 7 moments). Their algebraic-multigrid V-cycle
+(:func:`twin.physics.solvers.amg_cycle`) is a Gauss-Seidel sweep and a few sparse products per
+level, each limited by reading the matrix from memory. Done column by column the matrix is read
+once per column; here it is read once per eight columns, every row's eight sums kept in
+registers. On the 40 mm C-frame's elastic stiffness (116 k dofs, 9.4 M entries) one forward sweep
+costs 10.5 ms for one column and 27 ms for eight (3x less per column), the product 9.4 and 24 ms.
+
+Each column gets exactly the arithmetic of the one-column kernel (the same sums in the same
+order), so the block results equal the column-by-column ones; ``tests/test_kernels.py`` checks
+the compiled kernels against the fallback. Without numba (``HAVE_NUMBA`` False) every function
+falls back: pyamg's Gauss-Seidel column by column and scipy's sparse product.
+
+    Gauss-Seidel, row i in sweep order:  x_i <- (b_i - sum_(j != i) a_ij x_j) / a_ii
+    (rows with no diagonal entry are left unchanged, as pyamg does).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+try:                                    # optional at run time: every kernel has a fallback
+    import numba
+except ImportError:                     # pragma: no cover - numba is a declared dependency
+    numba = None
+
+HAVE_NUMBA = numba is not None
+WIDTH = 8                               # columns a compiled kernel carries through one pass
+
+
+def _jit(fn):
+    return numba.njit(cache=True, nogil=True)(fn) if HAVE_NUMBA else fn
+
+
+@_jit
+def _gauss_seidel_8(indptr, indices, data, X, B, forward):      # pragma: no cover - compiled
+    """One sweep on X (n, 8) in place (module docstring)."""
+    n = X.shape[0]
+    for k in range(n):
+        i = k if forward else n - 1 - k
+        s0 = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        s3 = 0.0
+        s4 = 0.0
+        s5 = 0.0
+        s6 = 0.0
+        s7 = 0.0
+        diag = 0.0
+        for jj in range(indptr[i], indptr[i + 1]):
+            j = indices[jj]
+            a = data[jj]
+            if j == i:
+                diag = a
+            else:
+                s0 += a * X[j, 0]
+                s1 += a * X[j, 1]
+                s2 += a * X[j, 2]
+                s3 += a * X[j, 3]
+                s4 += a * X[j, 4]
+                s5 += a * X[j, 5]
+                s6 += a * X[j, 6]
+                s7 += a * X[j, 7]
+        if diag != 0.0:
+            X[i, 0] = (B[i, 0] - s0) / diag
+            X[i, 1] = (B[i, 1] - s1) / diag
+            X[i, 2] = (B[i, 2] - s2) / diag
+            X[i, 3] = (B[i, 3] - s3) / diag
+            X[i, 4] = (B[i, 4] - s4) / diag
+            X[i, 5] = (B[i, 5] - s5) / diag
+            X[i, 6] = (B[i, 6] - s6) / diag
+            X[i, 7] = (B[i, 7] - s7) / diag
+
+
+@_jit
+def _product_8(indptr, indices, data, X, Y):                    # pragma: no cover - compiled
+    """Y (n_rows, 8) = A X for X (n_cols, 8), row by row."""
+    for i in range(Y.shape[0]):
+        s0 = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        s3 = 0.0
+        s4 = 0.0
+        s5 = 0.0
+        s6 = 0.0
+        s7 = 0.0
+        for jj in range(indptr[i], indptr[i + 1]):
+            j = indices[jj]
+            a = data[jj]
+            s0 += a * X[j, 0]
+            s1 += a * X[j, 1]
+            s2 += a * X[j, 2]
+            s3 += a * X[j, 3]
+            s4 += a * X[j, 4]
+            s5 += a * X[j, 5]
+            s6 += a * X[j, 6]
+            s7 += a * X[j, 7]
+        Y[i, 0] = s0
+        Y[i, 1] = s1
+        Y[i, 2] = s2
+        Y[i, 3] = s3
+        Y[i, 4] = s4
+        Y[i, 5] = s5
+        Y[i, 6] = s6
+        Y[i, 7] = s7
+
+
+def _chunks(m: int):
+    """Column slices of at most :data:`WIDTH` covering m columns."""
+    return [slice(c, min(c + WIDTH, m)) for c in range(0, m, WIDTH)]
+
+
+def _padded(X: np.ndarray, cols: slice) -> np.ndarray:
+    """Columns ``cols`` of X as a C-ordered (n, WIDTH) block, zero beyond X's last column."""
+    out = np.zeros((X.shape[0], WIDTH))
+    out[:, :cols.stop - cols.start] = X[:, cols]
+    return out
+
+
+def compiled(m: int, use_numba: bool | None) -> bool:
+    """Whether a block of m columns goes through the compiled kernels: numba present (and not
+    refused by ``use_numba=False``) and more than one column (one column is pyamg's and scipy's
+    own kernel already)."""
+    return HAVE_NUMBA and m > 1 and use_numba is not False
+
+
+def gauss_seidel(A: sp.csr_matrix, X: np.ndarray, B: np.ndarray, sweep: str, use_numba: bool | None = None) -> None:
+    """One Gauss-Seidel sweep (``"forward"``, ``"backward"`` or ``"symmetric"``: forward then
+    backward) of A X = B on every column of X (n, m) in place; A in CSR with sorted rows."""
+    if sweep not in ("forward", "backward", "symmetric"):
+        raise ValueError(f"unknown sweep {sweep!r}")
+    directions = (True, False) if sweep == "symmetric" else (sweep == "forward",)
+    m = X.shape[1]
+    if not compiled(m, use_numba):
+        from pyamg.relaxation.relaxation import gauss_seidel as pyamg_gs
+
+        for j in range(m):
+            x, b = np.ascontiguousarray(X[:, j]), np.ascontiguousarray(B[:, j])
+            for forward in directions:
+                pyamg_gs(A, x, b, iterations=1, sweep="forward" if forward else "backward")
+            X[:, j] = x
+        return
+    for cols in _chunks(m):
+        x, b = _padded(X, cols), _padded(B, cols)
+        for forward in directions:
+            _gauss_seidel_8(A.indptr, A.indices, A.data, x, b, forward)
+        X[:, cols] = x[:, :cols.stop - cols.start]
+
+
+def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> np.ndarray:
+    """A X for a CSR matrix A and a block X (n, m) (a vector: scipy's product)."""
+    if X.ndim == 1 or not compiled(X.shape[1], use_numba):
+        return A @ X
+    out = np.empty((A.shape[0], X.shape[1]))
+    y = np.empty((A.shape[0], WIDTH))
+    for cols in _chunks(X.shape[1]):
+        _product_8(A.indptr, A.indices, A.data, _padded(X, cols), y)
+        out[:, cols] = y[:, :cols.stop - cols.start]
+    return out
