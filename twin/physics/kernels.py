@@ -21,23 +21,32 @@ falls back: pyamg's Gauss-Seidel column by column and scipy's sparse product.
 
 from __future__ import annotations
 
+import functools
+import importlib.util
+
 import numpy as np
 import scipy.sparse as sp
 
-try:                                    # optional at run time: every kernel has a fallback
-    import numba
-except ImportError:                     # pragma: no cover - numba is a declared dependency
-    numba = None
-
-HAVE_NUMBA = numba is not None
+# numba is imported (and the kernels compiled, or read from its cache) on the first block that
+# needs them, not with the package: a twin that never solves a block does not pay its import
+HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 WIDTH = 8                               # columns a compiled kernel carries through one pass
 
 
-def _jit(fn):
-    return numba.njit(cache=True, nogil=True)(fn) if HAVE_NUMBA else fn
+@functools.cache
+def _compiled_kernels() -> tuple:
+    """(Gauss-Seidel, product) compiled by numba, cached on disk where a cache can be written."""
+    import numba
+
+    def jit(fn):
+        try:
+            return numba.njit(cache=True, nogil=True)(fn)
+        except RuntimeError:            # no writable cache location: compile in memory each process
+            return numba.njit(nogil=True)(fn)
+
+    return jit(_gauss_seidel_8), jit(_product_8)
 
 
-@_jit
 def _gauss_seidel_8(indptr, indices, data, X, B, forward):      # pragma: no cover - compiled
     """One sweep on X (n, 8) in place (module docstring)."""
     n = X.shape[0]
@@ -77,7 +86,6 @@ def _gauss_seidel_8(indptr, indices, data, X, B, forward):      # pragma: no cov
             X[i, 7] = (B[i, 7] - s7) / diag
 
 
-@_jit
 def _product_8(indptr, indices, data, X, Y):                    # pragma: no cover - compiled
     """Y (n_rows, 8) = A X for X (n_cols, 8), row by row."""
     for i in range(Y.shape[0]):
@@ -145,10 +153,11 @@ def gauss_seidel(A: sp.csr_matrix, X: np.ndarray, B: np.ndarray, sweep: str, use
                 pyamg_gs(A, x, b, iterations=1, sweep="forward" if forward else "backward")
             X[:, j] = x
         return
+    sweep_8 = _compiled_kernels()[0]
     for cols in _chunks(m):
         x, b = _padded(X, cols), _padded(B, cols)
         for forward in directions:
-            _gauss_seidel_8(A.indptr, A.indices, A.data, x, b, forward)
+            sweep_8(A.indptr, A.indices, A.data, x, b, forward)
         X[:, cols] = x[:, :cols.stop - cols.start]
 
 
@@ -158,7 +167,8 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
         return A @ X
     out = np.empty((A.shape[0], X.shape[1]))
     y = np.empty((A.shape[0], WIDTH))
+    product_8 = _compiled_kernels()[1]
     for cols in _chunks(X.shape[1]):
-        _product_8(A.indptr, A.indices, A.data, _padded(X, cols), y)
+        product_8(A.indptr, A.indices, A.data, _padded(X, cols), y)
         out[:, cols] = y[:, :cols.stop - cols.start]
     return out
