@@ -67,3 +67,27 @@ def test_repeated_nodes_fall_back_to_accumulation():
     rows = np.array([[0, 0], [1, 1]])
     A = Pattern(rows, rows, (2, 2)).assemble(np.ones((1, 2, 2)), np.zeros(2, dtype=int))
     assert np.array_equal(A.toarray(), np.full((2, 2), 2.0))
+
+
+@pytest.mark.parametrize("layout", ["heat", "elastic_on_split_heat", "nested"])
+def test_compiled_positions_equal_the_searchsorted_ones(split_mesh, layout):
+    """Every (corner a, corner b, cell)'s position in the pattern found by the compiled binary
+    search in its row equals the one np.searchsorted finds among all node pairs (integers:
+    exactly), for a square heat pattern, the rectangular coupling pattern of a split layout, and
+    a nested (coarse elastic x fine heat) pattern."""
+    from twin.fem import scatter
+    from twin.fem.nesting import coarsen
+
+    if scatter._compiled_positions() is None:
+        pytest.skip("numba not installed: only the searchsorted path runs")
+    mm = split_mesh
+    if layout == "heat":
+        rows, cols, shape = mm.heat_t, mm.heat_t, (mm.nheat, mm.nheat)
+    elif layout == "elastic_on_split_heat":
+        rows, cols, shape = mm.mesh.t, mm.heat_t, (mm.nnodes, mm.nheat)
+    else:
+        nested = coarsen(mm, 2)
+        rows, cols, shape = nested.coarse.mesh.t[:, nested.parent], mm.heat_t, (nested.coarse.nnodes, mm.nheat)
+    fast, slow = Pattern(rows, cols, shape), Pattern(rows, cols, shape, use_numba=False)
+    assert np.array_equal(fast.positions, slow.positions)
+    assert np.array_equal(fast.indices, slow.indices) and np.array_equal(fast.indptr, slow.indptr)

@@ -22,6 +22,9 @@ values, plus one pass's (cells, br, bc) values.
 
 from __future__ import annotations
 
+import functools
+import importlib.util
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -31,12 +34,46 @@ def _injective(nodes: np.ndarray, n: int) -> bool:
     return len(nodes) == 0 or int(np.bincount(nodes, minlength=n).max()) <= 1
 
 
+def _positions(indptr, indices, rows, cols, out):                 # pragma: no cover - compiled
+    """out[a, b, e] = the position of column cols[b, e] among the sorted columns
+    indices[indptr[r] : indptr[r + 1]] of row r = rows[a, e] (binary search; it is there)."""
+    for e in range(rows.shape[1]):
+        for a in range(rows.shape[0]):
+            r = rows[a, e]
+            first, end = indptr[r], indptr[r + 1]
+            for b in range(cols.shape[0]):
+                c = cols[b, e]
+                lo, hi = first, end
+                while lo < hi:
+                    mid = (lo + hi) >> 1
+                    if indices[mid] < c:
+                        lo = mid + 1
+                    else:
+                        hi = mid
+                out[a, b, e] = lo
+
+
+@functools.cache
+def _compiled_positions():
+    """:func:`_positions` compiled by numba (imported on first use), or None without numba."""
+    if importlib.util.find_spec("numba") is None:
+        return None
+    import numba
+
+    try:
+        return numba.njit(cache=True, nogil=True)(_positions)
+    except RuntimeError:                # no writable cache location
+        return numba.njit(nogil=True)(_positions)
+
+
 class Pattern:
     """The node-pair sparsity of cells with row nodes ``rows`` (p, ne) and column nodes ``cols``
     (q, ne) in a matrix of ``shape`` (row nodes, column nodes), and every (corner a, corner b,
-    cell)'s position in it."""
+    cell)'s position in it: a binary search of the column in its row's sorted columns, compiled
+    by numba where it is installed (:func:`_positions`), else one ``np.searchsorted`` of the node
+    pair in all pairs per corner pair (``use_numba=False``); the two give the same positions."""
 
-    def __init__(self, rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int]):
+    def __init__(self, rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int], use_numba: bool | None = None):
         rows = np.asarray(rows, dtype=np.int64)
         cols = np.asarray(cols, dtype=np.int64)
         self.shape = shape
@@ -44,14 +81,17 @@ class Pattern:
         keys = np.sort((rows[:, None, :] * nc + cols[None, :, :]).ravel())    # node pairs, sorted
         keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]           # (np.unique hashes: slow)
         dtype = np.int32 if len(keys) < 2**31 else np.int64
-        self.positions = np.empty((rows.shape[0], cols.shape[0], rows.shape[1]), dtype=dtype)
-        for a in range(rows.shape[0]):
-            for b in range(cols.shape[0]):
-                self.positions[a, b] = np.searchsorted(keys, rows[a] * nc + cols[b])
-        self.once = np.array([[_injective(rows[a], nr) or _injective(cols[b], nc) for b in range(cols.shape[0])]
-                              for a in range(rows.shape[0])])
         self.indices = keys % nc
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(keys // nc, minlength=nr))])
+        self.positions = np.empty((rows.shape[0], cols.shape[0], rows.shape[1]), dtype=dtype)
+        if use_numba is not False and _compiled_positions() is not None:
+            _compiled_positions()(self.indptr, self.indices, rows, cols, self.positions)
+        else:
+            for a in range(rows.shape[0]):
+                for b in range(cols.shape[0]):
+                    self.positions[a, b] = np.searchsorted(keys, rows[a] * nc + cols[b])
+        self.once = np.array([[_injective(rows[a], nr) or _injective(cols[b], nc) for b in range(cols.shape[0])]
+                              for a in range(rows.shape[0])])
 
     def assemble(self, ref: np.ndarray, group: np.ndarray) -> sp.csr_matrix:
         """The sum over cells e of the element matrix ``ref[group[e]]`` at the cell's nodes.
