@@ -88,6 +88,6 @@ def test_compiled_positions_equal_the_searchsorted_ones(split_mesh, layout):
     else:
         nested = coarsen(mm, 2)
         rows, cols, shape = nested.coarse.mesh.t[:, nested.parent], mm.heat_t, (nested.coarse.nnodes, mm.nheat)
-    fast, slow = Pattern(rows, cols, shape), Pattern(rows, cols, shape, use_numba=False)
+    fast, slow = Pattern(rows, cols, shape, use_numba=True), Pattern(rows, cols, shape, use_numba=False)
     assert np.array_equal(fast.positions, slow.positions)
     assert np.array_equal(fast.indices, slow.indices) and np.array_equal(fast.indptr, slow.indptr)

@@ -34,6 +34,10 @@ def _injective(nodes: np.ndarray, n: int) -> bool:
     return len(nodes) == 0 or int(np.bincount(nodes, minlength=n).max()) <= 1
 
 
+COMPILED_FROM = 2_000_000   # (corner, corner, cell) lookups from which the compiled search pays its import
+                            # (about 0.4 s; np.searchsorted takes about that for 2 M lookups)
+
+
 def _positions(indptr, indices, rows, cols, out):                 # pragma: no cover - compiled
     """out[a, b, e] = the position of column cols[b, e] among the sorted columns
     indices[indptr[r] : indptr[r + 1]] of row r = rows[a, e] (binary search; it is there)."""
@@ -70,8 +74,10 @@ class Pattern:
     """The node-pair sparsity of cells with row nodes ``rows`` (p, ne) and column nodes ``cols``
     (q, ne) in a matrix of ``shape`` (row nodes, column nodes), and every (corner a, corner b,
     cell)'s position in it: a binary search of the column in its row's sorted columns, compiled
-    by numba where it is installed (:func:`_positions`), else one ``np.searchsorted`` of the node
-    pair in all pairs per corner pair (``use_numba=False``); the two give the same positions."""
+    by numba (:func:`_positions`; ``use_numba=True``, and by default from :data:`COMPILED_FROM`
+    lookups where numba is installed), else one ``np.searchsorted`` of the node pair in all pairs
+    per corner pair (``use_numba=False``, and small meshes, where it costs less than importing
+    numba); the two give the same positions."""
 
     def __init__(self, rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int], use_numba: bool | None = None):
         rows = np.asarray(rows, dtype=np.int64)
@@ -84,7 +90,8 @@ class Pattern:
         self.indices = keys % nc
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(keys // nc, minlength=nr))])
         self.positions = np.empty((rows.shape[0], cols.shape[0], rows.shape[1]), dtype=dtype)
-        if use_numba is not False and _compiled_positions() is not None:
+        lookups = rows.shape[0] * cols.shape[0] * rows.shape[1]
+        if use_numba is True or (use_numba is None and lookups >= COMPILED_FROM and _compiled_positions() is not None):
             _compiled_positions()(self.indptr, self.indices, rows, cols, self.positions)
         else:
             for a in range(rows.shape[0]):
