@@ -34,24 +34,27 @@ WIDTH = 8                               # columns a compiled kernel carries thro
 
 
 @functools.cache
-def _compiled_kernels() -> tuple:
-    """(Gauss-Seidel, product) compiled by numba, cached on disk where a cache can be written."""
+def _compiled_kernel():
+    """:func:`_pass_8` compiled by numba, cached on disk where a cache can be written."""
     import numba
 
-    def jit(fn):
-        try:
-            return numba.njit(cache=True, nogil=True)(fn)
-        except RuntimeError:            # no writable cache location: compile in memory each process
-            return numba.njit(nogil=True)(fn)
-
-    return jit(_gauss_seidel_8), jit(_product_8)
+    try:
+        return numba.njit(cache=True, nogil=True)(_pass_8)
+    except RuntimeError:                # no writable cache location: compile in memory each process
+        return numba.njit(nogil=True)(_pass_8)
 
 
-def _gauss_seidel_8(indptr, indices, data, X, B, forward):      # pragma: no cover - compiled
-    """One sweep on X (n, 8) in place (module docstring)."""
-    n = X.shape[0]
+PRODUCT, FORWARD, BACKWARD = 0, 1, 2    # what one pass of :func:`_pass_8` does
+
+
+def _pass_8(indptr, indices, data, X, B, Y, mode):               # pragma: no cover - compiled
+    """One pass over the rows of a CSR matrix A with eight columns at once (X, B, Y C-ordered,
+    eight columns). ``PRODUCT``: Y = A X, every row's sum in stored order (scipy's). ``FORWARD`` or
+    ``BACKWARD``: a Gauss-Seidel sweep on X in place, x_i <- (b_i - sum_(j != i) a_ij x_j) / a_ii
+    in that row order (pyamg's; a row without a diagonal entry is left unchanged)."""
+    n = Y.shape[0] if mode == PRODUCT else X.shape[0]
     for k in range(n):
-        i = k if forward else n - 1 - k
+        i = n - 1 - k if mode == BACKWARD else k
         s0 = 0.0
         s1 = 0.0
         s2 = 0.0
@@ -64,7 +67,7 @@ def _gauss_seidel_8(indptr, indices, data, X, B, forward):      # pragma: no cov
         for jj in range(indptr[i], indptr[i + 1]):
             j = indices[jj]
             a = data[jj]
-            if j == i:
+            if j == i and mode != PRODUCT:
                 diag = a
             else:
                 s0 += a * X[j, 0]
@@ -75,7 +78,16 @@ def _gauss_seidel_8(indptr, indices, data, X, B, forward):      # pragma: no cov
                 s5 += a * X[j, 5]
                 s6 += a * X[j, 6]
                 s7 += a * X[j, 7]
-        if diag != 0.0:
+        if mode == PRODUCT:
+            Y[i, 0] = s0
+            Y[i, 1] = s1
+            Y[i, 2] = s2
+            Y[i, 3] = s3
+            Y[i, 4] = s4
+            Y[i, 5] = s5
+            Y[i, 6] = s6
+            Y[i, 7] = s7
+        elif diag != 0.0:
             X[i, 0] = (B[i, 0] - s0) / diag
             X[i, 1] = (B[i, 1] - s1) / diag
             X[i, 2] = (B[i, 2] - s2) / diag
@@ -84,38 +96,6 @@ def _gauss_seidel_8(indptr, indices, data, X, B, forward):      # pragma: no cov
             X[i, 5] = (B[i, 5] - s5) / diag
             X[i, 6] = (B[i, 6] - s6) / diag
             X[i, 7] = (B[i, 7] - s7) / diag
-
-
-def _product_8(indptr, indices, data, X, Y):                    # pragma: no cover - compiled
-    """Y (n_rows, 8) = A X for X (n_cols, 8), row by row."""
-    for i in range(Y.shape[0]):
-        s0 = 0.0
-        s1 = 0.0
-        s2 = 0.0
-        s3 = 0.0
-        s4 = 0.0
-        s5 = 0.0
-        s6 = 0.0
-        s7 = 0.0
-        for jj in range(indptr[i], indptr[i + 1]):
-            j = indices[jj]
-            a = data[jj]
-            s0 += a * X[j, 0]
-            s1 += a * X[j, 1]
-            s2 += a * X[j, 2]
-            s3 += a * X[j, 3]
-            s4 += a * X[j, 4]
-            s5 += a * X[j, 5]
-            s6 += a * X[j, 6]
-            s7 += a * X[j, 7]
-        Y[i, 0] = s0
-        Y[i, 1] = s1
-        Y[i, 2] = s2
-        Y[i, 3] = s3
-        Y[i, 4] = s4
-        Y[i, 5] = s5
-        Y[i, 6] = s6
-        Y[i, 7] = s7
 
 
 def _chunks(m: int):
@@ -153,11 +133,11 @@ def gauss_seidel(A: sp.csr_matrix, X: np.ndarray, B: np.ndarray, sweep: str, use
                 pyamg_gs(A, x, b, iterations=1, sweep="forward" if forward else "backward")
             X[:, j] = x
         return
-    sweep_8 = _compiled_kernels()[0]
+    kernel, unused = _compiled_kernel(), np.empty((0, WIDTH))
     for cols in _chunks(m):
         x, b = _padded(X, cols), _padded(B, cols)
         for forward in directions:
-            sweep_8(A.indptr, A.indices, A.data, x, b, forward)
+            kernel(A.indptr, A.indices, A.data, x, b, unused, FORWARD if forward else BACKWARD)
         X[:, cols] = x[:, :cols.stop - cols.start]
 
 
@@ -167,8 +147,8 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
         return A @ X
     out = np.empty((A.shape[0], X.shape[1]))
     y = np.empty((A.shape[0], WIDTH))
-    product_8 = _compiled_kernels()[1]
+    kernel, unused = _compiled_kernel(), np.empty((0, WIDTH))
     for cols in _chunks(X.shape[1]):
-        product_8(A.indptr, A.indices, A.data, _padded(X, cols), y)
+        kernel(A.indptr, A.indices, A.data, _padded(X, cols), unused, y, PRODUCT)
         out[:, cols] = y[:, :cols.stop - cols.start]
     return out
