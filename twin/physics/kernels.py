@@ -103,8 +103,16 @@ def _chunks(m: int):
     return [slice(c, min(c + WIDTH, m)) for c in range(0, m, WIDTH)]
 
 
+def _exact(X: np.ndarray) -> bool:
+    """True when X is itself a C-ordered float (n, WIDTH) block the kernel can use in place."""
+    return X.shape[1] == WIDTH and X.dtype == np.float64 and X.flags.c_contiguous
+
+
 def _padded(X: np.ndarray, cols: slice) -> np.ndarray:
-    """Columns ``cols`` of X as a C-ordered (n, WIDTH) block, zero beyond X's last column."""
+    """Columns ``cols`` of X as a C-ordered (n, WIDTH) block, zero beyond X's last column (X
+    itself, not a copy, when it is such a block)."""
+    if cols.start == 0 and cols.stop == X.shape[1] and _exact(X):
+        return X
     out = np.zeros((X.shape[0], WIDTH))
     out[:, :cols.stop - cols.start] = X[:, cols]
     return out
@@ -138,7 +146,8 @@ def gauss_seidel(A: sp.csr_matrix, X: np.ndarray, B: np.ndarray, sweep: str, use
         x, b = _padded(X, cols), _padded(B, cols)
         for forward in directions:
             kernel(A.indptr, A.indices, A.data, x, b, unused, FORWARD if forward else BACKWARD)
-        X[:, cols] = x[:, :cols.stop - cols.start]
+        if x is not X:
+            X[:, cols] = x[:, :cols.stop - cols.start]
 
 
 def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> np.ndarray:
@@ -146,9 +155,10 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
     if X.ndim == 1 or not compiled(X.shape[1], use_numba):
         return A @ X
     out = np.empty((A.shape[0], X.shape[1]))
-    y = np.empty((A.shape[0], WIDTH))
+    y = out if X.shape[1] == WIDTH else np.empty((A.shape[0], WIDTH))
     kernel, unused = _compiled_kernel(), np.empty((0, WIDTH))
     for cols in _chunks(X.shape[1]):
         kernel(A.indptr, A.indices, A.data, _padded(X, cols), unused, y, PRODUCT)
-        out[:, cols] = y[:, :cols.stop - cols.start]
+        if y is not out:
+            out[:, cols] = y[:, :cols.stop - cols.start]
     return out
