@@ -74,11 +74,12 @@ def test_compiled_positions_equal_the_searchsorted_ones(split_mesh, layout):
     """Every (corner a, corner b, cell)'s position in the pattern found by the compiled binary
     search in its row equals the one np.searchsorted finds among all node pairs (integers:
     exactly), for a square heat pattern, the rectangular coupling pattern of a split layout, and
-    a nested (coarse elastic x fine heat) pattern."""
+    a nested (coarse elastic x fine heat) pattern; and a compiled pattern assembles the same
+    matrix bit for bit, for scalar and 3 x 1 node blocks."""
     from twin.fem import scatter
     from twin.fem.nesting import coarsen
 
-    if scatter._compiled_positions() is None:
+    if scatter._compiled("_positions") is None:
         pytest.skip("numba not installed: only the searchsorted path runs")
     mm = split_mesh
     if layout == "heat":
@@ -91,3 +92,8 @@ def test_compiled_positions_equal_the_searchsorted_ones(split_mesh, layout):
     fast, slow = Pattern(rows, cols, shape, use_numba=True), Pattern(rows, cols, shape, use_numba=False)
     assert np.array_equal(fast.positions, slow.positions)
     assert np.array_equal(fast.indices, slow.indices) and np.array_equal(fast.indptr, slow.indptr)
+    # the compiled accumulation: the same sums in the same order as the numpy passes, bit for bit
+    rng = np.random.default_rng(7)
+    for ref_shape in ((3, rows.shape[0], cols.shape[0]), (3, rows.shape[0], cols.shape[0], 3, 1)):
+        ref, group = rng.standard_normal(ref_shape), rng.integers(0, 3, rows.shape[1])
+        assert (fast.assemble(ref, group) != slow.assemble(ref, group)).nnz == 0

@@ -57,17 +57,33 @@ def _positions(indptr, indices, rows, cols, out):                 # pragma: no c
                 out[a, b, e] = lo
 
 
+def _accumulate(positions, group, ref, data):                     # pragma: no cover - compiled
+    """data[positions[a, b, e]] += ref[group[e], a, b] for every corner pair (a, b) in turn and
+    every cell e: :meth:`Pattern.assemble`'s passes in their order, without their temporaries."""
+    p, q, ne = positions.shape
+    br, bc = data.shape[1], data.shape[2]
+    for a in range(p):
+        for b in range(q):
+            for e in range(ne):
+                k = positions[a, b, e]
+                g = group[e]
+                for i in range(br):
+                    for j in range(bc):
+                        data[k, i, j] += ref[g, a, b, i, j]
+
+
 @functools.cache
-def _compiled_positions():
-    """:func:`_positions` compiled by numba (imported on first use), or None without numba."""
+def _compiled(name: str):
+    """The kernel ``name`` of this module (:func:`_positions`, :func:`_accumulate`) compiled by
+    numba (imported on first use), or None without numba."""
     if importlib.util.find_spec("numba") is None:
         return None
     import numba
 
     try:
-        return numba.njit(cache=True, nogil=True)(_positions)
+        return numba.njit(cache=True, nogil=True)(globals()[name])
     except RuntimeError:                # no writable cache location
-        return numba.njit(nogil=True)(_positions)
+        return numba.njit(nogil=True)(globals()[name])
 
 
 class Pattern:
@@ -77,7 +93,8 @@ class Pattern:
     by numba (:func:`_positions`; ``use_numba=True``, and by default from :data:`COMPILED_FROM`
     lookups where numba is installed), else one ``np.searchsorted`` of the node pair in all pairs
     per corner pair (``use_numba=False``, and small meshes, where it costs less than importing
-    numba); the two give the same positions."""
+    numba); the two give the same positions. A compiled pattern also assembles by a compiled
+    loop (:func:`_accumulate`), with the same sums in the same order."""
 
     def __init__(self, rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int], use_numba: bool | None = None):
         rows = np.asarray(rows, dtype=np.int64)
@@ -91,8 +108,10 @@ class Pattern:
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(keys // nc, minlength=nr))])
         self.positions = np.empty((rows.shape[0], cols.shape[0], rows.shape[1]), dtype=dtype)
         lookups = rows.shape[0] * cols.shape[0] * rows.shape[1]
-        if use_numba is True or (use_numba is None and lookups >= COMPILED_FROM and _compiled_positions() is not None):
-            _compiled_positions()(self.indptr, self.indices, rows, cols, self.positions)
+        self.compiled = use_numba is True or (use_numba is None and lookups >= COMPILED_FROM
+                                              and _compiled("_positions") is not None)
+        if self.compiled:
+            _compiled("_positions")(self.indptr, self.indices, rows, cols, self.positions)
         else:
             for a in range(rows.shape[0]):
                 for b in range(cols.shape[0]):
@@ -112,6 +131,9 @@ class Pattern:
             ref = ref[..., None, None]
         p, q, br, bc = ref.shape[1:]
         data = np.zeros((len(self.indices), br, bc))
+        if self.compiled:
+            _compiled("_accumulate")(self.positions, np.asarray(group, dtype=np.int64), np.ascontiguousarray(ref), data)
+            p = 0                                            # done: the same sums in the same order
         for a in range(p):
             for b in range(q):
                 block = ref[:, a, b][group]                  # (ne, br, bc)
