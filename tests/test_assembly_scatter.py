@@ -79,7 +79,7 @@ def test_compiled_positions_equal_the_searchsorted_ones(split_mesh, layout):
     from twin.fem import scatter
     from twin.fem.nesting import coarsen
 
-    if scatter._compiled("_positions") is None:
+    if scatter.compile_kernel(scatter._positions) is None:
         pytest.skip("numba not installed: only the searchsorted path runs")
     mm = split_mesh
     if layout == "heat":

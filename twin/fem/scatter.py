@@ -22,11 +22,10 @@ values, plus one pass's (cells, br, bc) values.
 
 from __future__ import annotations
 
-import functools
-import importlib.util
-
 import numpy as np
 import scipy.sparse as sp
+
+from twin.compiled import HAVE_NUMBA, compile_kernel
 
 
 def _injective(nodes: np.ndarray, n: int) -> bool:
@@ -72,20 +71,6 @@ def _accumulate(positions, group, ref, data):                     # pragma: no c
                         data[k, i, j] += ref[g, a, b, i, j]
 
 
-@functools.cache
-def _compiled(name: str):
-    """The kernel ``name`` of this module (:func:`_positions`, :func:`_accumulate`) compiled by
-    numba (imported on first use), or None without numba."""
-    if importlib.util.find_spec("numba") is None:
-        return None
-    import numba
-
-    try:
-        return numba.njit(cache=True, nogil=True)(globals()[name])
-    except RuntimeError:                # no writable cache location
-        return numba.njit(nogil=True)(globals()[name])
-
-
 class Pattern:
     """The node-pair sparsity of cells with row nodes ``rows`` (p, ne) and column nodes ``cols``
     (q, ne) in a matrix of ``shape`` (row nodes, column nodes), and every (corner a, corner b,
@@ -108,10 +93,9 @@ class Pattern:
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(keys // nc, minlength=nr))])
         self.positions = np.empty((rows.shape[0], cols.shape[0], rows.shape[1]), dtype=dtype)
         lookups = rows.shape[0] * cols.shape[0] * rows.shape[1]
-        self.compiled = use_numba is True or (use_numba is None and lookups >= COMPILED_FROM
-                                              and _compiled("_positions") is not None)
+        self.compiled = HAVE_NUMBA and (use_numba is True or (use_numba is None and lookups >= COMPILED_FROM))
         if self.compiled:
-            _compiled("_positions")(self.indptr, self.indices, rows, cols, self.positions)
+            compile_kernel(_positions)(self.indptr, self.indices, rows, cols, self.positions)
         else:
             for a in range(rows.shape[0]):
                 for b in range(cols.shape[0]):
@@ -132,7 +116,7 @@ class Pattern:
         p, q, br, bc = ref.shape[1:]
         data = np.zeros((len(self.indices), br, bc))
         if self.compiled:
-            _compiled("_accumulate")(self.positions, np.asarray(group, dtype=np.int64), np.ascontiguousarray(ref), data)
+            compile_kernel(_accumulate)(self.positions, np.asarray(group, dtype=np.int64), np.ascontiguousarray(ref), data)
             p = 0                                            # done: the same sums in the same order
         for a in range(p):
             for b in range(q):

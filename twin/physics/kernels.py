@@ -21,27 +21,12 @@ falls back: pyamg's Gauss-Seidel column by column and scipy's sparse product.
 
 from __future__ import annotations
 
-import functools
-import importlib.util
-
 import numpy as np
 import scipy.sparse as sp
 
-# numba is imported (and the kernels compiled, or read from its cache) on the first block that
-# needs them, not with the package: a twin that never solves a block does not pay its import
-HAVE_NUMBA = importlib.util.find_spec("numba") is not None
+from twin.compiled import HAVE_NUMBA, compile_kernel
+
 WIDTH = 8                               # columns a compiled kernel carries through one pass
-
-
-@functools.cache
-def _compiled_kernel():
-    """:func:`_pass_8` compiled by numba, cached on disk where a cache can be written."""
-    import numba
-
-    try:
-        return numba.njit(cache=True, nogil=True)(_pass_8)
-    except RuntimeError:                # no writable cache location: compile in memory each process
-        return numba.njit(nogil=True)(_pass_8)
 
 
 PRODUCT, FORWARD, BACKWARD = 0, 1, 2    # what one pass of :func:`_pass_8` does
@@ -141,7 +126,7 @@ def gauss_seidel(A: sp.csr_matrix, X: np.ndarray, B: np.ndarray, sweep: str, use
                 pyamg_gs(A, x, b, iterations=1, sweep="forward" if forward else "backward")
             X[:, j] = x
         return
-    kernel, unused = _compiled_kernel(), np.empty((0, WIDTH))
+    kernel, unused = compile_kernel(_pass_8), np.empty((0, WIDTH))
     for cols in _chunks(m):
         x, b = _padded(X, cols), _padded(B, cols)
         for forward in directions:
@@ -156,7 +141,7 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
         return A @ X
     out = np.empty((A.shape[0], X.shape[1]))
     y = out if X.shape[1] == WIDTH else np.empty((A.shape[0], WIDTH))
-    kernel, unused = _compiled_kernel(), np.empty((0, WIDTH))
+    kernel, unused = compile_kernel(_pass_8), np.empty((0, WIDTH))
     for cols in _chunks(X.shape[1]):
         kernel(A.indptr, A.indices, A.data, _padded(X, cols), unused, y, PRODUCT)
         if y is not out:
