@@ -115,16 +115,16 @@ class Pattern:
             ref = ref[..., None, None]
         p, q, br, bc = ref.shape[1:]
         data = np.zeros((len(self.indices), br, bc))
-        if self.compiled:
+        if self.compiled:                                    # the same sums in the same order, in one loop
             compile_kernel(_accumulate)(self.positions, np.asarray(group, dtype=np.int64), np.ascontiguousarray(ref), data)
-            p = 0                                            # done: the same sums in the same order
-        for a in range(p):
-            for b in range(q):
-                block = ref[:, a, b][group]                  # (ne, br, bc)
-                if self.once[a, b]:
-                    data[self.positions[a, b]] += block
-                else:
-                    np.add.at(data, self.positions[a, b], block)
+        else:
+            for a in range(p):
+                for b in range(q):
+                    block = ref[:, a, b][group]              # (ne, br, bc)
+                    if self.once[a, b]:
+                        data[self.positions[a, b]] += block
+                    else:
+                        np.add.at(data, self.positions[a, b], block)
         nr, nc = self.shape
         if br == bc == 1:
             return sp.csr_matrix((data[:, 0, 0], self.indices, self.indptr), shape=(nr, nc))

@@ -98,12 +98,9 @@ class PreparedTwin:
 
     def adjoint(self, observer) -> np.ndarray:
         """lam = K^-1 G^T (3 n_nodes, k) of a displacement observer's functionals G on the elastic
-        mesh, solved once."""
-        key = observer.cache_key()
-        if key not in self._adjoints:
-            G = observer.all_functionals(self.elastic_mm)
-            self._adjoints[key] = self.elastic.solve(np.asarray(G.todense()).T)
-        return self._adjoints[key]
+        mesh, solved once (:meth:`adjoints`)."""
+        self.adjoints([observer])
+        return self._adjoints[observer.cache_key()]
 
     def adjoints(self, observers) -> None:
         """Solve the adjoints of every displacement observer among ``observers`` (those with

@@ -199,12 +199,8 @@ def _reference_solver(A: sp.csr_matrix, rtol: float = BASIS_RTOL):
         AVk = AV[:, :V.shape[1]]
         c = np.linalg.solve(V.T @ AVk, V.T @ X) if V.shape[1] else np.zeros((0, X.shape[1]))
         start = np.linalg.norm(X - AVk @ c, axis=0)
-        pad = (-X.shape[1]) % kernels.WIDTH if X.shape[1] > 1 else 0   # zero columns: solved at once
-        B0 = np.hstack([X, np.zeros((X.shape[0], pad))])
-        x0 = np.hstack([V @ c, np.zeros((X.shape[0], pad))])
-        Y, _, _ = pcg(lambda U: kernels.product(A, U), B0, x0, cycle, ones, np.r_[rtol * start, np.zeros(pad)],
-                      max_iterations=500)
-        return Y[:, :X.shape[1]]
+        Y, _, _ = pcg(lambda U: kernels.product(A, U), X, V @ c, cycle, ones, rtol * start, max_iterations=500)
+        return Y
 
     return solve, rtol
 

@@ -213,8 +213,11 @@ def amg_cycle(ml):
     def apply(R: np.ndarray) -> np.ndarray:
         if R.ndim == 1:
             return cycle(0, R)
-        if blockwise and kernels.compiled(R.shape[1], None):
-            return block(0, np.ascontiguousarray(R))
+        m = R.shape[1]
+        if blockwise and kernels.compiled(m, None):
+            B = np.zeros((R.shape[0], m + (-m) % kernels.WIDTH))   # C-ordered whole chunks: no copy per level
+            B[:, :m] = R
+            return block(0, B)[:, :m]
         return np.column_stack([cycle(0, R[:, j]) for j in range(R.shape[1])])
 
     return apply
