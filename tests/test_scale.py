@@ -106,6 +106,68 @@ def test_projected_start_is_no_worse_than_extrapolation_and_saves_iterations():
     assert sum(projected.iterations) < sum(plain.iterations)
 
 
+def test_reduced_start_is_the_a_norm_best_point_of_its_span_and_exact_on_it():
+    """ReducedStart: x0 = T + V (V^T A V)^-1 V^T (b - A T) is the Galerkin projection of the
+    increment x - T on span(V), so ||x0 - x||_A <= ||T + V y - x||_A for every y, and x0 = x to
+    round-off when the increment lies in span(V) (then CG needs no iteration)."""
+    from twin.physics.solvers import ReducedStart
+    heat, system, n, args = _cooled_slab(3)
+    lhs = (system.M + 0.5 * 30.0 * (system.K + 300.0 * system.H[0])).tocsr()
+    rng = np.random.default_rng(5)
+    V = rng.standard_normal((n, 9))
+    start, op = ReducedStart(V), (lhs,)
+    T, x = 20.0 + rng.standard_normal(n), 20.0 + rng.standard_normal(n)
+    b = lhs @ x
+    x0 = start.guess(op, lhs, b, T)
+    energy = lambda e: float(e @ (lhs @ e))
+    for y in rng.standard_normal((20, 9)):
+        assert energy(x0 - x) <= energy(T + V @ y - x) * (1 + 1e-12)
+    inside = T + V @ rng.standard_normal(9)                    # an increment the basis spans
+    np.testing.assert_allclose(start.guess(op, lhs, lhs @ inside, T), inside, rtol=0, atol=1e-12 * np.abs(inside).max())
+    X = np.column_stack([x, inside])                            # a block: the same, column by column
+    np.testing.assert_allclose(start.guess(op, lhs, lhs @ X, np.column_stack([T, T]))[:, 0], x0, rtol=1e-12)
+
+
+def test_heat_start_option_and_its_auto_rule():
+    """auto starts from the reduced basis from REDUCED_START_STEPS steps on; the named starts
+    always or never; an unknown name is refused naming the option."""
+    from twin.errors import InputError
+    from twin.physics.solvers import REDUCED_START_STEPS
+    auto = SolverOptions("iterative")
+    assert not auto.reduced_start(REDUCED_START_STEPS - 1) and auto.reduced_start(REDUCED_START_STEPS)
+    assert SolverOptions("iterative", heat_start="reduced").reduced_start(1)
+    assert not SolverOptions("iterative", heat_start="projection").reduced_start(10 ** 6)
+    with pytest.raises(InputError, match="--heat-start"):
+        SolverOptions("iterative", heat_start="fischer")
+
+
+def test_run_started_from_the_reduced_basis_equals_direct_within_its_bound(twins, machine, runs, monkeypatch):
+    """The coarse C-frame's spindle run with every iterative step started from the reduced basis
+    (its films switch, so the start's V^T A V is formed for each operator): every output within
+    its verified bound of the direct run (the start changes the iterations, never the tolerance);
+    two batched cases (multiple right-hand sides from the same start) equal their single runs within
+    the sum of their bounds."""
+    from dataclasses import replace
+    _, ref, _, _ = runs["direct"]
+    twin = twins["iterative"]
+    monkeypatch.setattr(twin, "options", replace(twin.options, heat_start="reduced"))
+    spec = model_spec(machine, ",".join(SPINDLE_EFFECTS))
+    _, got = twin.run(SHORT, spec, _observers(machine))
+    info = dict(twin.run_info)
+    assert info["heat_start"] == "reduced" and info["heat_start_order"] >= 40
+    for key, bound in info["solver_error_bound"].items():
+        assert np.all(np.abs(got[key] - ref[key]).max(axis=0) <= np.asarray(bound)), key
+    cases = [(SHORT, spec), (replace(SHORT, ambient=Ambient("daily", 20.0, 3.0)), spec)]
+    obs = [TemperatureSensors(sensor_points(machine)), ToolDrift()]
+    _, batch, binfo = twin.run_batch(cases, obs)
+    assert binfo["heat_start"] == "reduced"
+    for j, (sc, sp_) in enumerate(cases):
+        _, single = twin.run(sc, sp_, obs)
+        for key in single:
+            bound = np.asarray(binfo["solver_error_bound"][key])[:, j] + np.asarray(twin.run_info["solver_error_bound"][key])
+            assert np.all(np.abs(batch[key][:, :, j] - single[key]).max(axis=0) <= bound), key
+
+
 def test_amg_adjoints_equal_direct_ones(twins, machine):
     """Drift influence rows by AMG-CG (rigid-body modes as near-null space) vs SuperLU: the
     relative residual 1e-8 gives rows equal to about that relative accuracy."""

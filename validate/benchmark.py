@@ -4,7 +4,8 @@
         --solver full|rom|direct|iterative [--device gpu] [--cases N] [--heat-tol "1e-4 K"] [--json]
 
 ``nodes``, ``preparation_s`` (mesh, heat and elastic assembly, elastic adjoints, the observers'
-rows on the run's layout; for the reduced model also its offline phase) and ``prepare_s`` (those
+rows on the run's layout; for the reduced model also its offline phase, and the same basis when
+the full model's iterative heat steps start from it, ``--heat-start``) and ``prepare_s`` (those
 stages one by one), ``step_ms`` (time stepping / steps), ``total_s`` (end to end),
 ``cpu_s`` (CPU time of the process over the same span: on a shared machine it varies less than
 the wall time), ``peak_mib`` (max RSS of the process), the solver information of the run and, for the reduced
@@ -46,6 +47,10 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--heat-tol", default=None,
                     help="iterative heat solver: bound on the run's capacity-weighted RMS temperature error, "
                          "with its unit (default 1e-6 K)")
+    ap.add_argument("--heat-start", default="auto", choices=["auto", "projection", "reduced"],
+                    help="iterative heat steps: start each from the projection on the last solutions, or from its "
+                         "increment's projection on the reduced basis (built once, counted in the preparation); "
+                         "auto: the reduced basis from 300 steps (default)")
     ap.add_argument("--no-reference", action="store_true", help="skip the full-order reference of the ROM")
     ap.add_argument("--heat-only", action="store_true",
                     help="observe temperatures and the heat balance only (no elastic adjoints): times the heat step")
@@ -93,7 +98,7 @@ def main(argv=None) -> int:
         scenario = load_scenario(args.scenario)
         tol = {"heat_tol": parse_quantity(args.heat_tol, "temperature_difference")} if args.heat_tol else {}
         options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order,
-                                elastic_coarsening=args.elastic_coarsening, **tol)
+                                elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
         spacing = parse_quantity(args.spacing, "length") if args.spacing else None
     except (InputError, UnitError) as err:
         print(f"error: {err}", file=sys.stderr)
@@ -131,7 +136,7 @@ def main(argv=None) -> int:
         readings = {k: v[:, :, None] for k, v in readings.items()}
     t2 = time.perf_counter()
     steps = len(scenario.times()) - 1
-    offline = float(info.get("rom_offline_s", 0.0))
+    offline = float(info.get("rom_offline_s", info.get("heat_start_basis_s", 0.0)))
     result = {"machine": args.machine, "scenario": args.scenario, "spacing_m": mm.spacing, "nodes": int(mm.nnodes),
               "prepare_s": {k: round(v, 3) for k, v in stages.items()},
               "solver": args.solver, "device": args.device, "cases": len(cases),

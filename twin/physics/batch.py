@@ -71,7 +71,7 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
         bound = np.zeros((outputs.shape[0], m))
         weights = mass_weights(loads.system.M)
         for members in groups.values():
-            stepper = twin.stepper()
+            stepper = twin.stepper(loads, h[:, :, members[0]], nsteps)
             T = np.full((loads.mm.nheat, len(members)), T0)
             out[:, :, members] = integrate(loads.system, T, dt, nsteps, h[:, :, members[0]], air[:, :, members],
                                            s[:, :, members], outputs, theta, None, twin.factorisations,

@@ -36,7 +36,8 @@ from twin.observe.base import Observer
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
 from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
-from twin.physics.solvers import DirectStepper, IterativeStepper, as_options, mass_weights, output_bounds
+from twin.physics.solvers import (DirectStepper, IterativeStepper, ReducedStart, as_options, mass_weights,
+                                  output_bounds)
 
 
 class PreparedTwin:
@@ -146,12 +147,20 @@ class PreparedTwin:
             self._rows[key] = rows
         return rows
 
-    def stepper(self):
-        """The full-order heat stepper of this twin (its caches persist across runs)."""
+    def stepper(self, loads=None, h: np.ndarray | None = None, nsteps: int = 0):
+        """The full-order heat stepper of this twin (its caches persist across runs). For a run of
+        ``nsteps`` steps of ``loads`` with film coefficients ``h``, an iterative stepper starts
+        its steps from the reduced basis when the options say so (``heat_start``;
+        :class:`twin.physics.solvers.ReducedStart`; the basis is the reduced model's, cached)."""
         if self.method == "direct":
             return DirectStepper(self.factorisations)
         o = self.options
-        return IterativeStepper(o.heat_tol, o.device, o.max_iterations, self.factorisations)
+        stepper = IterativeStepper(o.heat_tol, o.device, o.max_iterations, self.factorisations)
+        if loads is not None and o.reduced_start(nsteps):
+            from twin.physics.rom import reduced_basis
+            basis = reduced_basis(self, loads, h)
+            stepper.start = ReducedStart(basis.V, stepper.xp, basis.offline_s)
+        return stepper
 
     def output_rows(self, observers, loads) -> tuple[sp.csr_matrix, np.ndarray]:
         """The stacked rows of ``observers`` on the layout of ``loads`` (CSR) and the block bounds."""
@@ -178,7 +187,8 @@ class PreparedTwin:
         h, _, _ = loads.signals(mid)
         patterns = np.column_stack([source_pattern(loads.mm, s) for s in sources])
         signals = np.column_stack([s.power(mid) for s in sources])
-        stepper = self.stepper() if self.options.device == "cpu" else IterativeStepper(self.options.heat_tol)
+        stepper = (self.stepper(loads, h, len(times) - 1) if self.options.device == "cpu"
+                   else IterativeStepper(self.options.heat_tol))
         out = integrate_responses(loads.system, dt, len(times) - 1, h, patterns, signals, outputs, theta,
                                   stepper, loads.operator_key)
         return {o.key: out[:, a:b, :] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
@@ -228,7 +238,7 @@ class PreparedTwin:
             for name, key in (("_estimate", "rom_error_estimate"), ("_bound", "rom_error_bound")):
                 info[key] = per_output(info.pop(name))
         else:
-            stepper = self.stepper()
+            stepper = self.stepper(loads, h, nsteps)
             hook = step if needs_field else ((lambda n, T: progress(n, nsteps)) if progress is not None else None)
             out = integrate(loads.system, T0, dt, nsteps, h, air, s, outputs, theta, hook,
                             self.factorisations, loads.operator_key, stepper)

@@ -224,11 +224,13 @@ def _m_orthonormalise(X: np.ndarray, V: np.ndarray, M: sp.spmatrix, drop: float 
     return Y
 
 
-def build_reduced(system, h_refs: list, order: int = 48) -> ReducedModel:
+def build_reduced(system, h_refs: list, order: int = 48, gram: bool = True) -> ReducedModel:
     """Reduce ``system`` (:class:`twin.physics.heat.HeatSystem`) to about ``order`` basis vectors:
     whole blocks of moments at s = 0 of each reference operator A(h) for h in ``h_refs`` (film
     coefficient vectors; the extremes of a run's films when they vary, so that both the spindle
-    turning and standing are spanned), taken in turn (module docstring)."""
+    turning and standing are spanned), taken in turn (module docstring). ``gram``: also the
+    residual Gram matrix of the verified bound (:func:`residual_gram`; a basis that only starts
+    full-order steps does without)."""
     import time
 
     t0 = time.perf_counter()
@@ -260,7 +262,7 @@ def build_reduced(system, h_refs: list, order: int = 48) -> ReducedModel:
                          f"the Krylov space is exhausted at order {V.shape[1]} (use the full model)")
     K = V.T @ (system.K @ V)
     H = np.stack([V.T @ (Hk @ V) for Hk in system.H]) if system.H else np.zeros((0, V.shape[1], V.shape[1]))
-    gram = residual_gram(system, V)
+    gram = residual_gram(system, V) if gram else None
     return ReducedModel(V, 0.5 * (K + K.T), 0.5 * (H + np.transpose(H, (0, 2, 1))), V.T @ system.F,
                         V.T @ system.r, starts[-3], time.perf_counter() - t0, gram)
 
@@ -275,16 +277,30 @@ def residual_gram(system, V: np.ndarray) -> np.ndarray:
     return Y.T @ (w[:, None] * Y)
 
 
-def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:
-    """The reduced model of ``loads`` on ``twin`` (built on first use from the extremes of the film
-    coefficients ``h`` (nsteps, ncv[, m]), or their value when constant, and cached per operator
-    and source patterns: later runs with other films reuse it, their error reported), observing
-    ``outputs``. Any layout works, contact splits included: the contact matrices are H_k
-    like the films (with r_k = 0)."""
+def reduced_basis(twin, loads, h: np.ndarray) -> ReducedModel:
+    """The reduction of ``loads`` on ``twin``, observing nothing yet: built on first use from the
+    extremes of the film coefficients ``h`` (nsteps, ncv[, m]), or their value when constant,
+    and cached per operator and source patterns, so later runs with other films reuse it (their
+    error reported). Any layout works, contact splits included: the contact matrices are H_k
+    like the films (with r_k = 0). The full-order iterative heat steps start from its basis
+    (:class:`twin.physics.solvers.ReducedStart`)."""
     key = (loads.operator_key, hash(np.ascontiguousarray(loads.system.F).tobytes()))
     if key not in twin.reduced:
         hh = np.moveaxis(np.asarray(h, float).reshape(len(h), len(loads.convections), -1), 1, 2).reshape(-1, len(loads.convections))
         lo, hi = (hh.min(axis=0), hh.max(axis=0)) if len(hh) else (np.zeros(0), np.zeros(0))
         refs = [lo, hi] if np.any(hi > lo * (1 + 1e-9)) else [hh.mean(axis=0) if len(hh) else lo]
-        twin.reduced[key] = build_reduced(loads.system, refs, twin.options.rom_order)
-    return twin.reduced[key].project_outputs(outputs, mass_weights(loads.system.M))
+        twin.reduced[key] = build_reduced(loads.system, refs, twin.options.rom_order, gram=False)
+    return twin.reduced[key]
+
+
+def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:
+    """The reduced model of ``loads`` on ``twin`` (:func:`reduced_basis`, its residual Gram matrix
+    added on first use, its time counted in ``offline_s``) observing ``outputs``."""
+    import time
+
+    model = reduced_basis(twin, loads, h)
+    if model.gram is None:
+        t0 = time.perf_counter()
+        model.gram = residual_gram(loads.system, model.V)
+        model.offline_s += time.perf_counter() - t0
+    return model.project_outputs(outputs, mass_weights(loads.system.M))

@@ -1,6 +1,6 @@
-"""What a heat step costs with each preconditioner and start (issue 10): Jacobi-PCG as the twin
-runs it, against larger projection starts and a geometric two-grid preconditioner on the nested
-coarse grid.
+"""What a heat step costs with each preconditioner and start (issue 10): Jacobi-PCG started from
+the projection on the last solutions, against larger projection starts, the start from the
+reduced basis and a geometric two-grid preconditioner on the nested coarse grid.
 
     python -m validate.studies.heat_step [--spacing 40mm] [--steps 300] [--heat-tol "1e-6 K"]
                                          [--coarsening 2,3] [--quick] [-o DIR]
@@ -10,8 +10,12 @@ elasticity), the first ``--steps`` of the 24 h run are solved by each variant wi
 per-step tolerance of the whole run (``heat_tol`` sqrt(C) / 1440, as :class:`twin.physics.
 solvers.IterativeStepper` sets it), so every variant meets the same verified bound:
 
-* ``jacobi, start on k solutions``: the twin's stepper (k = 8, the default, is the first row)
+* ``jacobi, start on k solutions``: the twin's stepper for short runs (k = 8, the first row)
   with k = 8, 2, 16, 32 solutions kept for the projected start (:class:`twin.physics.solvers.Projection`);
+* ``jacobi, start from the reduced basis``: each step started from the extrapolation
+  2 T^n - T^(n-1) corrected by its Galerkin projection on the reduced model's basis
+  (:class:`twin.physics.solvers.ReducedStart`; the basis's offline time is printed beside it,
+  not counted in the step);
 * ``two-grid, coarse grid N``: the same CG and start, preconditioned by one damped Jacobi sweep,
   the Galerkin coarse correction P (P^T A P)^-1 P^T r on the grid of every N-th line
   (:func:`twin.fem.nesting.coarsen`, P the trilinear interpolation :func:`twin.fem.nesting.
@@ -88,10 +92,18 @@ def largest_eigenvalue(apply, n: int) -> float:
     return lam
 
 
-def variants(mm, coarsenings: list[int], heat_tol: float) -> list[tuple[str, IterativeStepper]]:
+def variants(mm, coarsenings: list[int], heat_tol: float, basis=None) -> list[tuple[str, IterativeStepper]]:
+    """The steppers compared; ``basis`` (a :class:`twin.physics.rom.ReducedModel`) adds the
+    reduced-basis start."""
     from twin.fem.nesting import coarsen, prolongation
+    from twin.physics.solvers import ReducedStart
 
     out = [(f"jacobi, start on {k} solutions", IterativeStepper(heat_tol, projection_size=k)) for k in STARTS]
+    if basis is not None:
+        reduced = IterativeStepper(heat_tol)
+        reduced.start = ReducedStart(basis.V, built_s=basis.offline_s)
+        out.append((f"jacobi, start from the reduced basis (order {basis.order}, built in {basis.offline_s:.1f} s)",
+                    reduced))
     for n in coarsenings:
         nested = coarsen(mm, n)
         P = prolongation(nested, mm)
@@ -122,7 +134,10 @@ def rows_for(spacing: float | None, steps: int, heat_tol: float, coarsenings: li
     rows, first = [], None
     # the steppers spread their tolerance over the steps they run: scaled so that each step gets
     # the whole run's heat_tol sqrt(C) / 1440
-    for name, stepper in variants(loads.mm, coarsenings, heat_tol * steps / total):
+    from twin.physics.rom import reduced_basis
+
+    basis = reduced_basis(twin, loads, h)
+    for name, stepper in variants(loads.mm, coarsenings, heat_tol * steps / total, basis):
         t0 = time.perf_counter()
         y = integrate(loads.system, np.full(loads.mm.nheat, scenario.start_temperature), dt, steps, h, air, s,
                       outputs, theta, stepper=stepper, operator_key=loads.operator_key)
