@@ -499,7 +499,8 @@ class IterativeStepper:
     def info(self) -> dict:
         its = np.asarray(self.iterations or [0])
         if self.start is not None:
-            start = f"each step started from its increment's Galerkin projection on the reduced basis (order {self.start.order})"
+            start = (f"each step started from the extrapolation 2T^n - T^(n-1) corrected on the reduced basis "
+                     f"(order {self.start.order})")
         elif self.projection_size >= 2:
             start = f"started from the projection on the last {self.projection_size} solutions"
         else:
