@@ -323,6 +323,12 @@ def test_cli_writes_the_solver_and_its_errors_into_the_result(tmp_path):
     assert len(bound["drift"]) == 3 and all(b >= 0 for b in bound["drift"])
     assert main(["simulate", "cframe-vmc", str(toml), "-o", str(tmp_path / "x.nc"), "--solver", "magic"]) == 2
     assert not (tmp_path / "x.nc").exists()
+    started = tmp_path / "i.nc"
+    assert main(["simulate", "cframe-vmc", str(toml), "-o", str(started), "--mesh", "coarse", "--solver", "iterative",
+                 "--heat-start", "reduced"]) == 0
+    ds = xr.open_dataset(started)
+    assert ds.attrs["heat_start"] == "reduced" and ds.attrs["heat_start_order"] >= 40
+    assert "reduced basis" in ds.attrs["solver_heat"]
 
 
 def test_gpu_option_needs_the_iterative_path():
@@ -344,6 +350,25 @@ def test_gpu_heat_steps_equal_cpu_ones():
     cpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6))
     gpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
     np.testing.assert_allclose(gpu, cpu, atol=1e-8)
+
+
+def test_gpu_reduced_start_equals_cpu_one():
+    """The start from a fixed basis on CuPy arrays: the same steps as on the CPU (skipped without
+    CuPy and a CUDA device)."""
+    cupy = pytest.importorskip("cupy")
+    try:
+        cupy.cuda.runtime.getDeviceCount()
+    except Exception:  # noqa: BLE001
+        pytest.skip("no CUDA device")
+    from twin.physics.solvers import ReducedStart
+    _, system, n, args = _cooled_slab(50)
+    V = np.random.default_rng(2).standard_normal((n, 6))
+    out = []
+    for device in ("cpu", "gpu"):
+        stepper = IterativeStepper(heat_tol=1e-6, device=device)
+        stepper.start = ReducedStart(V, stepper.xp)
+        out.append(integrate(system, *args, stepper=stepper))
+    np.testing.assert_allclose(out[1], out[0], atol=1e-8)
 
 
 def test_a_result_says_the_units_of_its_solver_errors():

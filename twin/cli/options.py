@@ -59,6 +59,10 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
                             "with its error reported per output); default auto")
         p.add_argument("--device", default="cpu", choices=["cpu", "gpu"],
                        help="gpu: the iterative heat step on a CUDA GPU with CuPy (optional); default cpu")
+        p.add_argument("--heat-start", default="auto", choices=["auto", "projection", "reduced"],
+                       help="how each iterative heat step starts: from the projection on the last solutions, or "
+                            "from the reduced model's basis (built once: pays back on long runs); default auto "
+                            "(the reduced basis from 300 steps)")
         p.add_argument("--elastic-coarsening", type=whole_number("grid lines", lower=1), default=1, metavar="N",
                        help="solve the elasticity on every N-th grid line of the temperature mesh, the thermal load "
                             "still integrated on the temperature mesh (for large meshes: the drift is smooth); "
@@ -66,12 +70,13 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
 
 
 def solver_options(args):
-    """The :class:`twin.physics.solvers.SolverOptions` of parsed --solver/--device/--elastic-coarsening
-    (auto on the CPU, one mesh, for a command that does not offer them)."""
+    """The :class:`twin.physics.solvers.SolverOptions` of parsed --solver/--device/--heat-start/
+    --elastic-coarsening (auto on the CPU, one mesh, for a command that does not offer them)."""
     from twin.physics.solvers import SolverOptions
 
     return SolverOptions(getattr(args, "solver", "auto"), getattr(args, "device", "cpu"),
-                         elastic_coarsening=getattr(args, "elastic_coarsening", 1))
+                         elastic_coarsening=getattr(args, "elastic_coarsening", 1),
+                         heat_start=getattr(args, "heat_start", "auto"))
 
 
 def add_measurement_options(p: argparse.ArgumentParser) -> None:
