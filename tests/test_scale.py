@@ -339,13 +339,18 @@ def test_gpu_option_needs_the_iterative_path():
     assert SolverOptions("auto").resolve(100) == "direct" and SolverOptions("auto").resolve(10**6) == "iterative"
 
 
-def test_gpu_heat_steps_equal_cpu_ones():
-    """The same PCG code on CuPy arrays (skipped without CuPy and a CUDA device)."""
+def _need_cuda() -> None:
+    """Skip the calling test without CuPy and a CUDA device."""
     cupy = pytest.importorskip("cupy")
     try:
         cupy.cuda.runtime.getDeviceCount()
     except Exception:  # noqa: BLE001
         pytest.skip("no CUDA device")
+
+
+def test_gpu_heat_steps_equal_cpu_ones():
+    """The same PCG code on CuPy arrays (skipped without CuPy and a CUDA device)."""
+    _need_cuda()
     _, system, n, args = _cooled_slab(50)
     cpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6))
     gpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
@@ -355,11 +360,7 @@ def test_gpu_heat_steps_equal_cpu_ones():
 def test_gpu_reduced_start_equals_cpu_one():
     """The start from a fixed basis on CuPy arrays: the same steps as on the CPU (skipped without
     CuPy and a CUDA device)."""
-    cupy = pytest.importorskip("cupy")
-    try:
-        cupy.cuda.runtime.getDeviceCount()
-    except Exception:  # noqa: BLE001
-        pytest.skip("no CUDA device")
+    _need_cuda()
     from twin.physics.solvers import ReducedStart
     _, system, n, args = _cooled_slab(50)
     V = np.random.default_rng(2).standard_normal((n, 6))
