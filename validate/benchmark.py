@@ -48,8 +48,8 @@ def _parser() -> argparse.ArgumentParser:
                     help="iterative heat solver: bound on the run's capacity-weighted RMS temperature error, "
                          "with its unit (default 1e-6 K)")
     ap.add_argument("--heat-start", default="auto", choices=["auto", "projection", "reduced"],
-                    help="iterative heat steps: start each from the projection on the last solutions, or from its "
-                         "increment's projection on the reduced basis (built once, counted in the preparation); "
+                    help="iterative heat steps: start each from the projection on the last solutions, or from the "
+                         "extrapolation corrected on the reduced basis (built once, counted in the preparation); "
                          "auto: the reduced basis from 300 steps (default)")
     ap.add_argument("--no-reference", action="store_true", help="skip the full-order reference of the ROM")
     ap.add_argument("--heat-only", action="store_true",

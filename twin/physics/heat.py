@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from twin.physics.solvers import DirectStepper
+from twin.physics.solvers import DirectStepper, to_host
 
 
 @dataclass
@@ -71,8 +71,7 @@ def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.
     F, r = to_dev(system.F), to_dev(system.r)
     W = outputs if xp is np else stepper._matrix(sp.csr_matrix(outputs))
     out = np.empty((nsteps + 1, outputs.shape[0]) + ((T.shape[1],) if batched else ()))
-    host = (lambda a: a) if xp is np else xp.asnumpy
-    out[0] = host(W @ T)
+    out[0] = to_host(xp, W @ T)
     for n in range(nsteps):
         key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
         op = stepper.operator(key, system, dt, theta, h[n])
@@ -81,9 +80,9 @@ def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.
         else:
             f = F @ to_dev(s[n]) + r @ to_dev(h[n] * air[n])
         T = stepper.solve(op, stepper.rhs_operator(op) @ T + dt * f, T)
-        out[n + 1] = host(W @ T)
+        out[n + 1] = to_host(xp, W @ T)
         if on_step is not None:
-            on_step(n + 1, host(T))
+            on_step(n + 1, to_host(xp, T))
     return out
 
 

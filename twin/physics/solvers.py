@@ -62,7 +62,7 @@ class SolverOptions:
     elasticity on every n-th grid line of the temperature mesh (:mod:`twin.fem.nesting`; 1: the
     same mesh), the thermal load still integrated on the temperature mesh's cells. ``heat_start``:
     how each iterative heat step starts: from the projection on the last solutions
-    (:class:`Projection`), from its increment's projection on the reduced basis
+    (:class:`Projection`), from the extrapolation 2 T^n - T^(n-1) corrected on the reduced basis
     (:class:`ReducedStart`, the basis built once per load set as for ``rom``), or auto (the
     reduced basis for runs of at least :data:`REDUCED_START_STEPS` steps, where its offline cost
     pays back).
@@ -148,8 +148,8 @@ def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2
     blocks; ``weights`` (n,) the diagonal of the norm in which each column's residual must fall
     below ``tol`` (a number or one per column). Returns (x, iterations, rho) with rho the final
     residual norm per column, and with ``residual`` also the final residual b - A x (the CG
-    recurrence's, equal to it up to round-off); raises RuntimeError if ``max_iterations`` are not enough (never a
-    silent unconverged answer).
+    recurrence's, equal to it up to round-off); raises RuntimeError if ``max_iterations`` are not
+    enough (never a silent unconverged answer).
     """
     single = b.ndim == 1
     B = b[:, None] if single else b
@@ -365,7 +365,7 @@ class ReducedStart:
             G = np.empty((V.shape[1], V.shape[1]))
             for a in range(0, V.shape[1], kernels.WIDTH):
                 AV = lhs @ V[:, a:a + kernels.WIDTH]
-                G[:, a:a + kernels.WIDTH] = _host(xp, V.T @ AV)
+                G[:, a:a + kernels.WIDTH] = to_host(xp, V.T @ AV)
             lam, U = np.linalg.eigh(0.5 * (G + G.T))
             keep = lam > 1e-12 * lam.max()
             self._inverse[id(op)] = (op, xp.asarray((U[:, keep] / lam[keep]) @ U[:, keep].T))
@@ -381,7 +381,8 @@ class ReducedStart:
         return self.V @ (self._gram_inverse(op, lhs) @ (self.V.T @ r))
 
 
-def _host(xp, a) -> np.ndarray:
+def to_host(xp, a) -> np.ndarray:
+    """``a`` as a numpy array: itself on the CPU (``xp`` numpy), copied from the GPU (cupy)."""
     return a if xp is np else xp.asnumpy(a)
 
 
@@ -442,10 +443,10 @@ class IterativeStepper:
         return op[1]
 
     def solve(self, op, rhs, T):
-        lhs = op[0]
-        apply = lambda v: lhs @ v
         if self.start is not None:
             return self._reduced_step(op, rhs, T)
+        lhs = op[0]
+        apply = lambda v: lhs @ v
         project = rhs.ndim == 1 and self.projection_size >= 2
         if project and (self._projection is None or self._projection.key is not op):
             self._projection = Projection(apply, self.projection_size, self.xp, key=op)   # a new operator: a new basis
@@ -487,7 +488,7 @@ class IterativeStepper:
                              self.max_iterations, residual)
         self._previous = T
         self.iterations.append(it)
-        self.rho_sum = self.rho_sum + _host(self.xp, rho)
+        self.rho_sum = self.rho_sum + to_host(self.xp, rho)
         return (x, R[0]) if residual else x
 
     def preconditioner(self, op):
