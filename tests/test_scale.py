@@ -19,8 +19,8 @@ from twin.model import model_spec
 from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
 from twin.physics.heat import HeatSystem, integrate
 from twin.physics.prepared import PreparedTwin
-from twin.physics.solvers import (DirectStepper, IterativeStepper, Projection, SolverOptions, mass_weights,
-                                  output_bounds)
+from twin.physics.solvers import Projection, SolverOptions, mass_weights, output_bounds
+from twin.physics.steppers import DirectStepper, IterativeStepper
 from twin.scenario import Ambient, Scenario
 
 SHORT = Scenario("short", ((1200.0, 9000.0), (900.0, 0.0)), Ambient("daily", 20.0, 2.0), 30.0)
@@ -110,7 +110,7 @@ def test_reduced_start_is_the_a_norm_best_point_of_its_span_and_exact_on_it():
     """ReducedStart: x0 = T + V (V^T A V)^-1 V^T (b - A T) is the Galerkin projection of the
     increment x - T on span(V), so ||x0 - x||_A <= ||T + V y - x||_A for every y, and x0 = x to
     round-off when the increment lies in span(V) (then CG needs no iteration)."""
-    from twin.physics.solvers import ReducedStart
+    from twin.physics.steppers import ReducedStart
     heat, system, n, args = _cooled_slab(3)
     lhs = (system.M + 0.5 * 30.0 * (system.K + 300.0 * system.H[0])).tocsr()
     rng = np.random.default_rng(5)
@@ -361,7 +361,7 @@ def test_gpu_reduced_start_equals_cpu_one():
     """The start from a fixed basis on CuPy arrays: the same steps as on the CPU (skipped without
     CuPy and a CUDA device)."""
     _need_cuda()
-    from twin.physics.solvers import ReducedStart
+    from twin.physics.steppers import ReducedStart
     _, system, n, args = _cooled_slab(50)
     V = np.random.default_rng(2).standard_normal((n, 6))
     out = []

@@ -13,7 +13,7 @@ the grid. Because 1^T K = 0 and 1^T H_k T = int T dA, the scheme conserves energ
 
 Piecewise-constant spindle schedules give few distinct h vectors, so few factorisations; each
 step is then one back-substitution and two sparse products. Large meshes solve each step by
-warm-started PCG instead (:mod:`twin.physics.solvers`, with a verified bound on the error it adds).
+warm-started PCG instead (:mod:`twin.physics.steppers`, with a verified bound on the error it adds).
 """
 
 from __future__ import annotations
@@ -25,7 +25,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from twin.physics.solvers import DirectStepper, to_host
+from twin.physics.solvers import to_host
+from twin.physics.steppers import DirectStepper
 
 
 @dataclass
@@ -53,7 +54,7 @@ def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.
     ncv, m) and ``s`` (nsteps, nsrc, m) give outputs (nsteps+1, nout, m); the film coefficients
     ``h`` are shared by all cases.
 
-    ``stepper`` solves each step (:mod:`twin.physics.solvers`: direct LU or warm-started PCG on
+    ``stepper`` solves each step (:mod:`twin.physics.steppers`: direct LU or warm-started PCG on
     the CPU or a GPU); by default a direct stepper whose factorisations live in
     ``factorisations``: a dict kept by the caller across runs (:class:`twin.physics.prepared.
     PreparedTwin`), keyed by ``operator_key`` (which must identify M, K and the H_k: the layout
@@ -99,7 +100,7 @@ def integrate_responses(system: HeatSystem, dt: float, nsteps: int, h: np.ndarra
         (M + theta dt A_n) X^(n+1) = (M - (1 - theta) dt A_n) X^n + dt b s_n,   X^0 = 0,
 
     solved for the J columns with one operator per step from ``stepper`` (a CPU stepper of
-    :mod:`twin.physics.solvers`; default a direct one), whose cache :func:`integrate` shares
+    :mod:`twin.physics.steppers`; default a direct one), whose cache :func:`integrate` shares
     (same keys). Returns (nsteps+1, nout, J).
     """
     stepper = stepper if stepper is not None else DirectStepper()

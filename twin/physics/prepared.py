@@ -36,8 +36,8 @@ from twin.observe.base import Observer
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
 from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
-from twin.physics.solvers import (DirectStepper, IterativeStepper, ReducedStart, as_options, mass_weights,
-                                  output_bounds)
+from twin.physics.solvers import as_options, mass_weights, output_bounds
+from twin.physics.steppers import DirectStepper, IterativeStepper, ReducedStart
 
 
 class PreparedTwin:
@@ -151,7 +151,7 @@ class PreparedTwin:
         """The full-order heat stepper of this twin (its caches persist across runs). For a run of
         ``nsteps`` steps of ``loads`` with film coefficients ``h``, an iterative stepper starts
         its steps from the reduced basis when the options say so (``heat_start``;
-        :class:`twin.physics.solvers.ReducedStart`; the basis is the reduced model's, cached)."""
+        :class:`twin.physics.steppers.ReducedStart`; the basis is the reduced model's, cached)."""
         if self.method == "direct":
             return DirectStepper(self.factorisations)
         o = self.options

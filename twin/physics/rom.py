@@ -283,7 +283,7 @@ def reduced_basis(twin, loads, h: np.ndarray) -> ReducedModel:
     and cached per operator and source patterns, so later runs with other films reuse it (their
     error reported). Any layout works, contact splits included: the contact matrices are H_k
     like the films (with r_k = 0). The full-order iterative heat steps start from its basis
-    (:class:`twin.physics.solvers.ReducedStart`)."""
+    (:class:`twin.physics.steppers.ReducedStart`)."""
     key = (loads.operator_key, hash(np.ascontiguousarray(loads.system.F).tobytes()))
     if key not in twin.reduced:
         hh = np.moveaxis(np.asarray(h, float).reshape(len(h), len(loads.convections), -1), 1, 2).reshape(-1, len(loads.convections))

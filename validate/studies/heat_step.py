@@ -8,13 +8,13 @@ reduced basis and a geometric two-grid preconditioner on the nested coarse grid.
 On ``cframe-vmc``'s ``etve-day-night`` (the temperature sensors and the heat balance observed, no
 elasticity), the first ``--steps`` of the 24 h run are solved by each variant with the
 per-step tolerance of the whole run (``heat_tol`` sqrt(C) / 1440, as :class:`twin.physics.
-solvers.IterativeStepper` sets it), so every variant meets the same verified bound:
+steppers.IterativeStepper` sets it), so every variant meets the same verified bound:
 
 * ``jacobi, start on k solutions``: the twin's stepper for short runs (k = 8, the first row)
   with k = 8, 2, 16, 32 solutions kept for the projected start (:class:`twin.physics.solvers.Projection`);
 * ``jacobi, start from the reduced basis``: each step started from the extrapolation
   2 T^n - T^(n-1) corrected by its Galerkin projection on the reduced model's basis
-  (:class:`twin.physics.solvers.ReducedStart`; the basis's offline time is printed beside it,
+  (:class:`twin.physics.steppers.ReducedStart`; the basis's offline time is printed beside it,
   not counted in the step);
 * ``two-grid, coarse grid N``: the same CG and start, preconditioned by one damped Jacobi sweep,
   the Galerkin coarse correction P (P^T A P)^-1 P^T r on the grid of every N-th line
@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from twin.physics.solvers import IterativeStepper
+from twin.physics.steppers import IterativeStepper
 from validate.studies.common import markdown_table, write_csv
 
 NAME = "heat_step"
@@ -96,7 +96,7 @@ def variants(mm, coarsenings: list[int], heat_tol: float, basis=None) -> list[tu
     """The steppers compared; ``basis`` (a :class:`twin.physics.rom.ReducedModel`) adds the
     reduced-basis start."""
     from twin.fem.nesting import coarsen, prolongation
-    from twin.physics.solvers import ReducedStart
+    from twin.physics.steppers import ReducedStart
 
     out = [(f"jacobi, start on {k} solutions", IterativeStepper(heat_tol, projection_size=k)) for k in STARTS]
     if basis is not None:
