@@ -190,4 +190,6 @@ def test_benchmark_reports_the_coarser_elastic_mesh_and_its_error(capsys):
     assert main(["--mesh", "coarse", "--elastic-coarsening", "2", "--prepare-only", "--json"]) == 0
     prep = json.loads(capsys.readouterr().out)
     assert "step_ms" not in prep and prep["elastic_nodes"] == out["elastic_nodes"]
-    assert prep["preparation_s"] >= sum(prep["prepare_s"].values()) - 1e-3
+    # every printed time is rounded to 1 ms, so the five stages' sum may exceed the rounded total by
+    # up to six half-milliseconds
+    assert prep["preparation_s"] >= sum(prep["prepare_s"].values()) - 6 * 0.5e-3
