@@ -156,39 +156,56 @@ def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2
     below ``tol`` (a number or one per column). Returns (x, iterations, rho) with rho the final
     residual norm per column, and with ``residual`` also the final residual b - A x (the CG
     recurrence's, equal to it up to round-off); raises RuntimeError if ``max_iterations`` are not
-    enough (never a silent unconverged answer).
+    enough (never a silent unconverged answer). Column sums and the direction update run in place (a single column's sums
+    are BLAS dot products): the vector work of an iteration is a few passes over n.
     """
     single = b.ndim == 1
-    B = b[:, None] if single else b
-    X = (x0[:, None] if single else x0).copy()
+    column = (lambda v: v[:, None]) if single else (lambda v: v)
+    B = column(b)
+    X = column(x0).copy()
     weights = weights[:, None]
     R = B - apply(X)
-    rho = xp.sqrt(xp.sum(weights * R * R, axis=0))
+    WR = xp.empty_like(R)
+
+    def norm(R):
+        xp.multiply(weights, R, out=WR)
+        return xp.sqrt(column_dots(xp, WR, R))
+
+    rho = norm(R)
     it = 0
     active = rho > tol
     if bool(active.any()):
         Z = precondition(R)
         P = Z.copy()
-        rz = xp.sum(R * Z, axis=0)
+        rz = column_dots(xp, R, Z)
         while bool(active.any()):
             if it >= max_iterations:
                 raise RuntimeError(f"PCG did not converge in {max_iterations} iterations "
                                    f"(residual {float(rho.max()):.3g})")
             Q = apply(P)
-            pq = xp.sum(P * Q, axis=0)
+            pq = column_dots(xp, P, Q)
             alpha = xp.where(active, rz / xp.where(pq > 0, pq, 1.0), 0.0)
             X += alpha * P
             R -= alpha * Q
-            rho = xp.sqrt(xp.sum(weights * R * R, axis=0))
+            rho = norm(R)
             active = active & (rho > tol)
             Z = precondition(R)
-            rz_new = xp.sum(R * Z, axis=0)
+            rz_new = column_dots(xp, R, Z)
             beta = xp.where(active, rz_new / xp.where(rz > 0, rz, 1.0), 0.0)
-            P = Z + beta * P
+            P *= beta
+            P += Z
             rz = rz_new
             it += 1
     out = (X[:, 0] if single else X), it, (rho[0] if single else rho)
     return (*out, (R[:, 0] if single else R)) if residual else out
+
+
+def column_dots(xp, A, B):
+    """sum_i A_ij B_ij for each column j of two (n, m) blocks, without a temporary block (one
+    column: a BLAS dot product)."""
+    if A.shape[1] == 1:
+        return (A.T @ B)[0]
+    return xp.einsum("ij,ij->j", A, B)
 
 
 def jacobi(dinv):
