@@ -78,12 +78,17 @@ class ReducedStart:
     formed once per operator (r products with A, eight columns at a time); each start costs one
     product with A and two passes over V. V^T M V = I for the reduced basis gives V^T A V >= I, so
     the small solve is well conditioned; it is done by the eigenvalues all the same, any direction
-    with less than 1e-12 of the largest left out. Measured (README "Scale"): on 24 h of room air
-    at 40 mm cells the CG iterations fall from 21 to 2 a step; after a spindle start the
-    extrapolated base matters (from T itself the same run needs twice the iterations)."""
+    with less than 1e-12 of the largest left out. V is kept in single precision (its span is then
+    the rounded basis's, and V^T A V is formed in double on that basis): the two passes read half
+    the memory, and the start is the Galerkin point to about 1e-7 of its correction, which changes
+    no solution (CG forms its first residual b - A x0 in double from the matrix) and, measured,
+    hardly an iteration (2.15 a step at 200 k nodes, 2.14 in double). Measured (README "Scale"): on
+    24 h of room air at 40 mm cells the CG iterations fall from 21 to 2 a step; after a spindle
+    start the extrapolated base matters (from T itself the same run needs twice the iterations)."""
 
     def __init__(self, V: np.ndarray, xp=np, built_s: float = 0.0):
-        self.V = xp.asarray(np.asfortranarray(V))     # columns contiguous: V^T r and V c at twice C order's speed
+        # single precision (class docstring); columns contiguous: V^T r and V c at twice C order's speed
+        self.V = xp.asarray(np.asfortranarray(V, dtype=np.float32))
         self.xp, self.built_s = xp, built_s   # [s] the time the basis took
         self._inverse = {}          # id(operator) -> (operator, (V^T A V)^-1); the operator kept alive
 
@@ -93,7 +98,7 @@ class ReducedStart:
 
     def _gram_inverse(self, op, lhs):
         if id(op) not in self._inverse:
-            xp, V = self.xp, self.V
+            xp, V = self.xp, self.V.astype(float)       # the stored (rounded) basis, in double
             G = np.empty((V.shape[1], V.shape[1]))
             for a in range(0, V.shape[1], kernels.WIDTH):
                 AV = lhs @ V[:, a:a + kernels.WIDTH]
@@ -110,7 +115,8 @@ class ReducedStart:
 
     def correction(self, op, lhs, r):
         """V (V^T A V)^-1 V^T r: the Galerkin solution of A d = r on span(V)."""
-        return self.V @ (self._gram_inverse(op, lhs) @ (self.V.T @ r))
+        f32 = self.xp.float32
+        return self.V @ (self._gram_inverse(op, lhs) @ (self.V.T @ r.astype(f32)).astype(float)).astype(f32)
 
 
 PROJECTION_SIZE = 8     # solutions kept for the start of the next heat step (:class:`Projection`)
