@@ -60,6 +60,11 @@ DROP = 1e-10        # directions new to the basis by less than this share of the
 BASIS_RTOL = 1e-6   # residual reduction of the basis's iterative solves (large layouts), relative to
                     # the Galerkin start's: the span is what the reduced model needs, and its error is
                     # bounded and estimated from the basis actually built (README "Scale")
+START_BASIS_RTOL = 1e-5   # the same for a basis that only starts full-order heat steps
+                    # (:class:`twin.physics.steppers.ReducedStart`): CG corrects what its span misses, so
+                    # it needs the slow directions, not their last digits. Measured at 200 k nodes, 24 h
+                    # of room air: basis 19 s instead of 25, CG 2.19 iterations a step instead of 2.15;
+                    # at 1e-4 3.3 a step (the drop threshold, 10 rtol, discards whole directions)
 
 
 @dataclass
@@ -224,19 +229,20 @@ def _m_orthonormalise(X: np.ndarray, V: np.ndarray, M: sp.spmatrix, drop: float 
     return Y
 
 
-def build_reduced(system, h_refs: list, order: int = 48, gram: bool = True) -> ReducedModel:
+def build_reduced(system, h_refs: list, order: int = 48, gram: bool = True, rtol: float = BASIS_RTOL) -> ReducedModel:
     """Reduce ``system`` (:class:`twin.physics.heat.HeatSystem`) to about ``order`` basis vectors:
     whole blocks of moments at s = 0 of each reference operator A(h) for h in ``h_refs`` (film
     coefficient vectors; the extremes of a run's films when they vary, so that both the spindle
     turning and standing are spanned), taken in turn (module docstring). ``gram``: also the
     residual Gram matrix of the verified bound (:func:`residual_gram`; a basis that only starts
-    full-order steps does without)."""
+    full-order steps does without). ``rtol``: the iterative solves' residual reduction on large
+    layouts (:data:`BASIS_RTOL`; :data:`START_BASIS_RTOL` for a basis that only starts steps)."""
     import time
 
     t0 = time.perf_counter()
     M = system.M.tocsr()
     solvers = [_reference_solver((system.K + sum((hk * Hk for hk, Hk in zip(h, system.H)), sp.csr_matrix(system.K.shape))
-                                  + SIGMA0 * M).tocsr()) for h in h_refs]
+                                  + SIGMA0 * M).tocsr(), rtol) for h in h_refs]
     solves = [solve for solve, _ in solvers]
     drop = max(DROP, 10.0 * max(rtol for _, rtol in solvers))     # a direction new by less is mostly solver error
     B = np.column_stack([system.F, system.r])
@@ -277,19 +283,20 @@ def residual_gram(system, V: np.ndarray) -> np.ndarray:
     return Y.T @ (w[:, None] * Y)
 
 
-def reduced_basis(twin, loads, h: np.ndarray) -> ReducedModel:
+def reduced_basis(twin, loads, h: np.ndarray, rtol: float = BASIS_RTOL) -> ReducedModel:
     """The reduction of ``loads`` on ``twin``, observing nothing yet: built on first use from the
     extremes of the film coefficients ``h`` (nsteps, ncv[, m]), or their value when constant,
-    and cached per operator and source patterns, so later runs with other films reuse it (their
-    error reported). Any layout works, contact splits included: the contact matrices are H_k
-    like the films (with r_k = 0). The full-order iterative heat steps start from its basis
+    and cached per operator, source patterns and solve tolerance ``rtol`` (:func:`build_reduced`),
+    so later runs with other films reuse it (their error reported). Any layout works, contact
+    splits included: the contact matrices are H_k like the films (with r_k = 0). The full-order
+    iterative heat steps start from such a basis built to :data:`START_BASIS_RTOL`
     (:class:`twin.physics.steppers.ReducedStart`)."""
-    key = (loads.operator_key, hash(np.ascontiguousarray(loads.system.F).tobytes()))
+    key = (loads.operator_key, hash(np.ascontiguousarray(loads.system.F).tobytes()), rtol)
     if key not in twin.reduced:
         hh = np.moveaxis(np.asarray(h, float).reshape(len(h), len(loads.convections), -1), 1, 2).reshape(-1, len(loads.convections))
         lo, hi = (hh.min(axis=0), hh.max(axis=0)) if len(hh) else (np.zeros(0), np.zeros(0))
         refs = [lo, hi] if np.any(hi > lo * (1 + 1e-9)) else [hh.mean(axis=0) if len(hh) else lo]
-        twin.reduced[key] = build_reduced(loads.system, refs, twin.options.rom_order, gram=False)
+        twin.reduced[key] = build_reduced(loads.system, refs, twin.options.rom_order, gram=False, rtol=rtol)
     return twin.reduced[key]
 
 
