@@ -65,9 +65,9 @@ class SolverOptions:
     same mesh), the thermal load still integrated on the temperature mesh's cells. ``heat_start``:
     how each iterative heat step starts: from the projection on the last solutions
     (:class:`Projection`), from the extrapolation 2 T^n - T^(n-1) corrected on the reduced basis
-    (:class:`twin.physics.steppers.ReducedStart`, the basis built once per load set as for ``rom``), or auto (the
-    reduced basis for runs of at least :data:`REDUCED_START_STEPS` steps, where its offline cost
-    pays back).
+    (:class:`twin.physics.steppers.ReducedStart`, the basis built once per load set as for ``rom``,
+    its solves to :data:`twin.physics.rom.START_BASIS_RTOL`), or auto (the reduced basis for runs
+    of at least :data:`REDUCED_START_STEPS` steps, where its offline cost pays back).
     """
 
     solver: str = "auto"
