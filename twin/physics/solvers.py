@@ -156,8 +156,9 @@ def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2
     below ``tol`` (a number or one per column). Returns (x, iterations, rho) with rho the final
     residual norm per column, and with ``residual`` also the final residual b - A x (the CG
     recurrence's, equal to it up to round-off); raises RuntimeError if ``max_iterations`` are not
-    enough (never a silent unconverged answer). Column sums and the direction update run in place (a single column's sums
-    are BLAS dot products): the vector work of an iteration is a few passes over n.
+    enough (never a silent unconverged answer). Column sums and the direction update run in
+    place (a single column's sums are BLAS dot products): the vector work of an iteration is a
+    few passes over n.
     """
     single = b.ndim == 1
     column = (lambda v: v[:, None]) if single else (lambda v: v)
