@@ -157,8 +157,8 @@ class PreparedTwin:
         o = self.options
         stepper = IterativeStepper(o.heat_tol, o.device, o.max_iterations, self.factorisations)
         if loads is not None and o.reduced_start(nsteps):
-            from twin.physics.rom import START_BASIS_RTOL, reduced_basis
-            basis = reduced_basis(self, loads, h, START_BASIS_RTOL)
+            from twin.physics.rom import start_basis
+            basis = start_basis(self, loads, h)
             stepper.start = ReducedStart(basis.V, stepper.xp, basis.offline_s)
         return stepper
 

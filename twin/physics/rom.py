@@ -290,7 +290,7 @@ def reduced_basis(twin, loads, h: np.ndarray, rtol: float = BASIS_RTOL) -> Reduc
     so later runs with other films reuse it (their error reported). Any layout works, contact
     splits included: the contact matrices are H_k like the films (with r_k = 0). The full-order
     iterative heat steps start from such a basis built to :data:`START_BASIS_RTOL`
-    (:class:`twin.physics.steppers.ReducedStart`)."""
+    (:func:`start_basis`)."""
     key = (loads.operator_key, hash(np.ascontiguousarray(loads.system.F).tobytes()), rtol)
     if key not in twin.reduced:
         hh = np.moveaxis(np.asarray(h, float).reshape(len(h), len(loads.convections), -1), 1, 2).reshape(-1, len(loads.convections))
@@ -298,6 +298,12 @@ def reduced_basis(twin, loads, h: np.ndarray, rtol: float = BASIS_RTOL) -> Reduc
         refs = [lo, hi] if np.any(hi > lo * (1 + 1e-9)) else [hh.mean(axis=0) if len(hh) else lo]
         twin.reduced[key] = build_reduced(loads.system, refs, twin.options.rom_order, gram=False, rtol=rtol)
     return twin.reduced[key]
+
+
+def start_basis(twin, loads, h: np.ndarray) -> ReducedModel:
+    """The basis the full-order iterative heat steps start from (:class:`twin.physics.steppers.
+    ReducedStart`): :func:`reduced_basis` with its solves to :data:`START_BASIS_RTOL`."""
+    return reduced_basis(twin, loads, h, START_BASIS_RTOL)
 
 
 def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:

@@ -134,9 +134,9 @@ def rows_for(spacing: float | None, steps: int, heat_tol: float, coarsenings: li
     rows, first = [], None
     # the steppers spread their tolerance over the steps they run: scaled so that each step gets
     # the whole run's heat_tol sqrt(C) / 1440
-    from twin.physics.rom import START_BASIS_RTOL, reduced_basis
+    from twin.physics.rom import start_basis
 
-    basis = reduced_basis(twin, loads, h, START_BASIS_RTOL)      # the basis the iterative solver starts from
+    basis = start_basis(twin, loads, h)      # the basis the iterative solver starts from
     for name, stepper in variants(loads.mm, coarsenings, heat_tol * steps / total, basis):
         t0 = time.perf_counter()
         y = integrate(loads.system, np.full(loads.mm.nheat, scenario.start_temperature), dt, steps, h, air, s,
