@@ -53,7 +53,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from twin.physics import kernels
-from twin.physics.solvers import DIRECT_LIMIT, amg_cycle, mass_weights, output_bounds, pcg
+from twin.physics.solvers import DIRECT_LIMIT, amg_cycle, mass_weights, output_bounds, pcg, smoothed_aggregation
 
 SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
 DROP = 1e-10        # directions new to the basis by less than this share of their block's largest are dropped
@@ -191,9 +191,7 @@ def _reference_solver(A: sp.csr_matrix, rtol: float = BASIS_RTOL):
     if A.shape[0] <= DIRECT_LIMIT:
         lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         return (lambda X, V: lu.solve(X)), 0.0
-    import pyamg
-
-    cycle = amg_cycle(pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=500, coarse_solver="splu"))
+    cycle = amg_cycle(smoothed_aggregation(A, symmetry="hermitian", max_coarse=500, coarse_solver="splu"))
     ones = np.ones(A.shape[0])
     AV = np.zeros((A.shape[0], 0))
 
