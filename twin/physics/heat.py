@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from twin.physics import parallel
 from twin.physics.solvers import to_host
 from twin.physics.steppers import DirectStepper
 
@@ -70,20 +71,23 @@ def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.
     T = to_dev(np.array(T0, dtype=float))
     batched = T.ndim == 2
     F, r = to_dev(system.F), to_dev(system.r)
-    W = outputs if xp is np else stepper._matrix(sp.csr_matrix(outputs))
+    W = parallel.split_matrix(outputs) if xp is np else stepper._matrix(sp.csr_matrix(outputs))
     out = np.empty((nsteps + 1, outputs.shape[0]) + ((T.shape[1],) if batched else ()))
     out[0] = to_host(xp, W @ T)
-    for n in range(nsteps):
-        key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
-        op = stepper.operator(key, system, dt, theta, h[n])
-        if batched:
-            f = F @ to_dev(s[n]) + r @ to_dev(h[n][:, None] * air[n])
-        else:
-            f = F @ to_dev(s[n]) + r @ to_dev(h[n] * air[n])
-        T = stepper.solve(op, stepper.rhs_operator(op) @ T + dt * f, T)
-        out[n + 1] = to_host(xp, W @ T)
-        if on_step is not None:
-            on_step(n + 1, to_host(xp, T))
+    # a large model's steps: products in row blocks on two threads, BLAS on one (whatever the
+    # threads, so the same numbers; :mod:`twin.physics.parallel`)
+    with parallel.single_blas(xp is np and system.M.nnz >= parallel.SPLIT_FROM):
+        for n in range(nsteps):
+            key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
+            op = stepper.operator(key, system, dt, theta, h[n])
+            if batched:
+                f = F @ to_dev(s[n]) + r @ to_dev(h[n][:, None] * air[n])
+            else:
+                f = F @ to_dev(s[n]) + r @ to_dev(h[n] * air[n])
+            T = stepper.solve(op, stepper.rhs_operator(op) @ T + dt * f, T)
+            out[n + 1] = to_host(xp, W @ T)
+            if on_step is not None:
+                on_step(n + 1, to_host(xp, T))
     return out
 
 

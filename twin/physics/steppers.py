@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from twin.physics import kernels
+from twin.physics import kernels, parallel
 from twin.physics.solvers import Projection, array_module, jacobi, mass_weights, pcg, to_host
 
 
@@ -114,9 +114,13 @@ class ReducedStart:
         return base + self.correction(op, lhs, b - lhs @ base)
 
     def correction(self, op, lhs, r):
-        """V (V^T A V)^-1 V^T r: the Galerkin solution of A d = r on span(V)."""
-        f32 = self.xp.float32
-        return self.V @ (self._gram_inverse(op, lhs) @ (self.V.T @ r.astype(f32)).astype(float)).astype(f32)
+        """V (V^T A V)^-1 V^T r: the Galerkin solution of A d = r on span(V) (on the CPU the two
+        passes over V in row blocks, :mod:`twin.physics.parallel`)."""
+        f32, V = self.xp.float32, self.V
+        if self.xp is not np:
+            return V @ (self._gram_inverse(op, lhs) @ (V.T @ r.astype(f32)).astype(float)).astype(f32)
+        c = self._gram_inverse(op, lhs) @ parallel.transposed_product(V, r.astype(f32)).astype(float)
+        return parallel.rows_product(V, c.astype(f32))
 
 
 PROJECTION_SIZE = 8     # solutions kept for the start of the next heat step (:class:`Projection`)
@@ -151,7 +155,7 @@ class IterativeStepper:
 
     def _matrix(self, A):
         if self.device == "cpu":
-            return A
+            return parallel.split_matrix(A)     # row blocks on two threads when large (the same numbers)
         import cupyx.scipy.sparse as csp
         return csp.csr_matrix(A)
 

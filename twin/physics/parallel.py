@@ -1,0 +1,215 @@
+"""The second core: a large model's independent work done on two threads, with the same numbers
+as on one.
+
+Most of a large run is limited by reading memory (sparse products, passes over long vectors),
+and one core does not use all of a machine's memory bandwidth: on the 2-core development machine
+two concurrent products of the 200 k-node heat matrix finish in 1.7-1.96 times the time of one,
+and one product split in two row blocks takes 4.6-5.3 ms instead of 7.7-8.0 (README "Scale").
+Two kinds of work are split here:
+
+* **independent tasks** (:func:`concurrently`): the elastic chain (assembly, multigrid, adjoints,
+  the observers' rows) beside the heat basis of the reduced model or the reduced start;
+* **row blocks** (:class:`RowBlocks`, :func:`rows_product`, :func:`transposed_product`): a
+  product A X of a large matrix computed as [A_1 X; A_2 X] over :data:`PARTS` row blocks of
+  about equal stored entries.
+
+**The numbers do not depend on the threads.** The row blocks depend on the matrix alone, never
+on how many threads run them; each row of A X is the same sum as in A X unsplit, and the one
+reduction split here (V^T r, :func:`transposed_product`) adds its blocks' partial sums in a fixed
+order. So a run gives the same bits with one thread or two; what the threads change is only which
+core computes which block, and when.
+
+**How many threads** (:func:`helpers`): at most :data:`PARTS`, no more than the cores this
+process may use, and no more than ``OMP_NUM_THREADS`` when that is set (the usual way to ask a
+process for one thread per core of a pool); :func:`limited` lowers it for the calling thread
+(the dataset runner holds each case to one). A helper thread takes a block only when it is idle:
+work is never queued behind a busy helper (a task running on the helper that splits a product
+computes both blocks itself), so nothing waits on anything but its own blocks. While work runs
+on two threads, BLAS is held to one thread (:func:`single_blas`): OpenBLAS's own threads would
+otherwise spin on the second core (measured: a split run's steps 6 ms slower with them). It is
+held so whether or not a helper runs (the callers decide by size alone), since OpenBLAS's sums
+depend on its thread count: the numbers stay the same with one thread or two.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import scipy.sparse as sp
+
+PARTS = 2                   # row blocks of a split product (fixed: the numbers never depend on the threads)
+SPLIT_FROM = 500_000        # stored entries (or n x columns of a dense block) from which a product is split
+CONCURRENT_FROM = 30_000    # temperature dofs from which a run builds its rows and its basis concurrently
+
+_local = threading.local()
+_lock = threading.Lock()
+_pool: ThreadPoolExecutor | None = None
+_idle: threading.BoundedSemaphore | None = None
+
+
+def cores() -> int:
+    """The threads this process may use: its CPU affinity, capped by ``OMP_NUM_THREADS`` when set
+    to a whole number >= 1."""
+    n = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    text = os.environ.get("OMP_NUM_THREADS", "").strip()
+    if text.isdigit() and int(text) >= 1:
+        n = min(n, int(text))
+    return max(1, n)
+
+
+def threads() -> int:
+    """Threads the calling thread's work may use: min(:data:`PARTS`, :func:`cores`, the
+    :func:`limited` cap)."""
+    return max(1, min(PARTS, cores(), getattr(_local, "cap", PARTS)))
+
+
+@contextlib.contextmanager
+def limited(n: int):
+    """Hold the calling thread's work to ``n`` threads (1: all of it in this thread) inside the block."""
+    if n < 1:
+        raise ValueError(f"at least one thread, got {n}")
+    old = getattr(_local, "cap", None)
+    _local.cap = n
+    try:
+        yield
+    finally:
+        if old is None:
+            del _local.cap
+        else:
+            _local.cap = old
+
+
+def _helper():
+    """The helper pool (PARTS - 1 threads, started on first use) and its idle-slot semaphore."""
+    global _pool, _idle
+    with _lock:
+        if _pool is None:
+            _pool = ThreadPoolExecutor(max_workers=PARTS - 1, thread_name_prefix="twin-helper")
+            _idle = threading.BoundedSemaphore(PARTS - 1)
+    return _pool, _idle
+
+
+def _submit(fn, *args):
+    """A future of fn(*args) on an idle helper thread, or None (no helper allowed or idle)."""
+    if threads() < 2:
+        return None
+    pool, idle = _helper()
+    if not idle.acquire(blocking=False):
+        return None
+
+    def run():
+        try:
+            return fn(*args)
+        finally:
+            idle.release()
+
+    return pool.submit(run)
+
+
+@contextlib.contextmanager
+def single_blas(active: bool = True):
+    """BLAS held to one thread inside the block when ``active`` (module docstring)."""
+    if not active:
+        yield
+        return
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+def concurrently(*tasks) -> list:
+    """Run the callables ``tasks`` (no arguments) and return their results in order: the first in
+    this thread, the others on an idle helper when there is one (else here, after it). An
+    exception of any task is raised here once all have finished."""
+    futures = [None] + [_submit(t) for t in tasks[1:]]
+    with single_blas():
+        results, errors = [], []
+        for task, future in zip(tasks, futures):
+            try:
+                results.append(task() if future is None else None)
+            except BaseException as err:        # finish the others first: no task left running
+                errors.append(err)
+                results.append(None)
+        for i, future in enumerate(futures):
+            if future is not None:
+                try:
+                    results[i] = future.result()
+                except BaseException as err:
+                    errors.append(err)
+    if errors:
+        raise errors[0]
+    return results
+
+
+def row_blocks(indptr: np.ndarray) -> list[slice]:
+    """:data:`PARTS` row slices of a CSR matrix with row pointer ``indptr`` holding about equal
+    stored entries (every row in exactly one)."""
+    n, nnz = len(indptr) - 1, int(indptr[-1])
+    cuts = [0] + [int(np.searchsorted(indptr, nnz * k / PARTS)) for k in range(1, PARTS)] + [n]
+    cuts = np.minimum(np.maximum.accumulate(cuts), n)
+    return [slice(int(a), int(b)) for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+def _blocks_even(n: int) -> list[slice]:
+    """:data:`PARTS` row slices of about equal length covering range(n)."""
+    cuts = [n * k // PARTS for k in range(PARTS + 1)]
+    return [slice(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+def _map(fn, blocks: list) -> list:
+    """[fn(b) for b in blocks], the last blocks on an idle helper when there is one."""
+    futures = [None] + [_submit(fn, b) for b in blocks[1:]]
+    out = [fn(blocks[0])]
+    for b, f in zip(blocks[1:], futures[1:]):
+        out.append(fn(b) if f is None else f.result())
+    return out
+
+
+class RowBlocks:
+    """A CSR matrix whose products A X (X (n,) or (n, m)) are computed over its
+    :func:`row_blocks`, concurrently where a helper is idle: the same numbers as ``A @ X``
+    (each row is scipy's sum of that row). Other uses reach the matrix as ``.matrix``."""
+
+    def __init__(self, A: sp.spmatrix):
+        self.matrix = sp.csr_matrix(A)
+        self.shape, self.dtype, self.nnz = self.matrix.shape, self.matrix.dtype, self.matrix.nnz
+        self.blocks = [self.matrix[s] for s in row_blocks(self.matrix.indptr)]
+
+    def __matmul__(self, X):
+        return np.concatenate(_map(lambda A: A @ X, self.blocks), axis=0)
+
+    def diagonal(self) -> np.ndarray:
+        return self.matrix.diagonal()
+
+
+def split_matrix(A: sp.spmatrix):
+    """``A`` as :class:`RowBlocks` when it is large enough to gain (:data:`SPLIT_FROM` stored
+    entries), else itself."""
+    return RowBlocks(A) if sp.issparse(A) and A.nnz >= SPLIT_FROM else A
+
+
+def rows_product(V: np.ndarray, c: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """V c for a dense V (n, r) over row blocks when large (:data:`SPLIT_FROM`): each row the same
+    product as unsplit, written into ``out`` (n,) when given."""
+    if V.shape[0] * V.shape[1] < SPLIT_FROM:
+        return np.matmul(V, c, out=out)
+    out = np.empty(V.shape[:1] + np.shape(c)[1:], dtype=np.result_type(V, c)) if out is None else out
+    _map(lambda s: np.matmul(V[s], c, out=out[s]), _blocks_even(V.shape[0]))
+    return out
+
+
+def transposed_product(V: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """V^T r for a dense V (n, k) over row blocks when large: the blocks' partial sums added in
+    block order (a fixed order: the same numbers with one thread or two)."""
+    if V.shape[0] * V.shape[1] < SPLIT_FROM:
+        return V.T @ r
+    parts = _map(lambda s: V[s].T @ r[s], _blocks_even(V.shape[0]))
+    total = parts[0]
+    for p in parts[1:]:
+        total = total + p
+    return total
