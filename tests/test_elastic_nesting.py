@@ -187,6 +187,7 @@ def test_benchmark_reports_the_coarser_elastic_mesh_and_its_error(capsys):
     assert out["elastic_coarsening"] == 2 and out["elastic_nodes"] < out["nodes"]
     assert 0.0 < out["elastic_rel_error"] < 0.05
     assert set(out["prepare_s"]) == {"mesh", "heat_assembly", "elastic_assembly", "adjoints", "rows"}
+    assert out["prepare_concurrent"] is False      # a small layout: one stage after the other
     assert main(["--mesh", "coarse", "--elastic-coarsening", "2", "--prepare-only", "--json"]) == 0
     prep = json.loads(capsys.readouterr().out)
     assert "step_ms" not in prep and prep["elastic_nodes"] == out["elastic_nodes"]

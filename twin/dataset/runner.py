@@ -47,12 +47,15 @@ def _prepared(machine_name: str, mesh: str, solver: str, axes: tuple[str, ...] =
 
 
 def simulate_case(record: dict, case_hash: str = "", max_steps: int | None = None):
-    """:func:`_simulate_case` with BLAS and OpenMP held to one thread: a case computes the same
-    bits on every worker (a pool process, a Dask worker that sets its own thread counts, this
-    process), and the workers of a pool do not oversubscribe the cores."""
+    """:func:`_simulate_case` with BLAS, OpenMP and the twin's own helper thread
+    (:mod:`twin.physics.parallel`) held to one thread: a case computes the same bits on every
+    worker (a pool process, a Dask worker that sets its own thread counts, this process), and the
+    workers of a pool do not oversubscribe the cores."""
     from threadpoolctl import threadpool_limits
 
-    with threadpool_limits(limits=1):
+    from twin.physics.parallel import limited
+
+    with threadpool_limits(limits=1), limited(1):
         return _simulate_case(record, case_hash, max_steps)
 
 

@@ -49,7 +49,6 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
         if len(sc.times()) != len(times) or not np.allclose(sc.times(), times) or sc.start_temperature != T0:
             raise ValueError("batched cases must share the time grid and the start temperature")
     loads = twin.loads(sc0, spec0)
-    outputs, bounds = twin.output_rows(observers, loads)
     dt = sc0.sample_interval
     nsteps = len(times) - 1
     tm = times[:-1] + theta * dt
@@ -58,6 +57,10 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
     air = np.stack([g[1] for g in sig], axis=2)
     s = np.stack([g[2] for g in sig], axis=2)
     m = len(cases)
+    # the rows beside the basis (the reduced model's from every case's films, the full model's
+    # reduced start from the first group's, as its stepper asks)
+    (outputs, bounds), _ = twin._prepare(loads, observers, {o.key: None for o in observers},
+                                         h if twin.options.solver == "rom" else h[:, :, 0], nsteps)
     if twin.options.solver == "rom":
         from twin.physics.rom import reduced_model
         rom = reduced_model(twin, loads, outputs, h)

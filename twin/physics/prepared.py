@@ -63,6 +63,7 @@ class PreparedTwin:
         self.reduced: dict[tuple, object] = {}
         self.method = self.options.resolve(self.mm.nheat)   # the full-order method: direct | iterative
         self.run_info: dict = {}
+        self.prepare_s: dict = {}       # [s] the parts of the last run's preparation (:meth:`_prepare`)
 
     @property
     def elastic_mm(self):
@@ -147,6 +148,70 @@ class PreparedTwin:
             self._rows[key] = rows
         return rows
 
+    def prepare(self, scenario, spec, observers, theta: float = 0.5) -> dict:
+        """Build what :meth:`run` of these arguments needs before its first step (the elastic
+        solver, the adjoints, the observers' rows, and the reduced basis of ``rom`` or of the
+        reduced start), as :meth:`run` itself does (:meth:`_prepare`); the seconds each part took."""
+        loads = self.loads(scenario, spec)
+        times = scenario.times()
+        h, _, _ = loads.signals(times[:-1] + theta * scenario.sample_interval)
+        self._prepare(loads, observers, {o.key: o.sample_steps(times) for o in observers}, h, len(times) - 1)
+        return dict(self.prepare_s)
+
+    def _basis_task(self, loads, h, nsteps: int):
+        """The reduced basis a run of ``nsteps`` steps needs, as a task (None when it needs none):
+        the reduced model's (``rom``) or the reduced start's (:meth:`stepper`)."""
+        from twin.physics import rom
+
+        if self.options.solver == "rom":
+            return lambda: rom.bounded_basis(self, loads, h)
+        if self.method == "iterative" and loads is not None and self.options.reduced_start(nsteps):
+            return lambda: rom.start_basis(self, loads, h)
+        return None
+
+    def _prepare(self, loads, observers, steps: dict, h, nsteps: int):
+        """((outputs, bounds) of the observers read every step, [(observer, rows)] of those read
+        at ``steps``) and the run's reduced basis, cached. On a large layout
+        (:data:`twin.physics.parallel.CONCURRENT_FROM`) the two are built concurrently: the
+        elastic chain (assembly, multigrid, adjoints, rows) beside the heat basis, which need
+        nothing of each other (:func:`twin.physics.parallel.concurrently`; the same numbers as
+        one after the other). ``prepare_s`` records the seconds of each part."""
+        import time
+
+        from twin.physics import parallel
+
+        times = {}
+
+        def rows():
+            t0 = time.perf_counter()
+            if any(hasattr(o, "functionals") for o in observers):
+                self.elastic
+                times["elastic_assembly"] = time.perf_counter() - t0
+                self.adjoints(observers)
+                times["adjoints"] = time.perf_counter() - t0 - times["elastic_assembly"]
+            t1 = time.perf_counter()
+            dense = self.output_rows([o for o in observers if steps[o.key] is None], loads)
+            sampled = [(o, self._rows_of(o, loads)) for o in observers if steps[o.key] is not None]
+            times["rows"] = time.perf_counter() - t1
+            return dense, sampled
+
+        def basis():
+            t0 = time.perf_counter()
+            task()
+            times["basis"] = time.perf_counter() - t0
+
+        task = self._basis_task(loads, h, nsteps)
+        t0 = time.perf_counter()
+        together = task is not None and loads.mm.nheat >= parallel.CONCURRENT_FROM
+        if together:
+            result = parallel.concurrently(rows, basis)[0]
+        else:
+            result = rows()
+            if task is not None:
+                basis()
+        self.prepare_s = {**times, "wall": time.perf_counter() - t0, "concurrent": together and parallel.threads() > 1}
+        return result
+
     def stepper(self, loads=None, h: np.ndarray | None = None, nsteps: int = 0):
         """The full-order heat stepper of this twin (its caches persist across runs). For a run of
         ``nsteps`` steps of ``loads`` with film coefficients ``h``, an iterative stepper starts
@@ -207,10 +272,10 @@ class PreparedTwin:
         nsteps = len(times) - 1
         steps = {o.key: o.sample_steps(times) for o in observers}
         dense = [o for o in observers if steps[o.key] is None]
-        outputs, bounds = self.output_rows(dense, loads)
-        sampled = [_Sampled(o, self._rows_of(o, loads), steps[o.key]) for o in observers if steps[o.key] is not None]
         dt = scenario.sample_interval
         h, air, s = loads.signals(times[:-1] + theta * dt)
+        (outputs, bounds), sampled_rows = self._prepare(loads, observers, steps, h, nsteps)
+        sampled = [_Sampled(o, rows, steps[o.key]) for o, rows in sampled_rows]
         T0 = np.full(loads.mm.nheat, scenario.start_temperature)
         for o in observers:
             o.start(T0)

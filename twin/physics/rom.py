@@ -304,9 +304,9 @@ def start_basis(twin, loads, h: np.ndarray) -> ReducedModel:
     return reduced_basis(twin, loads, h, START_BASIS_RTOL)
 
 
-def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:
-    """The reduced model of ``loads`` on ``twin`` (:func:`reduced_basis`, its residual Gram matrix
-    added on first use, its time counted in ``offline_s``) observing ``outputs``."""
+def bounded_basis(twin, loads, h: np.ndarray) -> ReducedModel:
+    """:func:`reduced_basis` with its residual Gram matrix (the verified bound's), added on first
+    use and its time counted in ``offline_s``: the whole offline phase of ``--solver rom``."""
     import time
 
     model = reduced_basis(twin, loads, h)
@@ -314,4 +314,9 @@ def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:
         t0 = time.perf_counter()
         model.gram = residual_gram(loads.system, model.V)
         model.offline_s += time.perf_counter() - t0
-    return model.project_outputs(outputs, mass_weights(loads.system.M))
+    return model
+
+
+def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:
+    """The reduced model of ``loads`` on ``twin`` (:func:`bounded_basis`) observing ``outputs``."""
+    return bounded_basis(twin, loads, h).project_outputs(outputs, mass_weights(loads.system.M))
