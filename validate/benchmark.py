@@ -6,7 +6,8 @@
 ``nodes``, ``preparation_s`` (mesh, heat and elastic assembly, elastic adjoints, the observers'
 rows on the run's layout; for the reduced model also its offline phase, and the same basis when
 the full model's iterative heat steps start from it, ``--heat-start``) and ``prepare_s`` (those
-stages one by one), ``step_ms`` (time stepping / steps), ``total_s`` (end to end),
+stages one by one; ``prepare_concurrent`` says whether the elastic stages ran beside the basis,
+:meth:`twin.physics.prepared.PreparedTwin.prepare`), ``step_ms`` (time stepping / steps), ``total_s`` (end to end),
 ``cpu_s`` (CPU time of the process over the same span: on a shared machine it varies less than
 the wall time), ``peak_mib`` (max RSS of the process), the solver information of the run and, for the reduced
 model, ``rom_order``, ``offline_s`` and ``max_rel_error``: the largest error of each drift output
@@ -56,7 +57,7 @@ def _parser() -> argparse.ArgumentParser:
                     help="observe temperatures and the heat balance only (no elastic adjoints): times the heat step")
     ap.add_argument("--no-bound", action="store_true", help="batched ROM: skip the verified error bound")
     ap.add_argument("--prepare-only", action="store_true",
-                    help="stop after the preparation (mesh, assembly, elastic adjoints, rows): its stages and memory")
+                    help="stop after the preparation (mesh, assembly, elastic adjoints, rows, the basis): its stages and memory")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", action="store_true", help="print only the JSON object")
     return ap
