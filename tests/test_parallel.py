@@ -159,3 +159,24 @@ def test_a_large_run_gives_the_same_bits_whatever_the_threads(monkeypatch):
         err = np.abs(np.asarray(two[key]) - np.asarray(plain[key])).max(axis=0)
         assert np.all(err <= 2 * np.asarray(bounds[key])), key
 
+
+
+def test_an_interrupt_is_raised_at_once_without_waiting_for_the_helper():
+    """Ctrl-C in this thread's task answers at once; the helper's task finishes alone."""
+    if parallel.threads() < 2:
+        pytest.skip("one core: no helper to wait for")
+    release = threading.Event()
+    finished = threading.Event()
+
+    def helper_task():
+        release.wait(30)
+        finished.set()
+
+    def interrupted():
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        parallel.concurrently(interrupted, helper_task)
+    assert not finished.is_set()        # raised while the helper still worked
+    release.set()
+    assert finished.wait(30)

@@ -125,21 +125,22 @@ def single_blas(active: bool = True):
 def concurrently(*tasks) -> list:
     """Run the callables ``tasks`` (no arguments) and return their results in order: the first in
     this thread, the others on an idle helper when there is one (else here, after it). An
-    exception of any task is raised here once all have finished."""
+    exception of any task is raised here once all have finished; an interrupt (Ctrl-C, or the
+    CLI's SIGTERM) at once, the helper finishing its task alone (the process exits when it has)."""
     futures = [None] + [_submit(t) for t in tasks[1:]]
     with single_blas():
         results, errors = [], []
         for task, future in zip(tasks, futures):
             try:
                 results.append(task() if future is None else None)
-            except BaseException as err:        # finish the others first: no task left running
+            except Exception as err:            # finish the others first: no task left running
                 errors.append(err)
                 results.append(None)
         for i, future in enumerate(futures):
             if future is not None:
                 try:
                     results[i] = future.result()
-                except BaseException as err:
+                except Exception as err:
                     errors.append(err)
     if errors:
         raise errors[0]
