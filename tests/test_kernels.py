@@ -114,3 +114,41 @@ def test_block_adjoints_equal_the_direct_ones_within_their_tolerance():
     rel = np.linalg.norm(x_amg[:, live] - x_lu[:, live], axis=0) / np.linalg.norm(x_lu[:, live], axis=0)
     assert rel.max() < 1e-6
     assert len(amg._lu.iterations) == 1
+
+
+@needs_numba
+def test_fused_jacobi_pcg_is_the_numpy_iteration_up_to_the_order_of_its_sums(monkeypatch):
+    """One-column Jacobi-PCG on the compiled passes (P . Q; X += alpha P, R -= alpha Q, Z = D^-1 R
+    with sum w R^2 and R . Z; P = beta P + Z) against the numpy iteration: the same number of
+    iterations and the same solution to round-off (only the order of the sums differs), the final
+    residual equal to b - A x to round-off, and the same bits with one thread or two (the two row
+    blocks' partial sums are added in a fixed order)."""
+    from twin.physics import parallel
+    from twin.physics.solvers import jacobi, pcg
+
+    monkeypatch.setattr(kernels, "CG_FUSED_FROM", 0)
+    A = _spd(2001, seed=4)
+    rng = np.random.default_rng(5)
+    b, x0 = rng.standard_normal((2, A.shape[0]))
+    w = rng.uniform(0.5, 2.0, A.shape[0])
+    dinv = 1.0 / A.diagonal()
+    apply = lambda v: A @ v
+    tol = 1e-10 * float(np.sqrt(w @ (b * b)))
+    x, it, rho, R = pcg(apply, b, x0, jacobi(dinv), w, tol, residual=True)
+    xs, its, rhos, Rs = pcg(apply, b, x0, lambda r: dinv[:, None] * r, w, tol, residual=True)   # numpy path
+    assert it == its > 5 and rho <= tol and rhos <= tol
+    assert np.allclose(x, xs, rtol=0, atol=1e-9 * np.abs(xs).max())
+    assert np.allclose(R, b - A @ x, rtol=0, atol=1e-9 * np.abs(b).max())
+    with parallel.limited(1):
+        x1, it1, rho1, R1 = pcg(apply, b, x0, jacobi(dinv), w, tol, residual=True)
+    assert it1 == it and rho1 == rho and np.array_equal(x1, x) and np.array_equal(R1, R)
+    with pytest.raises(RuntimeError, match="did not converge in 2 iterations"):
+        pcg(apply, b, x0, jacobi(dinv), w, tol, max_iterations=2)
+
+
+def test_fused_cg_is_used_only_from_its_size_and_with_numba(monkeypatch):
+    assert not kernels.fused_cg(kernels.CG_FUSED_FROM - 1)
+    assert kernels.fused_cg(kernels.CG_FUSED_FROM) == kernels.HAVE_NUMBA
+    assert not kernels.fused_cg(10 ** 6, use_numba=False)
+    monkeypatch.setattr(kernels, "HAVE_NUMBA", False)
+    assert not kernels.fused_cg(10 ** 6)

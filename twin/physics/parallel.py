@@ -156,14 +156,14 @@ def row_blocks(indptr: np.ndarray) -> list[slice]:
     return [slice(int(a), int(b)) for a, b in zip(cuts[:-1], cuts[1:])]
 
 
-def _blocks_even(n: int) -> list[slice]:
+def even_blocks(n: int) -> list[slice]:
     """:data:`PARTS` row slices of about equal length covering range(n)."""
     cuts = [n * k // PARTS for k in range(PARTS + 1)]
     return [slice(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
 
 
-def _map(fn, blocks: list) -> list:
-    """[fn(b) for b in blocks], the last blocks on an idle helper when there is one."""
+def map_blocks(fn, blocks: list) -> list:
+    """[fn(b) for b in blocks], the later blocks on an idle helper when there is one (else here)."""
     futures = [None] + [_submit(fn, b) for b in blocks[1:]]
     out = [fn(blocks[0])]
     for b, f in zip(blocks[1:], futures[1:]):
@@ -182,7 +182,7 @@ class RowBlocks:
         self.blocks = [self.matrix[s] for s in row_blocks(self.matrix.indptr)]
 
     def __matmul__(self, X):
-        return np.concatenate(_map(lambda A: A @ X, self.blocks), axis=0)
+        return np.concatenate(map_blocks(lambda A: A @ X, self.blocks), axis=0)
 
     def diagonal(self) -> np.ndarray:
         return self.matrix.diagonal()
@@ -200,7 +200,7 @@ def rows_product(V: np.ndarray, c: np.ndarray, out: np.ndarray | None = None) ->
     if V.shape[0] * V.shape[1] < SPLIT_FROM:
         return np.matmul(V, c, out=out)
     out = np.empty(V.shape[:1] + np.shape(c)[1:], dtype=np.result_type(V, c)) if out is None else out
-    _map(lambda s: np.matmul(V[s], c, out=out[s]), _blocks_even(V.shape[0]))
+    map_blocks(lambda s: np.matmul(V[s], c, out=out[s]), even_blocks(V.shape[0]))
     return out
 
 
@@ -209,7 +209,7 @@ def transposed_product(V: np.ndarray, r: np.ndarray) -> np.ndarray:
     block order (a fixed order: the same numbers with one thread or two)."""
     if V.shape[0] * V.shape[1] < SPLIT_FROM:
         return V.T @ r
-    parts = _map(lambda s: V[s].T @ r[s], _blocks_even(V.shape[0]))
+    parts = map_blocks(lambda s: V[s].T @ r[s], even_blocks(V.shape[0]))
     total = parts[0]
     for p in parts[1:]:
         total = total + p
