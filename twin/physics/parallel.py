@@ -11,12 +11,13 @@ Two kinds of work are split here:
   the observers' rows) beside the heat basis of the reduced model or the reduced start;
 * **row blocks** (:class:`RowBlocks`, :func:`rows_product`, :func:`transposed_product`): a
   product A X of a large matrix computed as [A_1 X; A_2 X] over :data:`PARTS` row blocks of
-  about equal stored entries.
+  about equal stored entries; and the compiled vector passes of a one-column CG
+  (:func:`twin.physics.solvers.pcg`) over :func:`even_blocks`, with :func:`map_blocks`.
 
 **The numbers do not depend on the threads.** The row blocks depend on the matrix alone, never
 on how many threads run them; each row of A X is the same sum as in A X unsplit, and the one
-reduction split here (V^T r, :func:`transposed_product`) adds its blocks' partial sums in a fixed
-order. So a run gives the same bits with one thread or two; what the threads change is only which
+reductions split here (V^T r, :func:`transposed_product`, and CG's dot products) add their
+blocks' partial sums in a fixed order. So a run gives the same bits with one thread or two; what the threads change is only which
 core computes which block, and when.
 
 **How many threads** (:func:`helpers`): at most :data:`PARTS`, no more than the cores this
