@@ -113,15 +113,16 @@ def integrate_responses(system: HeatSystem, dt: float, nsteps: int, h: np.ndarra
     stepper.begin(nsteps, system)
     X = np.zeros(patterns.shape)
     out = np.zeros((nsteps + 1, outputs.shape[0], patterns.shape[1]))
-    for n in range(nsteps):
-        key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
-        op = stepper.operator(key, system, dt, theta, h[n])
-        rhs = stepper.rhs_operator(op) @ X + dt * patterns * signals[n]
-        if stepper.method == "direct":   # column by column: SuperLU's multi-right-hand side is ~10x slower here
-            X = np.column_stack([op[0].solve(rhs[:, j]) for j in range(rhs.shape[1])])
-        else:
-            X = stepper.solve(op, rhs, X)
-        out[n + 1] = outputs @ X
+    with parallel.single_blas(system.M.nnz >= parallel.SPLIT_FROM):     # as in :func:`integrate`
+        for n in range(nsteps):
+            key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
+            op = stepper.operator(key, system, dt, theta, h[n])
+            rhs = stepper.rhs_operator(op) @ X + dt * patterns * signals[n]
+            if stepper.method == "direct":   # column by column: SuperLU's multi-right-hand side is ~10x slower here
+                X = np.column_stack([op[0].solve(rhs[:, j]) for j in range(rhs.shape[1])])
+            else:
+                X = stepper.solve(op, rhs, X)
+            out[n + 1] = outputs @ X
     return out
 
 
