@@ -149,7 +149,7 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
     return out
 
 
-# --- one-column Jacobi-PCG: the vector work of an iteration in two passes ---------------------------
+# --- one-column Jacobi-PCG: the vector work of an iteration in three passes -------------------------
 #
 # The heat step's CG (one vector, Jacobi) spends a third of a 200 k-node step on vector passes:
 # numpy forms alpha P, X + alpha P, alpha Q, R - alpha Q, w R, (w R) . R, D^-1 R, R . Z, beta P and

@@ -15,12 +15,12 @@ Two kinds of work are split here:
   (:func:`twin.physics.solvers.pcg`) over :func:`even_blocks`, with :func:`map_blocks`.
 
 **The numbers do not depend on the threads.** The row blocks depend on the matrix alone, never
-on how many threads run them; each row of A X is the same sum as in A X unsplit, and the one
+on how many threads run them; each row of A X is the same sum as in A X unsplit, and the
 reductions split here (V^T r, :func:`transposed_product`, and CG's dot products) add their
 blocks' partial sums in a fixed order. So a run gives the same bits with one thread or two; what the threads change is only which
 core computes which block, and when.
 
-**How many threads** (:func:`helpers`): at most :data:`PARTS`, no more than the cores this
+**How many threads** (:func:`threads`): at most :data:`PARTS`, no more than the cores this
 process may use, and no more than ``OMP_NUM_THREADS`` when that is set (the usual way to ask a
 process for one thread per core of a pool); :func:`limited` lowers it for the calling thread
 (the dataset runner holds each case to one). A helper thread takes a block only when it is idle:
@@ -173,20 +173,17 @@ def map_blocks(fn, blocks: list) -> list:
 
 
 class RowBlocks:
-    """A CSR matrix whose products A X (X (n,) or (n, m)) are computed over its
-    :func:`row_blocks`, concurrently where a helper is idle: the same numbers as ``A @ X``
-    (each row is scipy's sum of that row). Other uses reach the matrix as ``.matrix``."""
+    """A CSR matrix held as its :func:`row_blocks` (the blocks only: not the whole matrix beside
+    them), whose products A X (X (n,) or (n, m)) are computed block by block, concurrently where
+    a helper is idle: the same numbers as ``A @ X`` (each row is scipy's sum of that row)."""
 
     def __init__(self, A: sp.spmatrix):
-        self.matrix = sp.csr_matrix(A)
-        self.shape, self.dtype, self.nnz = self.matrix.shape, self.matrix.dtype, self.matrix.nnz
-        self.blocks = [self.matrix[s] for s in row_blocks(self.matrix.indptr)]
+        A = sp.csr_matrix(A)
+        self.shape = A.shape
+        self.blocks = [A[s] for s in row_blocks(A.indptr)]
 
     def __matmul__(self, X):
         return np.concatenate(map_blocks(lambda A: A @ X, self.blocks), axis=0)
-
-    def diagonal(self) -> np.ndarray:
-        return self.matrix.diagonal()
 
 
 def split_matrix(A: sp.spmatrix):
@@ -195,12 +192,12 @@ def split_matrix(A: sp.spmatrix):
     return RowBlocks(A) if sp.issparse(A) and A.nnz >= SPLIT_FROM else A
 
 
-def rows_product(V: np.ndarray, c: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+def rows_product(V: np.ndarray, c: np.ndarray) -> np.ndarray:
     """V c for a dense V (n, r) over row blocks when large (:data:`SPLIT_FROM`): each row the same
-    product as unsplit, written into ``out`` (n,) when given."""
+    product as unsplit."""
     if V.shape[0] * V.shape[1] < SPLIT_FROM:
-        return np.matmul(V, c, out=out)
-    out = np.empty(V.shape[:1] + np.shape(c)[1:], dtype=np.result_type(V, c)) if out is None else out
+        return V @ c
+    out = np.empty(V.shape[:1] + np.shape(c)[1:], dtype=np.result_type(V, c))
     map_blocks(lambda s: np.matmul(V[s], c, out=out[s]), even_blocks(V.shape[0]))
     return out
 
@@ -211,7 +208,4 @@ def transposed_product(V: np.ndarray, r: np.ndarray) -> np.ndarray:
     if V.shape[0] * V.shape[1] < SPLIT_FROM:
         return V.T @ r
     parts = map_blocks(lambda s: V[s].T @ r[s], even_blocks(V.shape[0]))
-    total = parts[0]
-    for p in parts[1:]:
-        total = total + p
-    return total
+    return sum(parts[1:], parts[0])

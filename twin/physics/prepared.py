@@ -165,7 +165,7 @@ class PreparedTwin:
 
         if self.options.solver == "rom":
             return lambda: rom.bounded_basis(self, loads, h)
-        if self.method == "iterative" and loads is not None and self.options.reduced_start(nsteps):
+        if self.method == "iterative" and self.options.reduced_start(nsteps):
             return lambda: rom.start_basis(self, loads, h)
         return None
 

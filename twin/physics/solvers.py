@@ -244,11 +244,8 @@ def _fused_jacobi_pcg(apply, b, x0, dinv, weights, tol: float, max_iterations: i
     def over(kernel, *args):
         return parallel.map_blocks(lambda s: kernel(*args, s.start, s.stop), blocks)
 
-    def sums(parts):
-        first, second = 0.0, 0.0
-        for p in parts:
-            first, second = first + p[0], second + p[1]
-        return first, second
+    def sums(parts):            # each of a kernel's sums over the blocks, in block order
+        return [sum(column) for column in zip(*parts)]
 
     X = np.array(x0, dtype=float)
     R = np.ascontiguousarray(b - apply(X), dtype=float)
