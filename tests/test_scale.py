@@ -236,6 +236,26 @@ def test_reduced_model_error_is_below_its_bound_and_estimate(runs):
         assert np.all(err[moving] < 0.02 * peak[moving])
 
 
+def test_residual_gram_is_the_weighted_norm_of_the_reduced_step_residual(monkeypatch):
+    """The verified bound's Gram matrix, summed over row blocks (three here), is G = Y^T W Y with
+    Y = [M V, K V, H V, F, r] and W = 27 M_L^-1: for any coefficients c, c^T G c equals the
+    weighted norm (Y c)^T W (Y c) of the residual Y c, to round-off; and G is exactly symmetric."""
+    import twin.physics.rom as rom
+    _, system, n, _ = _cooled_slab(1)
+    monkeypatch.setattr(rom, "GRAM_ROWS", n // 3 + 1)
+    rng = np.random.default_rng(4)
+    V = rng.standard_normal((n, 5))
+    G = rom.residual_gram(system, V)
+    Y = np.hstack([system.M @ V, system.K @ V, system.H[0] @ V, system.F, system.r])
+    w = mass_weights(system.M)
+    assert G.shape == (Y.shape[1], Y.shape[1]) and np.array_equal(G, G.T)
+    for _ in range(3):
+        c = rng.standard_normal(Y.shape[1])
+        R = Y @ c
+        assert c @ G @ c == pytest.approx(R @ (w * R), rel=1e-12)
+    np.testing.assert_allclose(G, Y.T @ (w[:, None] * Y), rtol=0, atol=1e-13 * np.abs(G).max())
+
+
 def test_batched_cases_equal_single_runs(twins, machine):
     """Three cases (source strengths, room amplitude, and a different film) through one prepared
     twin: the reduced model vectorised and the direct model with multiple right-hand sides equal
