@@ -90,6 +90,20 @@ def test_an_output_is_never_an_input_in_either_order(tmp_path):
         files.output(tmp_path / "c.csv", "--json")
 
 
+def test_an_output_folder_is_never_an_output_file_in_either_order(tmp_path):
+    """`twin diagnose --json d.json --report d.json` is refused before any work: a folder and a
+    file of the same command cannot be one path, whichever is declared first."""
+    files = Files()
+    files.output(tmp_path / "d.json", "--json", (".json",))
+    with pytest.raises(InputError, match="also the output of --json"):
+        files.folder(tmp_path / "d.json", "--report", ("index.html",))
+    files = Files()
+    files.folder(tmp_path / "rep", "--report", ("index.html",))
+    with pytest.raises(InputError, match="also the output of --report"):
+        files.output(tmp_path / "rep", "--json")
+    assert not (tmp_path / "d.json").exists() and not (tmp_path / "rep").exists()
+
+
 def test_text_inputs_are_utf8_with_or_without_a_bom(tmp_path):
     p = tmp_path / "s.toml"
     p.write_bytes("\ufeffname = 'caf\u00e9'\n".encode("utf-8"))

@@ -178,6 +178,7 @@ class Files:
     def __init__(self):
         self.inputs: list[tuple[Path, str]] = []
         self.outputs: list[tuple[Path, str]] = []
+        self.folders: list[tuple[Path, str]] = []
 
     def _clash(self, path: Path, field: str, output: bool) -> None:
         if not output:
@@ -190,7 +191,7 @@ class Files:
             if same_file(path, other):
                 raise InputError(str(path), field, f"is the input {str(other)!r} ({other_field}); an output "
                                                    "never replaces an input")
-        for other, other_field in self.outputs:
+        for other, other_field in self.outputs + self.folders:
             if same_file(path, other):
                 raise InputError(str(path), field, f"is also the output of {other_field}")
 
@@ -212,7 +213,9 @@ class Files:
     def folder(self, path: str | os.PathLike, field: str, contents: tuple[str, ...] = ()) -> Path:
         """Declare an output folder and the files (relative names, e.g. ``"report/index.html"``)
         the command writes into it; returns the folder checked (:func:`output_folder`)."""
+        self._clash(Path(path), field, output=True)
         folder = output_folder(path, field)
+        self.folders.append((folder, field))
         for name in contents:
             self.output(folder / name, field, folder_may_be_created=True)
         return folder
