@@ -37,6 +37,8 @@ replaces an input (:class:`twin.io.paths.Files`).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from learners.leaderboard import COLUMNS, as_input_error, leaderboard, write_csv, write_markdown
@@ -95,6 +97,9 @@ def _split_names(text, option):
     names = [s.strip() for s in str(text).split(",") if s.strip()]
     if not names:
         raise InputError("command line", option, "no names given")
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise InputError("command line", option, f"{', '.join(repeated)} given more than once")
     return names
 
 
@@ -182,6 +187,7 @@ def run_learn(args) -> int:
     train_paths = list(args.train)
     test_sets = [(str(path), [path]) for path in args.test]
     if args.dataset:
+        files.input(Path(args.dataset) / "index.csv", "--dataset", "dataset index (index.csv)")
         train_paths += [files.input(p, "--dataset", "table") for p in dataset_runs(args.dataset, args.train_split)]
         runs = [files.input(p, "--dataset", "table") for p in dataset_runs(args.dataset, args.split)]
         test_sets.append((f"{args.dataset} [{args.split}: {len(runs)} runs]", runs))

@@ -384,6 +384,19 @@ def test_learn_writes_the_leaderboard_as_markdown(built, capsys):
     assert "| gm1n |" in text and "| mlr |" in text
 
 
+def test_learn_never_writes_over_the_dataset_index_and_refuses_repeated_inputs(built, capsys):
+    """The dataset's index.csv is an input of `twin learn --dataset`: `-o DIR/index.csv` is refused
+    (exit 2) and the index is unchanged; `--inputs T1,T1` names one input twice and is refused."""
+    _, out, _ = built
+    index = out / "index.csv"
+    before = index.read_bytes()
+    common = ["--dataset", str(out), "--split", "test", "--target", "drift:Z", "--learner", "mlr"]
+    assert main(["learn", *common, "-o", str(index)]) == 2
+    assert "never replaces an input" in capsys.readouterr().err and index.read_bytes() == before
+    assert main(["learn", *common, "--inputs", "motor,motor"]) == 2
+    assert "motor given more than once" in capsys.readouterr().err
+
+
 def test_the_dataset_study_writes_a_leaderboard_and_a_placement_benchmark(built, tmp_path):
     """The exhaustive set is the least-squares optimum over all sets, so mlr (least squares with
     an intercept) scores no set better than it (to round-off)."""
