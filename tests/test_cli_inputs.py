@@ -76,6 +76,19 @@ def test_bad_scenario_files(capsys, tmp_path, text, field):
     assert not out.exists()
 
 
+def test_an_output_never_replaces_the_room_record_a_scenario_reads(capsys, tmp_path):
+    """A scenario's `ambient.file` (kind = "csv") is an input of the command as much as the
+    scenario: `-o` naming it is refused before the run and the record is unchanged."""
+    room = tmp_path / "air.nc"
+    room.write_text("time [min],air [degC]\n0,20\n30,21\n")
+    scenario = tmp_path / "room.toml"
+    scenario.write_text('name = "room"\nsample_interval = "60 s"\n[ambient]\nkind = "csv"\nfile = "air.nc"\n'
+                        '[[spindle]]\nspeed = "0 rpm"\nduration = "10 min"\n')
+    err = _error(capsys, ["simulate", "cframe-vmc", str(scenario), "-o", str(room), "--mesh", "coarse"])
+    assert "never replaces an input" in err and "ambient.file" in err
+    assert room.read_text().startswith("time [min],air [degC]")
+
+
 def test_unwritable_output(capsys, tmp_path):
     err = _error(capsys, ["simulate", "cframe-vmc", "spindle-duty-cycle", "-o", str(tmp_path / "nope" / "r.nc")])
     assert "output" in err

@@ -89,7 +89,12 @@ def add_measurement_options(p: argparse.ArgumentParser) -> None:
 
 
 def declare_scenario(files, scenario: str) -> None:
-    """Declare the scenario's file (a bundled name's file, or the path) as an input of the command."""
-    from twin.scenario import scenario_path
+    """Declare the scenario's file (a bundled name's file, or the path) as an input of the command,
+    and the room record its ambient reads (``kind = "csv"``, field ``ambient.file``): no output of
+    the command may replace either."""
+    from twin.scenario import load_scenario, scenario_path
 
     files.input(scenario_path(scenario), "scenario", "scenario file")
+    room = load_scenario(scenario).ambient.file
+    if room:
+        files.input(room, "ambient.file", "room record")
