@@ -120,3 +120,26 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
     png = tmp_path / "r.png"
     assert main(["plot", str(out), "-o", str(png)]) == 0 and png.stat().st_size > 10000
     assert [f for f in os.listdir(tmp_path) if f.startswith(".twin-")] == []
+
+
+@pytest.mark.parametrize("suffix", [".pdf", ".svg", ".eps"])
+def test_a_figure_is_the_same_bytes_each_time_it_is_written(tmp_path, suffix):
+    """The same figure written twice gives the same file: no time of writing (PDF/EPS
+    CreationDate, SVG date) and no random SVG ids (a fixed hash salt)."""
+    import time
+
+    from twin.plotting import _pyplot, save_figure
+
+    plt = _pyplot()
+    written = []
+    for k in range(2):
+        fig, ax = plt.subplots()
+        ax.plot([0, 1, 2], [0, 1, 0.5], label="drift")
+        ax.legend()
+        path = tmp_path / f"figure{suffix}"
+        save_figure(fig, path)
+        plt.close(fig)
+        written.append(path.read_bytes())
+        if k == 0:
+            time.sleep(1.1)     # a time stamp has seconds
+    assert written[0] == written[1]

@@ -5,6 +5,11 @@ matplotlib only (headless 'Agg' backend), so pictures work on machines without a
 
 from __future__ import annotations
 
+import contextlib
+import os
+import threading
+from pathlib import Path
+
 import numpy as np
 
 
@@ -19,6 +24,39 @@ def _pyplot():
 
 # formats matplotlib writes by itself (pgf needs LaTeX; the others need an optional Pillow codec)
 _PICTURES = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp")
+
+
+def save_figure(fig, path, **options) -> None:
+    """``fig.savefig(path, **options)``, the same bytes for the same figure: the formats that stamp
+    the time of writing (PDF and PostScript's CreationDate, SVG's date) are written without it,
+    and SVG's element ids are drawn from a fixed salt instead of a random one."""
+    import matplotlib
+
+    kind = str(options.get("format") or Path(str(path)).suffix.lstrip(".")).lower()
+    metadata = {"pdf": {"CreationDate": None}, "svg": {"Date": None}, "svgz": {"Date": None}}.get(kind)
+    if metadata is not None:
+        options = {"metadata": metadata, **options}
+    with matplotlib.rc_context({"svg.hashsalt": "thermal-twin"}), _fixed_postscript_date(kind in ("ps", "eps")):
+        fig.savefig(path, **options)
+
+
+_DATE_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def _fixed_postscript_date(active: bool):
+    """PostScript's %%CreationDate from SOURCE_DATE_EPOCH (the reproducible-builds convention
+    matplotlib's PostScript writer reads; it takes no metadata date), set to 0 while writing
+    unless the caller's environment already sets it."""
+    if not active or "SOURCE_DATE_EPOCH" in os.environ:
+        yield
+        return
+    with _DATE_LOCK:
+        os.environ["SOURCE_DATE_EPOCH"] = "0"
+        try:
+            yield
+        finally:
+            del os.environ["SOURCE_DATE_EPOCH"]
 
 
 def picture_suffixes() -> tuple[str, ...]:
@@ -69,7 +107,7 @@ def plot_result(ds, path) -> None:
             ax.fill_between(t, 0, 1, where=on, color="orange", alpha=0.08, transform=ax.get_xaxis_transform(), step="post")
     axes[0].set_title(f"{ds.attrs.get('machine', '')} / {ds.attrs.get('scenario', '')} (shaded: {running} running)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -110,5 +148,5 @@ def plot_field_3d(mm, field: np.ndarray, path, title: str = "") -> None:
     sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
     fig.colorbar(sm, ax=ax, shrink=0.6, label="temperature [degC]")
     ax.set_title(title)
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from twin.plotting import save_figure
 from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
 
 NAME = "anfis_sweep"
@@ -87,7 +88,7 @@ def plot(path: Path, inputs, mfs):
         ax.legend(fontsize=8)
     fig.suptitle("ANFIS-FCM sweeps on cframe-vmc")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

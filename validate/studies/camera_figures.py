@@ -7,6 +7,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from twin.plotting import save_figure
+
 
 def plot_frames(path: Path, data, picked: list[str] | None = None, hours=(0.0, 1.0, 2.0, None)) -> Path:
     """Thermograms of the training run at ``hours`` (None: the last frame) on one colour scale,
@@ -48,6 +50,6 @@ def plot_frames(path: Path, data, picked: list[str] | None = None, hours=(0.0, 1
     axes[-1].set_yticks([])
     fig.colorbar(em, ax=axes[-1], shrink=0.8, label="K")
     fig.suptitle(f"{info}: {len(spots)} spots, picked ones outlined", fontsize=10)
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
     return path

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from twin.io.atomic import atomic_write_text
+from twin.plotting import save_figure
 from validate.studies.common import fit_score, markdown_table, parse_args, preset, write_csv
 
 NAME = "gantry_gnnmci"
@@ -120,7 +121,7 @@ def plot(path: Path, data: dict, preds: dict) -> None:
     axes[0].set_ylabel("Z [um]"), axes[0].legend(fontsize=7)
     fig.suptitle("gantry-ram: trained on gantry-c-axis, tested on unseen runs")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from twin.io.atomic import atomic_write_text
+from twin.plotting import save_figure
 from validate.studies.common import fit_score, markdown_table, parse_args, preset, write_csv
 from validate.studies.machine_b_data import column, load_tests
 from validate.studies.machine_b_gra import SEED_SELECTED
@@ -99,7 +100,7 @@ def plot(path: Path, runs, preds, label: str):
     axes[0].set_ylabel("Y [um]"), axes[0].legend(fontsize=7)
     fig.suptitle(f"Machine B on belt-vmc, trained on Test IV, inputs {label}")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from learners.selection_grey import similitude_degree
 from twin.io.atomic import atomic_write_text
+from twin.plotting import save_figure
 from validate.studies.common import parse_args, select, write_csv
 from validate.studies.machine_b_data import GROUPS, load_tests
 
@@ -114,7 +115,7 @@ def plot(path: Path, rows):
     ax.legend(ncol=5, fontsize=8)
     ax.set_title("Machine B on belt-vmc: grey relational degree of each point to the Y displacement")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

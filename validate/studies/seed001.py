@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 import learners
+from twin.plotting import save_figure
 from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
 
 NAME = "seed001"
@@ -79,7 +80,7 @@ def plot(path: Path, data, extra, axis: str = "Z", show=("anfis-fcm", "ann", "ml
     a2.axhline(0, color="k", lw=0.5)
     fig.suptitle("Seed 001 protocol on cframe-vmc: 4 gm0n-fcm inputs from dense surface sensors")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from twin.plotting import save_figure
 from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
 from validate.studies.placement_search import greedy_oracle
 
@@ -99,7 +100,7 @@ def plot(path: Path, rows):
     ax.legend()
     ax.set_title("4-sensor sets on cframe-vmc (train heat/cool, test duty cycle)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
