@@ -24,7 +24,6 @@ from pathlib import Path
 from twin.dataset.plan import Case
 
 CASES = "cases"   # the folder of the case files inside a dataset folder
-TIMINGS = ("rom_offline_s",)   # run attributes that are wall times: left out, a case file is its inputs' function
 COMPRESSION = {"zlib": True, "complevel": 4, "shuffle": True}   # deterministic (gzip), lossless
 _local = threading.local()
 
@@ -65,7 +64,7 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
     ``dataset_draw`` attributes and a scalar ``case`` coordinate (the hash), so that
     ``xarray.open_mfdataset(..., combine="nested", concat_dim="case")`` labels the cases.
     ``max_steps`` cuts the scenario after that many time steps (for a calibration run). Wall
-    times (:data:`TIMINGS`) are left out of the attributes, so that the same record always gives
+    times (:data:`twin.io.results.WALL_TIMES`) are left out of the attributes, so that the same record always gives
     the same bytes; numeric variables are written gzip-compressed (:data:`COMPRESSION`)."""
     from twin import limits
     from twin.io.results import to_dataset
@@ -101,8 +100,6 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
     observers = standard_observers(machine, sensors) + camera_observers(machine, list(sc.cameras))
     result = run(machine, sc, spec, theta=record["theta"], prepared=twin, observers=observers)
     ds = to_dataset(result, record["seed"], record["mesh"])
-    for key in TIMINGS:
-        ds.attrs.pop(key, None)
     ds.attrs.update(case_hash=case_hash, dataset_family=family, dataset_draw=record["draw"])
     ds = ds.assign_coords(case=((), case_hash, {"long_name": "case hash (the file's name)"}))
     for var in ds.data_vars.values():

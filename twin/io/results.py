@@ -84,12 +84,17 @@ def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "")
 def solver_attrs(info: dict) -> dict:
     """What solved the run, as NetCDF attributes: scalars as they are, per-output errors
     (``solver_error_bound``, ``rom_error_estimate``: {observer key: [value per output]} in the
-    observer's raw SI units, m or degC) as JSON."""
-    out = {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()}
+    observer's raw SI units, m or degC) as JSON. Wall times (:data:`WALL_TIMES`) are left out: a
+    result is a function of its inputs, the same bytes every time (the benchmark reports them)."""
+    out = {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()
+           if k not in WALL_TIMES}
     if any(k in info for k in ERROR_KEYS):
         out["solver_error_units"] = ERROR_UNITS
     return out
 
+
+# run-information keys that are wall times, never written into a result
+WALL_TIMES = ("rom_offline_s", "heat_start_basis_s")
 
 # the per-output solver errors a result may carry, and the units they are in (the observers' raw SI
 # units, not the variables' um)
