@@ -48,18 +48,27 @@ class ModelSpec:
 
 
 def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
-    """``"+a,-b"`` edits ``base``; ``"a,b"`` replaces it; None keeps it."""
+    """``"+a,-b"`` edits ``base``; ``"a,b"`` replaces it; None keeps it. Each effect is named once,
+    and the two forms are not mixed (``"a,+b"``): either would leave the result to the order."""
     if not text:
         return tuple(base)
     items = [s.strip() for s in text.split(",") if s.strip()]
     if not items or any(i in "+-" for i in items):
         raise InputError(CLI, f"--effects {text}", "names no effect; write +name,-name or a,b,c")
-    if not any(i[0] in "+-" for i in items):
+    names = [i.lstrip("+-") for i in items]
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise InputError(CLI, f"--effects {text}", f"{', '.join(repeated)} named more than once; name each effect once")
+    edits = [i[0] in "+-" for i in items]
+    if any(edits) and not all(edits):
+        raise InputError(CLI, f"--effects {text}", "mixes a set of effects (a,b) with edits of the defaults (+a,-b); "
+                                                   "write one or the other")
+    if not any(edits):
         chosen = items
     else:
         chosen = list(base)
         for item in items:
-            sign, name = (item[0], item[1:]) if item[0] in "+-" else ("+", item)
+            sign, name = item[0], item[1:]
             if sign == "+" and name not in chosen:
                 chosen.append(name)
             elif sign == "-":
