@@ -384,6 +384,8 @@ OPTION_CASES = [
     ("report:segment-negative", REPORT + ["--segment=-1 h"], CLI, "--segment"),
     ("report:segment-nan", REPORT + ["--segment", "nan h"], CLI, "--segment"),
     ("report:segment-twice", REPORT + ["--segment", "1 h", "--segment", "2 h"], CLI, "--segment"),
+    ("report:segment-below-the-sampling", REPORT + ["--segment", "1 ms"], CLI, "--segment"),
+    ("report:segment-tiny", REPORT + ["--segment", "1e-9 s"], CLI, "--segment"),
     ("report:output-missing", REPORT[:3], CLI, "twin report"),   # argparse: "required: -o/--output"
     ("report:mapping-with-netcdf", REPORT + ["--mapping", "{d}/m.toml"], "{d}/m.toml", "--mapping"),
     # demo

@@ -135,7 +135,8 @@ def segments_of(t: np.ndarray, length: float) -> list[tuple[float, float]]:
 
 def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: str = "") -> Evaluation:
     """The ISO 230-3 evaluation ``test`` of ``ds``; ``segment`` [s]: the length of the statistics'
-    time segments (default: 24 h for etve, 1 h otherwise, never more than the test)."""
+    time segments (default: 24 h for etve, 1 h otherwise, never more than the test; at least two
+    sampling intervals)."""
     from twin.io.measured_inputs import speed_steps
 
     source = source or ds.attrs.get("source", "result")
@@ -149,6 +150,10 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
     if test == "etve" and air is None:
         raise InputError(source, "ambient_temperature", "an ETVE evaluation needs the room air temperature")
     length = segment or (86400.0 if test == "etve" else 3600.0)
+    interval = float(np.median(np.diff(t)))
+    if segment is not None and segment < 2 * interval:
+        raise InputError("command line", "--segment", f"{segment:g} s is shorter than two sampling intervals of {source} "
+                                                      f"({interval:g} s each); a segment's statistics need several samples")
     steps = []
     if test == "spindle" and "spindle_speed" in ds:
         steps = speed_steps(t, np.asarray(ds.spindle_speed.values, float))
