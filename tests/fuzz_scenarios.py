@@ -142,6 +142,7 @@ SCENARIO_EDITS += [
     ("interferometer-off-grid", _ax("", "", LASER.replace('"10 min"', '"90 s"')), "interferometer.runs"),
     ("interferometer-not-cold-first", _ax("", "", LASER.replace('"0 min", ', '')), "interferometer.runs"),
     ("interferometer-unknown-axis", _ax("", "", LASER.replace('axis = "Y"', 'axis = "W"')), "interferometer.axis"),
+    ("interferometer-spacing-below-a-millimetre", _ax("", "", LASER + 'spacing = "1e-6 mm"\n'), "interferometer.spacing"),
     ("probing-not-cold-first", _ax("", "", PROBE.replace('"0 min", ', '')), "probing.times"),
     ("probing-off-grid", _ax("", "", PROBE.replace('"10 min"', '"90 s"')), "probing.times"),
     ("probing-datum-outside-travel", _ax("", "", PROBE.replace('[["100 mm"', '[["600 mm"')), "probing.datums[0]"),

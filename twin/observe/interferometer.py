@@ -77,6 +77,9 @@ class InterferometerConfig:
         return t if np.isclose(t[-1], hi) else np.append(t, hi)
 
 
+MIN_SPACING = 1e-3      # [m] the closest targets a run may have
+
+
 def interferometer_from_toml(raw, source: str, reader) -> InterferometerConfig | None:
     """The scenario's ``[interferometer]`` table (None when absent)."""
     if raw is None:
@@ -87,6 +90,10 @@ def interferometer_from_toml(raw, source: str, reader) -> InterferometerConfig |
     targets = r.get("targets")
     spacing = r.positive("spacing", "length", default=0.010)
     r.finish()
+    if spacing < MIN_SPACING:
+        raise InputError(source, "interferometer.spacing", f"{spacing * 1e3:g} mm is below {MIN_SPACING * 1e3:g} mm: "
+                                                           "the targets of a positioning test (ISO 230-2) lie millimetres "
+                                                           "apart or more, and the mesh resolves centimetres")
     if not isinstance(axis, str):
         raise InputError(source, "interferometer.axis", "expected an axis name such as \"Y\"")
     times = baseline_instants(runs, source, "interferometer.runs", "the cold reference run")
