@@ -291,6 +291,25 @@ def test_dry_run_prints_the_plan_and_writes_nothing(built, tmp_path, capsys):
     assert not out.exists()
 
 
+def test_a_scheduler_that_is_no_address_or_cannot_be_reached_is_refused(built, tmp_path, capsys, monkeypatch):
+    """`--scheduler` is 'local', 'local-threads' or [protocol://]host:port, checked before anything
+    runs (a dry run too); an address nobody answers is one error on --scheduler, not a traceback."""
+    import twin.dataset.runner as runner
+
+    spec_path, _, _ = built
+    out = tmp_path / "new"
+    for bad in ("bogus", "tcp://host", "http://host:8786"):
+        assert main(["dataset", str(spec_path), "-o", str(out), "--dry-run", "--scheduler", bad]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("error: command line: --scheduler:") and "Traceback" not in err
+    runner.check_scheduler("tcp://10.0.0.5:8786")
+    runner.check_scheduler("scheduler-host:8786")
+    monkeypatch.setattr(runner, "CONNECT_TIMEOUT", "1s")
+    assert main(["dataset", str(spec_path), "-o", str(out), "--jobs", "1", "--scheduler", "tcp://127.0.0.1:9"]) == 2
+    assert "cannot reach the Dask scheduler" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_max_cases_then_the_rest_and_a_changed_spec(built, tmp_path, capsys):
     spec_path, reference, cases = built
     root = tmp_path

@@ -34,9 +34,11 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     from twin.dataset import CASES, INDEX_FILES, build, executor, is_whole, load_spec, plan, write_index
+    from twin.dataset.runner import check_scheduler
     from twin.io.atomic import output_folder
     from twin.io.paths import Files
 
+    check_scheduler(args.scheduler)
     files = Files()
     spec_path = files.input(args.spec, "spec", "dataset spec")
     spec = load_spec(spec_path)

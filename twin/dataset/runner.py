@@ -17,11 +17,13 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import json
+import re
 import threading
 import time
 from pathlib import Path
 
 from twin.dataset.plan import Case
+from twin.errors import InputError
 
 CASES = "cases"   # the folder of the case files inside a dataset folder
 COMPRESSION = {"zlib": True, "complevel": 4, "shuffle": True}   # deterministic (gzip), lossless
@@ -168,6 +170,34 @@ class InlineExecutor(cf.Executor):
         return future
 
 
+_ADDRESS = re.compile(r"^((tcp|tls|ucx|ws|wss)://)?(\[[0-9a-fA-F:.]+\]|[A-Za-z0-9_.-]+):\d{1,5}$")
+
+
+def check_scheduler(scheduler: str | None) -> None:
+    """Refuse a ``--scheduler`` that is neither ``local``, ``local-threads`` nor a scheduler
+    address ``[protocol://]host:port`` before anything runs (:class:`twin.errors.InputError`)."""
+    if scheduler is None or scheduler in ("local", "local-threads"):
+        return
+    if not _ADDRESS.match(scheduler):
+        raise InputError("command line", "--scheduler", f"{scheduler!r} is not 'local', 'local-threads' or a Dask "
+                                                        "scheduler address such as tcp://host:8786")
+
+
+def _connect(scheduler: str):
+    """A Dask client of the scheduler at ``scheduler``; one that cannot be reached is an
+    :class:`twin.errors.InputError` on ``--scheduler``."""
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as err:
+        raise InputError("command line", "--scheduler", f"cannot reach the Dask scheduler at {scheduler} "
+                                                        f"({type(err).__name__}: {err})") from None
+
+
+CONNECT_TIMEOUT = "10s"     # how long a dataset waits for a remote Dask scheduler to answer
+
+
 @contextlib.contextmanager
 def executor(scheduler: str | None = None, jobs: int = 1):
     """A ``concurrent.futures`` executor: ``scheduler=None``: a process pool of ``jobs``
@@ -195,7 +225,7 @@ def executor(scheduler: str | None = None, jobs: int = 1):
                                processes=not threads, dashboard_address=None)
         client = Client(cluster)
     else:
-        cluster, client = None, Client(scheduler)
+        cluster, client = None, _connect(scheduler)
     try:
         yield client.get_executor(pure=False)
     finally:
