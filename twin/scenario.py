@@ -9,8 +9,9 @@ A scenario file::
 
     [ambient]                           # one of four kinds
     kind = "constant"                   # temperature = "20 degC"
-    # kind = "daily"                    # mean, amplitude, coldest_at (time of day), start_time_of_day
-    # kind = "table"                    # times = ["0 h", ...], temperatures = ["20 degC", ...] (linear)
+    # kind = "daily"                    # mean, amplitude, coldest_at (time of day), start_time_of_day (0-24 h)
+    # kind = "table"                    # times = ["0 h", ...], temperatures = ["20 degC", ...] (linear),
+    #                                   #   covering the whole run from 0 h, as a csv record must
     # kind = "csv"                      # file = "room.csv": measured air, see twin.io.room_csv (linear)
 
     [[ambient.events]]                  # optional, any kind: a door opened, a holiday (added, in K)
@@ -271,6 +272,10 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     if ambient.kind == "csv" and ambient.times[-1] < total:
         raise InputError(source, "ambient.file", f"the room record {ambient.file} ends at {ambient.times[-1] / 3600:g} h, "
                                                  f"before the scenario's {total / 3600:g} h")
+    if ambient.kind == "table" and (ambient.times[0] > 0 or ambient.times[-1] < total):
+        raise InputError(source, "ambient.times", f"the table covers {ambient.times[0] / 3600:g} h to "
+                                                  f"{ambient.times[-1] / 3600:g} h; it must cover the scenario's 0 to "
+                                                  f"{total / 3600:g} h (nothing is extrapolated)")
     return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes,
                     interferometer=laser, probing=probing, c_axis=c_axis)
 
@@ -287,9 +292,13 @@ def _ambient(table, source: str) -> Ambient:
             raise InputError(source, "ambient.amplitude", f"must not be negative, got {r.table['amplitude']!r}")
         for extreme in (mean - amplitude, mean + amplitude):
             limits.check_temperatures(extreme, source, "ambient.amplitude")
-        a = Ambient("daily", mean=mean, amplitude=amplitude,
-                    coldest_at=r.get("coldest_at", "time", default=6 * 3600.0),
-                    start_time_of_day=r.get("start_time_of_day", "time", default=0.0))
+        times_of_day = {key: r.get(key, "time", default=default)
+                        for key, default in (("coldest_at", 6 * 3600.0), ("start_time_of_day", 0.0))}
+        for key, value in times_of_day.items():
+            if not 0.0 <= value < 86400.0:
+                raise InputError(source, f"ambient.{key}", f"a time of day from 0 h to 24 h (excluded), got "
+                                                           f"{r.table[key]!r}")
+        a = Ambient("daily", mean=mean, amplitude=amplitude, **times_of_day)
     elif kind == "table":
         times = _list(r, "times", "time", source)
         temps = _list(r, "temperatures", "temperature", source)
