@@ -180,6 +180,7 @@ BAD = [
     ('duration = "10 min"', 'duration = "90 s"', "scenarios[0].duration", "multiple of the sample interval"),
     ('amplitude = ["0 K", "3 K"]', 'amplitude = ["0 K", "-3 K"]', "scenarios[0].ambient.amplitude", "reversed"),
     ('idle_probability = 0.3', 'idle_probability = 1.3', "scenarios[0].spindle.idle_probability", "from 0 to 1"),
+    ('speed_step = "500 rpm"', 'speed_step = "50000 rpm"', "scenarios[0].spindle.speed_step", "no multiple"),
     ('file = "ref.toml"', 'file = "missing.toml"', "scenarios[1].file", "no scenario"),
     ('file = "ref.toml"', 'file = "no-such-scenario"', "scenarios[1].file", "no scenario"),
     ('cases = 2', 'cases = 0', "scenarios[0].cases", "from 1"),

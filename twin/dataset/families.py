@@ -7,6 +7,7 @@ The fields, and how a generated axis follows the spindle, are documented in
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -118,6 +119,10 @@ def _duty_cycle(r: TableReader, source: str, machines: dict) -> DutyCycle:
     quantum = None if quantum is None else quantity(quantum, "speed", source, s.field("speed_step"))
     if quantum is not None and quantum <= 0:
         raise InputError(source, s.field("speed_step"), "must be positive")
+    if quantum is not None and math.ceil(max(speed.low, 0.0) / quantum - 1e-9) * quantum > speed.high:
+        raise InputError(source, s.field("speed_step"), f"no multiple of {quantum:g} rpm lies within the speeds "
+                                                        f"{speed.low:g} .. {speed.high:g} rpm: every running step "
+                                                        "would be rounded off them")
     idle = s.get("idle_probability", default=0.0, kind=(int, float))
     if not 0 <= idle <= 1:
         raise InputError(source, s.field("idle_probability"), f"must be from 0 to 1, got {idle}")

@@ -32,7 +32,7 @@ Every quantity carries its unit (parsed by :mod:`twin.units`)::
     [scenarios.spindle]                 # a random piecewise-constant duty cycle
     step = ["10 min", "30 min"]         # each step's duration (rounded to the sample interval)
     speed = ["2000 rpm", "9000 rpm"]    # each running step's speed
-    speed_step = "500 rpm"              # optional: speeds rounded to multiples of it
+    speed_step = "500 rpm"              # optional: speeds rounded to multiples of it (one must lie in the range)
     idle_probability = 0.3              # optional: the chance that a step is a stop
     [scenarios.ambient]
     kind = "daily"                      # or "constant" with temperature = ...
