@@ -294,6 +294,7 @@ OPTION_CASES = [
     ("simulate:fbg-cross-sensitivity-no-unit", swap(SIM, "cframe-vmc", "gantry-ram") + ["--set", "fbg.cross_sensitivity=8.64"],
      CLI, "--set fbg.cross_sensitivity"),
     ("simulate:effects-empty", SIM + ["--effects", ","], CLI, "--effects"),
+    ("simulate:elastic-coarsening-beyond-8", SIM + ["--elastic-coarsening", "100000"], CLI, "--elastic-coarsening"),
     ("simulate:effects-twice", SIM + ["--effects=-floor", "--effects=-floor"], CLI, "--effects"),
     ("simulate:effect-added-and-removed", SIM + ["--effects=+floor_lag,-floor_lag"], CLI, "--effects +floor_lag,-floor_lag"),
     ("simulate:effect-named-twice", SIM + ["--effects=+floor_lag,+floor_lag"], CLI, "--effects +floor_lag,+floor_lag"),

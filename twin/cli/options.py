@@ -63,10 +63,11 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
                        help="how each iterative heat step starts: from the projection on the last solutions, or "
                             "from the reduced model's basis (built once: pays back on long runs); default auto "
                             "(the reduced basis from 300 steps)")
-        p.add_argument("--elastic-coarsening", type=whole_number("grid lines", lower=1), default=1, metavar="N",
+        # upper: twin.physics.solvers.MAX_ELASTIC_COARSENING (not imported here: the parser stays light)
+        p.add_argument("--elastic-coarsening", type=whole_number("grid lines", lower=1, upper=8), default=1, metavar="N",
                        help="solve the elasticity on every N-th grid line of the temperature mesh, the thermal load "
                             "still integrated on the temperature mesh (for large meshes: the drift is smooth); "
-                            "default 1, the same mesh")
+                            "1 to 8, default 1, the same mesh")
 
 
 def solver_options(args):

@@ -48,6 +48,7 @@ SOLVERS = ("auto", "direct", "iterative", "rom")
 DEVICES = ("cpu", "gpu")
 HEAT_STARTS = ("auto", "projection", "reduced")
 REDUCED_START_STEPS = 300   # "auto" starts the iterative heat steps from the reduced basis from this many steps
+MAX_ELASTIC_COARSENING = 8  # the widest spacing of the elastic mesh's grid lines, in temperature cells
 DIRECT_LIMIT = 30_000       # temperature dofs up to which "auto" factorises (the default mesh: 15.6 k)
 MASS_BOUND = 27.0           # M >= M_L / 27 for trilinear bricks
 
@@ -94,9 +95,10 @@ class SolverOptions:
         if not self.heat_tol > 0 or not self.elastic_rtol > 0 or self.rom_order < 2:
             raise InputError("command line", "--solver", "tolerances must be positive and the ROM order at least 2")
         if isinstance(self.elastic_coarsening, bool) or not isinstance(self.elastic_coarsening, (int, np.integer)) \
-                or self.elastic_coarsening < 1:
+                or not 1 <= self.elastic_coarsening <= MAX_ELASTIC_COARSENING:
             raise InputError("command line", "--elastic-coarsening",
-                             f"must be a whole number >= 1 (1: the temperature mesh), got {self.elastic_coarsening!r}")
+                             f"must be a whole number from 1 (the temperature mesh) to {MAX_ELASTIC_COARSENING} (beyond, "
+                             f"the elastic mesh keeps little but the parts' faces), got {self.elastic_coarsening!r}")
 
     def reduced_start(self, nsteps: int) -> bool:
         """Whether a full-order iterative run of ``nsteps`` steps starts its steps from the reduced basis."""
