@@ -48,8 +48,8 @@ def test_heat_source_power_is_strength_times_schedule(machine, mm, schedule, ext
 
 def test_flux_on_faces_and_table_schedule(machine, mm, tmp_path):
     """flux = q [W/m2] on 'column.+x' gives P = q A over exactly the column's +x faces; a table
-    schedule interpolates its CSV linearly, in the table's time unit."""
-    (tmp_path / "f.csv").write_text("t,factor\n0,0\n30,1\n60,0.5\n")
+    schedule interpolates its CSV linearly, in the table's time unit, over the whole run."""
+    (tmp_path / "f.csv").write_text("t,factor\n0,0\n30,1\n60,0.5\n150,0.5\n")
     (tmp_path / "e.toml").write_text('[effects.lamp]\nkind = "heat_flux"\nregion = "column.+x"\nflux = "40 W/m2"\n'
                                      'schedule = "table"\ntable = { file = "f.csv", time_unit = "min" }\n')
     names = load_effects_file(tmp_path / "e.toml", machine)

@@ -32,19 +32,31 @@ A scenario may hold one ``[camera]`` table or a ``[[camera]]`` list; every value
     accuracy = "2 K"                    # reference_temperature, bits, range = ["-40 degC", "120 degC"]
 
 Unknown keys, missing units and values out of range raise :class:`twin.errors.InputError` naming
-the file and the key (``camera[1].settings.emissivity``).
+the file and the key (``camera[1].settings.emissivity``). Plausible limits: ``position`` and
+``target`` differ, ``up`` is a finite direction not along the line of sight, and the camera stands
+in the air, not inside a part of the machine (checked against the machine when the camera is set
+up, before the run); ``air_temperature`` is room air (-40 to 60 degC, :data:`twin.limits.AIR_RANGE`);
+``reflected_temperature`` and ``room_temperature`` lie from -40 to 200 degC (what surrounds a
+machine tool, :data:`twin.limits.STRUCTURE_RANGE`); the sensor's ``range`` and
+``reference_temperature`` within the twin's radiance table, -100 to 1000 degC; every temperature
+above absolute zero.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
+from twin import limits
 from twin.errors import InputError
 from twin.observe.camera import CameraConfig
 from twin.observe.camera_geometry import Intrinsics
 from twin.observe.microbolometer import Microbolometer
+from twin.observe.radiometry import RadianceTable
 from twin.units import UnitError, parse_quantity
 
+RADIANCE_SPAN = (RadianceTable.lo, RadianceTable.hi)   # degC: where the twin's radiance table holds
 _NOISE = ("netd", "fixed_pattern", "row_fixed", "column_fixed", "row_temporal", "column_temporal",
           "frame_temporal", "offset", "drift", "accuracy")
 
@@ -83,10 +95,16 @@ def _camera(table, source: str, prefix: str, reader) -> CameraConfig:
         if pose is not None:
             raise InputError(source, prefix + "pose", "give a pose or a position and a target, not both")
         kw.update(position=position, target=target)
+        sight = np.subtract(target, position)
+        if np.linalg.norm(sight) < 1e-6:
+            raise InputError(source, prefix + "target", "equals position; the camera looks from position towards "
+                                                        "target, so they must differ")
         if up is not None:
-            if not (isinstance(up, list) and len(up) == 3 and all(isinstance(x, (int, float)) for x in up)):
+            if not (isinstance(up, list) and len(up) == 3
+                    and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in up)):
                 raise InputError(source, prefix + "up", "expected three numbers, a direction")
             kw["up"] = tuple(float(x) for x in up)
+        _check_up(np.asarray(kw.get("up", CameraConfig.up), dtype=float), sight, source, prefix + "up")
     elif up is not None:
         raise InputError(source, prefix + "up", "goes with position and target")
     if pose is not None:
@@ -120,6 +138,18 @@ def _camera(table, source: str, prefix: str, reader) -> CameraConfig:
     return CameraConfig(**kw)
 
 
+def _check_up(up: np.ndarray, sight: np.ndarray, source: str, field: str) -> None:
+    """``up`` must be a finite, non-zero direction not along the line of sight ``sight``."""
+    if not np.all(np.isfinite(up)):
+        raise InputError(source, field, f"{list(up)} is not a finite direction")
+    norm = float(np.linalg.norm(up))
+    if norm == 0:
+        raise InputError(source, field, "[0, 0, 0] is no direction; give the image's up, e.g. [0, 0, 1]")
+    if np.linalg.norm(np.cross(sight / np.linalg.norm(sight), up / norm)) < 1e-6:
+        raise InputError(source, field, f"{[float(x) for x in up]} is along the line of sight from position to "
+                                        "target, so the image has no up; choose a direction across it")
+
+
 def _intrinsics(r, source: str, prefix: str) -> Intrinsics:
     kw = {}
     res = r.get("resolution")
@@ -143,9 +173,10 @@ def _settings(table, source: str, prefix: str, reader) -> dict:
         return {}
     r = reader(table, source, prefix)
     kw = {"emissivity": _fraction(r, "emissivity", positive=True),
-          "reflected_temperature": r.get("reflected_temperature", "temperature"),
+          "reflected_temperature": _temperature(r, "reflected_temperature", limits.STRUCTURE_RANGE,
+                                                "what a machine-tool surface reflects"),
           "distance": _non_negative(r, "distance", "length"),
-          "air_temperature": r.get("air_temperature", "temperature"),
+          "air_temperature": _temperature(r, "air_temperature", limits.AIR_RANGE, "room air"),
           "relative_humidity": _fraction(r, "relative_humidity")}
     r.finish()
     return {k: v for k, v in kw.items() if v is not None}
@@ -155,7 +186,8 @@ def _scene(table, source: str, prefix: str, reader) -> dict:
     if table is None:
         return {}
     r = reader(table, source, prefix)
-    kw = {"room_temperature": r.get("room_temperature", "temperature"),
+    kw = {"room_temperature": _temperature(r, "room_temperature", limits.STRUCTURE_RANGE,
+                                           "the surroundings of a machine tool"),
           "room_humidity": _fraction(r, "relative_humidity"),
           "wall_distance": _non_negative(r, "wall_distance", "length")}
     r.finish()
@@ -166,12 +198,15 @@ def _sensor(table, source: str, prefix: str, reader) -> Microbolometer:
     r = reader(table, source, prefix)
     kw = {k: _non_negative(r, k, "temperature_difference") for k in _NOISE}
     kw["drift_time"] = r.positive("drift_time", "time")
-    kw["reference_temperature"] = r.get("reference_temperature", "temperature")
+    kw["reference_temperature"] = _temperature(r, "reference_temperature", RADIANCE_SPAN, "the twin's radiance table")
     bits = r.get("bits")
     kw["bits"] = None if bits is None else _integer(bits, source, prefix + "bits", 8, 16)
     span = _pair(r, "range", "temperature")
-    if span is not None and not span[0] < span[1]:
-        raise InputError(source, prefix + "range", "needs the lower temperature first")
+    if span is not None:
+        for i, t in enumerate(span):
+            _check_temperature(t, RADIANCE_SPAN, "the twin's radiance table", source, f"{prefix}range[{i}]")
+        if not span[0] < span[1]:
+            raise InputError(source, prefix + "range", "needs the lower temperature first (low end below high end)")
     kw["range"] = span
     r.finish()
     return Microbolometer(**{k: v for k, v in kw.items() if v is not None})
@@ -183,6 +218,23 @@ def _fraction(r, key: str, positive: bool = False):
         raise InputError(r.source, r.prefix + key, f"must lie in {'(0' if positive else '[0'}, 1] (or 0-100 %), "
                                                    f"got {r.table[key]!r}")
     return value
+
+
+def _temperature(r, key: str, span: tuple, what: str):
+    """A temperature [degC] key, above absolute zero and within ``span`` (the plausible range of ``what``)."""
+    value = r.get(key, "temperature")
+    if value is not None:
+        _check_temperature(value, span, what, r.source, r.prefix + key)
+    return value
+
+
+def _check_temperature(value: float, span: tuple, what: str, source: str, field: str) -> None:
+    if value < limits.ABSOLUTE_ZERO:
+        raise InputError(source, field, f"{value:g} degC is below absolute zero ({limits.ABSOLUTE_ZERO} degC)")
+    lo, hi = span
+    if not lo <= value <= hi:
+        raise InputError(source, field, f"{value:g} degC is outside the plausible range of {what} ({lo:g} to {hi:g} "
+                                        "degC)")
 
 
 def _non_negative(r, key: str, dimension: str):

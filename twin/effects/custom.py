@@ -22,13 +22,27 @@ diagnose --effects-file FILE`` offers them as candidates and fits their strength
     # schedule = "speed":   reference_speed = "9000 rpm", exponent = 1   s = (n / n_ref)^x
     # schedule = "windows": windows = [["1 h", "2 h"], ["5 h", "5.5 h"]]  s = 1 inside [start, end)
     # schedule = "table":   table = { file = "factor.csv", time_unit = "min" }
-    #                       two columns (time, factor) after one header row, linear in between,
-    #                       held at the first and last value outside
+    #                       two columns (time, factor) after one header row (at least two data
+    #                       rows), linear in between, covering the whole run from 0 (its end is
+    #                       checked when the run starts; nothing is extrapolated)
 
 Every load is the strength times the schedule s(t) (dimensionless): P(t) = P s(t) for sources
 and fluxes (linear in P), h(t) = h s(t) for convection (not linear in h). Unknown keys, a missing
 key, a wrong unit, an unknown part or direction, an empty region or a bad table raise
 :class:`twin.errors.InputError` naming the file and the key.
+
+Plausible limits (one effect on a machine tool; a value beyond them is a unit slip or a typo):
+
+* ``power``: |P| <= :data:`MAX_POWER` (100 kW, the largest machine-tool spindle drives; a
+  negative power, a sink such as a chiller, is bounded alike); ``flux``: |q| <= :data:`MAX_FLUX`
+  (10 kW/m2, ten times full sunlight); ``h``: 0 < h <= :data:`MAX_H` (10 000 W/(m2 K), a
+  coolant jet); ``air_offset``: |offset| <= :data:`MAX_AIR_OFFSET` (100 K: the air stays far above
+  absolute zero for any room the scenarios allow). ``range`` lies within the same limits.
+* The schedule's largest factor times the strength (and times each end of ``range``) stays within
+  those limits too: ``speed`` with ``reference_speed`` from 100 to 60 000 rpm (as the library's
+  speed laws) and 0 <= ``exponent`` <= 3 (friction 1, Palmgren 5/3, windage 3), its largest factor
+  at the machine's maximum speed; ``table`` factors from 0 to :data:`MAX_FACTOR` (100), finite;
+  ``windows`` from the run's start (not negative); ``doc`` is text.
 """
 
 from __future__ import annotations
@@ -41,6 +55,7 @@ from pathlib import Path
 import numpy as np
 
 from geometries.regions import Union, region_by_name
+from twin import limits
 from twin.effects.base import (EFFECTS, Convection, Effect, HeatSource, Parameter, SurfaceHeatFlux, Uncertain,
                                check_declarations)
 from twin.errors import InputError
@@ -49,6 +64,16 @@ from twin.scenario import TableReader
 from twin.units import UnitError, format_quantity, parse_quantity
 
 KINDS = {"heat_source": "volume", "heat_flux": "surface", "convection": "surface"}
+MAX_POWER = 100e3          # W: |P| of one effect (the largest machine-tool spindle drives are ~100 kW)
+MAX_FLUX = 10e3            # W/m2: |q| (full sunlight is 1 kW/m2; a radiant heater next to a machine less)
+MAX_H = 10e3               # W/(m2 K): a coolant jet on a surface (still air ~5, forced air ~100)
+MAX_AIR_OFFSET = 100.0     # K: air = room + offset, room air -40..60 degC (twin.limits.AIR_RANGE)
+MAX_EXPONENT = 3.0         # speed exponent: windage grows with n^3, nothing on a spindle faster
+SPEED_RANGE = (100.0, 60000.0)   # rpm: reference_speed, as the library's speed laws
+MAX_FACTOR = 100.0         # a table's factor: the strength's multiple
+_LIMITS = {"power": (MAX_POWER, "100 kW", "the largest machine-tool spindle drives deliver about 100 kW"),
+           "flux": (MAX_FLUX, "10 kW/m2", "ten times full sunlight"),
+           "h": (MAX_H, "10000 W/m2K", "a coolant jet; still air is about 5, forced air about 100 W/m2K")}
 SCHEDULES = ("constant", "spindle_on", "speed", "windows", "table")
 CUSTOM: dict[str, "CustomEffect"] = {}   # the custom effects registered in EFFECTS, by name
 
@@ -74,6 +99,7 @@ class CustomEffect(Effect):
 
     def loads(self, mm, scenario, p):
         value = p[self.strength]
+        self.schedule.check_reach(scenario, self.source, f"effects.{self.name}.table")
         shape = self.schedule.signal(scenario)
         if self.kind == "heat_source":
             cells = region_cells(mm, self.region)
@@ -99,9 +125,29 @@ class Schedule:
     """s(t) [-] of a custom effect: ``kind`` and its data; :meth:`signal` binds a scenario."""
 
     def __init__(self, kind: str, reference_speed: float = 0.0, exponent: float = 1.0,
-                 windows: tuple = (), table: tuple = ()):
+                 windows: tuple = (), table: tuple = (), file: str = ""):
         self.kind, self.reference_speed, self.exponent = kind, reference_speed, exponent
-        self.windows, self.table = windows, table
+        self.windows, self.table, self.file = windows, table, file
+
+    def peak(self, machine) -> float:
+        """The largest s(t) on ``machine``: 1 (constant, spindle_on, windows), the table's largest
+        factor, or (n_max / n_ref)^x at the machine's maximum spindle speed n_max."""
+        if self.kind == "speed":
+            return (limits.max_speed(machine) / self.reference_speed) ** self.exponent
+        if self.kind == "table":
+            return float(np.max(self.table[1]))
+        return 1.0
+
+    def check_reach(self, scenario, source: str, field: str) -> None:
+        """A table must reach the end of ``scenario`` (like a room-air record); raise
+        :class:`InputError` naming ``source`` and ``field`` otherwise."""
+        if self.kind != "table":
+            return
+        end, total = float(self.table[0][-1]), float(scenario.duration)
+        if end < total * (1 - 1e-9):
+            raise InputError(source, field, f"the schedule table {self.file} ends at {end / 3600:g} h, before the "
+                                            f"scenario's {total / 3600:g} h; it must cover the whole run (nothing "
+                                            "is extrapolated)")
 
     @property
     def describe(self) -> str:
@@ -157,7 +203,7 @@ def _effect(name: str, spec, src: str, folder: Path, machine) -> CustomEffect:
         raise InputError(src, where, "is the name of a library effect; choose another name")
     r = TableReader(spec, src, where + ".")
     kind = r.get("kind", required=True)
-    if kind not in KINDS:
+    if not isinstance(kind, str) or kind not in KINDS:
         raise InputError(src, where + ".kind", f"unknown kind {kind!r}; known: {', '.join(KINDS)}")
     region, text = _region(r.get("region", required=True), machine, KINDS[kind] == "surface", src, where)
     keys = {"heat_source": ("power",), "heat_flux": ("power", "flux"), "convection": ("h",)}[kind]
@@ -169,12 +215,21 @@ def _effect(name: str, spec, src: str, folder: Path, machine) -> CustomEffect:
     value = r.get(pname, dim)
     if kind == "convection" and value <= 0:
         raise InputError(src, f"{where}.h", "must be positive")
-    lo, hi = _range(r, dim, value, kind, src, where)
+    _check_strength(value, 1.0, pname, dim, src, f"{where}.{pname}")   # the strength itself
     for k in set(keys) - {pname}:
         r.used.add(k)
     air_offset = r.get("air_offset", "temperature_difference", default=0.0) if kind == "convection" else 0.0
+    if abs(air_offset) > MAX_AIR_OFFSET:
+        raise InputError(src, f"{where}.air_offset", f"{format_quantity(air_offset, 'temperature_difference')} is "
+                                                     f"beyond +-{MAX_AIR_OFFSET:g} K: the air (room + offset) would be "
+                                                     "implausibly hot or cold, or below absolute zero")
     schedule = _schedule(r, src, where, folder)
-    doc = str(r.get("doc", default=""))
+    peak, why = schedule.peak(machine), _why(schedule, machine)
+    _check_strength(value, peak, pname, dim, src, f"{where}.{pname}", why)    # its largest load
+    lo, hi = _range(r, dim, value, kind, src, where, pname, peak, why)
+    doc = r.get("doc", default="")
+    if not isinstance(doc, str):
+        raise InputError(src, where + ".doc", f"expected text, got {doc!r}")
     r.finish()
     param = Parameter(pname, dim, value, lo, hi, doc or f"{kind.replace('_', ' ')} strength from {src}")
     return CustomEffect(name, kind, region, text, param, schedule, air_offset, src, doc)
@@ -193,12 +248,33 @@ def _region(value, machine, surface: bool, src: str, where: str):
     return (regions[0] if len(regions) == 1 else Union(tuple(regions))), ", ".join(names)
 
 
-def _range(r: TableReader, dim: str, value: float, kind: str, src: str, where: str) -> tuple[float, float]:
+def _check_strength(value: float, peak: float, pname: str, dim: str, src: str, field: str, why: str = "") -> None:
+    """Refuse a strength whose size times the schedule's largest factor ``peak`` is beyond the
+    plausible limit of ``pname`` (:data:`_LIMITS`)."""
+    limit, text, reason = _LIMITS[pname]
+    if abs(value) * peak > limit:
+        what = format_quantity(value, dim) + (f" x {why}" if why and peak != 1.0 else "")
+        raise InputError(src, field, f"{what} is beyond {'' if pname == 'h' else '+-'}{text} for one effect on a "
+                                     f"machine tool ({reason}); check the unit")
+
+
+def _why(schedule: Schedule, machine) -> str:
+    """How the error about a strength times the schedule's largest factor names that factor."""
+    peak = schedule.peak(machine)
+    if schedule.kind == "speed":
+        return (f"the speed schedule's factor {peak:.4g} at machine {getattr(machine, 'name', '?')}'s maximum of "
+                f"{limits.max_speed(machine):g} rpm")
+    return f"the table's largest factor {peak:g}" if schedule.kind == "table" else ""
+
+
+def _range(r: TableReader, dim: str, value: float, kind: str, src: str, where: str, pname: str,
+           peak: float, why: str) -> tuple[float, float]:
     raw = r.get("range")
     if raw is None:
         if value == 0:
             raise InputError(src, where + ".range", "a zero strength needs a range to fit it in")
-        return (0.0, 10 * value) if value > 0 else (10 * value, 0.0)
+        top = _LIMITS[pname][0] / max(peak, 1.0)    # 10 x the strength, within the limits
+        return (0.0, min(10 * value, top)) if value > 0 else (max(10 * value, -top), 0.0)
     if not isinstance(raw, list) or len(raw) != 2:
         raise InputError(src, where + ".range", "expected [lower, upper] with units")
     try:
@@ -209,6 +285,9 @@ def _range(r: TableReader, dim: str, value: float, kind: str, src: str, where: s
         raise InputError(src, where + ".range", f"must contain the strength {format_quantity(value, dim)}")
     if kind == "convection" and lo < 0:
         raise InputError(src, where + ".range", "a film coefficient cannot be negative")
+    for end in (lo, hi):
+        _check_strength(end, 1.0, pname, dim, src, where + ".range")
+        _check_strength(end, peak, pname, dim, src, where + ".range", why)
     return lo, hi
 
 
@@ -218,7 +297,16 @@ def _schedule(r: TableReader, src: str, where: str, folder: Path) -> Schedule:
         raise InputError(src, where + ".schedule", f"unknown schedule {kind!r}; known: {', '.join(SCHEDULES)}")
     if kind == "speed":
         n_ref = r.positive("reference_speed", "speed", required=True)
-        return Schedule(kind, n_ref, float(r.get("exponent", "dimensionless", default=1.0)))
+        if not SPEED_RANGE[0] <= n_ref <= SPEED_RANGE[1]:
+            raise InputError(src, where + ".reference_speed", f"{n_ref:g} rpm is outside {SPEED_RANGE[0]:g} to "
+                                                              f"{SPEED_RANGE[1]:g} rpm, the speeds of machine-tool "
+                                                              "spindles")
+        x = float(r.get("exponent", "dimensionless", default=1.0))
+        if not 0 <= x <= MAX_EXPONENT:
+            raise InputError(src, where + ".exponent", f"{x:g} is outside 0 to {MAX_EXPONENT:g} (s = (n / n_ref)^x: "
+                                                       "friction 1, Palmgren 5/3, windage 3; a negative exponent "
+                                                       "is infinite when the spindle stops)")
+        return Schedule(kind, n_ref, x)
     if kind == "windows":
         raw = r.get("windows", required=True)
         if not isinstance(raw, list) or not raw:
@@ -231,39 +319,85 @@ def _schedule(r: TableReader, src: str, where: str, folder: Path) -> Schedule:
                 a, b = (parse_quantity(v, "time") for v in w)
             except UnitError as err:
                 raise InputError(src, f"{where}.windows[{i}]", str(err)) from None
+            if a < 0:
+                raise InputError(src, f"{where}.windows[{i}]", f"start {w[0]!r} is before the run's start "
+                                                                "(times count from 0)")
             if not b > a:
                 raise InputError(src, f"{where}.windows[{i}]", "end must come after start")
             out.append((a, b))
         return Schedule(kind, windows=tuple(out))
     if kind == "table":
-        return Schedule(kind, table=_table(r.get("table", required=True), src, where + ".table", folder))
+        path, table = _table(r.get("table", required=True), src, where + ".table", folder)
+        return Schedule(kind, table=table, file=str(path))
     return Schedule(kind)
 
 
-def _table(spec, src: str, where: str, folder: Path) -> tuple[np.ndarray, np.ndarray]:
+def _table(spec, src: str, where: str, folder: Path) -> tuple[Path, tuple[np.ndarray, np.ndarray]]:
+    """(path, (times [s], factors)) of a schedule table: a header row, then at least two rows of
+    time (in ``time_unit``, from 0, the run's start, increasing) and factor (0 to :data:`MAX_FACTOR`)."""
     r = TableReader(spec, src, where + ".")
-    path = folder / str(r.get("file", required=True))
-    unit = str(r.get("time_unit", required=True))
+    name = r.get("file", required=True)
+    unit = r.get("time_unit", required=True)
     r.finish()
+    if not isinstance(name, str) or not name.strip():
+        raise InputError(src, where + ".file", f"expected the path of a CSV file, got {name!r}")
+    if not isinstance(unit, str):
+        raise InputError(src, where + ".time_unit", f"expected a time unit such as \"min\", got {unit!r}")
     try:
         scale = parse_quantity(f"1 {unit}", "time")
     except UnitError as err:
         raise InputError(src, where + ".time_unit", str(err)) from None
     from twin.io.paths import read_text
 
-    rows = list(csv.reader(io.StringIO(read_text(path, "file", "schedule table"), newline="")))
-    if len(rows) < 2 or any(len(row) != 2 for row in rows):
-        raise InputError(str(path), "table", "expected a header row and rows of two columns: time, factor")
+    path = folder / name
+    csv_src = str(path)
     try:
-        values = np.array([[float(a), float(b)] for a, b in rows[1:]])
-    except ValueError as err:
-        raise InputError(str(path), "table", f"non-numeric value: {err}") from None
-    if not np.all(np.isfinite(values)):
-        raise InputError(str(path), "table", "values must be finite")
-    times = values[:, 0] * scale
-    if np.any(np.diff(times) <= 0):
-        raise InputError(str(path), "time", "must increase strictly")
-    return times, values[:, 1]
+        rows = [row for row in csv.reader(io.StringIO(read_text(path, "file", "schedule table"), newline=""))
+                if row and any(c.strip() for c in row)]
+    except csv.Error as err:
+        raise InputError(csv_src, "table", f"not a readable CSV file ({err})") from None
+    if len(rows) < 3:
+        raise InputError(csv_src, "table", "needs a header row (e.g. 'time,factor') and at least two data rows")
+    for i, row in enumerate(rows, start=1):
+        if len(row) != 2:
+            raise InputError(csv_src, f"line {i}", f"has {len(row)} fields; expected two columns: time, factor")
+    if all(_is_number(c) for c in rows[0]):
+        raise InputError(csv_src, "header", f"the first row {','.join(rows[0])!r} is numbers; the table needs a "
+                                            "header row such as 'time,factor'")
+    values = np.empty((len(rows) - 1, 2))
+    for i, row in enumerate(rows[1:]):
+        for j, cell in enumerate(row):
+            what = ("time", "factor")[j]
+            try:
+                values[i, j] = float(cell)
+            except ValueError:
+                raise InputError(csv_src, what, f"line {i + 2}: {cell.strip()!r} is not a number") from None
+            if not np.isfinite(values[i, j]):
+                raise InputError(csv_src, what, f"line {i + 2}: {cell.strip()!r} is not a finite number")
+    times, factors = values[:, 0] * scale, values[:, 1]
+    if times[0] != 0:
+        raise InputError(csv_src, "time", f"line 2: the table starts at {rows[1][0].strip()} {unit}; it must start "
+                                          "at 0, the run's start (times count from it; nothing is extrapolated)")
+    step = np.diff(times)
+    if np.any(step <= 0):
+        i = int(np.flatnonzero(step <= 0)[0])
+        raise InputError(csv_src, "time", f"must increase strictly (line {i + 3}: {rows[i + 2][0].strip()} after "
+                                          f"{rows[i + 1][0].strip()} {unit})")
+    bad = np.flatnonzero((factors < 0) | (factors > MAX_FACTOR))
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(csv_src, "factor", f"line {i + 2}: {factors[i]:g} is outside 0 to {MAX_FACTOR:g} (the "
+                                            "factor multiplies the effect's strength; a sink has a negative "
+                                            "strength, not a negative factor)")
+    return path, (times, factors)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def register_custom(effects: list[CustomEffect]) -> list[str]:

@@ -103,6 +103,7 @@ class CameraConfig:
     def resolve_pose(self, machine) -> CameraPose:
         """The :class:`geometries.base.CameraPose` this camera stands at on ``machine``."""
         if self.position is not None:
+            self._check_in_air(machine)
             return CameraPose(self.label, tuple(self.position), tuple(self.target), tuple(self.up))
         if self.pose == OVERVIEW:
             return overview_pose(machine, self.intrinsics)
@@ -112,6 +113,19 @@ class CameraConfig:
             known = [p.name for p in machine.camera_poses] + [OVERVIEW]
             raise InputError(self.source, self.field("pose"), f"machine {machine.name} has no camera pose {self.pose!r}; "
                                                           f"known: {', '.join(known)}") from None
+
+
+    def _check_in_air(self, machine) -> None:
+        """A camera at ``position`` stands in the air: raise :class:`InputError` (naming
+        ``camera.position``) when it lies inside a part of ``machine``, before the run starts."""
+        p = np.asarray(self.position, dtype=float)
+        for part in machine.parts:
+            for box in part.boxes:
+                if box.contains(p[None, :])[0]:
+                    where = ", ".join(f"{c:g} m" for c in p)
+                    raise InputError(self.source, self.field("position"),
+                                     f"({where}) is inside part {part.name!r} of machine {machine.name}; a camera "
+                                     "stands in the air round the machine")
 
 
 def overview_pose(machine, intr: Intrinsics) -> CameraPose:

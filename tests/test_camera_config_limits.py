@@ -1,0 +1,94 @@
+"""Plausible limits of a scenario's ``[camera]`` values (twin.camera_config, and the camera's
+position against the machine in twin.observe.camera): one clear error naming the scenario file and
+the dotted field, before the run starts; plausible values still load."""
+
+from __future__ import annotations
+
+import pytest
+
+from twin.cli import main
+from twin.errors import InputError
+from twin.observe.camera import ThermalCamera
+from twin.scenario import scenario_from_dict
+
+BASE = {"name": "s", "sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+        "spindle": [{"speed": "6000 rpm", "duration": "10 min"}]}
+FRONT = {"position": ["0 m", "-2 m", "1.2 m"], "target": ["0 m", "0 m", "1.2 m"]}   # in front of the column
+
+
+def _camera(**camera):
+    return scenario_from_dict({**BASE, "camera": {"resolution": [32, 24], **camera}}, "s.toml").cameras[0]
+
+
+def _refused(field, match, **camera):
+    with pytest.raises(InputError) as err:
+        _camera(**camera)
+    assert (err.value.source, err.value.field) == ("s.toml", field), str(err.value)
+    assert match in err.value.message, err.value.message
+
+
+@pytest.mark.parametrize("camera,field,match", [
+    ({**FRONT, "up": [0, 0, 0]}, "camera.up", "no direction"),
+    ({**FRONT, "up": [0, 2, 0]}, "camera.up", "along the line of sight"),
+    ({**FRONT, "up": [0, -1e-9, 0]}, "camera.up", "along the line of sight"),
+    ({**FRONT, "up": [0, float("nan"), 1]}, "camera.up", "not a finite direction"),
+    ({**FRONT, "up": [True, 0, 1]}, "camera.up", "three numbers"),
+    ({"position": ["0 m", "0 m", "2 m"], "target": ["0 m", "0 m", "1 m"]}, "camera.up", "along the line of sight"),
+    ({"position": ["0 m", "-2 m", "1.2 m"], "target": ["0 m", "-2000 mm", "1.2 m"]}, "camera.target", "must differ"),
+    ({"settings": {"reflected_temperature": "-300 degC"}}, "camera.settings.reflected_temperature", "absolute zero"),
+    ({"settings": {"reflected_temperature": "500 degC"}}, "camera.settings.reflected_temperature", "-40 to 200 degC"),
+    ({"settings": {"air_temperature": "5000 degC"}}, "camera.settings.air_temperature", "-40 to 60 degC"),
+    ({"settings": {"air_temperature": "-300 degC"}}, "camera.settings.air_temperature", "absolute zero"),
+    ({"scene": {"room_temperature": "-300 degC"}}, "camera.scene.room_temperature", "absolute zero"),
+    ({"scene": {"room_temperature": "900 degC"}}, "camera.scene.room_temperature", "-40 to 200 degC"),
+    ({"sensor": {"range": ["-300 degC", "120 degC"]}}, "camera.sensor.range[0]", "absolute zero"),
+    ({"sensor": {"range": ["-40 degC", "5000 degC"]}}, "camera.sensor.range[1]", "-100 to 1000 degC"),
+    ({"sensor": {"range": ["120 degC", "120 degC"]}}, "camera.sensor.range", "lower temperature first"),
+    ({"sensor": {"reference_temperature": "-280 degC"}}, "camera.sensor.reference_temperature", "absolute zero"),
+])
+def test_implausible_camera_values_are_refused(camera, field, match):
+    _refused(field, match, **camera)
+
+
+def test_a_camera_list_names_its_index():
+    with pytest.raises(InputError) as err:
+        scenario_from_dict({**BASE, "camera": [{"pose": "carrier-front"}, {**FRONT, "up": [0, 1, 0]}]}, "s.toml")
+    assert err.value.field == "camera[1].up"
+
+
+def test_plausible_camera_values_load():
+    c = _camera(**FRONT, up=[0, 0, 1], settings={"reflected_temperature": "-40 degC", "air_temperature": "60 degC"},
+                scene={"room_temperature": "200 degC"}, sensor={"range": ["0 degC", "1000 degC"]})
+    assert c.up == (0.0, 0.0, 1.0) and c.reflected_temperature == -40 and c.air_temperature == 60
+    assert c.room_temperature == 200 and c.sensor.range == (0.0, 1000.0)
+    looking_down = _camera(position=["0 m", "-2 m", "3 m"], target=["0 m", "-2 m", "1 m"], up=[0, 1, 0])
+    assert looking_down.up == (0.0, 1.0, 0.0)
+
+
+def test_a_camera_inside_a_part_is_refused_when_it_is_set_up(machine):
+    inside = _camera(position=["0 m", "0.5 m", "1.2 m"], target=["0 m", "0 m", "1.2 m"])
+    with pytest.raises(InputError) as err:
+        ThermalCamera(machine, inside)
+    assert (err.value.source, err.value.field) == ("s.toml", "camera.position")
+    assert "inside part 'column' of machine cframe-vmc" in err.value.message
+    assert ThermalCamera(machine, _camera(**FRONT)).pose.position == (0.0, -2.0, 1.2)
+
+
+SCENARIO = ('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n'
+            '[[spindle]]\nspeed = "6000 rpm"\nduration = "10 min"\n[camera]\nresolution = [32, 24]\n')
+
+
+@pytest.mark.parametrize("camera,field", [
+    ('position = ["0 m", "0.5 m", "1.2 m"]\ntarget = ["0 m", "0 m", "1.2 m"]\n', "camera.position"),
+    ('position = ["0 m", "-2 m", "1.2 m"]\ntarget = ["0 m", "0 m", "1.2 m"]\nup = [0, 0, 0]\n', "camera.up"),
+    ('position = ["0 m", "-2 m", "1.2 m"]\ntarget = ["0 m", "-2 m", "1.2 m"]\n', "camera.target"),
+    ('pose = "carrier-front"\n[camera.settings]\nair_temperature = "5000 degC"\n', "camera.settings.air_temperature"),
+    ('pose = "carrier-front"\n[camera.sensor]\nrange = ["-300 degC", "120 degC"]\n', "camera.sensor.range[0]"),
+])
+def test_cli_refuses_with_exit_2_and_no_output(tmp_path, capsys, camera, field):
+    (tmp_path / "s.toml").write_text(SCENARIO + camera)
+    out = tmp_path / "out.nc"
+    assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(out), "--mesh", "coarse"]) == 2
+    err = capsys.readouterr().err
+    assert f"s.toml: {field}: " in err and "Traceback" not in err and "Warning" not in err, err
+    assert not out.exists()
