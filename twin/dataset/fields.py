@@ -9,7 +9,7 @@ import math
 from dataclasses import dataclass
 
 from twin.errors import InputError
-from twin.units import UnitError, parse_quantity
+from twin.units import UnitError, format_quantity, parse_quantity
 
 DISTRIBUTIONS = ("fixed", "grid", "uniform", "log_uniform", "normal")
 MAX_CASES = 100_000
@@ -137,10 +137,15 @@ def distribution(value, dimension: str, source: str, field: str, lower: float = 
     checked = values[:1] if kind == "normal" else values
     for raw_v, v in zip(raw, checked):
         if not lower <= v <= upper:
-            bounds = f"[{_fmt(lower)} .. {_fmt(upper)}]".replace("inf", "∞")
+            bounds = f"[{_fmt(lower, dimension)} .. {_fmt(upper, dimension)}]".replace("inf", "∞")
             raise InputError(source, field, f"{raw_v} is outside the bounds {what or bounds}")
     return Dist(kind, values, dimension, lower, upper)
 
 
-def _fmt(v: float) -> str:
-    return f"{v:.6g}"
+def _fmt(v: float, dimension: str) -> str:
+    """A bound with its unit (times in hours), infinite bounds as 'inf'."""
+    if not math.isfinite(v):
+        return f"{v:g}"
+    if dimension == "time":
+        return f"{v / 3600:.6g} h"
+    return format_quantity(v, dimension)

@@ -173,8 +173,10 @@ def _parameters(table: dict, source: str, machines: dict, effects: str | None) -
             try:
                 model_spec(machine, effects, [f"{key}={d.values[0]!r} {_unit(d)}"])
             except InputError as err:
-                where = "effects" if err.field.startswith("--effects") else f"parameters.{key}"
-                raise InputError(source, where, f"{err.message} (machine {mname})") from None
+                effect = err.field.startswith("--effects")
+                where = "effects" if effect else f"parameters.{key}"
+                named = f"{err.field.removeprefix('--effects').strip()}: " if effect else ""
+                raise InputError(source, where, f"{named}{err.message} (machine {mname})") from None
     return out
 
 
