@@ -125,3 +125,17 @@ def test_a_made_folder_is_removed_when_the_command_fails_and_kept_when_it_existe
         with output_folder(made):
             raise RuntimeError
     assert made.is_dir()
+
+
+def test_an_output_error_is_said_once(tmp_path):
+    """A refused output names its reason once, not wrapped in a second 'cannot be used' message."""
+    from twin.io.paths import output_file
+    from twin.io.paths import output_folder as checked_folder
+
+    with pytest.raises(InputError) as err:
+        output_file(tmp_path / "p", "-o", (".nc",))
+    assert err.value.message.startswith("unsupported suffix") and "cannot be used" not in err.value.message
+    (tmp_path / "f").write_text("x")
+    with pytest.raises(InputError) as err:
+        checked_folder(tmp_path / "f", "--report")
+    assert err.value.message == "exists and is not a folder"

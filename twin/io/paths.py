@@ -116,6 +116,8 @@ def output_file(path: str | os.PathLike, field: str = "output", suffixes: tuple[
     path = Path(path)
     try:
         return _output_file(path, field, suffixes, folder_may_be_created)
+    except InputError:
+        raise
     except (OSError, ValueError) as err:   # a name too long, a loop of links, a NUL byte ...
         raise InputError(str(path), field, f"cannot be used as an output ({_reason(err)})") from None
 
@@ -143,6 +145,8 @@ def output_folder(path: str | os.PathLike, field: str = "output") -> Path:
     path = Path(path)
     try:
         return _output_folder(path, field)
+    except InputError:
+        raise
     except (OSError, ValueError) as err:
         raise InputError(str(path), field, f"cannot be used as an output folder ({_reason(err)})") from None
 
