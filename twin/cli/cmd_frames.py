@@ -1,4 +1,11 @@
-"""``twin frames RESULT.nc -o DIR [--camera NAME] [--every N] [--tiff] [--png] [--gif]``."""
+"""``twin frames RESULT.nc -o DIR [--camera NAME] [--every N] [--tiff] [--png] [--gif]``.
+
+Before anything is written, the result is checked (a NetCDF file with well-formed camera
+attributes and finite frames, :mod:`twin.io.thermography`) and the output folder and every file
+the export makes in it are declared (:class:`twin.io.paths.Files`): the folder is a folder, or
+can be made in an existing one; nothing in it is the result or a non-regular file; each file is
+written atomically (:mod:`twin.io.atomic`).
+"""
 
 from __future__ import annotations
 
@@ -10,7 +17,8 @@ from twin.errors import InputError
 def add_parser(sub) -> None:
     p = sub.add_parser("frames", help="export a result's thermal-camera frames (16-bit TIFF + JSON, PNG, GIF)")
     p.add_argument("result", help="a result file (.nc) of a run with a camera (twin simulate --camera ...)")
-    p.add_argument("-o", "--output", required=True, help="output folder (created)")
+    p.add_argument("-o", "--output", required=True, metavar="DIR",
+                   help="output folder (created if missing; its parent folder must exist)")
     p.add_argument("--camera", help="which camera, by name (default: every camera of the result)")
     p.add_argument("--every", type=int, default=1, help="every N-th frame (default 1)")
     p.add_argument("--tiff", action="store_true", help="16-bit TIFFs in centikelvin with JSON sidecars")
@@ -19,39 +27,82 @@ def add_parser(sub) -> None:
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
+def open_result(path: Path, field: str = "result"):
+    """The NetCDF result ``path`` opened lazily (frames are read one by one); anything xarray
+    cannot open is one :class:`InputError`."""
     import xarray as xr
 
-    from twin.io.thermography import camera_names, write_gif, write_png_frames, write_tiff_frames
+    try:
+        return xr.open_dataset(path)
+    except Exception:  # noqa: BLE001 - any reader failure is a bad file for the user
+        raise InputError(str(path), field, "not a NetCDF result file") from None
+
+
+def declare_output(files, output: str, layout: list[str], field: str = "-o") -> Path:
+    """Declare the output folder and the files ``layout`` (relative paths) to ``files``. The
+    first file of each kind in each subfolder is declared as any output (which checks the
+    subfolder, the suffix and the clashes with the inputs); declaring thousands of frames that
+    way would take minutes, so the rest are compared with the inputs and, where they exist
+    already (a rerun), checked as outputs. A subfolder that is in the way (a file, a link to
+    nothing) is refused as well."""
+    from twin.io.paths import output_file, same_file
+
+    firsts: dict[tuple[str, str], str] = {}
+    for rel in layout:
+        firsts.setdefault((str(Path(rel).parent), Path(rel).suffix), rel)
+    out = files.folder(output, field, tuple(firsts.values()))
+    for sub in sorted({p for rel in layout for p in Path(rel).parents if str(p) != "."}, key=lambda p: len(p.parts)):
+        path = out / sub
+        if (path.is_symlink() or path.exists()) and not path.is_dir():
+            raise InputError(str(path), field, "is in the way: the frames go in a folder of that name")
+    chosen = set(firsts.values())
+    for rel in layout:
+        if rel in chosen:
+            continue
+        path = out / rel
+        for src, src_field in files.inputs:
+            if same_file(path, src):
+                raise InputError(str(path), field, f"is the input {str(src)!r} ({src_field}); an output never "
+                                                   "replaces an input")
+        if path.is_symlink() or path.exists():
+            output_file(path, field)
+    return out
+
+
+def run(args) -> int:
+    from twin.io.atomic import output_folder
+    from twin.io.paths import Files
+    from twin.io.thermography import (KINDS, camera_names, check_frames, export_files, write_gif, write_png_frames,
+                                      write_tiff_frames)
 
     if args.every < 1:
         raise InputError("command line", "--every", f"must be a whole number >= 1, got {args.every}")
-    path = Path(args.result)
-    if not path.is_file():
-        raise InputError(str(path), "result", "no such file")
-    try:
-        ds = xr.open_dataset(path)
-    except (OSError, ValueError) as err:
-        raise InputError(str(path), "result", f"cannot read it as NetCDF: {err}") from None
-    with ds:
-        known = camera_names(ds)
+    files = Files()
+    path = files.input(args.result, "result", "result file")
+    source = str(path)
+    with open_result(path) as ds:
+        known = camera_names(ds, source)
         if not known:
-            raise InputError(str(path), "camera", "the result has no camera (simulate with --camera NAME)")
+            raise InputError(source, "camera", "the result has no camera (simulate with --camera NAME)")
         chosen = [c for c in known if args.camera in (None, c[0])]
         if not chosen:
             raise InputError("command line", "--camera", f"no camera {args.camera!r} in {path}; "
                                                           f"known: {', '.join(n for n, _ in known)}")
-        kinds = [k for k in ("tiff", "png", "gif") if getattr(args, k)] or ["tiff", "png", "gif"]
-        out = Path(args.output)
-        out.mkdir(parents=True, exist_ok=True)
-        for name, suffix in chosen:
-            folder = out / name if len(chosen) > 1 else out
-            if "tiff" in kinds:
-                n = len(write_tiff_frames(ds, folder / "tiff", suffix, args.every))
-                print(f"wrote {n} 16-bit TIFFs (centikelvin) with JSON sidecars to {folder / 'tiff'}")
-            if "png" in kinds:
-                n = len(write_png_frames(ds, folder / "png", suffix, args.every))
-                print(f"wrote {n} PNG frames to {folder / 'png'}")
-            if "gif" in kinds:
-                print(f"wrote {write_gif(ds, folder / f'{name}.gif', suffix, args.every)}")
+        kinds = [k for k in KINDS if getattr(args, k)] or list(KINDS)
+        many = len(chosen) > 1
+        counts = {suffix: check_frames(ds, suffix, source) for _, suffix in chosen}
+        layout = [f"{name}/{rel}" if many else rel
+                  for name, suffix in chosen for rel in export_files(counts[suffix], args.every, kinds, name)]
+        out = declare_output(files, args.output, layout)
+        with output_folder(out):
+            for name, suffix in chosen:
+                folder = out / name if many else out
+                if "tiff" in kinds:
+                    n = len(write_tiff_frames(ds, folder / "tiff", suffix, args.every))
+                    print(f"wrote {n} 16-bit TIFFs (centikelvin) with JSON sidecars to {folder / 'tiff'}")
+                if "png" in kinds:
+                    n = len(write_png_frames(ds, folder / "png", suffix, args.every))
+                    print(f"wrote {n} PNG frames to {folder / 'png'}")
+                if "gif" in kinds:
+                    print(f"wrote {write_gif(ds, folder / f'{name}.gif', suffix, args.every)}")
     return 0

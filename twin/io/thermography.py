@@ -1,6 +1,9 @@
 """Thermal-camera frames out of a result: the counts, radiometric TIFFs, PNG/GIF sequences.
 
-* :func:`camera_names` lists a result's cameras (name and variable suffix);
+* :func:`camera_names` lists a result's cameras (name and variable suffix), checking their
+  attributes; :func:`check_frames` checks a camera's frames before anything is written (present,
+  finite: a NaN pixel is refused with its frame time); :func:`export_files` names the files the
+  writers below make, so that a command declares them first (:class:`twin.io.paths.Files`);
 * :func:`camera_counts` gives a camera's 14-bit counts: the stored ``counts`` when present, else
   recovered exactly from the thermogram through the camera's look-up table (the thermogram is
   stored with integers finer than the table's steps, :mod:`twin.observe.camera_output`);
@@ -18,17 +21,90 @@ from pathlib import Path
 
 import numpy as np
 
+from twin.errors import InputError
 from twin.io.atomic import atomic_write, atomic_write_text
 
+KINDS = ("tiff", "png", "gif")
+# what a TIFF's sidecar copies from the camera attribute
+CAMERA_KEYS = ("name", "suffix", "settings", "band_um", "intrinsics", "pose")
 
-def camera_names(ds) -> list[tuple[str, str]]:
-    """(name, variable suffix) of every camera in result ``ds``, in the run's order."""
+
+def camera_names(ds, source: str = "result") -> list[tuple[str, str]]:
+    """(name, variable suffix) of every camera in result ``ds``, in the run's order. Each camera
+    attribute (``camera``, ``camera_<name>``) must be a JSON object with :data:`CAMERA_KEYS`, its
+    name a plain file name (it names folders and files), else :class:`InputError` naming
+    ``source`` and the attribute."""
     out = []
     for key, value in ds.attrs.items():
         if key == "camera" or key.startswith("camera_"):
-            info = json.loads(value)
-            out.append((info["name"], info["suffix"]))
+            try:
+                info = json.loads(value)
+            except (TypeError, ValueError) as err:
+                raise InputError(source, key, f"malformed camera attribute, not JSON ({err})") from None
+            if not isinstance(info, dict):
+                raise InputError(source, key, "malformed camera attribute, expected a JSON object")
+            missing = [k for k in CAMERA_KEYS if k not in info]
+            if missing:
+                raise InputError(source, key, f"malformed camera attribute, no {missing[0]!r}")
+            name, suffix = info["name"], info["suffix"]
+            if not (isinstance(name, str) and name.strip() and name not in (".", "..")
+                    and not any(c in name for c in "/\\\0")):
+                raise InputError(source, key, f"camera name {name!r} cannot name a file")
+            if not isinstance(suffix, str):
+                raise InputError(source, key, f"variable suffix {suffix!r} is not text")
+            out.append((name, suffix))
     return out
+
+
+def check_frames(ds, suffix: str = "", source: str = "result") -> int:
+    """The number of frames of the camera with ``suffix`` after checking its variables: a
+    ``thermogram`` (frame_time, v, u) of at least one frame, finite ``frame_time`` and every
+    pixel of every frame finite (checked frame by frame; a NaN names the frame and its time).
+    :class:`InputError` naming ``source`` and the variable otherwise."""
+    thermo, times = "thermogram" + suffix, "frame_time" + suffix
+    for name in (thermo, times):
+        if name not in ds.variables:
+            raise InputError(source, name, "missing variable; is this a twin result with a camera?")
+    var = ds[thermo]
+    if var.ndim != 3 or var.dims[0] != times or ds[times].ndim != 1 or var.shape[0] < 1:
+        raise InputError(source, thermo, f"expected frames ({times}, v, u), at least one; got dims {var.dims} "
+                                         f"of shape {var.shape}")
+    t = np.asarray(ds[times].values, dtype=float)
+    if not np.all(np.isfinite(t)):
+        first = int(np.flatnonzero(~np.isfinite(t))[0])
+        raise InputError(source, times, f"holds NaN or infinite values at frame {first}")
+    for i in range(var.shape[0]):
+        frame = np.asarray(var[i].values, dtype=float)
+        if not np.all(np.isfinite(frame)):
+            bad = int(np.count_nonzero(~np.isfinite(frame)))
+            raise InputError(source, thermo, f"holds NaN or infinite values ({bad} pixel(s)) in frame {i}, "
+                                             f"t = {t[i]:g} s")
+    try:
+        int(ds.attrs.get("seed", 0))
+    except (TypeError, ValueError):
+        raise InputError(source, "seed", f"expected a whole number, got {ds.attrs.get('seed')!r}") from None
+    return var.shape[0]
+
+
+def frame_file(i: int, ext: str, prefix: str = "frame") -> str:
+    """The name of frame ``i``'s file: ``{prefix}_{i:05d}.{ext}``."""
+    return f"{prefix}_{i:05d}.{ext}"
+
+
+def export_files(count: int, every: int, kinds, name: str, prefix: str = "frame") -> list[str]:
+    """The files (relative to a camera's folder, in the order written) that exporting ``count``
+    frames, every ``every``-th, as ``kinds`` (:data:`KINDS`) makes: ``tiff/`` TIFFs each with a
+    JSON sidecar (:func:`write_tiff_frames`), ``png/`` PNGs (:func:`write_png_frames`),
+    ``{name}.gif`` (:func:`write_gif`)."""
+    idx = range(0, count, every)
+    files = []
+    if "tiff" in kinds:
+        files += [f"tiff/{frame_file(i, ext, prefix)}" for i in idx for ext in ("tiff", "json")]
+    if "png" in kinds:
+        files += [f"png/{frame_file(i, 'png', prefix)}" for i in idx]
+    if "gif" in kinds:
+        files.append(f"{name}.gif")
+    return files
 
 
 def camera_info(ds, suffix: str = "") -> dict:
@@ -74,7 +150,7 @@ def write_tiff_frames(ds, outdir, suffix: str = "", every: int = 1, prefix: str 
     thermo, times, idx = _frames(ds, suffix, every)
     paths = []
     for i in idx:
-        path = outdir / f"{prefix}_{i:05d}.tiff"
+        path = outdir / frame_file(i, "tiff", prefix)
         image = Image.fromarray(centikelvin(thermo[i].values))  # uint16 -> mode "I;16"
         atomic_write(path, lambda tmp: image.save(tmp, format="TIFF"))
         sidecar = {"frame": int(i), "frame_time_s": float(times[i]), "units": "centikelvin (0.01 K), uint16",
@@ -116,7 +192,7 @@ def write_png_frames(ds, outdir, suffix: str = "", every: int = 1, prefix: str =
     outdir.mkdir(parents=True, exist_ok=True)
     paths = []
     for i, _, image in rgb_frames(ds, suffix, every):
-        path = outdir / f"{prefix}_{i:05d}.png"
+        path = outdir / frame_file(i, "png", prefix)
         atomic_write(path, lambda tmp: image.save(tmp, format="PNG"))
         paths.append(path)
     return paths

@@ -1,0 +1,205 @@
+"""``twin frames`` and ``twin simulate --field/--camera``: bad input and bad outputs are one line
+``error: FILE: FIELD: message`` with exit code 2 and nothing written; an output never replaces an
+input; an XDMF field comes with a deterministic companion ``.h5``; the help says what is done.
+
+One camera run on the coarse mesh (10 min at one sample a minute: 11 frames) is built once for
+the module, with its XDMF field; every test works on copies in its own folder.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from twin.cli import main
+
+SCENARIO = """name = "s"
+sample_interval = "60 s"
+[ambient]
+temperature = "20 degC"
+[[spindle]]
+speed = "6000 rpm"
+duration = "10 min"
+"""
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    """The folder of one camera run: s.toml, x.nc (camera carrier-front), hot.xdmf + hot.h5."""
+    folder = tmp_path_factory.mktemp("camera-run")
+    (folder / "s.toml").write_text(SCENARIO)
+    assert main(["simulate", "cframe-vmc", str(folder / "s.toml"), "-o", str(folder / "x.nc"), "--mesh", "coarse",
+                 "--camera", "carrier-front", "--field", str(folder / "hot.xdmf")]) == 0
+    return folder
+
+
+@pytest.fixture
+def work(run, tmp_path, monkeypatch):
+    """A fresh folder (the current one) holding copies of the run's s.toml and x.nc."""
+    for name in ("s.toml", "x.nc"):
+        shutil.copy(run / name, tmp_path / name)
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def _error(capsys, argv) -> str:
+    """The one-line error of ``twin argv`` (exit code 2, no traceback)."""
+    code = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert code == 2, err
+    assert len(err.splitlines()) == 1 and err.startswith("error: ") and "Traceback" not in err, err
+    return err
+
+
+def _tree(folder: Path) -> dict[str, bytes]:
+    """Every file under ``folder`` (hidden ones too) with its bytes; folders as None."""
+    return {str(p.relative_to(folder)): (p.read_bytes() if p.is_file() else None) for p in sorted(folder.rglob("*"))}
+
+
+def _files(folder: Path) -> list[str]:
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file())
+
+
+# ---------------------------------------------------------------------------------- the output
+@pytest.mark.parametrize("output", ["x.nc", "s.toml", "/dev/null"])
+def test_an_output_that_is_a_file_or_the_input_is_refused(capsys, work, output):
+    """``-o`` naming the result itself, another file or a device is one error naming ``-o``
+    (the result: "never replaces an input"); every file is unchanged, nothing is added."""
+    before = _tree(work)
+    err = _error(capsys, ["frames", "x.nc", "-o", output])
+    assert err.startswith(f"error: {output}: -o: ")
+    if output == "x.nc":
+        assert "never replaces an input" in err
+    assert _tree(work) == before
+
+
+def test_a_file_in_the_way_of_a_subfolder_is_refused_before_any_frame(capsys, work):
+    """``fr/png`` a file: the export needs a folder there; refused before the TIFFs are written
+    (the audit found 22 TIFF/JSON files, then a traceback)."""
+    (work / "fr").mkdir()
+    (work / "fr" / "png").write_text("x\n")
+    err = _error(capsys, ["frames", "x.nc", "-o", "fr"])
+    assert "-o" in err and "fr/png" in err
+    assert _files(work / "fr") == ["png"] and (work / "fr" / "png").read_text() == "x\n"
+
+
+def test_a_missing_parent_folder_is_refused(capsys, work):
+    """``-o a/b/c`` with no ``a``: refused like ``report``/``demo``/``dataset`` do, no folder made."""
+    err = _error(capsys, ["frames", "x.nc", "-o", "a/b/c"])
+    assert err.startswith("error: a/b/c: -o: ") and "does not exist" in err
+    assert not (work / "a").exists()
+
+
+def test_a_frame_file_is_never_the_input(capsys, work):
+    """The result lying where a frame would go (``fr/png/frame_00004.png``, not the first frame
+    of its kind): refused, the result untouched, nothing written."""
+    (work / "fr" / "png").mkdir(parents=True)
+    inside = work / "fr" / "png" / "frame_00004.png"
+    shutil.copy(work / "x.nc", inside)
+    before = _tree(work)
+    err = _error(capsys, ["frames", str(inside), "-o", "fr"])
+    assert "never replaces an input" in err and "frame_00004.png" in err
+    assert _tree(work) == before
+
+
+def test_a_camera_folder_in_the_way_is_refused(capsys, work):
+    """Two cameras go to ``DIR/NAME/``; a file ``DIR/NAME`` is refused before anything is written."""
+    ds = xr.load_dataset(work / "x.nc")
+    info = json.loads(ds.attrs["camera"])
+    ds["thermogram_b"] = ds.thermogram.rename(frame_time="frame_time_b")
+    ds.attrs["camera_b"] = json.dumps({**info, "name": "b", "suffix": "_b"})
+    ds.to_netcdf(work / "two.nc")
+    (work / "fr").mkdir()
+    (work / "fr" / "b").write_text("x\n")
+    err = _error(capsys, ["frames", "two.nc", "-o", "fr", "--png"])
+    assert err.startswith(f"error: {Path('fr') / 'b'}: -o: ")
+    assert _files(work / "fr") == ["b"]
+
+
+def test_the_export_writes_the_declared_files_and_nothing_else(capsys, work):
+    """A good export: the files :func:`export_files` names (what is declared) are exactly the
+    files written, no temporary file is left; a rerun into the same folder works."""
+    from twin.io.thermography import KINDS, export_files
+
+    assert main(["frames", "x.nc", "-o", "fr"]) == 0
+    assert _files(work / "fr") == sorted(export_files(11, 1, KINDS, "carrier-front"))
+    assert main(["frames", "x.nc", "-o", "fr", "--every", "4", "--png"]) == 0
+    assert "wrote 3 PNG frames" in capsys.readouterr().out
+    assert not [p for p in (work / "fr").rglob(".twin-*")]
+
+
+# ---------------------------------------------------------------------------------- the input
+def test_a_malformed_camera_attribute_is_one_error(capsys, work):
+    """A ``camera`` attribute that is not JSON: ``error: y.nc: camera: ...``, no output folder."""
+    ds = xr.load_dataset(work / "x.nc")
+    ds.attrs["camera"] = "{bad"
+    ds.to_netcdf(work / "y.nc")
+    err = _error(capsys, ["frames", "y.nc", "-o", "fr2"])
+    assert err.startswith("error: y.nc: camera: ") and "JSON" in err
+    assert not (work / "fr2").exists()
+
+
+def test_a_nan_pixel_is_refused_with_its_frame_time(capsys, work):
+    """A NaN pixel in frame 3 (t = 180 s) is refused naming the file, ``thermogram`` and the
+    time; no folder, no PNG is written."""
+    ds = xr.load_dataset(work / "x.nc")
+    ds["thermogram"].values[3, 5, 5] = np.nan
+    ds.to_netcdf(work / "nan.nc")
+    err = _error(capsys, ["frames", "nan.nc", "-o", "fr3"])
+    assert err.startswith("error: nan.nc: thermogram: ") and "t = 180 s" in err
+    assert not (work / "fr3").exists()
+
+
+def test_an_input_that_is_not_a_netcdf_result_or_is_a_folder(capsys, work):
+    """A scenario as the result: one short line (no xarray URLs); a folder: "is a directory"."""
+    err = _error(capsys, ["frames", "s.toml", "-o", "f"])
+    assert err == "error: s.toml: result: not a NetCDF result file"
+    (work / "d").mkdir()
+    err = _error(capsys, ["frames", "d", "-o", "f"])
+    assert err.startswith("error: d: result: ") and "directory" in err
+    assert not (work / "f").exists()
+
+
+# --------------------------------------------------------------------------- simulate --field
+def test_an_xdmf_field_has_a_deterministic_companion_h5(capsys, run):
+    """``--field hot.xdmf`` writes ``hot.h5`` beside it, named in the XDMF; a rerun gives
+    byte-identical files and leaves no hidden temporary file (the audit found a new
+    ``.twin-XXXXXXXX.h5`` per run, referenced by the XDMF)."""
+    import meshio
+
+    assert 'hot.h5:/' in (run / "hot.xdmf").read_text() and ".twin-" not in (run / "hot.xdmf").read_text()
+    before = {name: (run / name).read_bytes() for name in ("hot.xdmf", "hot.h5")}
+    assert main(["simulate", "cframe-vmc", str(run / "s.toml"), "-o", str(run / "x2.nc"), "--mesh", "coarse",
+                 "--field", str(run / "hot.xdmf")]) == 0
+    assert "hot.h5" in capsys.readouterr().out
+    assert {name: (run / name).read_bytes() for name in before} == before
+    assert sorted(p.name for p in run.iterdir()) == ["hot.h5", "hot.xdmf", "s.toml", "x.nc", "x2.nc"]
+    mesh = meshio.read(run / "hot.xdmf")
+    assert np.all(np.isfinite(mesh.point_data["temperature_degC"]))
+
+
+def test_the_companion_h5_never_replaces_an_input(capsys, work):
+    """A scenario named ``hot.h5`` and ``--field hot.xdmf``: refused before the run (the h5
+    would replace the scenario), the scenario unchanged, nothing written."""
+    shutil.copy(work / "s.toml", work / "hot.h5")
+    before = _tree(work)
+    err = _error(capsys, ["simulate", "cframe-vmc", "hot.h5", "-o", "r.nc", "--mesh", "coarse",
+                          "--field", "hot.xdmf"])
+    assert err.startswith("error: hot.h5: --field: ") and "never replaces an input" in err
+    assert _tree(work) == before
+
+
+def test_the_help_says_when_frames_are_taken_and_names_the_companion(capsys):
+    """``--camera``: a frame at every sample (or a scenario camera's frame_interval), not "every
+    10 s"; ``--field``: the .xdmf's companion .h5."""
+    assert main(["simulate", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    camera = text.split("--camera NAME[,NAME]", 2)[-1].split("--effects", 1)[0]
+    assert "every 10 s" not in camera and "every sample" in camera and "frame_interval" in camera
+    field = text.split("--field FILE", 2)[-1].split("--camera", 1)[0]
+    assert ".h5" in field
