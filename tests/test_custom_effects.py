@@ -172,3 +172,20 @@ def test_a_localised_region_becomes_a_custom_effect(machine, mm):
         (load,) = e.loads(mm, SC, e.defaults())
         assert e.defaults()["power"] == pytest.approx(83.6) and e.schedule.kind == "spindle_on"
         assert e.kind == ("heat_source" if kind == "volume" else "heat_flux") and len(load.power(np.array([0.0])))
+
+
+def test_an_output_never_replaces_a_schedule_table_the_effects_file_reads(tmp_path, capsys):
+    """An effects file's schedule table is an input of the command as much as the file: `-o`
+    naming it is refused before the run (exit 2) and the table is unchanged."""
+    from twin.cli import main
+    table = tmp_path / "f.nc"
+    table.write_text("t,factor\n0,1\n60,1\n")
+    (tmp_path / "e.toml").write_text('[effects.lamp]\nkind = "heat_source"\nregion = "saddle"\npower = "20 W"\n'
+                                     'schedule = "table"\ntable = { file = "f.nc", time_unit = "min" }\n')
+    (tmp_path / "s.toml").write_text('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n'
+                                     '[[spindle]]\nspeed = "0 rpm"\nduration = "10 min"\n')
+    assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(table), "--mesh", "coarse",
+                 "--effects-file", str(tmp_path / "e.toml")]) == 2
+    err = capsys.readouterr().err
+    assert "never replaces an input" in err and "effects.lamp.table.file" in err
+    assert table.read_text() == "t,factor\n0,1\n60,1\n"

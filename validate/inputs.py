@@ -38,7 +38,7 @@ def declare_inputs(files, args) -> None:
     """Declare the measurement(s), their column mappings, a ``--scenario`` file and an
     ``--effects-file`` as inputs of the command (:class:`twin.io.paths.Files`: existing regular
     readable files, never an output)."""
-    from twin.cli.options import declare_scenario
+    from twin.cli.options import declare_effects_file, declare_scenario
     from twin.io.measurement import mapping_path
 
     given = getattr(args, "mapping", None)
@@ -50,7 +50,7 @@ def declare_inputs(files, args) -> None:
     if args.scenario:
         declare_scenario(files, args.scenario)
     if getattr(args, "effects_file", None):
-        files.input(args.effects_file, "--effects-file", "effects file")
+        declare_effects_file(files, args.effects_file)
 
 
 def custom_effects(args, machine) -> tuple[str, ...]:

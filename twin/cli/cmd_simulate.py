@@ -4,10 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from twin.cli.options import add_model_options, declare_scenario, solver_options
+from twin.cli.options import add_model_options, declare_effects_file, declare_scenario, solver_options
 from twin.cli.progress import progress_bar
-from twin.io.atomic import atomic_write
-from twin.io.fields import SUFFIXES as FIELD_SUFFIXES
+from twin.io.fields import declare_field
 from twin.io.paths import NETCDF_SUFFIXES, Files
 
 
@@ -16,9 +15,12 @@ def add_parser(sub) -> None:
     p.add_argument("machine")
     p.add_argument("scenario", help="a bundled scenario name or a path to a TOML file")
     p.add_argument("-o", "--output", required=True, help="result file (.nc)")
-    p.add_argument("--field", metavar="FILE", help="also write the temperature field at the hottest moment (.vtu or .xdmf)")
+    p.add_argument("--field", metavar="FILE", help="also write the temperature field at the hottest moment (.vtu, "
+                   "or .xdmf with its arrays in a companion .h5 of the same name: hot.xdmf writes hot.h5 too)")
     p.add_argument("--camera", metavar="NAME[,NAME]", help="add thermal cameras at the machine's named poses "
-                   "(e.g. carrier-front; overview-front for any machine): frames every 10 s in the result")
+                   "(e.g. carrier-front; overview-front for any machine), default settings: a frame at every sample "
+                   "(the scenario's sample_interval) in the result; a scenario's [camera] section can set "
+                   "frame_interval and the rest")
     add_model_options(p, solvers=True)
     p.set_defaults(func=run)
 
@@ -42,17 +44,17 @@ def run(args) -> int:
     files = Files()
     declare_scenario(files, args.scenario)
     if args.effects_file:
-        files.input(args.effects_file, "--effects-file", "effects file")
+        declare_effects_file(files, args.effects_file)
     out = files.output(args.output, "-o", NETCDF_SUFFIXES)
-    field_path = files.output(args.field, "--field", FIELD_SUFFIXES) if args.field else None
+    field_path = declare_field(files, args.field, "--field") if args.field else None
     ds, result = simulate_with_progress(args.machine, args.scenario, args)
     write_netcdf(ds, out, "-o")
     if field_path:
-        from twin.io.fields import write_temperature_field
+        from twin.io.fields import save_temperature_field
 
-        atomic_write(field_path, lambda tmp: write_temperature_field(result.mm, result.hottest_field, tmp,
-                                                                     result.hottest_time), "--field")
-        print(f"wrote {field_path}: temperature field at the hottest moment, t = {result.hottest_time / 60:.0f} min")
+        written = save_temperature_field(result.mm, result.hottest_field, field_path, result.hottest_time, "--field")
+        print(f"wrote {' and '.join(map(str, written))}: temperature field at the hottest moment, "
+              f"t = {result.hottest_time / 60:.0f} min")
     peak = abs(ds.drift).max("time")
     print(f"wrote {out}: {len(ds.time)} samples, {result.mm.nnodes} nodes; peak |drift| "
           + ", ".join(f"{a} {float(peak.sel(axis=a)):.1f} um" for a in ds.axis.values))

@@ -89,6 +89,16 @@ def add_measurement_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scenario", help="drive the twin by this scenario instead of the measured inputs")
 
 
+def declare_effects_file(files, path: str) -> None:
+    """Declare an ``--effects-file`` and the schedule tables it names as inputs of the command: no
+    output of the command may replace them."""
+    from twin.effects.custom import table_files
+
+    files.input(path, "--effects-file", "effects file")
+    for table, field in table_files(path):
+        files.input(table, field, "schedule table")
+
+
 def declare_scenario(files, scenario: str) -> None:
     """Declare the scenario's file (a bundled name's file, or the path) as an input of the command,
     and the room record its ambient reads (``kind = "csv"``, field ``ambient.file``): no output of

@@ -185,6 +185,24 @@ def read_effects_file(path, machine) -> list[CustomEffect]:
     return effects_from_dict(data, str(path), machine, path.parent)
 
 
+def table_files(path) -> list[tuple[Path, str]]:
+    """(path, field) of every schedule table the effects file ``path`` names (``effects.NAME.table.
+    file``, relative to the file's folder), read without a machine: a command declares them as its
+    inputs before any work (:class:`twin.io.paths.Files`). The file is checked in full later."""
+    from twin.io.paths import read_toml
+
+    path = Path(path)
+    data, _ = read_toml(path, "file", "effects file")
+    effects = data.get("effects")
+    found = []
+    for name, spec in (effects.items() if isinstance(effects, dict) else ()):
+        table = spec.get("table") if isinstance(spec, dict) else None
+        file = table.get("file") if isinstance(table, dict) else None
+        if isinstance(file, str) and file.strip():
+            found.append((path.parent / file, f"effects.{name}.table.file"))
+    return found
+
+
 def effects_from_dict(data: dict, source: str, machine, folder: Path = Path(".")) -> list[CustomEffect]:
     """The custom effects of parsed TOML ``data`` (errors name ``source``; tables relative to ``folder``)."""
     top = TableReader(data, source, "")
