@@ -143,3 +143,14 @@ def test_a_figure_is_the_same_bytes_each_time_it_is_written(tmp_path, suffix):
         if k == 0:
             time.sleep(1.1)     # a time stamp has seconds
     assert written[0] == written[1]
+
+
+def test_the_demo_never_writes_over_its_effects_file(capsys, tmp_path):
+    """`twin demo -o OUT --effects-file OUT/measurement/spindle-test.toml`: the effects file is an
+    input, refused as an output before the run (exit 2), left unchanged."""
+    effects = tmp_path / "out" / "measurement" / "spindle-test.toml"
+    effects.parent.mkdir(parents=True)
+    text = '[effects.pump]\nkind = "heat_source"\nregion = "saddle"\npower = "80 W"\n'
+    effects.write_text(text)
+    err = _error(capsys, ["demo", "-o", str(tmp_path / "out"), "--mesh", "coarse", "--effects-file", str(effects)])
+    assert "never replaces an input" in err and effects.read_text() == text

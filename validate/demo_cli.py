@@ -28,10 +28,14 @@ def add_demo_parser(sub) -> None:
 
 def run_demo(args) -> int:
     from twin.api import machine_by_name
+    from twin.cli.options import declare_effects_file
     from twin.model import model_spec
 
     model_spec(machine_by_name(MACHINE), args.effects, args.set)   # bad --effects / --set: before any folder
-    out = Files().folder(args.output, "-o", RUN_FILES + (() if args.no_story else STORY_FILES))
+    files = Files()
+    if getattr(args, "effects_file", None):
+        declare_effects_file(files, args.effects_file)     # never replaced by what the demo writes
+    out = files.folder(args.output, "-o", RUN_FILES + (() if args.no_story else STORY_FILES))
     with output_folder(out):
         _run_demo(out, args)
     return 0
