@@ -78,12 +78,31 @@ def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: 
             for seg_label, pick in segments_of(str(label), [len(y) for y in truth], segments):
                 z = np.concatenate([y[s] for y, s in zip(truth, pick)])
                 p = np.concatenate([q[s] for q, s in zip(preds, pick)])
-                rows.append({"learner": name, "test": seg_label, **{k: float(v) for k, v in score_all(z, p).items()},
+                scores = _defined_scores(z, p, seg_label, name, segment=seg_label != str(label))
+                rows.append({"learner": name, "test": seg_label, **scores,
                              "p95_abs_residual": abs_residual_percentile(z, p), "inputs": inputs,
                              "fit_time_s": float(fit_s)})
         if progress is not None:
             progress(done, len(learners))
     return rows
+
+
+MIN_SEGMENT_ROWS = 3    # rows a scored segment needs (NSE and R compare a segment's spread)
+
+
+def _defined_scores(z: np.ndarray, p: np.ndarray, label: str, learner: str, segment: bool) -> dict:
+    """score_all(z, p) as floats; an :class:`InputError` where the test data leave the scores
+    undefined (a segment of fewer than :data:`MIN_SEGMENT_ROWS` rows, a constant target: NSE and
+    R divide by its spread), never a NaN score for them. R of a constant prediction (a baseline
+    that predicts nothing) stays undefined: that is the learner's answer, not the data's."""
+    field = "--segments" if segment else learner
+    if segment and len(z) < MIN_SEGMENT_ROWS:
+        raise InputError(label, field, f"holds {len(z)} row(s); a scored segment needs at least {MIN_SEGMENT_ROWS}: "
+                                       "use fewer segments")
+    if np.ptp(z) == 0:
+        raise InputError(label, field, f"the target is constant there ({z[0]:g}): NSE and R are undefined"
+                                       + ("; use fewer segments" if segment else ""))
+    return {k: float(v) for k, v in score_all(z, p).items()}
 
 
 def write_csv(path, rows, field: str = "-o"):

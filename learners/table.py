@@ -54,6 +54,9 @@ def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_RO
     of input names. ``field``: the option that named the file (for errors about the file itself).
     """
     path = str(input_file(path, field, "table"))
+    if str(target).strip() == time_column:
+        raise InputError("command line", "--target", f"{target!r} is the time column: choose a measured quantity "
+                                                     "(a drift, a probe, a temperature)")
     if isinstance(inputs, str):
         inputs = None if inputs.strip() in ("", "all") else [s.strip() for s in inputs.split(",") if s.strip()]
     if _is_netcdf(path):

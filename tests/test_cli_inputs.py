@@ -154,3 +154,18 @@ def test_the_demo_never_writes_over_its_effects_file(capsys, tmp_path):
     effects.write_text(text)
     err = _error(capsys, ["demo", "-o", str(tmp_path / "out"), "--mesh", "coarse", "--effects-file", str(effects)])
     assert "never replaces an input" in err and effects.read_text() == text
+
+
+def test_learn_refuses_the_time_column_as_target_and_segments_without_scores(capsys, tmp_path):
+    """`twin learn --target time` (the time column) and `--segments` so many that a segment holds
+    fewer than three rows (NSE and R undefined: printed NaN) are each one error, exit 2."""
+    from tests.fuzz_files import table_csv
+
+    (tmp_path / "train.csv").write_text(table_csv())
+    (tmp_path / "test.csv").write_text(table_csv(seed=1))
+    common = ["learn", "--train", str(tmp_path / "train.csv"), "--test", str(tmp_path / "test.csv"), "--learner", "mlr"]
+    assert "--target" in _error(capsys, common + ["--target", "time"])
+    err = _error(capsys, common + ["--target", "drift_z", "--segments", "30", "-o", str(tmp_path / "s.csv")])
+    assert "--segments" in err and "at least 3" in err and not (tmp_path / "s.csv").exists()
+    assert main(common + ["--target", "drift_z", "--segments", "4"]) == 0
+    assert "nan" not in capsys.readouterr().out.lower()
