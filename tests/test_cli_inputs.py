@@ -122,7 +122,7 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
     assert [f for f in os.listdir(tmp_path) if f.startswith(".twin-")] == []
 
 
-@pytest.mark.parametrize("suffix", [".pdf", ".svg", ".eps"])
+@pytest.mark.parametrize("suffix", [".pdf", ".svg", ".eps", ".ps", ".svgz"])
 def test_a_figure_is_the_same_bytes_each_time_it_is_written(tmp_path, suffix):
     """The same figure written twice gives the same file: no time of writing (PDF/EPS
     CreationDate, SVG date) and no random SVG ids (a fixed hash salt)."""
@@ -136,7 +136,7 @@ def test_a_figure_is_the_same_bytes_each_time_it_is_written(tmp_path, suffix):
         fig, ax = plt.subplots()
         ax.plot([0, 1, 2], [0, 1, 0.5], label="drift")
         ax.legend()
-        path = tmp_path / f"figure{suffix}"
+        path = tmp_path / f"figure{k}{suffix}"          # another name too: none is written into the file
         save_figure(fig, path)
         plt.close(fig)
         written.append(path.read_bytes())

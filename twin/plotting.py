@@ -6,6 +6,8 @@ matplotlib only (headless 'Agg' backend), so pictures work on machines without a
 from __future__ import annotations
 
 import contextlib
+import gzip
+import io
 import os
 import threading
 from pathlib import Path
@@ -28,7 +30,8 @@ _PICTURES = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif", "ti
 
 def save_figure(fig, path, **options) -> None:
     """``fig.savefig(path, **options)``, the same bytes for the same figure: the formats that stamp
-    the time of writing (PDF and PostScript's CreationDate, SVG's date) are written without it,
+    the time of writing (PDF and PostScript's CreationDate, SVG's date, gzip's header of SVGZ)
+    are written without it or with a fixed one, PostScript without the file's name as its title,
     and SVG's element ids are drawn from a fixed salt instead of a random one."""
     import matplotlib
 
@@ -37,7 +40,17 @@ def save_figure(fig, path, **options) -> None:
     if metadata is not None:
         options = {"metadata": metadata, **options}
     with matplotlib.rc_context({"svg.hashsalt": "thermal-twin"}), _fixed_postscript_date(kind in ("ps", "eps")):
-        fig.savefig(path, **options)
+        if kind not in ("ps", "eps", "svgz"):
+            fig.savefig(path, **options)
+            return
+        # PostScript titles itself with the file's name (a command's temporary name) and gzip
+        # stamps the name and the time: write to memory, then the bytes
+        buffer = io.BytesIO()
+        fig.savefig(buffer, **{**options, "format": "svg" if kind == "svgz" else kind})
+        data = buffer.getvalue()
+        if kind == "svgz":
+            data = gzip.compress(data, mtime=0)
+        Path(path).write_bytes(data)
 
 
 _DATE_LOCK = threading.Lock()
