@@ -69,6 +69,16 @@ def test_segment_statistics_are_the_definitions():
     assert segments_of(np.array([0.0, 10.0, 20.0]), 100.0) == [(0.0, 20.0)]
 
 
+def test_spindle_test_needs_the_spindle_turning():
+    """A spindle thermal-drift evaluation of a record whose spindle never turns is refused on
+    --test (as the axis test is without axis motion); the same record evaluates as an ETVE."""
+    ds = synthetic(speed=False)
+    with pytest.raises(InputError) as err:
+        evaluate(ds, "spindle", source="m.csv")
+    assert err.value.field == "--test" and "never turns" in err.value.message
+    assert evaluate(ds, "etve").test == "etve"
+
+
 def test_axis_needs_positioning_errors():
     ds = synthetic()
     with pytest.raises(InputError) as err:

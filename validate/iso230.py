@@ -155,6 +155,9 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
         raise InputError("command line", "--segment", f"{segment:g} s is shorter than two sampling intervals of {source} "
                                                       f"({interval:g} s each); a segment's statistics need several samples")
     steps = []
+    if test == "spindle" and "spindle_speed" in ds and not np.any(np.asarray(ds.spindle_speed.values, float) > 0):
+        raise InputError(source, "--test", "the spindle never turns in this record: a spindle thermal-drift "
+                                           "evaluation needs it running (--test etve for a machine at rest)")
     if test == "spindle" and "spindle_speed" in ds:
         steps = speed_steps(t, np.asarray(ds.spindle_speed.values, float))
     ev = Evaluation(test, source, t, channels, air, segments_of(t, length), steps)
