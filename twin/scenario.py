@@ -242,7 +242,9 @@ class _Reader:
 def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") -> Scenario:
     """Build a :class:`Scenario` from parsed TOML ``data`` (errors name ``source``)."""
     top = _Reader(data, source, "")
-    name = str(top.get("name", default=default_name))
+    name = top.get("name", default=default_name)
+    if not isinstance(name, str) or not name.strip():
+        raise InputError(source, "name", f"expected a non-empty text, got {name!r}")
     description = str(top.get("description", default=""))
     dt = top.positive("sample_interval", "time", default=10.0)
     t0 = top.get("initial_temperature", "temperature")
@@ -272,6 +274,10 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     if ambient.kind == "csv" and ambient.times[-1] < total:
         raise InputError(source, "ambient.file", f"the room record {ambient.file} ends at {ambient.times[-1] / 3600:g} h, "
                                                  f"before the scenario's {total / 3600:g} h")
+    for i, event in enumerate(ambient.events):
+        if event.start >= total:
+            raise InputError(source, f"ambient.events[{i}].start", f"{event.start / 3600:g} h is at or after the end "
+                                                                   f"of the run ({total / 3600:g} h): it would change nothing")
     if ambient.kind == "table" and (ambient.times[0] > 0 or ambient.times[-1] < total):
         raise InputError(source, "ambient.times", f"the table covers {ambient.times[0] / 3600:g} h to "
                                                   f"{ambient.times[-1] / 3600:g} h; it must cover the scenario's 0 to "
