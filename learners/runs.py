@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from learners.table import Table
+from learners.table import MIN_ROWS, Table
 from twin.errors import InputError
 from twin.io.paths import read_text
 
@@ -76,6 +76,10 @@ def resample(table: Table, interval: float | None, source: str, field: str = "--
         raise InputError(source, field, f"{interval:g} s is not a whole multiple of the run's sample interval "
                                         f"{step:g} s")
     k = int(round(k))
+    kept = len(table.time[::k])
+    if kept < MIN_ROWS:
+        raise InputError(source, field, f"thinned to {interval:g} s the run keeps {kept} row(s) of {len(table.time)}; "
+                                        f"at least {MIN_ROWS} are needed: choose a shorter interval")
     return Table(table.time[::k], table.X[::k], table.y[::k], table.input_names)
 
 

@@ -167,5 +167,7 @@ def test_learn_refuses_the_time_column_as_target_and_segments_without_scores(cap
     assert "--target" in _error(capsys, common + ["--target", "time"])
     err = _error(capsys, common + ["--target", "drift_z", "--segments", "30", "-o", str(tmp_path / "s.csv")])
     assert "--segments" in err and "at least 3" in err and not (tmp_path / "s.csv").exists()
+    err = _error(capsys, common + ["--target", "drift_z", "--interval", "400 s"])
+    assert "--interval" in err and "keeps 1 row(s)" in err
     assert main(common + ["--target", "drift_z", "--segments", "4"]) == 0
     assert "nan" not in capsys.readouterr().out.lower()
