@@ -155,6 +155,17 @@ SCENARIO_EDITS += [
     ("probing-datum-two-coordinates", _ax("", "", PROBE.replace(', "50 mm"]]', ']]')), "probing.datums"),
     ("probing-datum-no-unit", _ax("", "", PROBE.replace('"50 mm"]]', '"50"]]')), "probing.datums"),
     ("probing-unknown-key", _ax("", "", PROBE + 'stylus = "50 mm"\n'), "probing.stylus"),
+    # a semi-closed axis's interferometer needs the axis's motion (its screw); closed-form durations; limits
+    ("interferometer-axis-never-moved", SCENARIO + LASER, "interferometer.axis"),
+    ("axis-count-1e9-longer-than-scenario", _ax('duration = "30 min"', 'count = 1000000000'), "axis[0].move"),
+    ("axis-feed-1000-m-per-s", _ax('"20 mm/s"', '"1000 m/s"'), "axis[0].move[0].feed"),
+    ("axis-acceleration-1e9", _ax('"10 mm/s2"', '"1e9 m/s2"'), "axis[0].move[0].acceleration"),
+    ("axis-move-feed-beyond-limit", _ax('"30 min"', '"20 min"', '[[axis.move]]\nkind = "move"\nto = "100 mm"\n'
+                                                             'feed = "3 m/s"\nacceleration = "1 m/s2"\n'),
+     "axis[0].move[1].feed"),
+    ("axis-table-280-m-per-s", SCENARIO + '\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "table"\n'
+                                          'times = ["0 s", "1 ms"]\npositions = ["0 mm", "280 mm"]\n',
+     "axis[0].move[0].positions"),
 ]
 
 # the gantry's linear axes (geometries.gantry_ram.axes: X 0-2500, Y 0-1200, Z 0-700 mm, closed loop, no

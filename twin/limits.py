@@ -21,6 +21,11 @@ affordable. Each check raises :class:`twin.errors.InputError` ``(source, field, 
   with :data:`LOGGED_SPEED_MARGIN` for a log; a machine without a C axis has none.
 * Positions [m]: a sensor glued to the machine lies inside one of its parts (inside the named
   part when one is given); a sensor in the air (part ``"air"``) within :data:`AIR_REACH` of it.
+* Axis motion ([[axis]], :mod:`twin.motion`): a feed [m/s] at most :data:`MAX_FEED` (2 m/s =
+  120 m/min, the rapid traverse of the fastest linear-motor machine tools), an acceleration
+  [m/s2] at most :data:`MAX_ACCELERATION` (50 m/s2, about 5 g: linear motors reach 2-5 g, ball
+  screws about 1 g), a table move's implied speed (its largest |dposition/dt|) within
+  :data:`MAX_FEED`, and at most :data:`MAX_MOTION_PIECES` pieces of constant acceleration per axis.
 * Seeds: integers from 0 to 2**32 - 1 (stored in the result's attributes, reproducible).
 """
 
@@ -41,6 +46,9 @@ PROBE_RANGE = 0.01                      # m: the measuring range of a displaceme
 STRAIN_RANGE = 5e-3                     # m/m: beyond any strain a machine structure survives
 AIR_REACH = 10.0                        # m: how far from the machine an air sensor may sit
 MAX_SEED = 2**32 - 1
+MAX_FEED = 2.0                          # m/s: 120 m/min, the fastest linear-motor machine tools
+MAX_ACCELERATION = 50.0                 # m/s2: about 5 g, beyond linear motors (2-5 g); ball screws ~1 g
+MAX_MOTION_PIECES = 4_000_000           # pieces of constant acceleration of one axis (a million strokes with dwells)
 
 
 def check_temperatures(values, source: str, field: str, kind: str = "air") -> np.ndarray:
@@ -212,6 +220,26 @@ def check_position(machine, xyz, part: str, source: str, field: str) -> None:
     if not inside:
         span = ", ".join(f"{a} {l:.3g}..{h:.3g}" for a, l, h in zip("xyz", lo, hi))
         raise InputError(source, field, f"{where} is outside machine {machine.name} (its parts span {span} m)")
+
+
+def check_feed(value: float, source: str, field: str, what: str = "a feed") -> float:
+    """An axis feed (or speed) [m/s] checked: finite and at most :data:`MAX_FEED`."""
+    v = float(value)
+    if not np.isfinite(v) or abs(v) > MAX_FEED:
+        raise InputError(source, field, f"{what} of {v:g} m/s ({v * 60:g} m/min) is beyond {MAX_FEED:g} m/s "
+                                        f"({MAX_FEED * 60:g} m/min), the fastest linear-motor machine tools "
+                                        "(check the unit)")
+    return v
+
+
+def check_acceleration(value: float, source: str, field: str) -> float:
+    """An axis acceleration [m/s2] checked: finite and at most :data:`MAX_ACCELERATION`."""
+    v = float(value)
+    if not np.isfinite(v) or abs(v) > MAX_ACCELERATION:
+        raise InputError(source, field, f"an acceleration of {v:g} m/s2 ({v / 9.80665:.3g} g) is beyond {MAX_ACCELERATION:g} m/s2 "
+                                        f"(about {MAX_ACCELERATION / 9.80665:.0f} g): linear-motor axes reach 2-5 g, "
+                                        "ball screws about 1 g (check the unit)")
+    return v
 
 
 def check_seed(text) -> int:

@@ -36,34 +36,68 @@ source is a sum of fixed patterns times scalar signals and the heat equation sta
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+from twin import limits
 from twin.errors import InputError
 from twin.units import UnitError, parse_quantity
 
 KINDS = ("hold", "move", "reciprocate", "table")
 
 
-@dataclass(frozen=True)
 class Motion:
     """One axis's motion: pieces starting at ``t0`` [s], lasting ``dur`` [s], from ``x0`` [m] at
-    velocity ``v0`` [m/s] with constant acceleration ``a`` [m/s2]; holds ``x_end`` after them."""
+    velocity ``v0`` [m/s] with constant acceleration ``a`` [m/s2]; holds ``x_end`` after them.
 
-    axis: str
-    t0: np.ndarray
-    dur: np.ndarray
-    x0: np.ndarray
-    v0: np.ndarray
-    a: np.ndarray
-    x_end: float
-    source: str = ""
+    A motion read from a scenario (:func:`motions_from_toml`) is *planned*: its duration, end and
+    number of pieces are known in closed form and its pieces are built on first use, so a motion
+    longer than the scenario (or too large to afford) is refused (:func:`check_durations`)
+    before anything is built."""
+
+    def __init__(self, axis: str, t0, dur, x0, v0, a, x_end: float, source: str = ""):
+        self.axis, self.x_end, self.source = axis, float(x_end), source
+        self._pieces = tuple(np.asarray(c, dtype=float) for c in (t0, dur, x0, v0, a))
+        self._build, self._duration, self._count = None, None, len(self._pieces[0])
+
+    @classmethod
+    def planned(cls, axis: str, x_end: float, duration: float, pieces: int, build, source: str = "") -> "Motion":
+        """A motion of ``duration`` [s] ending at ``x_end`` [m] in at most ``pieces`` pieces, which
+        ``build()`` returns as (t0, dur, x0, v0, a) when first asked for."""
+        m = cls.__new__(cls)
+        m.axis, m.x_end, m.source = axis, float(x_end), source
+        m._pieces, m._build, m._duration, m._count = None, build, float(duration), int(pieces)
+        return m
+
+    def _built(self) -> tuple:
+        if self._pieces is None:
+            self._pieces = tuple(np.asarray(c, dtype=float) for c in self._build())
+            self._build = None
+        return self._pieces
+
+    t0 = property(lambda self: self._built()[0])
+    dur = property(lambda self: self._built()[1])
+    x0 = property(lambda self: self._built()[2])
+    v0 = property(lambda self: self._built()[3])
+    a = property(lambda self: self._built()[4])
+
+    @property
+    def pieces(self) -> int:
+        """The number of pieces (an upper bound while the motion is not built)."""
+        return self._count if self._pieces is None else len(self._pieces[0])
+
+    def __reduce__(self):   # a planned motion pickles built (its build is a closure)
+        return (Motion, (self.axis, *self._built(), self.x_end, self.source))
+
+    def __repr__(self) -> str:
+        return f"Motion(axis={self.axis!r}, duration={self.duration:g} s, x_end={self.x_end:g} m)"
 
     @property
     def duration(self) -> float:
         """End of the last piece [s]."""
-        return float(self.t0[-1] + self.dur[-1]) if len(self.t0) else 0.0
+        if self._pieces is None:
+            return self._duration
+        t0, dur = self._pieces[:2]
+        return float(t0[-1] + dur[-1]) if len(t0) else 0.0
 
     @property
     def positions(self) -> np.ndarray:
@@ -155,9 +189,12 @@ class _Builder:
             self.piece(tp, s * accel * tp, -s * accel)
         self.x = target   # no round-off drift over thousands of strokes
 
+    def pieces(self) -> tuple:
+        """The pieces so far as (t0, dur, x0, v0, a)."""
+        return tuple(np.array(self.rows, dtype=float).reshape(-1, 5).T)
+
     def motion(self) -> Motion:
-        cols = np.array(self.rows, dtype=float).reshape(-1, 5).T
-        return Motion(self.axis, *cols, x_end=self.x, source=self.source)
+        return Motion(self.axis, *self.pieces(), x_end=self.x, source=self.source)
 
 
 def logged_motion(axis: str, times, positions, source: str = "") -> Motion:
@@ -202,48 +239,73 @@ def motions_from_toml(raw, source: str, reader) -> tuple[Motion, ...]:
 
 
 def _motion(name: str, start, moves: list, source: str, prefix: str, reader) -> Motion:
-    b = None
+    """One axis's moves, checked and planned in closed form (duration, end, pieces: no time or
+    memory in proportion to a count of strokes); the pieces are built on first use."""
+    x = t = None
+    runs, pieces = [], 0
     for j, raw in enumerate(moves):
         r = reader(raw, source, f"{prefix}[{j}].")
         kind = r.get("kind", required=True)
         if kind not in KINDS:
             raise InputError(source, f"{prefix}[{j}].kind", f"unknown kind {kind!r}; known: {', '.join(KINDS)}")
-        begin, run = _MOVES[kind](r, source)
+        begin, run, plan = _MOVES[kind](r, source)
         r.finish()
-        if b is None:
-            b = _Builder(name, start if start is not None else (begin if begin is not None else 0.0), source)
+        if x is None:
             if begin is None and start is None:
                 raise InputError(source, f"{prefix}[{j}]", "a first move of kind 'move' needs the axis's start")
-        if begin is not None and abs(begin - b.x) > 1e-9:
+            x0 = x = start if start is not None else begin
+            t = 0.0
+        if begin is not None and abs(begin - x) > 1e-9:
             raise InputError(source, f"{prefix}[{j}]", f"starts at {begin * 1e3:g} mm but axis {name} is at "
-                                                       f"{b.x * 1e3:g} mm there; add a move")
-        run(b)
-    return b.motion()
+                                                       f"{x * 1e3:g} mm there; add a move")
+        dur, x, n = plan(x)
+        t += dur
+        pieces += n
+        runs.append(run)
+
+    def build():
+        b = _Builder(name, x0, source)
+        for run in runs:
+            run(b)
+        return b.pieces()
+    return Motion.planned(name, x, t, pieces, build, source)
 
 
 def _positive(r, key: str, dimension: str) -> float:
     return r.positive(key, dimension, required=True)
 
 
+def _feed_accel(r) -> tuple[float, float]:
+    """A move's ``feed`` [m/s] and ``acceleration`` [m/s2]: positive and within
+    :data:`twin.limits.MAX_FEED` and :data:`twin.limits.MAX_ACCELERATION`."""
+    feed = limits.check_feed(_positive(r, "feed", "velocity"), r.source, r.prefix + "feed")
+    accel = limits.check_acceleration(_positive(r, "acceleration", "acceleration"), r.source, r.prefix + "acceleration")
+    return feed, accel
+
+
 def _hold(r, source):
     x = r.get("position", "length", required=True)
     dur = _positive(r, "duration", "time")
-    return x, lambda b: b.hold(dur)
+    return x, lambda b: b.hold(dur), lambda x0: (dur, x0, 1)
 
 
 def _move(r, source):
     to = r.get("to", "length", required=True)
-    feed, accel = _positive(r, "feed", "velocity"), _positive(r, "acceleration", "acceleration")
+    feed, accel = _feed_accel(r)
     dur = r.positive("duration", "time")
+
+    def plan(x):
+        need = stroke_time(to - x, feed, accel)
+        if dur is not None and dur < need - 1e-9:
+            raise InputError(source, r.prefix + "duration", f"the move takes {need:g} s, longer than the duration")
+        return (need if dur is None else dur), to, 4
 
     def run(b):
         need = stroke_time(to - b.x, feed, accel)
-        if dur is not None and dur < need - 1e-9:
-            raise InputError(source, r.prefix + "duration", f"the move takes {need:g} s, longer than the duration")
         b.trapezoid(to, feed, accel)
         if dur is not None:
             b.hold(dur - need)
-    return None, run
+    return None, run, plan
 
 
 def _reciprocate(r, source):
@@ -256,7 +318,7 @@ def _reciprocate(r, source):
         raise InputError(source, r.prefix + "between", str(err)) from None
     if a == c:
         raise InputError(source, r.prefix + "between", "the two ends must differ")
-    feed, accel = _positive(r, "feed", "velocity"), _positive(r, "acceleration", "acceleration")
+    feed, accel = _feed_accel(r)
     dwell = r.get("dwell", "time", default=0.0)
     if dwell < 0:
         raise InputError(source, r.prefix + "dwell", "must not be negative")
@@ -279,7 +341,8 @@ def _reciprocate(r, source):
             b.trapezoid(c if k % 2 == 0 else a, feed, accel)
             b.hold(dwell)
         b.hold(rest)
-    return a, run
+    # closed form: n strokes of one period each, ending at the far end after an odd count
+    return a, run, lambda x0: (n * period + rest, c if n % 2 else a, n * (3 + (dwell > 0)) + 1)
 
 
 def _table(r, source):
@@ -289,8 +352,13 @@ def _table(r, source):
         raise InputError(source, r.prefix + "positions", "needs as many entries as times, at least two")
     if times[0] != 0 or np.any(np.diff(times) <= 0):
         raise InputError(source, r.prefix + "times", "must start at 0 s and increase strictly")
-
-    return xs[0], lambda b: b.polyline(times, xs)
+    speed = np.abs(np.diff(xs) / np.diff(times))
+    k = int(np.argmax(speed))
+    if not speed[k] <= limits.MAX_FEED:
+        limits.check_feed(speed[k], source, r.prefix + "positions",
+                          f"from {xs[k] * 1e3:g} mm at {times[k]:g} s to {xs[k + 1] * 1e3:g} mm at "
+                          f"{times[k + 1]:g} s the speed")
+    return xs[0], lambda b: b.polyline(times, xs), lambda x0: (float(times[-1]), float(xs[-1]), len(times) - 1)
 
 
 def _quantities(r, key: str, dimension: str, source: str) -> np.ndarray:
@@ -307,11 +375,17 @@ _MOVES = {"hold": _hold, "move": _move, "reciprocate": _reciprocate, "table": _t
 
 
 def check_durations(motions, duration: float, source: str) -> None:
-    """No axis moves beyond the scenario's ``duration`` [s]."""
+    """No axis moves beyond the scenario's ``duration`` [s], nor in more than
+    :data:`twin.limits.MAX_MOTION_PIECES` pieces; both from the motions' closed-form plan, before
+    any is built."""
     for i, m in enumerate(motions):
         if m.duration > duration + 1e-6:
             raise InputError(source, f"axis[{i}].move", f"axis {m.axis} moves for {m.duration:g} s, longer than "
                                                         f"the scenario ({duration:g} s of [[spindle]] steps)")
+        if m.pieces > limits.MAX_MOTION_PIECES:
+            raise InputError(source, f"axis[{i}].move", f"axis {m.axis} would move in {m.pieces:.3g} pieces of "
+                                                        f"constant acceleration; at most {limits.MAX_MOTION_PIECES:.0e} "
+                                                        "are affordable (fewer, longer strokes)")
 
 
 def check_motions(scenario, machine) -> None:

@@ -108,8 +108,9 @@ def interferometer_from_toml(raw, source: str, reader) -> InterferometerConfig |
 
 
 def check_interferometer(config: InterferometerConfig, scenario, machine) -> None:
-    """The axis exists, its feedback is modelled, the targets lie in its travel and the runs on
-    the scenario's time grid within its duration."""
+    """The axis exists, its feedback is modelled (a semi-closed loop's screw is on ``machine``: the
+    scenario moves the axis, :func:`twin.motion.machine_for`), the targets lie in its travel and
+    the runs on the scenario's time grid within its duration."""
     src = config.source or scenario.name
     try:
         axis = machine.axis(config.axis)
@@ -119,6 +120,14 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
         what = "screw (feed drive)" if axis.feedback == "semi-closed" else "linear scale"
         raise InputError(src, "interferometer.axis", f"axis {axis.name} of {machine.name} is {axis.feedback} loop and "
                                                      f"its {what} is not modelled")
+    if axis.feedback == "semi-closed" and feed_drive_role(axis.name, "screw") not in machine.roles:
+        moved = {m.axis for m in getattr(scenario, "axes", ())}
+        why = ("" if axis.name in moved else
+               f"; the scenario has no [[axis]] for {axis.name}: add one (a kind = \"hold\" move if it stands still)")
+        raise InputError(src, "interferometer.axis", f"axis {axis.name} of {machine.name} is semi-closed loop: its "
+                                                     "positioning error integrates the screw's temperature, and the "
+                                                     "screw (its feed drive) is built only for an axis the scenario "
+                                                     f"moves{why}")
     t = config.targets(axis)
     if t[0] < axis.travel[0] - 1e-9 or t[-1] > axis.travel[1] + 1e-9:
         raise InputError(src, "interferometer.targets", f"outside the {axis.name} travel "

@@ -1,0 +1,120 @@
+"""Axis motion's limits (twin.limits.MAX_FEED, MAX_ACCELERATION, MAX_MOTION_PIECES), its
+closed-form duration check (twin.motion: a reciprocation's count costs no time), and the
+interferometer's need for the axis's motion (twin.observe.interferometer.check_interferometer)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from twin import limits
+from twin.errors import InputError
+from twin.scenario import scenario_from_dict
+
+BASE = {"name": "s", "sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+        "spindle": [{"speed": "6000 rpm", "duration": "10 min"}]}
+
+
+def reciprocate(**kw) -> dict:
+    move = {"kind": "reciprocate", "between": ["0 mm", "280 mm"], "feed": "20 mm/s", "acceleration": "10 mm/s2",
+            "duration": "5 min"}
+    move.update(kw)
+    return {**BASE, "axis": [{"name": "Y", "move": [move]}]}
+
+
+def refused(data: dict) -> InputError:
+    with pytest.raises(InputError) as err:
+        scenario_from_dict(data, "s.toml")
+    return err.value
+
+
+@pytest.mark.parametrize("count", [1_000_000_000, 10**15])
+def test_a_huge_count_is_refused_in_closed_form_and_fast(count):
+    move = reciprocate(count=count)
+    del move["axis"][0]["move"][0]["duration"]
+    start = time.perf_counter()
+    err = refused(move)
+    assert time.perf_counter() - start < 1.0
+    assert err.field == "axis[0].move" and "longer than the scenario" in str(err)
+    one = 280e-3 / 20e-3 + 20e-3 / 10e-3          # d / v + v / a [s]: one stroke
+    assert f"{count * one:g} s" in str(err)
+
+
+def test_the_closed_form_plan_matches_the_built_motion():
+    data = reciprocate(duration="9 min", dwell="2 s")
+    data["axis"][0]["move"].append({"kind": "move", "to": "100 mm", "feed": "30 mm/s", "acceleration": "50 mm/s2",
+                                    "duration": "30 s"})
+    data["axis"][0]["move"].append({"kind": "table", "times": ["0 s", "10 s", "20 s"],
+                                    "positions": ["100 mm", "150 mm", "120 mm"]})
+    sc = scenario_from_dict({**data, "spindle": [{"speed": "6000 rpm", "duration": "20 min"}]}, "s.toml")
+    m = sc.axes[0]
+    planned, end, bound = m.duration, m.x_end, m.pieces
+    assert m._pieces is None                        # nothing built by loading the scenario
+    t0, dur = m.t0, m.dur                           # builds
+    assert np.isclose(planned, t0[-1] + dur[-1]) and np.isclose(planned, 9 * 60 + 30 + 20)
+    assert np.isclose(end, m.position(np.array([1e4]))[0]) and np.isclose(end, 0.12)
+    assert len(t0) <= bound
+
+
+def test_a_count_within_the_scenario_still_runs():
+    data = reciprocate(count=3)
+    del data["axis"][0]["move"][0]["duration"]
+    m = scenario_from_dict(data, "s.toml").axes[0]
+    assert np.isclose(m.duration, 3 * 16.0) and np.isclose(m.x_end, 0.28)
+    assert np.isclose(m.position(np.array([16.0]))[0], 0.28) and np.isclose(m.position(np.array([32.0]))[0], 0.0)
+
+
+def test_too_many_pieces_are_refused_before_building():
+    data = reciprocate(between=["0 mm", "1e-8 mm"], duration="10 min")
+    start = time.perf_counter()
+    err = refused(data)
+    assert time.perf_counter() - start < 1.0
+    assert err.field == "axis[0].move" and "affordable" in str(err)
+
+
+@pytest.mark.parametrize("key, value, field", [
+    ("feed", "1000 m/s", "feed"), ("feed", "121 m/min", "feed"), ("acceleration", "1e9 m/s2", "acceleration"),
+    ("acceleration", "51 m/s2", "acceleration")])
+def test_feeds_and_accelerations_beyond_machine_tools_are_refused(key, value, field):
+    err = refused(reciprocate(**{key: value}))
+    assert err.field == f"axis[0].move[0].{field}"
+    assert f"{limits.MAX_FEED:g} m/s" in str(err) if key == "feed" else f"{limits.MAX_ACCELERATION:g} m/s2" in str(err)
+
+
+def test_the_limits_themselves_and_the_gantry_feed_pass():
+    scenario_from_dict(reciprocate(feed="120 m/min", acceleration="50 m/s2"), "s.toml")
+    scenario_from_dict(reciprocate(feed="70 m/min", acceleration="3 m/s2"), "s.toml")
+
+
+def test_a_table_faster_than_the_feed_limit_is_refused():
+    data = {**BASE, "axis": [{"name": "Y", "move": [{"kind": "table", "times": ["0 s", "1 ms"],
+                                                      "positions": ["0 mm", "280 mm"]}]}]}
+    err = refused(data)
+    assert err.field == "axis[0].move[0].positions" and "280 m/s" in str(err)
+    data["axis"][0]["move"][0]["times"] = ["0 s", "1 s"]       # 0.28 m/s: fine
+    scenario_from_dict(data, "s.toml")
+
+
+def test_a_planned_motion_pickles():
+    import pickle
+    m = scenario_from_dict(reciprocate(), "s.toml").axes[0]
+    back = pickle.loads(pickle.dumps(m))
+    assert np.allclose(back.t0, m.t0) and back.x_end == m.x_end and back.duration == m.duration
+
+
+def test_the_interferometer_of_an_axis_never_moved_is_refused():
+    from geometries import build_machine
+    from twin.motion import machine_for
+    from twin.observe.interferometer import check_interferometer
+
+    data = {**BASE, "interferometer": {"axis": "Y", "runs": ["0 min", "10 min"]}}
+    sc = scenario_from_dict(data, "s.toml")
+    machine = machine_for(build_machine("cframe-vmc"), sc)
+    with pytest.raises(InputError) as err:
+        check_interferometer(sc.interferometer, sc, machine)
+    assert err.value.field == "interferometer.axis" and "[[axis]]" in str(err.value)
+    held = {**data, "axis": [{"name": "Y", "move": [{"kind": "hold", "position": "140 mm", "duration": "10 min"}]}]}
+    sc = scenario_from_dict(held, "s.toml")
+    check_interferometer(sc.interferometer, sc, machine_for(build_machine("cframe-vmc"), sc))
