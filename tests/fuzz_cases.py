@@ -111,6 +111,24 @@ MAPPING_EDITS = [
      "columns.room_degC"),
     ("column-not-a-table", _map('[columns.t_s]\nrole = "time"\nunit = "s"', '[columns]\nt_s = "time"'), "columns.t_s"),
     ("malformed-toml", MAPPING.replace("[columns.t_s]", "[columns.t_s"), "toml"),
+    # a site and a position (or a part) contradict each other
+    ("site-and-x", _map('site = "column_side"', 'site = "column_side"\nx = "0 m"'), "columns.T_column_side.x"),
+    ("site-and-y", _map('site = "column_side"', 'site = "column_side"\ny = "0 m"'), "columns.T_column_side.y"),
+    ("site-and-z", _map('site = "column_side"', 'site = "column_side"\nz = "1 m"'), "columns.T_column_side.z"),
+    ("site-and-part", _map('site = "column_side"', 'site = "column_side"\npart = "bed"'),
+     "columns.T_column_side.part"),
+    # the sensor name becomes a channel name: a non-empty string without '@' (measurement suffix), ':' or ','
+    ("name-empty", _map('site = "column_side"', 'site = "column_side"\nname = ""'), "columns.T_column_side.name"),
+    ("name-blank", _map('site = "column_side"', 'site = "column_side"\nname = "  "'), "columns.T_column_side.name"),
+    ("name-not-a-string", _map('site = "column_side"', 'site = "column_side"\nname = 3'),
+     "columns.T_column_side.name"),
+    ("name-with-at", _map('site = "column_side"', 'site = "column_side"\nname = "a@b.csv"'),
+     "columns.T_column_side.name"),
+    ("name-with-colon", _map('site = "column_side"', 'site = "column_side"\nname = "a:b"'),
+     "columns.T_column_side.name"),
+    ("name-with-comma", _map('site = "column_side"', 'site = "column_side"\nname = "a,b"'),
+     "columns.T_column_side.name"),
+    ("name-at-position", _map(MOTOR, _at("0 m", "0 m", "0.2 m") + '\nname = "m@x"'), "columns.T_motor.name"),
 ]
 
 # ----------------------------------------------------------------------- bad measurement CSVs

@@ -100,6 +100,23 @@ def load_inputs(args):
     return meas, machine, sc, spec
 
 
+def measurement_labels(paths) -> list[str]:
+    """A label per measurement path, unique among them: its file name, or where two share a file
+    name the shortest tail of its path that tells it from the others (``a/m.csv``, ``b/m.csv``);
+    a diagnosis suffixes every channel with ``@label``, so equal labels would merge channels."""
+    parts = [Path(os.path.abspath(p)).parts for p in paths]
+    labels = []
+    for i, mine in enumerate(parts):
+        for k in range(1, len(mine) + 1):
+            tail = mine[-k:]
+            if all(other[-k:] != tail for j, other in enumerate(parts) if j != i):
+                break
+        labels.append(str(Path(*mine[-k:])))
+    if len(set(labels)) != len(labels):   # unreachable for distinct absolute paths; never merge channels
+        labels = [f"{Path(p).name}#{i + 1}" for i, p in enumerate(paths)]
+    return labels
+
+
 def load_measurements(args):
     """([(label, Dataset, Scenario)], machine, ModelSpec, custom effect names) for ``twin
     diagnose MEAS [MEAS ...]``: every measurement must be of the same machine; ``--mapping`` and
@@ -115,13 +132,13 @@ def load_measurements(args):
     if len({os.path.realpath(p) for p in paths}) != len(paths):
         raise InputError("command line", "measurements", "a measurement is given twice")
     runs, machine = [], None
-    for path in paths:
+    for path, label in zip(paths, measurement_labels(paths)):
         meas = read_measurement(path, args.mapping, args.machine)
         m = measured_machine(meas, args, path)
         if machine is not None and m.name != machine.name:
             raise InputError(path, "machine", f"is of {m.name!r}, the first measurement of {machine.name!r}")
         machine = m
-        runs.append((Path(path).name, meas, measured_scenario(meas, args, machine)))
+        runs.append((label, meas, measured_scenario(meas, args, machine)))
     if args.mesh not in machine.resolutions:
         raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
     for _, _, sc in runs:   # with its feed drives' parts when a measurement moves an axis

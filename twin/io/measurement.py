@@ -19,8 +19,9 @@ unit::
     site = "motor"
     unit = "degC"
     [columns.T9]
-    role = "temperature"                  # ... or at a position [m] (part optional)
-    x = "0.1 m"
+    role = "temperature"                  # ... or at a position [m] (part optional), not both
+    name = "column_top"                   # optional sensor name (default: the site or the column);
+    x = "0.1 m"                           # non-empty, without '@', ':' or ','
     y = "0.5 m"
     z = "1.2 m"
     part = "column"
@@ -379,8 +380,37 @@ def _check_values(values: np.ndarray, role: str, mach, src: str, column: str) ->
         limits.check_c_axis_speeds(values, mach, src, column, logged=True)
 
 
+_NAME_BAD = "@:,"   # '@' suffixes a channel with its measurement, ':' parts group from name, ',' lists names
+
+
+def _sensor_name(entry: dict, default: str, msrc: str, key: str) -> str:
+    """The sensor name of a temperature column: ``name`` if given (a non-empty string without
+    '@', ':' or ','), else ``default`` (its site, or the column's name)."""
+    if "name" not in entry:
+        bad = [c for c in _NAME_BAD if c in default]
+        if bad:
+            raise InputError(msrc, key, f"the sensor name {default!r} (from the column) may not contain "
+                             f"{bad[0]!r}; give name = \"...\"")
+        return default
+    name = entry["name"]
+    if not isinstance(name, str):
+        raise InputError(msrc, key + ".name", f"expected a sensor name (a string), got {name!r}")
+    if not name.strip():
+        raise InputError(msrc, key + ".name", "the sensor name is empty")
+    bad = [c for c in _NAME_BAD if c in name]
+    if bad or any(not c.isprintable() for c in name) or name != name.strip():
+        raise InputError(msrc, key + ".name", f"sensor name {name!r} may not contain "
+                         + (f"{bad[0]!r}" if bad else "control characters or leading/trailing spaces")
+                         + " (names must not contain '@', ':' or ',')")
+    return name
+
+
 def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: str):
     if "site" in entry:
+        both = [c for c in ("x", "y", "z", "part") if c in entry]
+        if both:
+            raise InputError(msrc, f"{key}.{both[0]}", "a sensor is placed at a named site or at a position "
+                             "(x, y, z, part), not both; give either site or a position")
         if mach is None:
             raise InputError(msrc, key + ".site", "a named site needs a machine (top-level machine = \"...\")")
         site = entry["site"]
@@ -390,7 +420,7 @@ def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: st
         if site not in sites:
             raise InputError(msrc, key + ".site", f"machine {mach.name} has no sensor site {site!r}; known: {', '.join(sites)}")
         p = mach.point(site)
-        return (str(entry.get("name", site)), tuple(p.xyz), p.part, values)
+        return (_sensor_name(entry, str(site), msrc, key), tuple(p.xyz), p.part, values)
     try:
         xyz = tuple(parse_quantity(entry[c], "length") for c in "xyz")
     except KeyError as err:
@@ -400,7 +430,7 @@ def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: st
     part = str(entry.get("part", ""))
     if mach is not None:
         limits.check_position(mach, xyz, part, msrc, key)
-    return (str(entry.get("name", name)), xyz, part, values)
+    return (_sensor_name(entry, name, msrc, key), xyz, part, values)
 
 
 def _dataset(t, single, sensors, probes, mach, src, positions=None, lasers=None, strains=None, duty=1.0) -> xr.Dataset:

@@ -1,0 +1,87 @@
+"""Limits of the measurement column mapping and of several measurements in one diagnosis: a
+temperature column is placed at a named site or at a position, never both; its sensor name is a
+non-empty string without '@', ':' or ','; two measurements of the same file name in different
+folders get labels that tell them apart, so every channel of a diagnosis is distinct."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from tests.fuzz_files import MAPPING, measurement_csv
+from twin.cli import build_parser, main
+from twin.errors import InputError
+from twin.io.measurement import read_measurement
+from validate.inputs import load_measurements, measurement_labels
+
+SIDE = 'site = "column_side"'
+
+
+@pytest.fixture(scope="module")
+def csv_text():
+    return measurement_csv()
+
+
+def _write(folder, csv_text, mapping=MAPPING):
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "m.csv").write_text(csv_text)
+    (folder / "m.toml").write_text(mapping)
+    return folder / "m.csv"
+
+
+@pytest.mark.parametrize("extra, field", [
+    ('x = "0 m"', "x"), ('y = "0 m"', "y"), ('z = "1 m"', "z"), ('part = "bed"', "part"),
+    ('name = ""', "name"), ('name = 3', "name"), ('name = "a@b.csv"', "name"), ('name = "a:b"', "name"),
+    ('name = "a,b"', "name"),
+])
+def test_bad_temperature_column_is_refused(tmp_path, csv_text, extra, field):
+    path = _write(tmp_path, csv_text, MAPPING.replace(SIDE, SIDE + "\n" + extra))
+    with pytest.raises(InputError) as err:
+        read_measurement(path)
+    text = str(err.value)
+    assert f"columns.T_column_side.{field}" in text and "m.toml" in text
+
+
+def test_site_and_position_cli_exit_2(tmp_path, csv_text, capsys):
+    path = _write(tmp_path, csv_text, MAPPING.replace(SIDE, SIDE + '\nz = "1 m"'))
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert main(["compare", str(path), "--mesh", "coarse"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"error: {tmp_path / 'm.toml'}: columns.T_column_side.z: ")
+    assert "site or a position" in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_good_sensor_name_is_kept(tmp_path, csv_text):
+    path = _write(tmp_path, csv_text, MAPPING.replace(SIDE, SIDE + '\nname = "side wall"'))
+    ds = read_measurement(path)
+    assert "side wall" in list(ds.sensor.values)
+
+
+def test_labels_unique():
+    assert measurement_labels(["a/m.csv", "b/m.csv"]) == ["a/m.csv", "b/m.csv"]
+    assert measurement_labels(["m.csv", "n.csv"]) == ["m.csv", "n.csv"]
+    labels = measurement_labels(["x/a/m.csv", "y/a/m.csv", "b/m.csv", "c.csv"])
+    assert labels == ["x/a/m.csv", "y/a/m.csv", "b/m.csv", "c.csv"]
+
+
+def test_same_file_name_in_two_folders_keeps_every_channel(tmp_path, csv_text, monkeypatch):
+    """``twin diagnose a/m.csv b/m.csv``: the runs' labels differ, so the diagnosis' channels
+    (``channel@label``, :meth:`validate.evidence.Evidence.channel_names`) are all distinct."""
+    from validate.evidence import Evidence
+    _write(tmp_path / "a", csv_text)
+    _write(tmp_path / "b", csv_text)
+    monkeypatch.chdir(tmp_path)
+    args = build_parser().parse_args(["diagnose", "a/m.csv", "b/m.csv", "--error-mesh", "none", "--no-parameters"])
+    runs, _, _, _ = load_measurements(args)
+    assert [label for label, _, _ in runs] == ["a/m.csv", "b/m.csv"]
+    records = []
+    for label, ds, _ in runs:
+        chans = [f"temperature:{s}" for s in ds.sensor.values] + [f"probe:{p}" for p in ds.probe_id.values]
+        records.append(SimpleNamespace(label=label, channels=chans, measured=np.zeros((2, len(chans)))))
+    names = Evidence(records).channel_names()
+    per_run = len(records[0].channels)
+    assert per_run == 8 and len(names) == 2 * per_run == len(set(names))
+    assert "probe:Z@a/m.csv" in names and "probe:Z@b/m.csv" in names
