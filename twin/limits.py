@@ -222,24 +222,27 @@ def check_position(machine, xyz, part: str, source: str, field: str) -> None:
         raise InputError(source, field, f"{where} is outside machine {machine.name} (its parts span {span} m)")
 
 
+def _at_most(value: float, limit: float, source: str, field: str, message) -> float:
+    """``value`` as a float when finite and |value| <= ``limit``; else the :class:`InputError`
+    ``message(value)`` on ``field``."""
+    v = float(value)
+    if not np.isfinite(v) or abs(v) > limit:
+        raise InputError(source, field, message(v))
+    return v
+
+
 def check_feed(value: float, source: str, field: str, what: str = "a feed") -> float:
     """An axis feed (or speed) [m/s] checked: finite and at most :data:`MAX_FEED`."""
-    v = float(value)
-    if not np.isfinite(v) or abs(v) > MAX_FEED:
-        raise InputError(source, field, f"{what} of {v:g} m/s ({v * 60:g} m/min) is beyond {MAX_FEED:g} m/s "
-                                        f"({MAX_FEED * 60:g} m/min), the fastest linear-motor machine tools "
-                                        "(check the unit)")
-    return v
+    return _at_most(value, MAX_FEED, source, field, lambda v: (
+        f"{what} of {v:g} m/s ({v * 60:g} m/min) is beyond {MAX_FEED:g} m/s ({MAX_FEED * 60:g} m/min), the fastest "
+        "linear-motor machine tools (check the unit)"))
 
 
 def check_acceleration(value: float, source: str, field: str) -> float:
     """An axis acceleration [m/s2] checked: finite and at most :data:`MAX_ACCELERATION`."""
-    v = float(value)
-    if not np.isfinite(v) or abs(v) > MAX_ACCELERATION:
-        raise InputError(source, field, f"an acceleration of {v:g} m/s2 ({v / 9.80665:.3g} g) is beyond {MAX_ACCELERATION:g} m/s2 "
-                                        f"(about {MAX_ACCELERATION / 9.80665:.0f} g): linear-motor axes reach 2-5 g, "
-                                        "ball screws about 1 g (check the unit)")
-    return v
+    return _at_most(value, MAX_ACCELERATION, source, field, lambda v: (
+        f"an acceleration of {v:g} m/s2 ({v / 9.80665:.3g} g) is beyond {MAX_ACCELERATION:g} m/s2 (about "
+        f"{MAX_ACCELERATION / 9.80665:.0f} g): linear-motor axes reach 2-5 g, ball screws about 1 g (check the unit)"))
 
 
 def check_seed(text) -> int:
