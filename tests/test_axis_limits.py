@@ -118,3 +118,7 @@ def test_the_interferometer_of_an_axis_never_moved_is_refused():
     held = {**data, "axis": [{"name": "Y", "move": [{"kind": "hold", "position": "140 mm", "duration": "10 min"}]}]}
     sc = scenario_from_dict(held, "s.toml")
     check_interferometer(sc.interferometer, sc, machine_for(build_machine("cframe-vmc"), sc))
+    from validate.signatures import Engine      # the diagnosis's engine checks it as a simulation does
+    with pytest.raises(InputError) as err:
+        Engine(machine, scenario_from_dict(data, "s.toml"), "coarse")
+    assert err.value.field == "interferometer.axis"

@@ -33,7 +33,7 @@ from twin.effects import EFFECTS
 from twin.model import ModelSpec
 from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, LaserTriangulation, RunContext, StrainGauges,
                           TemperatureSensors, sensor_points)
-from twin.observe.interferometer import PositioningTrace
+from twin.observe.interferometer import PositioningTrace, check_interferometer
 from twin.physics.prepared import PreparedTwin
 from validate.channels import target_label
 from twin.signals import lag_series
@@ -62,6 +62,8 @@ class Engine:
         self.lasers = LaserTriangulation() if machine.lasers else None
         self.laser_names = [p.name for p in machine.lasers]
         config = getattr(scenario, "interferometer", None)
+        if config is not None:                      # as a simulation checks it: a clean error, not a KeyError
+            check_interferometer(config, scenario, machine)
         self.positioning = PositioningTrace(config, machine) if config is not None else None
         self.target_names = ([target_label(t * 1e3) for t in self.positioning.targets]
                              if self.positioning is not None else [])
