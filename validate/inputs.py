@@ -103,17 +103,15 @@ def load_inputs(args):
 def measurement_labels(paths) -> list[str]:
     """A label per measurement path, unique among them: its file name, or where two share a file
     name the shortest tail of its path that tells it from the others (``a/m.csv``, ``b/m.csv``);
-    a diagnosis suffixes every channel with ``@label``, so equal labels would merge channels."""
+    a diagnosis suffixes every channel with ``@label``, so equal labels would merge channels. The
+    paths are distinct (:func:`load_measurements` refuses one given twice), so the longest tail,
+    the whole absolute path, always tells them apart."""
     parts = [Path(os.path.abspath(p)).parts for p in paths]
     labels = []
     for i, mine in enumerate(parts):
-        for k in range(1, len(mine) + 1):
-            tail = mine[-k:]
-            if all(other[-k:] != tail for j, other in enumerate(parts) if j != i):
-                break
+        k = next(k for k in range(1, len(mine) + 1)
+                 if all(other[-k:] != mine[-k:] for j, other in enumerate(parts) if j != i))
         labels.append(str(Path(*mine[-k:])))
-    if len(set(labels)) != len(labels):   # unreachable for distinct absolute paths; never merge channels
-        labels = [f"{Path(p).name}#{i + 1}" for i, p in enumerate(paths)]
     return labels
 
 
