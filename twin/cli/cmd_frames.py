@@ -42,10 +42,10 @@ def declare_output(files, output: str, layout: list[str], field: str = "-o") -> 
     """Declare the output folder and the files ``layout`` (relative paths) to ``files``. The
     first file of each kind in each subfolder is declared as any output (which checks the
     subfolder, the suffix and the clashes with the inputs); declaring thousands of frames that
-    way would take minutes, so the rest are compared with the inputs and, where they exist
-    already (a rerun), checked as outputs. A subfolder that is in the way (a file, a link to
-    nothing) is refused as well."""
-    from twin.io.paths import output_file, same_file
+    way would take minutes, so the rest are checked for clashes without being recorded
+    (:meth:`twin.io.paths.Files.check_output`) and, where they exist already (a rerun), checked
+    as outputs. A subfolder that is in the way (a file, a link to nothing) is refused as well."""
+    from twin.io.paths import output_file
 
     firsts: dict[tuple[str, str], str] = {}
     for rel in layout:
@@ -60,10 +60,7 @@ def declare_output(files, output: str, layout: list[str], field: str = "-o") -> 
         if rel in chosen:
             continue
         path = out / rel
-        for src, src_field in files.inputs:
-            if same_file(path, src):
-                raise InputError(str(path), field, f"is the input {str(src)!r} ({src_field}); an output never "
-                                                   "replaces an input")
+        files.check_output(path, field)
         if path.is_symlink() or path.exists():
             output_file(path, field)
     return out

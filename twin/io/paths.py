@@ -214,6 +214,13 @@ class Files:
         self.outputs.append((path, field))
         return path
 
+    def check_output(self, path: str | os.PathLike, field: str) -> None:
+        """Check ``path`` like a declared output's clashes (never an input, never another declared
+        output or folder) without recording it: for the many files of one kind whose first is
+        declared (a camera's frames), where recording each would make every check compare with
+        all the others."""
+        self._clash(Path(path), field, output=True)
+
     def folder(self, path: str | os.PathLike, field: str, contents: tuple[str, ...] = ()) -> Path:
         """Declare an output folder and the files (relative names, e.g. ``"report/index.html"``)
         the command writes into it; returns the folder checked (:func:`output_folder`)."""
