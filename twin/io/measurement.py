@@ -77,6 +77,7 @@ from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
 from twin.io.axis_logs import axis_name, check_travel, integrated_feed
+from twin.io.mapping_columns import check_values, duty_fraction, instrument, sensor
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml
 from twin.io.results import read_result
 from twin.observe.base import variable
@@ -291,15 +292,15 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             raise InputError(msrc, key, "a C-axis speed needs a machine with a C axis (top-level machine = "
                                         f"\"...\"; {'none named' if mach is None else mach.name + ' has none'})")
         values = _column(path, rows, header.index(name), name) * factor
-        _check_values(values, role, mach, src, name)
+        check_values(values, role, mach, src, name)
         if role in SINGLE:
             if role in single:
                 raise InputError(msrc, key, f"a second column with role {role}")
             single[role] = values
             if role == "c_axis_speed":
-                duty = _duty(entry.get("duty", 1.0), msrc, key + ".duty")
+                duty = duty_fraction(entry.get("duty", 1.0), msrc, key + ".duty")
         elif role == "laser":
-            lid = _instrument(entry, "laser", [p.name for p in mach.lasers] if mach is not None else None,
+            lid = instrument(entry, "laser", [p.name for p in mach.lasers] if mach is not None else None,
                               lasers, msrc, key)
             lasers[lid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
         elif role == "strain":
@@ -308,7 +309,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
                                                          f"sensor) or \"raw\" (the grating's reading), got "
                                                          f"{entry.get('reading')!r}")
             var = READINGS[entry["reading"]]
-            gid = _instrument(entry, "gauge", [g.name for g in mach.strain_gauges] if mach is not None else None,
+            gid = instrument(entry, "gauge", [g.name for g in mach.strain_gauges] if mach is not None else None,
                               strains[var], msrc, key)
             strains[var][gid] = (values - values[0]) * 1e6  # m/m -> um/m, nulled at the start
         elif role == "probe":
@@ -326,7 +327,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
         elif role == "axis_feed":
             feeds[axis_name(entry, {**positions, **feeds}, mach, msrc, key)] = (values, entry, key, name)
         else:
-            sensors.append(_sensor(entry, name, values, mach, msrc, key))
+            sensors.append(sensor(entry, name, values, mach, msrc, key))
     if "time" not in single:
         raise InputError(msrc, "columns", "no column has role = \"time\"")
     t = single["time"]
@@ -341,96 +342,6 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
                                           f"(compensated: {', '.join(strains['strain'])}; raw: "
                                           f"{', '.join(strains['strain_raw'])})")
     return _dataset(t, single, sensors, probes, mach, src, positions, lasers, strains, duty)
-
-
-def _instrument(entry: dict, kind: str, known: list[str] | None, seen: dict, msrc: str, key: str) -> str:
-    """The ``kind`` (laser, gauge) a column names: one of the machine's, given once."""
-    if known is None:
-        raise InputError(msrc, f"{key}.{kind}", f"a {kind} column needs the machine (top-level machine = \"...\")")
-    name = entry.get(kind)
-    if name not in known:
-        raise InputError(msrc, f"{key}.{kind}", f"unknown {kind} {name!r}; known: {', '.join(known) or 'none'}")
-    if name in seen:
-        raise InputError(msrc, f"{key}.{kind}", f"{kind} {name} mapped twice")
-    return name
-
-
-def _duty(value, msrc: str, key: str) -> float:
-    """The C axis's duty (fraction of the time turning, 0 < d <= 1)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= 1:
-        raise InputError(msrc, key, f"expected a fraction of the time turning, 0 < duty <= 1, got {value!r}")
-    return float(value)
-
-
-def _check_values(values: np.ndarray, role: str, mach, src: str, column: str) -> None:
-    """Physical limits of one CSV column in SI units (:mod:`twin.limits`)."""
-    if not np.all(np.isfinite(values)):
-        raise InputError(src, column, "a value overflows its unit's range")
-    if role == "spindle_speed":
-        limits.check_speeds(values, mach, src, column, logged=True)
-    elif role == "ambient_temperature":
-        limits.check_temperatures(values, src, column, "air")
-    elif role == "temperature":
-        limits.check_temperatures(values, src, column, "structure")
-    elif role in ("probe", "laser"):
-        limits.check_displacements(values, src, column)
-    elif role == "strain":
-        limits.check_strains(values, src, column)
-    elif role == "c_axis_speed":
-        limits.check_c_axis_speeds(values, mach, src, column, logged=True)
-
-
-_NAME_BAD = "@:,"   # '@' suffixes a channel with its measurement, ':' parts group from name, ',' lists names
-
-
-def _sensor_name(entry: dict, default: str, msrc: str, key: str) -> str:
-    """The sensor name of a temperature column: ``name`` if given (a non-empty string without
-    '@', ':' or ','), else ``default`` (its site, or the column's name)."""
-    if "name" not in entry:
-        bad = [c for c in _NAME_BAD if c in default]
-        if bad:
-            raise InputError(msrc, key, f"the sensor name {default!r} (from the column) may not contain "
-                             f"{bad[0]!r}; give name = \"...\"")
-        return default
-    name = entry["name"]
-    if not isinstance(name, str):
-        raise InputError(msrc, key + ".name", f"expected a sensor name (a string), got {name!r}")
-    if not name.strip():
-        raise InputError(msrc, key + ".name", "the sensor name is empty")
-    bad = [c for c in _NAME_BAD if c in name]
-    if bad or any(not c.isprintable() for c in name) or name != name.strip():
-        raise InputError(msrc, key + ".name", f"sensor name {name!r} may not contain "
-                         + (f"{bad[0]!r}" if bad else "control characters or leading/trailing spaces")
-                         + " (names must not contain '@', ':' or ',')")
-    return name
-
-
-def _sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: str):
-    if "site" in entry:
-        both = [c for c in ("x", "y", "z", "part") if c in entry]
-        if both:
-            raise InputError(msrc, f"{key}.{both[0]}", "a sensor is placed at a named site or at a position "
-                             "(x, y, z, part), not both; give either site or a position")
-        if mach is None:
-            raise InputError(msrc, key + ".site", "a named site needs a machine (top-level machine = \"...\")")
-        site = entry["site"]
-        from geometries.axes import with_feed_drives
-        mach = with_feed_drives(mach)   # the feed drives' sites (seed 003's) are sites too
-        sites = list(mach.sensor_sites) + list(mach.air_sites)
-        if site not in sites:
-            raise InputError(msrc, key + ".site", f"machine {mach.name} has no sensor site {site!r}; known: {', '.join(sites)}")
-        p = mach.point(site)
-        return (_sensor_name(entry, str(site), msrc, key), tuple(p.xyz), p.part, values)
-    try:
-        xyz = tuple(parse_quantity(entry[c], "length") for c in "xyz")
-    except KeyError as err:
-        raise InputError(msrc, f"{key}.{err.args[0]}", "a temperature column needs site = NAME or x, y, z") from None
-    except UnitError as err:
-        raise InputError(msrc, key, str(err)) from None
-    part = str(entry.get("part", ""))
-    if mach is not None:
-        limits.check_position(mach, xyz, part, msrc, key)
-    return (_sensor_name(entry, name, msrc, key), xyz, part, values)
 
 
 def _dataset(t, single, sensors, probes, mach, src, positions=None, lasers=None, strains=None, duty=1.0) -> xr.Dataset:
