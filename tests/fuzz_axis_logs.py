@@ -28,6 +28,20 @@ def _yfeed(value):
     return measurement_csv(edit)
 
 
+def _yfeed_alternating(value):
+    """+value, -value, ... [mm/s]: the trapezoidal positions stay at the start, the feed is too fast."""
+    def edit(cols):
+        cols["y_feed"] = value * (1 - 2 * (np.arange(len(cols["t_s"])) % 2))
+    return measurement_csv(edit)
+
+
+def _ypos_alternating(step):
+    """140 mm, 140 + step, 140, ...: with the times read in ms, ``step`` mm every 60 ms."""
+    def edit(cols):
+        cols["y_mm"] = 140.0 + step * (np.arange(len(cols["t_s"])) % 2)
+    return measurement_csv(edit)
+
+
 def _yboth(cols):
     cols["y_mm"], cols["y_feed"] = np.full(len(cols["t_s"]), 140.0), np.zeros(len(cols["t_s"]))
 
@@ -47,6 +61,10 @@ AXIS_LOG_EDITS = [
     ("axis-position-no-axis", _ypos(140.0), MAPPING + YPOS.replace('axis = "Y"\n', ''), "m.toml",
      "columns.y_mm.axis"),
     ("axis-position-outside-travel", _ypos(900.0), MAPPING + YPOS, "m.csv", "y_mm"),
+    ("axis-feed-too-fast", _yfeed_alternating(3000.0), MAPPING + YFEED, "m.csv", "y_feed"),
+    ("axis-position-too-fast", _ypos_alternating(200.0), MAPPING.replace('role = "time"\nunit = "s"',
+                                                                         'role = "time"\nunit = "ms"') + YPOS,
+     "m.csv", "y_mm"),
     ("axis-position-wrong-unit", _ypos(140.0), MAPPING + YPOS.replace('"mm"', '"mm/s"'), "m.toml",
      "columns.y_mm.unit"),
 ]

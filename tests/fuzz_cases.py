@@ -93,6 +93,19 @@ def _shift_sensor(ds):
     return ds
 
 
+def _sensor_names(names):
+    return lambda ds: ds.assign_coords(sensor=list(names))
+
+
+def _axis_log(mm, axis="Y"):
+    """The result with a logged ``axis`` position [mm] per sample (``mm(t)``, t in s)."""
+    def edit(ds):
+        t = ds.time.values
+        return ds.assign({"axis_position": (("time", "axis_name"), np.asarray(mm(t), float)[:, None], {"units": "mm"})}
+                         ).assign_coords(axis_name=[axis])
+    return edit
+
+
 # (id, make bytes, field for plot or None when plot accepts it, field for compare or None)
 RESULT_EDITS = [
     ("nan-temperature", _nc(_put("temperature", np.nan)), "temperature", "temperature"),
@@ -108,6 +121,13 @@ RESULT_EDITS = [
     ("sensor-outside-machine", _nc(_shift_sensor), None, "sensor motor"),
     ("probe-unit-mistake", _nc(_put("probe", 5e4)), None, "probe:X1"),
     ("not-netcdf", lambda: b"time,T\n0,20\n", "result", "measurement"),
+    ("sensor-name-with-at", _nc(_sensor_names(["motor@1", "column_side", "bed_front"])), None, "sensor[0]"),
+    ("sensor-name-twice", _nc(_sensor_names(["motor", "motor", "bed_front"])), None, "sensor"),
+    ("axis-log-outside-travel", _nc(_axis_log(lambda t: np.full(len(t), 900.0))), None, "axis_position:Y"),
+    # 200 mm back and forth every 60 ms (a log in ms written as s): 3.3 m/s
+    ("axis-log-too-fast", _nc(lambda ds: _axis_log(lambda t: 100.0 + 200.0 * (np.arange(len(t)) % 2))(
+        ds.assign_coords(time=("time", ds.time.values * 1e-3, {"units": "s"})))), None, "axis_position:Y"),
+    ("axis-log-unknown-axis", _nc(_axis_log(lambda t: np.full(len(t), 100.0), "W")), None, "axis_position:W"),
 ]
 
 # ------------------------------------------------------------------------- bad learning tables

@@ -1,6 +1,8 @@
 """Logged axis motion in a measurement (:mod:`twin.io.measurement`): the axis an
 ``axis_position`` or ``axis_feed`` column names, positions held to the axis's travel, and a logged
-signed feed integrated to positions from the mapping's ``start``. Every problem is an
+signed feed integrated to positions from the mapping's ``start``; a log's feed held to
+:data:`twin.limits.MAX_FEED` (the twin moves the axis linearly between samples, at
+(x[i+1] - x[i]) / (t[i+1] - t[i])). Every problem is an
 :class:`twin.errors.InputError` naming the mapping's key or the CSV column."""
 
 from __future__ import annotations
@@ -8,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from twin.errors import InputError
+from twin.limits import MAX_FEED
 from twin.units import UnitError, parse_quantity
 
 
@@ -39,9 +42,29 @@ def integrated_feed(t: np.ndarray, feed: np.ndarray, entry: dict, mach, msrc: st
         start = parse_quantity(entry["start"], "length")
     except (UnitError, TypeError, ValueError) as err:
         raise InputError(msrc, key + ".start", str(err)) from None
+    check_feeds(feed, src, column, "logged feed")
     x = start + np.concatenate([[0.0], np.cumsum(0.5 * (feed[1:] + feed[:-1]) * np.diff(t))])
     check_travel(entry["axis"], x, mach, src, column, " (integrated from the feed)")
     return x
+
+
+def check_log(axis: str, t: np.ndarray, x: np.ndarray, mach, src: str, column: str) -> None:
+    """Logged positions ``x`` [m] of ``axis`` at times ``t`` [s]: within the travel, and the feed
+    between two samples, |x[i+1] - x[i]| / (t[i+1] - t[i]) [m/s], at most :data:`MAX_FEED` (a
+    faster log is in the wrong unit or not a position)."""
+    check_travel(axis, x, mach, src, column)
+    check_feeds(np.diff(x) / np.diff(t), src, column, "feed between samples", offset=1)
+
+
+def check_feeds(v: np.ndarray, src: str, column: str, what: str, offset: int = 0) -> None:
+    """Signed feeds ``v`` [m/s] at most :data:`MAX_FEED` in size; the error names the first data
+    row beyond it (``offset`` rows later for a feed between two samples)."""
+    bad = np.flatnonzero(~(np.abs(v) <= MAX_FEED))
+    if len(bad):
+        i = int(bad[0])
+        raise InputError(src, column, f"row {i + 1 + offset}: a {what} of {v[i]:g} m/s ({v[i] * 60:g} m/min) is "
+                                      f"beyond {MAX_FEED:g} m/s ({MAX_FEED * 60:g} m/min), the fastest machine "
+                                      "tools' (check the unit)")
 
 
 def check_travel(axis: str, values: np.ndarray, mach, src: str, column: str, how: str = "") -> None:

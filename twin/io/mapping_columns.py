@@ -63,14 +63,19 @@ def sensor_name(entry: dict, default: str, msrc: str, key: str) -> str:
             raise InputError(msrc, key, f"the sensor name {default!r} (from the column) may not contain "
                              f"{bad[0]!r}; give name = \"...\"")
         return default
-    name = entry["name"]
+    return check_sensor_name(entry["name"], msrc, key + ".name")
+
+
+def check_sensor_name(name, src: str, field: str) -> str:
+    """A sensor's name as given (in a mapping or a NetCDF measurement): a non-empty, printable
+    string without leading or trailing spaces and without '@', ':' or ','."""
     if not isinstance(name, str):
-        raise InputError(msrc, key + ".name", f"expected a sensor name (a string), got {name!r}")
+        raise InputError(src, field, f"expected a sensor name (a string), got {name!r}")
     if not name.strip():
-        raise InputError(msrc, key + ".name", "the sensor name is empty")
+        raise InputError(src, field, "the sensor name is empty")
     bad = [c for c in BAD_NAME_CHARACTERS if c in name]
     if bad or any(not c.isprintable() for c in name) or name != name.strip():
-        raise InputError(msrc, key + ".name", f"sensor name {name!r} may not contain "
+        raise InputError(src, field, f"sensor name {name!r} may not contain "
                          + (f"{bad[0]!r}" if bad else "control characters or leading/trailing spaces")
                          + " (names must not contain '@', ':' or ',')")
     return name

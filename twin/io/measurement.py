@@ -76,8 +76,8 @@ import xarray as xr
 from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
-from twin.io.axis_logs import axis_name, check_travel, integrated_feed
-from twin.io.mapping_columns import check_values, duty_fraction, instrument, sensor
+from twin.io.axis_logs import axis_name, check_log, integrated_feed
+from twin.io.mapping_columns import check_sensor_name, check_values, duty_fraction, instrument, sensor
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml
 from twin.io.results import read_result
 from twin.observe.base import variable
@@ -166,6 +166,20 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
             limits.check_strains(ds[var].transpose("time", "gauge").values * 1e-6, src, var)
     if "c_axis_speed" in ds:
         limits.check_c_axis_speeds(ds.c_axis_speed.values, mach, src, "c_axis_speed", logged=True)
+    if "axis_position" in ds and "axis_name" in ds.coords:
+        t = np.asarray(ds["time"].values, dtype=float)
+        mm = ds.axis_position.transpose("time", "axis_name").values
+        for i, axis in enumerate(ds.axis_name.values):
+            field = f"axis_position:{axis}"
+            if mach is not None and str(axis) not in [a.name for a in mach.axes]:
+                raise InputError(src, field, f"machine {mach.name} has no axis {str(axis)!r}; its axes: "
+                                             f"{', '.join(a.name for a in mach.axes) or 'none'}")
+            check_log(str(axis), t, mm[:, i] * 1e-3, mach, src, field)
+    if "sensor" in ds.coords:
+        names = [check_sensor_name(str(n), src, f"sensor[{i}]") for i, n in enumerate(ds.sensor.values)]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise InputError(src, "sensor", f"sensor {twice[0]!r} appears twice")
     if "temperature" in ds and "sensor" in ds.coords:
         temp = ds.temperature.transpose("time", "sensor").values
         for i, name in enumerate(ds.sensor.values):
@@ -271,6 +285,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     sensors: list[tuple[str, tuple[float, float, float], str, np.ndarray]] = []
     probes: dict[str, np.ndarray] = {}
     positions: dict[str, np.ndarray] = {}
+    position_columns: dict[str, str] = {}                       # axis -> its position column
     feeds: dict[str, tuple[np.ndarray, dict, str, str]] = {}   # axis -> (feed [m/s], entry, key, column)
     lasers: dict[str, np.ndarray] = {}
     strains: dict[str, dict[str, np.ndarray]] = {"strain": {}, "strain_raw": {}}
@@ -322,8 +337,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             probes[pid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
         elif role == "axis_position":
             axis = axis_name(entry, {**positions, **feeds}, mach, msrc, key)
-            check_travel(axis, values, mach, src, name)
-            positions[axis] = values
+            positions[axis], position_columns[axis] = values, name
         elif role == "axis_feed":
             feeds[axis_name(entry, {**positions, **feeds}, mach, msrc, key)] = (values, entry, key, name)
         else:
@@ -332,6 +346,8 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
         raise InputError(msrc, "columns", "no column has role = \"time\"")
     t = single["time"]
     _check_time(t, src, next(c for c, e in cols.items() if e.get("role") == "time"))
+    for axis, x in positions.items():
+        check_log(axis, t, x, mach, src, position_columns[axis])
     for axis, (feed, entry, key, column) in feeds.items():
         positions[axis] = integrated_feed(t, feed, entry, mach, msrc, src, key, column)
     names = [s[0] for s in sensors]
