@@ -184,3 +184,18 @@ def test_compare_command_on_csv(tmp_path, sim, capsys):
     args = parser.parse_args(["compare", str(tmp_path / "missing.csv")])
     with pytest.raises(InputError, match="no such measurement file"):
         args.func(args)
+
+
+def test_compare_table_stays_aligned_with_long_channel_names():
+    """A sensor name longer than the default column keeps every row's numbers in one column."""
+    from validate.compare import ChannelResult, CompareResult
+
+    def channel(name, rmse):
+        return ChannelResult(name, "K", stats(np.array([1.0, 2.0, 3.0]), np.array([rmse, -rmse, rmse])), 1.0, [])
+
+    long = "temperature:" + "x" * 40
+    r = CompareResult([channel("temperature:motor", 0.5), channel(long, 0.2)], [], None)
+    rows = [ln for ln in format_compare(r).splitlines() if ln.startswith("temperature:")]
+    assert len({row.index(" K ") for row in rows}) == 1
+    ranked = [ln for ln in format_compare(r).splitlines() if ln.startswith("  1.") or ln.startswith("  2.")]
+    assert len(ranked) == 2 and len({len(ln) for ln in ranked}) == 1

@@ -112,19 +112,23 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
 
 
 def format_compare(result: CompareResult, top: int = 8) -> str:
-    """A terminal table: per-channel stats, then the worst channels and phase cells."""
-    lines = [f"{'channel':<26} {'unit':>5} {'RMSE':>9} {'max|r|':>9} {'NSE':>7}"]
+    """A terminal table: per-channel stats, then the worst channels and phase cells; the name
+    columns as wide as their longest entry, so long sensor names keep the columns aligned."""
+    w = max([26] + [len(c.name) for c in result.channels])
+    pw = max([28] + [len(p.label) for p in result.phases])
+    lines = [f"{'channel':<{w}} {'unit':>5} {'RMSE':>9} {'max|r|':>9} {'NSE':>7}"]
     for c in result.channels:
         s = c.stats
-        lines.append(f"{c.name:<26} {c.unit:>5} {s.rmse:9.3g} {s.max_abs:9.3g} {s.nse:7.3f}")
+        lines.append(f"{c.name:<{w}} {c.unit:>5} {s.rmse:9.3g} {s.max_abs:9.3g} {s.nse:7.3f}")
     lines += ["", "phases:"]
-    lines += [f"  {p.label:<28} {p.start / 3600:7.2f} h .. {p.end / 3600:7.2f} h" for p in result.phases]
+    lines += [f"  {p.label:<{pw}} {p.start / 3600:7.2f} h .. {p.end / 3600:7.2f} h" for p in result.phases]
     lines += ["", "worst channels (RMSE / std of the measurement):"]
-    lines += [f"  {i + 1}. {c.name:<24} {c.normalised_rmse:7.3f}" for i, c in enumerate(result.ranking()[:top])]
+    ranked = result.ranking()[:top]
+    lines += [f"  {f'{i + 1}.':<3} {c.name:<{w}} {c.normalised_rmse:7.3f}" for i, c in enumerate(ranked)]
     cells = result.phase_ranking()[:top]
     if cells:
         lines += ["", "worst phases (channel, phase, RMSE / std):"]
-        lines += [f"  {i + 1}. {c.name:<24} {p.label:<28} {v:7.3f} (RMSE {s.rmse:.3g} {c.unit})"
+        lines += [f"  {f'{i + 1}.':<3} {c.name:<{w}} {p.label:<{pw}} {v:7.3f} (RMSE {s.rmse:.3g} {c.unit})"
                   for i, (c, p, s, v) in enumerate(cells)]
     return "\n".join(lines)
 

@@ -83,16 +83,18 @@ def format_diagnosis(d, top: int = 8) -> str:
     for gap in d.missing_channels:
         lines.append("Channels: " + gap["note"])
     lines.append("")
-    head = f"{'rank':>4}  {'candidate':<44} {'kind':<9} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
+    w = max([44] + [len(c["effect"]) for c in d.candidates[:top]])   # long names keep the columns aligned
+    head = f"{'rank':>4}  {'candidate':<{w}} {'kind':<9} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
     lines += [head, "-" * len(head)]
     for i, c in enumerate(d.candidates[:top], 1):
-        lines.append(f"{i:>4}  {c['effect']:<44} {c['kind']:<9} {c['explained']:>8.1%} {c['delta_bic']:>8.1f} "
+        lines.append(f"{i:>4}  {c['effect']:<{w}} {c['kind']:<9} {c['explained']:>8.1%} {c['delta_bic']:>8.1f} "
                      f"{c['confidence']:>5.2f}  {_params_text(c)}")
         if i <= 3:
             lines += _reasoning_lines(c)
     if d.regions:
         lines += ["", "Where on the machine a generic heat input explains the residual best:"]
-        lines += [f"  {r['region']:<22} {r['power_W']:>8.3g} W {r['schedule'].replace('_', ' '):<11} explains "
+        rw = max([22] + [len(r["region"]) for r in d.regions])
+        lines += [f"  {r['region']:<{rw}} {r['power_W']:>8.3g} W {r['schedule'].replace('_', ' '):<11} explains "
                   f"{r['explained']:.0%}" for r in d.regions]
     lines += ["", d.message]
     return "\n".join(lines)
