@@ -350,3 +350,15 @@ def test_a_camera_run_is_written_and_read_back_with_the_room_in_view(tmp_path):
     bad["x"] = ("i", np.array([1.0, np.inf]), {"nan_means": "nothing"})
     with pytest.raises(InputError, match="x: holds NaN or infinite"):
         check_finite(bad, "inf.nc")
+
+
+def test_every_numeric_camera_variable_and_coordinate_states_its_unit():
+    """Units at every boundary: the camera's numeric layers and index coordinates (pixel row and
+    column, detector count, part and facet indices) carry a ``units`` attribute ("1" for a
+    dimensionless index)."""
+    ds, _, _ = _frames(_machine([Part("block", material("steel"), (Box((-0.2, 0.0, 0.3), (0.2, 0.2, 0.7)),))],
+                                [Finish(Emissivity("test", 0.9, "test"), ("block",))]), _config())
+    names = [k for k in list(ds.data_vars) + list(ds.coords) if ds[k].dtype.kind in "iufc"]
+    assert {"part_true", "facet_true"} <= set(names)
+    missing = [k for k in names if "units" not in ds[k].attrs]
+    assert missing == []

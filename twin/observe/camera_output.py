@@ -64,10 +64,10 @@ def camera_variables(cam, t, thermo, counts, true, lut) -> tuple[dict, dict]:
                                         kelvin),
         n("emissivity_true"): (pix, view.emissivity.astype(np.float32), {"units": "1", "long_name": "true emissivity "
                                                                          "seen by the pixel", "nan_means": "the room"}, flat),
-        n("part_true"): (pix, view.part.astype(np.int16), {"long_name": "part seen by the pixel's centre ray (-1: the room)",
+        n("part_true"): (pix, view.part.astype(np.int16), {"units": "1", "long_name": "part seen by the pixel's centre ray (-1: the room)",
                                                            "flag_values": np.arange(len(view.part_names), dtype=np.int16),
                                                            "flag_meanings": names}, flat),
-        n("facet_true"): (pix, view.facet.astype(np.int32), {"long_name": "mesh facet hit by the pixel's centre ray "
+        n("facet_true"): (pix, view.facet.astype(np.int32), {"units": "1", "long_name": "mesh facet hit by the pixel's centre ray "
                                                              "(-1: the room)"}, flat),
         n("depth_true"): (pix, view.depth.astype(np.float32), {"units": "m", "long_name": "distance along the centre "
                                                                "ray to the surface", "nan_means": "the room"}, flat),
@@ -83,8 +83,8 @@ def camera_variables(cam, t, thermo, counts, true, lut) -> tuple[dict, dict]:
         data[n("counts")] = (frame, counts, {"units": "1", "long_name": "detector counts (ADC)"}, compressed(chunks3))
     coords = {
         n("frame_time"): (n("frame_time"), t, {"units": "s", "long_name": f"frame time, camera {label}"}),
-        n("v"): (n("v"), np.arange(H), {"long_name": "pixel row, top to bottom"}),
-        n("u"): (n("u"), np.arange(W), {"long_name": "pixel column, left to right"}),
-        n("count"): (n("count"), np.arange(len(lut)), {"long_name": "detector count"}),
+        n("v"): (n("v"), np.arange(H), {"units": "1", "long_name": "pixel row, top to bottom"}),
+        n("u"): (n("u"), np.arange(W), {"units": "1", "long_name": "pixel column, left to right"}),
+        n("count"): (n("count"), np.arange(len(lut)), {"units": "1", "long_name": "detector count"}),
     }
     return data, coords
