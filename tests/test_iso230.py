@@ -80,16 +80,26 @@ def test_spindle_test_needs_the_spindle_turning():
 
 
 def test_axis_needs_positioning_errors():
+    """The axis evaluation reads the interferometer's schema, positioning_error(run_time, target,
+    direction): the mean of both directions at each target, relative to the first run, at the
+    runs' instants (the air interpolated there)."""
     ds = synthetic()
     with pytest.raises(InputError) as err:
         evaluate(ds, "axis", source="r.nc")
-    assert err.value.field == "--test" and "issue 11" in err.value.message
-    pe = np.column_stack([np.linspace(0, 3, ds.time.size), np.linspace(1, -1, ds.time.size)])
-    ds["positioning_error"] = (("time", "target"), pe, {"units": "um"})
-    ds = ds.assign_coords(target=[0.1, 0.4])
+    assert err.value.field == "--test" and "interferometer" in err.value.message
+    runs = np.array([0.0, 1200.0, 2400.0])
+    fwd = np.array([[0.0, 1.0], [2.0, 0.0], [3.0, -1.0]])
+    pe = np.stack([fwd, fwd + 0.5], axis=-1)            # a constant reversal error cancels in the mean
+    ds["positioning_error"] = (("run_time", "target", "direction"), pe, {"units": "um"})
+    ds = ds.assign_coords(run_time=("run_time", runs, {"units": "s"}), target=("target", [100.0, 400.0], {"units": "mm"}),
+                          direction=["forward", "backward"])
     ev = evaluate(ds, "axis")
     assert default_test(ds) == "axis"
-    assert [(c.name, c.range) for c in ev.channels] == [("target 0.1", 3.0), ("target 0.4", 2.0)]
+    assert [(c.name, c.range) for c in ev.channels] == [("target 100", 3.0), ("target 400", 2.0)]
+    assert np.array_equal(ev.channels[0].values, [0.0, 2.0, 3.0]) and np.array_equal(ev.time, runs)
+    assert np.allclose(ev.air, np.interp(runs, ds.time.values, ds.ambient_temperature.values), rtol=0, atol=1e-12)
+    with pytest.raises(InputError, match="two"):
+        evaluate(ds.isel(run_time=[0]), "axis", source="r.nc")
 
 
 def test_cli_writes_both_reports_with_the_ranges_and_the_warning(tmp_path, capsys):

@@ -8,8 +8,9 @@ result or a measurement (both in the result schema, :mod:`twin.io.results`).
 * ``spindle`` (thermal distortion caused by a rotating spindle, sec. 6): the range of each channel
   over the whole test and within each spindle-speed step (steps found in the logged speed).
 * ``axis`` (thermal distortion caused by moving linear axes, sec. 7): the change of the
-  positioning error at each target over the test; it needs axis-motion results
-  (``positioning_error(time, target)`` [um]).
+  positioning error at each target over the test, from the laser interferometer's runs
+  (``positioning_error(run_time, target, direction)`` [um], the mean of both directions), read at
+  the runs' instants.
 
 For every channel the statistics of consecutive time segments: min, max, mean +- 2 std and the 95th
 percentile of |value| (np.percentile, linear). Drift channels are the five-probe evaluation
@@ -104,16 +105,18 @@ def drift_channels(ds: xr.Dataset, source: str) -> list[Channel]:
     return out
 
 
-def axis_channels(ds: xr.Dataset, source: str) -> list[Channel]:
-    """The positioning error at each target [um] relative to its first reading."""
-    if "positioning_error" not in ds:
-        raise InputError(source, "--test", "axis needs axis motion results (issue 11): this file has no "
-                                           "positioning_error; use --test etve or spindle")
-    pe = ds.positioning_error
-    target = next(d for d in pe.dims if d != "time")
-    return [Channel(f"{target} {float(v):g}" if np.issubdtype(pe[target].dtype, np.number) else str(v), "um",
-                    np.asarray(pe.sel({target: v}).values, float) - float(pe.sel({target: v}).values[0]))
-            for v in pe[target].values]
+def axis_channels(ds: xr.Dataset, source: str) -> tuple[np.ndarray, list[Channel]]:
+    """(run instants [s], channels): the interferometer's positioning error at each target [um],
+    the mean of both approach directions (:func:`validate.channels.stack_runs`), relative to the
+    first run."""
+    from validate.channels import split, stack_runs
+
+    runs, stacked = stack_runs(ds)
+    if stacked is None:
+        raise InputError(source, "--test", "an axis thermal-drift evaluation needs laser-interferometer runs "
+                                           "(positioning_error): this file has none; use --test etve or spindle")
+    return runs, [Channel(f"target {split(name)[1]}", unit, stacked.values[:, j] - stacked.values[0, j])
+                  for j, (name, unit) in enumerate(zip(stacked.names, stacked.units))]
 
 
 def default_test(ds: xr.Dataset) -> str:
@@ -145,8 +148,15 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
     t = np.asarray(ds.time.values, float)
     if t.size < 2:
         raise InputError(source, "time", "needs at least two samples")
-    channels = axis_channels(ds, source) if test == "axis" else drift_channels(ds, source)
     air = np.asarray(ds.ambient_temperature.values, float) if "ambient_temperature" in ds else None
+    if test == "axis":   # read at the interferometer's runs; the air at those instants
+        t_all, (t, channels) = t, axis_channels(ds, source)
+        if t.size < 2:
+            raise InputError(source, "run_time", "an axis thermal-drift evaluation needs at least two "
+                                                 "interferometer runs")
+        air = None if air is None else np.interp(t, t_all, air)
+    else:
+        channels = drift_channels(ds, source)
     if test == "etve" and air is None:
         raise InputError(source, "ambient_temperature", "an ETVE evaluation needs the room air temperature")
     length = segment or (86400.0 if test == "etve" else 3600.0)
@@ -173,7 +183,8 @@ def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:
             ("source", ev.source),
             ("test", a.get("scenario", "") or "measurement"),
             ("duration", f"{(t[-1] - t[0]) / 3600:.4g} h"),
-            ("sampling", f"{t.size} samples, median interval {float(np.median(np.diff(t))):g} s")]
+            ("sampling", f"{t.size} {'interferometer runs' if ev.test == 'axis' else 'samples'}, median interval "
+                         f"{float(np.median(np.diff(t))):g} s")]
     if "probe_id" in ds.coords:
         rows.append(("displacement sensors", f"{ds.probe_id.size} probes ({', '.join(map(str, ds.probe_id.values))}) "
                                              "on the test bar; drift and tilts by the five-probe evaluation"))
@@ -182,9 +193,10 @@ def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:
     if "sensor" in ds.coords:
         names = list(map(str, ds.sensor.values))
         rows.append(("temperature sensors", f"{len(names)}: {', '.join(names)}"))
-    if ev.air is not None:
-        rows.append(("room air", f"{ev.air.min():.2f} to {ev.air.max():.2f} degC (range {ev.air_range:.2f} K, "
-                                  f"mean {ev.air.mean():.2f} degC)"))
+    if "ambient_temperature" in ds:   # over the whole record (an axis test reads its channels at the runs only)
+        air = np.asarray(ds.ambient_temperature.values, float)
+        rows.append(("room air", f"{air.min():.2f} to {air.max():.2f} degC (range {np.ptp(air):.2f} K, "
+                                  f"mean {air.mean():.2f} degC)"))
     if "spindle_speed" in ds:
         n = np.asarray(ds.spindle_speed.values, float)
         rows.append(("spindle", "stationary" if not np.any(n) else f"up to {n.max():g} rpm"))
