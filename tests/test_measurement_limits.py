@@ -85,3 +85,25 @@ def test_same_file_name_in_two_folders_keeps_every_channel(tmp_path, csv_text, m
     per_run = len(records[0].channels)
     assert per_run == 8 and len(names) == 2 * per_run == len(set(names))
     assert "probe:Z@a/m.csv" in names and "probe:Z@b/m.csv" in names
+
+
+def test_a_result_with_sensors_on_the_feed_drive_reads_as_a_measurement(tmp_path):
+    """A twin result of a feed-drive scenario places sensors on the drive's parts (the Y screw's
+    bearings), which the bare machine lacks: read back as a measurement it is placed on the machine
+    with its feed drives, as a mapping's site is; a point off every part is still refused."""
+    from geometries import build_machine
+    from geometries.axes import with_feed_drives
+    from tests.fuzz_files import netcdf_bytes, result_dataset
+
+    p = with_feed_drives(build_machine("cframe-vmc")).point("Y_front_bearing")
+    ds = result_dataset().assign_coords(sensor=["motor", "column_side", "Y_front_bearing"],
+                                        x=("sensor", [*result_dataset().x.values[:2], p.xyz[0]]),
+                                        y=("sensor", [*result_dataset().y.values[:2], p.xyz[1]]),
+                                        z=("sensor", [*result_dataset().z.values[:2], p.xyz[2]]),
+                                        part=("sensor", [*result_dataset().part.values[:2], p.part]))
+    assert p.part == "y_front_bearing"
+    (tmp_path / "r.nc").write_bytes(netcdf_bytes(ds))
+    assert list(read_measurement(tmp_path / "r.nc").sensor.values)[-1] == "Y_front_bearing"
+    (tmp_path / "off.nc").write_bytes(netcdf_bytes(ds.assign_coords(x=("sensor", [*ds.x.values[:2], 5.0]))))
+    with pytest.raises(InputError, match="Y_front_bearing"):
+        read_measurement(tmp_path / "off.nc")

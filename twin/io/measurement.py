@@ -181,13 +181,15 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
         if twice:
             raise InputError(src, "sensor", f"sensor {twice[0]!r} appears twice")
     if "temperature" in ds and "sensor" in ds.coords:
+        from geometries.axes import with_feed_drives
+        placed = with_feed_drives(mach) if mach is not None else None   # sensors on the feed drives' parts too
         temp = ds.temperature.transpose("time", "sensor").values
         for i, name in enumerate(ds.sensor.values):
             limits.check_temperatures(temp[:, i], src, f"temperature:{name}", "structure")
-            if mach is not None and {"x", "y", "z"} <= set(ds.coords):
+            if placed is not None and {"x", "y", "z"} <= set(ds.coords):
                 part = str(ds.part.values[i]) if "part" in ds.coords else ""
                 xyz = (float(ds.x.values[i]), float(ds.y.values[i]), float(ds.z.values[i]))
-                limits.check_position(mach, xyz, part, src, f"sensor {name}")
+                limits.check_position(placed, xyz, part, src, f"sensor {name}")
 
 
 def _machine(machine, spec: dict, src: str, named_by: str = "the mapping names"):
