@@ -9,6 +9,8 @@ from __future__ import annotations
 import numpy as np
 from sklearn.utils.validation import check_array, check_is_fitted, check_X_y
 
+from twin.errors import InputError
+
 
 def check_fit_data(estimator, X, y, *, min_samples: int = 2):
     """Validate training data: return ``(X, y)`` as float arrays (2-D, 1-D), never views to mutate.
@@ -66,3 +68,109 @@ def standardise(X, mean=None, scale=None):
         scale = X.std(axis=0, ddof=1) if X.shape[0] > 1 else np.ones(X.shape[1:])
         scale = np.where(scale > 1e-12 * np.maximum(1.0, np.abs(mean)), scale, 1.0)
     return (X - mean) / scale, mean, scale
+
+
+# ------------------------------------------------------------------------------------------------
+# Hyper-parameter checks. Each raises :class:`twin.errors.InputError` ``(model, name, message)``
+# naming the learner (its registry name) and the parameter, and returns the value as a plain
+# Python number. Learners store their parameters unchanged (scikit-learn's get_params/set_params/
+# clone contract) and call these at the start of ``fit`` through ``_check_params``;
+# :func:`learners.registry.make_learner` calls ``_check_params`` too, so a bad value given by name
+# fails when the learner is built.
+# ------------------------------------------------------------------------------------------------
+
+
+def model_name(model) -> str:
+    """The name errors give a learner or selector: its registry name, else its class name (a
+    string is used as it is)."""
+    if isinstance(model, str):
+        return model
+    return getattr(model, "registry_name", None) or type(model).__name__
+
+
+def _refuse(model, name: str, message: str):
+    raise InputError(model_name(model), name, message)
+
+
+def check_int(model, name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
+    """``value`` as an ``int`` if it is an integer (``int`` or numpy integer, not a bool) from
+    ``minimum`` to ``maximum`` (None: no upper limit); an :class:`InputError` otherwise."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        _refuse(model, name, f"must be an integer >= {minimum}, got {value!r}")
+    v = int(value)
+    if v < minimum or (maximum is not None and v > maximum):
+        bounds = f"from {minimum} to {maximum}" if maximum is not None else f">= {minimum}"
+        _refuse(model, name, f"must be an integer {bounds}, got {v}")
+    return v
+
+
+def check_float(model, name: str, value, minimum: float | None = None, maximum: float | None = None, *,
+                above: bool = False, below: bool = False) -> float:
+    """``value`` as a ``float`` if it is a finite real number (not a bool) with ``minimum <= value
+    <= maximum``; ``above``/``below`` make the bounds strict (``value > minimum``, ``value <
+    maximum``). An :class:`InputError` otherwise (NaN and inf included)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        _refuse(model, name, f"must be a finite number, got {value!r}")
+    v = float(value)
+    low = "" if minimum is None else f"{'>' if above else '>='} {minimum:g}"
+    high = "" if maximum is None else f"{'<' if below else '<='} {maximum:g}"
+    want = " and ".join(b for b in (low, high) if b)
+    want = f"a finite number {want}" if want else "a finite number"
+    if not np.isfinite(v) or (minimum is not None and (v <= minimum if above else v < minimum)) \
+            or (maximum is not None and (v >= maximum if below else v > maximum)):
+        _refuse(model, name, f"must be {want}, got {value!r}")
+    return v
+
+
+def check_positive(model, name: str, value) -> float:
+    """A finite number > 0 (:func:`check_float`)."""
+    return check_float(model, name, value, 0.0, above=True)
+
+
+def check_non_negative(model, name: str, value) -> float:
+    """A finite number >= 0 (:func:`check_float`)."""
+    return check_float(model, name, value, 0.0)
+
+
+def check_fraction(model, name: str, value, *, zero: bool = True, maximum: float = 1.0) -> float:
+    """A fraction in ``[0, maximum)`` (``zero=False``: ``(0, maximum)``), by :func:`check_float`."""
+    return check_float(model, name, value, 0.0, maximum, above=not zero, below=True)
+
+
+def check_choice(model, name: str, value, choices) -> str:
+    """``value`` if it is one of ``choices``; an :class:`InputError` listing them otherwise."""
+    if not isinstance(value, str) or value not in choices:
+        _refuse(model, name, f"unknown {name} {value!r}; known: {', '.join(map(str, choices))}")
+    return value
+
+
+def check_bool(model, name: str, value) -> bool:
+    """``value`` if it is a bool (True/False); an :class:`InputError` otherwise."""
+    if not isinstance(value, (bool, np.bool_)):
+        _refuse(model, name, f"must be True or False, got {value!r}")
+    return bool(value)
+
+
+def check_start_value(model, value, name: str = "y0"):
+    """A grey model's start value: ``None`` (the first training target) or a finite number."""
+    return None if value is None else check_float(model, name, value)
+
+
+def check_sizes(model, name: str, value) -> tuple[int, ...]:
+    """Hidden-layer sizes: a non-empty sequence of integers >= 1."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
+        _refuse(model, name, f"must be a sequence of layer sizes (integers >= 1), got {value!r}")
+    sizes = tuple(value)
+    if not sizes:
+        _refuse(model, name, "names no layer; give one or more sizes (integers >= 1)")
+    for h in sizes:
+        if isinstance(h, (bool, np.bool_)) or not isinstance(h, (int, np.integer)) or h < 1:
+            _refuse(model, name, f"every layer size must be an integer >= 1, got {value!r}")
+    return tuple(int(h) for h in sizes)
+
+
+def check_count_fits(model, name: str, count: int, n_features: int, what: str = "input columns") -> int:
+    """Refuse a count (components, sensors to select) larger than the ``n_features`` there are."""
+    if count > n_features:
+        _refuse(model, name, f"asks for {count}, but the data have only {n_features} {what}")
+    return count

@@ -53,7 +53,7 @@ import numpy as np
 import scipy.linalg
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners._checks import check_fit_data, check_predict_data, standardise
+from learners._checks import check_fit_data, check_float, check_int, check_positive, check_predict_data, standardise
 from learners.fcm import fuzzy_cmeans
 from learners.registry import register_learner
 from twin.errors import InputError
@@ -150,10 +150,17 @@ class _ANFISBase(RegressorMixin, BaseEstimator):
         out, F = _output(Z, wbar, P)
         return float(np.mean((out - t) ** 2)), P, wbar, F, out, C, S
 
+    def _check_params(self):
+        """Check the hyper-parameters (:mod:`learners._checks`); subclasses add their own."""
+        check_int(self, "epochs", self.epochs, minimum=0)
+        check_positive(self, "learning_rate", self.learning_rate)
+        if self.validation_fraction is not None:   # 0 switches the checking data off, as None
+            check_float(self, "validation_fraction", self.validation_fraction, 0.0, 0.5)
+        check_int(self, "validation_block", self.validation_block)
+
     def fit(self, X, y):
+        self._check_params()
         X, y = check_fit_data(self, X, y, min_samples=3)
-        if self.epochs < 0 or self.learning_rate <= 0:
-            raise ValueError("epochs must be >= 0 and learning_rate > 0")
         Z, self.x_mean_, self.x_scale_ = standardise(X)
         t, self.y_mean_, self.y_scale_ = standardise(y)
         check = _checking_rows(len(t), self.validation_fraction, self.validation_block)
@@ -275,10 +282,13 @@ class ANFISGrid(_ANFISBase):
         self.validation_block = validation_block
         self.random_state = random_state
 
+    def _check_params(self):
+        super()._check_params()
+        check_int(self, "n_mfs", self.n_mfs)
+        check_int(self, "max_rules", self.max_rules)
+
     def _initial_premises(self, Z, t):
         m, d = int(self.n_mfs), Z.shape[1]
-        if m < 1:
-            raise ValueError(f"n_mfs must be >= 1, got {self.n_mfs}")
         if m ** d > self.max_rules:
             raise InputError("anfis-grid", "n_mfs",
                              f"{m} MFs on {d} inputs make {m ** d} rules (> max_rules={self.max_rules}); "
@@ -323,10 +333,13 @@ class ANFISFCM(_ANFISBase):
         self.validation_block = validation_block
         self.random_state = random_state
 
+    def _check_params(self):
+        super()._check_params()
+        check_int(self, "n_rules", self.n_rules)
+        check_float(self, "fcm_m", self.fcm_m, 1.0, above=True)
+
     def _initial_premises(self, Z, t):
         R, d = int(self.n_rules), Z.shape[1]
-        if R < 1:
-            raise ValueError(f"n_rules must be >= 1, got {self.n_rules}")
         res = fuzzy_cmeans(np.column_stack([Z, t]), R, m=self.fcm_m, random_state=self.random_state)
         um = res.membership ** self.fcm_m                                     # (n, R)
         C = res.centers[:, :d]

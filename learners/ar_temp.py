@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners._checks import check_fit_data, check_predict_data
+from learners._checks import check_choice, check_fit_data, check_predict_data
 from learners.registry import register_learner
 
 __all__ = ["ARTemp"]
@@ -68,6 +68,9 @@ class ARTemp(RegressorMixin, BaseEstimator):
 
     time_ordered = True   # rows are one run's samples in time order (learners.runs)
 
+    def _check_params(self):
+        check_choice(self, "initial_residual", self.initial_residual, ("zero", "last"))
+
     def fit(self, X, y):
         return self.fit_runs([(X, y)])
 
@@ -75,8 +78,7 @@ class ARTemp(RegressorMixin, BaseEstimator):
         """Fit on several runs ``[(X, y), ...]``: the regression on all rows, the lag-1
         autocorrelation of the residuals over consecutive rows of the same run only;
         ``last_residual_`` is the last run's."""
-        if self.initial_residual not in ("zero", "last"):
-            raise ValueError(f"initial_residual must be 'zero' or 'last', got {self.initial_residual!r}")
+        self._check_params()
         lengths = [len(np.asarray(y_).ravel()) for _, y_ in runs]
         if len(runs) == 1:
             X, y = runs[0]

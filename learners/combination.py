@@ -25,7 +25,8 @@ window, from N = p + 2) and alpha(N) is its value at t = N. Each alpha(N) is cli
 between the two members' predictions.
 
 Forecast, Eqs. (23)-(26) (L145-L169): the next weights come from GM(1,1) on the sequence alpha(N)
-(:func:`learners.grey.gm11_forecast`), clipped to [0, 1]. ``predict(X)`` treats the rows of ``X`` as
+(:func:`learners.grey.gm11_forecast`), clipped to [0, 1] (a forecast that overflows on a long
+horizon saturates: it keeps its last finite value before the clipping). ``predict(X)`` treats the rows of ``X`` as
 the samples that follow the training record, so row i gets alpha(n_train + i + 1); the members'
 own predictions for those rows are combined with these weights.
 """
@@ -35,9 +36,10 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin, clone
 
-from learners._checks import check_fit_data, check_predict_data
-from learners.grey import gm11_forecast
-from learners.registry import make_learner, register_learner
+from learners._checks import check_fit_data, check_int, check_predict_data, model_name
+from learners.grey import gm11_fit, gm11_simulate
+from learners.registry import LEARNERS, make_learner, register_learner
+from twin.errors import InputError
 
 __all__ = ["Combination", "variable_weight_coefficients", "rolling_alpha"]
 
@@ -92,6 +94,24 @@ def rolling_alpha(y, x1, x2, degree=2, start=None, t=None):
     return np.clip(alpha, 0.0, 1.0), start
 
 
+def _weight_forecast(seq, steps: int) -> np.ndarray:
+    """The next ``steps`` values of the weight sequence ``seq`` by GM(1,1) (what
+    :func:`learners.grey.gm11_forecast` computes). That function refuses a forecast that overflows;
+    here a GM(1,1) that grows without bound over a long horizon only saturates the weight, which
+    is clipped to [0, 1] anyway: the values after the overflow keep the last finite one."""
+    seq = np.asarray(seq, dtype=float)
+    a, b = gm11_fit(seq)
+    with np.errstate(over="ignore", invalid="ignore"):
+        alpha = gm11_simulate(a, b, float(seq[0]), seq.size + int(steps))[seq.size:]
+    finite = np.isfinite(alpha)
+    if not finite.all():
+        if not finite[0]:
+            alpha[0], finite[0] = float(seq[-1]), True
+        last = np.maximum.accumulate(np.where(finite, np.arange(alpha.size), 0))
+        alpha = alpha[last]
+    return alpha
+
+
 @register_learner("combination")
 class Combination(RegressorMixin, BaseEstimator):
     """Seed 004's variable-weight combination of two learners, weights forecast by GM(1,1).
@@ -127,6 +147,23 @@ class Combination(RegressorMixin, BaseEstimator):
             est.set_params(random_state=self.random_state)
         return est
 
+    def _check_params(self):
+        members = self.members
+        if isinstance(members, str) or not hasattr(members, "__len__") or len(members) != 2:
+            n = "one name" if isinstance(members, str) else \
+                (f"{len(members)}" if hasattr(members, "__len__") else repr(members))
+            raise InputError(model_name(self), "members", f"needs exactly two members (learner names or estimators), "
+                                                          f"got {n}")
+        for i, spec in enumerate(members):
+            if isinstance(spec, str):
+                if spec not in LEARNERS:
+                    raise InputError(model_name(self), f"members[{i}]", f"unknown learner {spec!r}; known: "
+                                                                        f"{', '.join(sorted(LEARNERS))}")
+            elif not (hasattr(spec, "fit") and hasattr(spec, "predict") and hasattr(spec, "get_params")):
+                raise InputError(model_name(self), f"members[{i}]", f"expected a learner name or a scikit-learn "
+                                                                    f"regressor, got {spec!r}")
+        return check_int(self, "degree", self.degree, minimum=0)
+
     def fit(self, X, y):
         return self.fit_runs([(X, y)])
 
@@ -134,9 +171,8 @@ class Combination(RegressorMixin, BaseEstimator):
         """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence (class doc)."""
         from learners.runs import fit_runs
 
-        if len(self.members) != 2:
-            raise ValueError(f"combination needs exactly two members, got {len(self.members)}")
-        checked = [check_fit_data(self, X, y, min_samples=int(self.degree) + 5) for X, y in runs]
+        degree = self._check_params()
+        checked = [check_fit_data(self, X, y, min_samples=degree + 5) for X, y in runs]
         if any(X.shape[1] != checked[0][0].shape[1] for X, _ in checked):
             raise ValueError("combination: the runs have different numbers of inputs")
         self.n_features_in_ = checked[0][0].shape[1]
@@ -144,8 +180,8 @@ class Combination(RegressorMixin, BaseEstimator):
         y = np.concatenate([y_ for _, y_ in checked])
         x1, x2 = (np.concatenate([est.predict(X) for X, _ in checked]) for est in self.estimators_)
         t = np.concatenate([np.arange(1, len(y_) + 1) for _, y_ in checked])
-        self.alpha_train_, self.window_start_ = rolling_alpha(y, x1, x2, int(self.degree), t=t)
-        self.alpha_coefs_, self.beta_coefs_ = variable_weight_coefficients(y, x1, x2, int(self.degree), t=t)
+        self.alpha_train_, self.window_start_ = rolling_alpha(y, x1, x2, degree, t=t)
+        self.alpha_coefs_, self.beta_coefs_ = variable_weight_coefficients(y, x1, x2, degree, t=t)
         self.n_train_ = int(t.max())
         return self
 
@@ -156,8 +192,8 @@ class Combination(RegressorMixin, BaseEstimator):
         if np.ptp(seq) <= 1e-12:
             alpha = np.full(X.shape[0], float(seq[-1]))
         else:
-            alpha = gm11_forecast(seq, X.shape[0])
-        alpha = np.clip(np.nan_to_num(alpha, nan=float(seq[-1])), 0.0, 1.0)
+            alpha = _weight_forecast(seq, X.shape[0])
+        alpha = np.clip(alpha, 0.0, 1.0)
         return alpha, 1.0 - alpha
 
     def predict(self, X):

@@ -46,7 +46,9 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners.grey import ago, check_n_features, check_runs, check_series, iago
+from learners._checks import check_choice, check_int, check_non_negative, check_positive, check_start_value, \
+    model_name
+from learners.grey import ago, check_n_features, check_runs, check_series, iago, refuse_divergence
 from learners.pso import pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
@@ -94,6 +96,19 @@ class GNNMCI(BaseEstimator, RegressorMixin):
 
     time_ordered = True   # rows are one run's samples in time order (learners.runs)
 
+    def _check_params(self):
+        check_start_value(self, self.y0)
+        check_int(self, "n_particles", self.n_particles)
+        check_int(self, "n_iterations", self.n_iterations, minimum=0)
+        check_choice(self, "variant", self.variant, ("inertia", "constriction"))
+        check_non_negative(self, "c1", self.c1)
+        check_non_negative(self, "c2", self.c2)
+        if self.variant == "constriction" and (self.c1, self.c2) != (2.0, 2.0) and self.c1 + self.c2 <= 4.0:
+            raise InputError(model_name(self), "c1", f"variant 'constriction' needs c1 + c2 > 4, got "
+                                                     f"{self.c1:g} + {self.c2:g}")
+        check_positive(self, "w11_max", self.w11_max)
+        check_positive(self, "weight_bound", self.weight_bound)
+
     def fit(self, X, y):
         return self.fit_runs([(X, y)])
 
@@ -101,6 +116,7 @@ class GNNMCI(BaseEstimator, RegressorMixin):
         """Fit on several runs ``[(X, y), ...]``: the fitness sums every run's squared error, each
         run accumulated and started from its own first value; ``y0_`` and ``w21_`` use the mean
         first value."""
+        self._check_params()
         checked = check_runs(runs, model="GNNMCI(1,N)")
         Xa, ya = np.vstack([c[0] for c in checked]), np.concatenate([c[1] for c in checked])
         n, p = Xa.shape
@@ -135,4 +151,6 @@ class GNNMCI(BaseEstimator, RegressorMixin):
     def predict(self, X):
         Xa = check_series(X, model="GNNMCI(1,N)", min_rows=1)
         check_n_features(self, Xa)
-        return iago(gnnmci_forward(self.w11_, self.w2_, self.w2u_, ago(Xa), self.y0_))
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = iago(gnnmci_forward(self.w11_, self.w2_, self.w2u_, ago(Xa), self.y0_))
+        return refuse_divergence(out, model="GNNMCI(1,N)", field="X", coef_name="w11", coef=self.w11_)

@@ -38,12 +38,13 @@ from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import check_is_fitted
 
-from learners._checks import refuse_constant_target
+from learners._checks import check_choice, check_int, check_start_value, refuse_constant_target
 from learners.registry import register_learner
 from twin.errors import InputError
 
 __all__ = ["ago", "iago", "background", "gm0n_coefficients", "gm0n_coefficients_runs", "gm11_fit", "gm11_fit_runs",
-           "gm11_forecast", "response_ls_fit", "check_growth", "check_runs", "gm1n_simulate", "GM11", "GM1N"]
+           "gm11_forecast", "response_ls_fit", "check_growth", "check_runs", "refuse_divergence", "gm1n_simulate",
+           "GM11", "GM1N"]
 
 FIT_METHODS = ("response", "equation")
 MAX_GROWTH = 1e3  # largest growth of a fitted grey response over a record before fit/predict refuse it
@@ -204,6 +205,22 @@ def check_growth(retention: float, n: int, *, model: str, coef_name: str, coef: 
             "(the seeds fit grey models on 5-40 readings)")
 
 
+def refuse_divergence(values, *, model: str, field: str, coef_name: str, coef: float) -> np.ndarray:
+    """Return ``values`` (a simulated grey response) if every one is finite; otherwise raise
+    :class:`InputError` on ``field`` (``"X"``: the rows asked for, ``"steps"``: a forecast
+    horizon): the model diverges over that horizon, its response overflows at the first
+    non-finite sample. Never a NaN or inf passed off as a prediction."""
+    values = np.asarray(values, dtype=float)
+    bad = ~np.isfinite(values)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InputError("model", field,
+                         f"{model} diverges over this horizon: with {coef_name} = {coef:.4g} per sample its response "
+                         f"overflows at sample {i + 1} of {values.size}; ask for at most {i} samples "
+                         "(or refit on a record that keeps the model stable)")
+    return values
+
+
 # ----------------------------------------------------------------------------------------------
 # GM(1,1)
 # ----------------------------------------------------------------------------------------------
@@ -255,13 +272,22 @@ def gm11_simulate(a: float, b: float, first: float, n: int) -> np.ndarray:
 
 
 def gm11_forecast(series, steps: int) -> np.ndarray:
-    """Fit GM(1,1) on ``series`` (1-D, time-ordered) and return the next ``steps`` values."""
+    """Fit GM(1,1) on ``series`` (1-D, time-ordered) and return the next ``steps`` values.
+
+    ``steps`` is an integer >= 1; a forecast that overflows (a growing series over a long horizon)
+    is an :class:`InputError` (:func:`refuse_divergence`), never NaN."""
+    steps = check_int("gm11", "steps", steps)
     x0 = np.asarray(series, dtype=float).ravel()
     a, b = gm11_fit(x0)
-    steps = int(steps)
-    if steps < 0:
-        raise ValueError("steps must be >= 0")
-    return gm11_simulate(a, b, x0[0], x0.size + steps)[x0.size:]
+    return _gm11_values(a, b, x0[0], x0.size, steps, "steps")
+
+
+def _gm11_values(a: float, b: float, first: float, start: int, count: int, field: str) -> np.ndarray:
+    """Samples ``start + 1 .. start + count`` of the GM(1,1) raw series from ``first``; an
+    overflow is refused on ``field`` (:func:`refuse_divergence`)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        values = gm11_simulate(a, b, first, start + count)[start:]
+    return refuse_divergence(values, model="GM(1,1)", field=field, coef_name="a", coef=a)
 
 
 @register_learner("gm11")
@@ -273,7 +299,8 @@ class GM11(BaseEstimator, RegressorMixin):
     ``predict(X)`` returns ``x^(0)(k)`` for k = 1..len(X) of a run that starts with value ``y0``
     (``None``: the first training value); the values in ``X`` are not used. Rows beyond the
     training length are forecasts. Use :meth:`forecast` (or :func:`gm11_forecast`) for the next
-    steps after the training series.
+    steps after the training series. A growing model (``a < 0``) overflows on a long enough
+    horizon: that is an :class:`InputError` naming the last sample it can give, never NaN.
 
     Fitted: ``a_`` (development coefficient, 1/sample), ``b_`` (grey input, series units),
     ``y0_``, ``n_train_``, ``n_features_in_``.
@@ -288,11 +315,15 @@ class GM11(BaseEstimator, RegressorMixin):
     def __init__(self, y0=None):
         self.y0 = y0
 
+    def _check_params(self):
+        check_start_value(self, self.y0)
+
     def fit(self, X, y):
         return self.fit_runs([(X, y)])
 
     def fit_runs(self, runs):
         """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
+        self._check_params()
         checked = check_runs(runs, model="GM(1,1)")
         self.a_, self.b_ = gm11_fit_runs([ya for _, ya in checked])
         starts = [float(ya[0]) for _, ya in checked]
@@ -305,12 +336,14 @@ class GM11(BaseEstimator, RegressorMixin):
     def predict(self, X):
         check_is_fitted(self, "a_")
         Xa = check_series(X, model="GM(1,1)", min_rows=1)
-        return gm11_simulate(self.a_, self.b_, self.y0_, Xa.shape[0])
+        return _gm11_values(self.a_, self.b_, self.y0_, 0, Xa.shape[0], "X")
 
     def forecast(self, steps: int) -> np.ndarray:
-        """Values for the ``steps`` samples after the training series."""
-        full = gm11_simulate(self.a_, self.b_, self.first_train_, self.n_train_ + int(steps))
-        return full[self.n_train_:]
+        """Values for the ``steps`` samples after the training series (``steps`` an integer >= 1;
+        a forecast that overflows is an :class:`InputError`, never NaN)."""
+        steps = check_int(self, "steps", steps)
+        check_is_fitted(self, "a_")
+        return _gm11_values(self.a_, self.b_, self.first_train_, self.n_train_, steps, "steps")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -389,18 +422,18 @@ class GM1N(BaseEstimator, RegressorMixin):
         self.y0 = y0
         self.fit_method = fit_method
 
+    def _check_params(self):
+        check_choice(self, "response", self.response, ("difference", "whitened"))
+        check_choice(self, "fit_method", self.fit_method, FIT_METHODS)
+        check_start_value(self, self.y0)
+
     def fit(self, X, y):
         return self.fit_runs([(X, y)])
 
     def fit_runs(self, runs):
         """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
+        self._check_params()
         checked = check_runs(runs, model="GM(1,N)")
-        if self.response not in ("difference", "whitened"):
-            raise InputError("parameters", "response", f"unknown GM(1,N) response {self.response!r}; "
-                                                       "use 'difference' or 'whitened'")
-        if self.fit_method not in FIT_METHODS:
-            raise InputError("parameters", "fit_method", f"unknown GM(1,N) fit_method {self.fit_method!r}; "
-                                                         f"use one of {FIT_METHODS}")
         p = checked[0][0].shape[1]
         n = sum(Xa.shape[0] for Xa, _ in checked)
         if n < p + 2:
@@ -434,4 +467,6 @@ class GM1N(BaseEstimator, RegressorMixin):
         check_n_features(self, Xa)
         check_growth(gm1n_retention(self.a_, self.response), Xa.shape[0], model="GM(1,N)", coef_name="a",
                      coef=self.a_, fit_method=self.fit_method)
-        return gm1n_simulate(self.a_, self.b_, ago(Xa), self.y0_, self.response)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = gm1n_simulate(self.a_, self.b_, ago(Xa), self.y0_, self.response)
+        return refuse_divergence(out, model="GM(1,N)", field="X", coef_name="a", coef=self.a_)

@@ -46,8 +46,9 @@ import numpy as np
 from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 
+from learners._checks import check_choice, check_int, check_positive, check_start_value
 from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_runs, check_series, \
-    iago, response_ls_fit
+    iago, refuse_divergence, response_ls_fit
 from learners.pso import pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
@@ -116,14 +117,17 @@ class _GMCBase(BaseEstimator, RegressorMixin):
     def fit(self, X, y):
         return self.fit_runs([(X, y)])
 
+    def _check_params(self):
+        check_choice(self, "response", self.response, _RESPONSES)
+        check_start_value(self, self.y0)
+
     def _check_fit(self, runs):
+        self._check_params()
         checked = check_runs(runs, model=self._name)
         p = checked[0][0].shape[1]
         n = sum(Xa.shape[0] for Xa, _ in checked)
         if n < p + 3:
             raise InputError("data", "rows", f"{self._name} with {p} inputs needs at least {p + 3} rows, got {n}")
-        if self.response not in _RESPONSES:
-            raise InputError("parameters", "response", f"unknown GMC response {self.response!r}; use {_RESPONSES}")
         return checked, p
 
     def _store(self, b1, b, u, starts, p):
@@ -139,7 +143,9 @@ class _GMCBase(BaseEstimator, RegressorMixin):
         check_n_features(self, Xa)
         check_growth(gmc_retention(self.b1_, self.response), Xa.shape[0], model=self._name, coef_name="b1",
                      coef=self.b1_, fit_method=getattr(self, "fit_method", "PSO"))
-        return gmc_simulate(self.b1_, self.b_, self.u_, ago(Xa), self.y0_, self.response)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = gmc_simulate(self.b1_, self.b_, self.u_, ago(Xa), self.y0_, self.response)
+        return refuse_divergence(out, model=self._name, field="X", coef_name="b1", coef=self.b1_)
 
 
 @register_learner("gmc1n")
@@ -161,12 +167,13 @@ class GMC1N(_GMCBase):
         self.y0 = y0
         self.fit_method = fit_method
 
+    def _check_params(self):
+        super()._check_params()
+        check_choice(self, "fit_method", self.fit_method, FIT_METHODS)
+
     def fit_runs(self, runs):
         """Fit on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
         checked, p = self._check_fit(runs)
-        if self.fit_method not in FIT_METHODS:
-            raise InputError("parameters", "fit_method", f"unknown GMC(1,N) fit_method {self.fit_method!r}; "
-                                                         f"use one of {FIT_METHODS}")
         starts = np.array([ya[0] for _, ya in checked])
         if self.fit_method == "equation":
             b1, b, u = gmc_ls_fit_runs(checked)
@@ -215,6 +222,14 @@ class GMC1NPSO(_GMCBase):
         self.b1_max = b1_max
         self.coef_bound = coef_bound
         self.random_state = random_state
+
+    def _check_params(self):
+        super()._check_params()
+        check_int(self, "n_particles", self.n_particles)
+        check_int(self, "n_iterations", self.n_iterations, minimum=0)
+        check_choice(self, "variant", self.variant, ("inertia", "constriction"))
+        check_positive(self, "b1_max", self.b1_max)
+        check_positive(self, "coef_bound", self.coef_bound)
 
     def fit_runs(self, runs):
         """Fit on several runs ``[(X, y), ...]``: the fitness sums every run's squared error."""

@@ -31,8 +31,10 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners._checks import check_fit_data, check_predict_data, standardise
+from learners._checks import check_count_fits, check_fit_data, check_int, check_non_negative, \
+    check_predict_data, model_name, standardise
 from learners.registry import register_learner
+from twin.errors import InputError
 
 __all__ = ["MLR", "PCR"]
 
@@ -56,10 +58,12 @@ class MLR(RegressorMixin, BaseEstimator):
     def __init__(self, alpha=0.0):
         self.alpha = alpha
 
+    def _check_params(self):
+        check_non_negative(self, "alpha", self.alpha)
+
     def fit(self, X, y):
+        self._check_params()
         X, y = check_fit_data(self, X, y)
-        if self.alpha < 0:
-            raise ValueError(f"alpha must be >= 0, got {self.alpha}")
         x_mean, y_mean = X.mean(axis=0), y.mean()
         Xc, yc = X - x_mean, y - y_mean
         if self.alpha > 0:
@@ -83,9 +87,10 @@ class PCR(RegressorMixin, BaseEstimator):
     Parameters
     ----------
     n_components : int or float, default 0.85
-        int >= 1: number of components kept; float in (0, 1): keep the fewest components whose
-        cumulative explained-variance fraction exceeds it (seed 003 uses 85 %, L105-L107).
-        Capped at the rank of the standardised data.
+        int >= 1: number of components kept (at most the number of inputs: more is refused at
+        fit); float in (0, 1): keep the fewest components whose cumulative explained-variance
+        fraction exceeds it (seed 003 uses 85 %, L105-L107). Capped at the rank of the
+        standardised data (``n_components_`` says how many were kept).
 
     Attributes
     ----------
@@ -100,20 +105,28 @@ class PCR(RegressorMixin, BaseEstimator):
     def __init__(self, n_components=0.85):
         self.n_components = n_components
 
-    def _n_keep(self, ratio, rank):
+    def _check_params(self):
         nc = self.n_components
-        if isinstance(nc, (int, np.integer)) and not isinstance(nc, bool):
-            if nc < 1:
-                raise ValueError(f"n_components must be >= 1, got {nc}")
+        if isinstance(nc, (int, np.integer)) and not isinstance(nc, (bool, np.bool_)):
+            return check_int(self, "n_components", nc)
+        ok = isinstance(nc, (float, np.floating)) and 0.0 < float(nc) < 1.0
+        if not ok:
+            raise InputError(model_name(self), "n_components", "must be an integer >= 1 (components kept) or a number "
+                                                               f"in (0, 1) (explained-variance fraction), got {nc!r}")
+        return float(nc)
+
+    def _n_keep(self, ratio, rank):
+        nc = self._check_params()
+        if isinstance(nc, int):
             return int(min(nc, rank))
-        nc = float(nc)
-        if not 0.0 < nc < 1.0:
-            raise ValueError(f"a float n_components must lie in (0, 1), got {nc}")
         k = int(np.searchsorted(np.cumsum(ratio), nc, side="right")) + 1
         return int(min(k, rank))
 
     def fit(self, X, y):
+        nc = self._check_params()
         X, y = check_fit_data(self, X, y, min_samples=3)
+        if isinstance(nc, int):
+            check_count_fits(self, "n_components", nc, X.shape[1])
         Z, self.x_mean_, self.x_scale_ = standardise(X)
         n = X.shape[0]
         corr = Z.T @ Z / (n - 1)

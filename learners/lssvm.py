@@ -31,7 +31,7 @@ import numpy as np
 import scipy.linalg
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners._checks import check_fit_data, check_predict_data, standardise
+from learners._checks import check_bool, check_fit_data, check_int, check_positive, check_predict_data, standardise
 from learners.registry import register_learner
 
 __all__ = ["LSSVM", "rbf_kernel", "lssvm_system"]
@@ -70,7 +70,7 @@ class LSSVM(RegressorMixin, BaseEstimator):
         RBF width in input units (degC), seed 004 Eq. (28) gives sigma^2 = 71.4.
     standardize : bool, default False
         z-score the inputs before the kernel.
-    max_samples : int, default 3000
+    max_samples : int >= 2, default 3000
         Largest training set solved densely; longer sets are thinned evenly.
 
     Attributes
@@ -87,13 +87,18 @@ class LSSVM(RegressorMixin, BaseEstimator):
         self.standardize = standardize
         self.max_samples = max_samples
 
+    def _check_params(self):
+        check_positive(self, "gamma", self.gamma)
+        check_positive(self, "sigma", self.sigma)
+        check_bool(self, "standardize", self.standardize)
+        return check_int(self, "max_samples", self.max_samples, minimum=2)
+
     def fit(self, X, y):
+        max_samples = self._check_params()
         X, y = check_fit_data(self, X, y)
-        if self.gamma <= 0 or self.sigma <= 0:
-            raise ValueError("gamma and sigma must be > 0")
         n = X.shape[0]
-        if n > self.max_samples:
-            keep = np.unique(np.round(np.linspace(0, n - 1, int(self.max_samples))).astype(int))
+        if n > max_samples:
+            keep = np.unique(np.round(np.linspace(0, n - 1, max_samples)).astype(int))
             X, y = X[keep], y[keep]
         if self.standardize:
             X, self.x_mean_, self.x_scale_ = standardise(X)

@@ -12,7 +12,8 @@
   L355-L365). Samples with Z exactly 0 are left out (the ratio is undefined there); the seed's
   definition blows up near zero drift, so use it only on windows where the drift is large.
 
-All functions take 1-D array-likes of equal length and return a float.
+All functions take 1-D array-likes of equal length and return a float; :func:`score_all` refuses
+non-finite values (``InputError``) rather than scoring them as NaN.
 """
 
 from __future__ import annotations
@@ -97,8 +98,22 @@ def mean_relative_error(y_true, y_pred) -> float:
     return float(100.0 * np.mean(np.abs((p[keep] - z[keep]) / z[keep])))
 
 
+def _refuse_non_finite(values: np.ndarray, field: str, what: str) -> None:
+    bad = ~np.isfinite(values)
+    if bad.any():
+        raise InputError("data", field, f"{int(bad.sum())} of the {values.size} {what} are not finite (NaN or inf; "
+                                        f"the first at index {int(np.argmax(bad))}); scores of them would be NaN")
+
+
 def score_all(y_true, y_pred) -> dict:
-    """All metrics: keys ``rmse, nse, r, max_abs_residual, improvement_pct, mre_pct``."""
+    """All metrics: keys ``rmse, nse, r, max_abs_residual, improvement_pct, mre_pct``.
+
+    A NaN or infinite measured value (``y_true``) or prediction (``y_pred``) is an
+    :class:`InputError` naming which, never a table of NaN scores. (NSE and R of a constant
+    target, R of a constant prediction stay NaN: undefined, see :func:`nse`, :func:`correlation`.)"""
+    z, p = _pair(y_true, y_pred)
+    _refuse_non_finite(z, "y_true", "measured values")
+    _refuse_non_finite(p, "y_pred", "predictions")
     return {
         "rmse": rmse(y_true, y_pred),
         "nse": nse(y_true, y_pred),

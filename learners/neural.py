@@ -44,9 +44,11 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.neural_network import MLPRegressor
 
-from learners._checks import check_fit_data, check_predict_data
+from learners._checks import check_choice, check_fit_data, check_fraction, check_int, check_non_negative, \
+    check_positive, check_predict_data, check_sizes, model_name
 from learners.pso import pso_minimize
 from learners.registry import register_learner
+from twin.errors import InputError
 
 __all__ = ["ANN", "PSOBPNN", "parse_shape"]
 
@@ -102,9 +104,23 @@ class ANN(RegressorMixin, BaseEstimator):
         self.max_iter = max_iter
         self.random_state = random_state
 
+    def _check_params(self):
+        if self.hidden_layer_sizes is not None:
+            hidden = check_sizes(self, "hidden_layer_sizes", self.hidden_layer_sizes)
+        else:
+            try:
+                hidden = parse_shape(self.shape)
+            except ValueError as err:
+                raise InputError(model_name(self), "shape", str(err)) from None
+        check_choice(self, "activation", self.activation, ("tanh", "logistic", "relu"))
+        check_choice(self, "solver", self.solver, ("lbfgs", "adam", "sgd"))
+        check_non_negative(self, "alpha", self.alpha)
+        check_int(self, "max_iter", self.max_iter)
+        return hidden
+
     def fit(self, X, y):
+        hidden = self._check_params()
         X, y = check_fit_data(self, X, y)
-        hidden = tuple(self.hidden_layer_sizes) if self.hidden_layer_sizes is not None else parse_shape(self.shape)
         self.x_lo_, self.x_span_ = _minmax_fit(X)
         self.y_lo_, self.y_span_ = _minmax_fit(y)
         mlp = MLPRegressor(hidden_layer_sizes=hidden, activation=self.activation, solver=self.solver,
@@ -208,7 +224,7 @@ class PSOBPNN(RegressorMixin, BaseEstimator):
     hidden_layer_sizes : tuple, default (8, 8)      5-8-8-1 network of the seed
     activation : {"tanh", "sigmoid"}, default "tanh"
     learning_rate : float, default 0.1              BP step on scaled data
-    epochs : int, default 300                       BP epochs (upper bound)
+    epochs : int, default 300                       BP epochs (upper bound; 0: the swarm's weights as found)
     goal : float, default 1e-4                      stop BP when the scaled training MSE <= goal
     momentum : float, default 0.9                   momentum constant of the BP step; the seed names
                                                     only the learning rate, 0.9 is MATLAB's
@@ -219,7 +235,7 @@ class PSOBPNN(RegressorMixin, BaseEstimator):
     weight_bound : float, default 1.0               PSO searches weights in [-bound, bound] (the
                                                     seed does not state the box; scaled data)
     hidden_search : (int, int) or None              PSO also picks each hidden size in lo..hi
-    validation_fraction : float, default 0.2        hold-out tail used when hidden_search is set
+    validation_fraction : float, default 0.2        hold-out tail used when hidden_search is set, in (0, 1)
     random_state : int or None
 
     Attributes: ``hidden_layer_sizes_``, ``coefs_``/``intercepts_`` (trained weights per layer),
@@ -258,10 +274,29 @@ class PSOBPNN(RegressorMixin, BaseEstimator):
         params = [(W[:sizes[i], :sizes[i + 1]].copy(), b[:sizes[i + 1]].copy()) for i, (W, b) in enumerate(full)]
         return hidden, params
 
+    def _check_params(self):
+        check_sizes(self, "hidden_layer_sizes", self.hidden_layer_sizes)
+        check_choice(self, "activation", self.activation, ("tanh", "sigmoid"))
+        check_positive(self, "learning_rate", self.learning_rate)
+        check_int(self, "epochs", self.epochs, minimum=0)
+        check_non_negative(self, "goal", self.goal)
+        check_fraction(self, "momentum", self.momentum)
+        check_int(self, "n_particles", self.n_particles)
+        check_int(self, "n_iterations", self.n_iterations, minimum=0)
+        check_choice(self, "pso_variant", self.pso_variant, ("constriction", "inertia"))
+        check_positive(self, "weight_bound", self.weight_bound)
+        check_fraction(self, "validation_fraction", self.validation_fraction, zero=False)
+        if self.hidden_search is not None:
+            hs = self.hidden_search
+            if isinstance(hs, (str, bytes)) or not hasattr(hs, "__len__") or len(hs) != 2:
+                raise InputError(model_name(self), "hidden_search", f"must be (lo, hi) or None, got {hs!r}")
+            lo = check_int(self, "hidden_search", hs[0])
+            if check_int(self, "hidden_search", hs[1]) < lo:
+                raise InputError(model_name(self), "hidden_search", f"must be (lo, hi) with 1 <= lo <= hi, got {hs!r}")
+
     def fit(self, X, y):
+        self._check_params()
         X, y = check_fit_data(self, X, y)
-        if self.activation not in ("tanh", "sigmoid"):
-            raise ValueError(f"activation must be 'tanh' or 'sigmoid', got {self.activation!r}")
         self.x_lo_, self.x_span_ = _minmax_fit(X)
         self.y_lo_, self.y_span_ = _minmax_fit(y)
         Xs = _minmax(X, self.x_lo_, self.x_span_)

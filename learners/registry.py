@@ -36,14 +36,27 @@ def register_selector(name: str):
 def _make(table: dict[str, type], kind: str, name: str, params: dict):
     if name not in table:
         raise InputError("command line", kind, f"unknown {kind} {name!r}; known: {', '.join(sorted(table))}")
-    return table[name](**params)
+    cls = table[name]
+    known = cls._get_param_names()
+    for key in params:
+        if key not in known:
+            raise InputError(name, key, f"unknown parameter of {kind} {name!r}; known: {', '.join(known) or 'none'}")
+    est = cls(**params)
+    check = getattr(est, "_check_params", None)
+    if check is not None:   # hyper-parameters checked now, before any fit (again at fit: set_params)
+        check()
+    return est
 
 
 def make_learner(name: str, **params):
-    """Build the learner registered as ``name`` with hyper-parameters ``params``."""
+    """Build the learner registered as ``name`` with hyper-parameters ``params``.
+
+    An unknown name, an unknown parameter or a bad value (checked by the learner's
+    ``_check_params``) is an :class:`InputError` naming it."""
     return _make(LEARNERS, "learner", name, params)
 
 
 def make_selector(name: str, **params):
-    """Build the selector registered as ``name`` with hyper-parameters ``params``."""
+    """Build the selector registered as ``name`` with hyper-parameters ``params`` (errors as
+    :func:`make_learner`)."""
     return _make(SELECTORS, "selector", name, params)

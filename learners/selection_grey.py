@@ -5,8 +5,8 @@ the thermal error ``y`` (µm), cluster the scalar scores with fuzzy c-means into
 (:func:`learners.fcm.fuzzy_cmeans`, hard assignment by largest membership) and keep the best-scoring
 sensor of each group (thesis §3.1 steps 3-5, L2009-2019, L4301-4303, L4601-4605). If some group is
 empty after the hard assignment, or the scores have fewer distinct values than ``n_select``, the
-remaining places go to the best-scoring sensors not yet kept, so exactly ``min(n_select, p)``
-columns are kept.
+remaining places go to the best-scoring sensors not yet kept, so exactly ``n_select`` columns
+are kept (``n_select`` larger than the number of columns ``p`` is refused).
 
 gm0n-fcm score: ``|theta_j|`` of GM(0,N) (:func:`learners.grey.gm0n_coefficients`, thesis
 Eqs. (3.21)-(3.25), L2902-3171, L4219-4243). With ``temperature_rise=True`` (default) each sensor's
@@ -46,6 +46,7 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 
+from learners._checks import check_bool, check_choice, check_count_fits, check_float, check_int, check_non_negative
 from learners.fcm import fuzzy_cmeans
 from learners.grey import check_n_features, check_runs, check_series, gm0n_coefficients_runs
 from learners.registry import register_selector
@@ -120,14 +121,19 @@ class _GreyFCMSelector(BaseEstimator, TransformerMixin):
 
     _name = "grey selector"
 
+    def _check_params(self):
+        """Check the hyper-parameters (:mod:`learners._checks`); subclasses add their own."""
+        check_int(self, "n_select", self.n_select)
+        check_float(self, "m", self.m, 1.0, above=True)
+
     def fit(self, X, y):
         return self.fit_runs([(X, y)])
 
     def fit_runs(self, runs):
         """Pick sensors on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
+        self._check_params()
         checked = check_runs(runs, model=self._name, min_rows=3)
-        if int(self.n_select) < 1:
-            raise InputError("parameters", "n_select", f"n_select must be >= 1, got {self.n_select}")
+        check_count_fits(self, "n_select", self.n_select, checked[0][0].shape[1])
         self.scores_ = self._scores_runs(checked)
         self.selected_, self.labels_ = fcm_representatives(self.scores_, self.n_select, m=self.m,
                                                            random_state=self.random_state)
@@ -163,6 +169,11 @@ class GM0NFCMSelector(_GreyFCMSelector):
         self.m = m
         self.random_state = random_state
 
+    def _check_params(self):
+        super()._check_params()
+        check_bool(self, "temperature_rise", self.temperature_rise)
+        check_non_negative(self, "alpha", self.alpha)
+
     def _scores(self, X, y):
         return self._scores_runs([(X, y)])
 
@@ -183,6 +194,11 @@ class GRAFCMSelector(_GreyFCMSelector):
         self.rho = rho
         self.m = m
         self.random_state = random_state
+
+    def _check_params(self):
+        super()._check_params()
+        check_choice(self, "measure", self.measure, ("similitude", "deng"))
+        check_float(self, "rho", self.rho, 0.0, 1.0, above=True)
 
     def _scores(self, X, y):
         if self.measure == "similitude":

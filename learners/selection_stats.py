@@ -46,7 +46,7 @@ from scipy.spatial.distance import squareform
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_array, check_is_fitted
 
-from learners._checks import check_fit_data, column_names
+from learners._checks import check_choice, check_count_fits, check_fit_data, check_float, check_int, column_names
 from learners.registry import register_selector
 
 __all__ = [
@@ -165,7 +165,13 @@ def _regression_test(X, y):
 class _Selector(TransformerMixin, BaseEstimator):
     """Shared fit/transform plumbing; subclasses implement ``_choose(X, y) -> indices``."""
 
+    def _check_params(self):
+        """Check the hyper-parameters (:mod:`learners._checks`); ``n_select`` against the columns at fit."""
+        if "n_select" in self.get_params(deep=False) and self.n_select is not None:
+            check_int(self, "n_select", self.n_select)
+
     def fit(self, X, y=None):
+        self._check_params()
         names_source = X
         if y is None:
             X = check_array(X, dtype=float)
@@ -179,10 +185,10 @@ class _Selector(TransformerMixin, BaseEstimator):
         return self
 
     def _check_n_select(self, n_features):
-        k = self.n_select
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
-            raise ValueError(f"n_select must be a positive integer, got {k!r}")
-        return int(min(k, n_features))
+        """``n_select`` as an int: an integer from 1 to the number of columns (more is refused, not
+        cut down)."""
+        k = check_int(self, "n_select", self.n_select)
+        return check_count_fits(self, "n_select", k, n_features)
 
     def transform(self, X):
         check_is_fitted(self, "selected_")
@@ -216,6 +222,10 @@ class HierCorrSelector(_Selector):
     def __init__(self, n_select=5, linkage="average"):
         self.n_select = n_select
         self.linkage = linkage
+
+    def _check_params(self):
+        super()._check_params()
+        check_choice(self, "linkage", self.linkage, ("average", "single", "complete", "weighted"))
 
     def _choose(self, X, y):
         d = X.shape[1]
@@ -255,8 +265,13 @@ class FuzzyR2Selector(_Selector):
         self.n_select = n_select
         self.alpha = alpha
 
+    def _check_params(self):
+        super()._check_params()
+        check_float(self, "alpha", self.alpha, 0.0, 1.0, above=True, below=True)
+
     def _choose(self, X, y):
         d = X.shape[1]
+        k = self._check_n_select(d) if self.n_select is not None else None
         score = np.abs(target_correlation(X, y))
         self.scores_ = score
         self.tree_ = maximal_spanning_tree(np.abs(correlation_matrix(X)))
@@ -265,9 +280,7 @@ class FuzzyR2Selector(_Selector):
         self.combinations_ = combos
         self.r2_ = np.array([t[0] for t in tests])
         self.p_values_ = np.array([t[2] for t in tests])
-        if self.n_select is not None:
-            k = self._check_n_select(d)
-        else:
+        if k is None:
             k = choose_level(self.r2_, self.p_values_, X.shape[0], self.alpha)
         self.n_selected_ = k
         return combos[k - 1]

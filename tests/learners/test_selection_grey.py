@@ -5,6 +5,7 @@ import pytest
 
 from learners.selection_grey import (GM0NFCMSelector, GRAFCMSelector, deng_grade, fcm_representatives,
                                      similitude_degree)
+from twin.errors import InputError
 
 
 def eight_sensors(seed, noise=0.02, n=60):
@@ -69,4 +70,5 @@ def test_representatives_fill_up_and_column_names():
     tab = X.view(Table)
     tab.columns = [f"T{j + 1:02d}" for j in range(8)]
     assert GM0NFCMSelector(n_select=2).fit(tab, y).selected_names_ == ["T01", "T02"]
-    assert GM0NFCMSelector(n_select=20).fit(X, y).selected_.tolist() == list(range(8))
+    with pytest.raises(InputError, match="n_select"):   # more sensors than there are: refused, never cut down
+        GM0NFCMSelector(n_select=20).fit(X, y)

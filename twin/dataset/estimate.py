@@ -10,12 +10,14 @@ factorisation per new operator on the direct solver); the estimate does not coun
 
 from __future__ import annotations
 
+import numbers
 import time
 
 from threadpoolctl import threadpool_limits
 
 from twin.dataset.plan import Case
-from twin.dataset.runner import _prepared, simulate_case
+from twin.dataset.runner import _prepared, check_jobs, simulate_case
+from twin.errors import InputError
 
 
 def _steps(case: Case) -> int:
@@ -25,7 +27,15 @@ def _steps(case: Case) -> int:
 def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30) -> dict:
     """{"cases", "steps", "prepare_s" (per worker), "per_step_s" (by group), "seconds"} for
     building ``cases`` on ``jobs`` workers: each worker prepares every group it meets once,
-    the steps share the workers evenly."""
+    the steps share the workers evenly. ``jobs`` is a whole number from 1 to
+    :data:`twin.dataset.runner.MAX_JOBS`, ``calibration_steps`` one >= 1 (an
+    :class:`InputError` otherwise, before anything runs)."""
+    jobs = check_jobs(jobs, "estimate")
+    if isinstance(calibration_steps, bool) or not isinstance(calibration_steps, numbers.Integral) \
+            or calibration_steps < 1:
+        raise InputError("estimate", "calibration_steps", f"must be a whole number of time steps >= 1, "
+                                                          f"got {calibration_steps!r}")
+    calibration_steps = int(calibration_steps)
     groups: dict[tuple, list[Case]] = {}
     for c in cases:
         groups.setdefault((c.record["machine"], c.record["mesh"], c.record["solver"]), []).append(c)

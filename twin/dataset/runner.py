@@ -17,6 +17,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import json
+import numbers
 import re
 import threading
 import time
@@ -24,8 +25,10 @@ from pathlib import Path
 
 from twin.dataset.plan import Case
 from twin.errors import InputError
+from twin.io.paths import output_folder
 
 CASES = "cases"   # the folder of the case files inside a dataset folder
+MAX_JOBS = 1024   # the most workers a build takes (as the command's --jobs)
 COMPRESSION = {"zlib": True, "complevel": 4, "shuffle": True}   # deterministic (gzip), lossless
 _local = threading.local()
 
@@ -198,15 +201,36 @@ def _connect(scheduler: str):
 CONNECT_TIMEOUT = "10s"     # how long a dataset waits for a remote Dask scheduler to answer
 
 
-@contextlib.contextmanager
+def check_jobs(jobs, source: str = "executor", field: str = "jobs") -> int:
+    """``jobs`` as an int if it is a whole number of workers from 1 to :data:`MAX_JOBS` (the
+    range of ``twin dataset --jobs``); an :class:`InputError` otherwise (0, negative numbers,
+    2.5, True: never taken as "in this process")."""
+    if isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral):
+        raise InputError(source, field, f"expected a whole number of workers from 1 to {MAX_JOBS}, got {jobs!r}")
+    n = int(jobs)
+    if not 1 <= n <= MAX_JOBS:
+        raise InputError(source, field, f"must be from 1 to {MAX_JOBS} workers, got {n}")
+    return n
+
+
 def executor(scheduler: str | None = None, jobs: int = 1):
     """A ``concurrent.futures`` executor: ``scheduler=None``: a process pool of ``jobs``
     workers (in this process when ``jobs == 1``); ``"local"``: a Dask LocalCluster of ``jobs``
     single-thread worker processes; ``"local-threads"``: one in this process (``jobs`` threads);
     any other text: the address of a Dask scheduler (``tcp://host:8786``), whose workers must
-    have thermal-twin installed. Dask needs the ``distributed`` package."""
+    have thermal-twin installed. Dask needs the ``distributed`` package. ``jobs`` is a whole
+    number from 1 to :data:`MAX_JOBS` (:func:`check_jobs`), ``scheduler`` is checked by
+    :func:`check_scheduler`; both when it is called, before anything starts (use it in a
+    ``with`` statement)."""
+    jobs = check_jobs(jobs)
+    check_scheduler(scheduler)
+    return _executor(scheduler, jobs)
+
+
+@contextlib.contextmanager
+def _executor(scheduler: str | None, jobs: int):
     if scheduler is None:
-        if jobs <= 1:
+        if jobs == 1:
             yield InlineExecutor()
             return
         import multiprocessing
@@ -238,9 +262,16 @@ def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
     """Build the ``cases`` not yet whole in ``folder/cases`` on the executor ``pool`` (default
     in this process); ``progress(done, total)`` after each case. Returns {hash: result of
     :func:`build_case`} of the cases built now. A failing case stops the build (cancelling the
-    cases not started) and its error is raised; finished files stay."""
-    out_dir = Path(folder) / CASES
+    cases not started) and its error is raised; finished files stay. ``folder`` is a folder or
+    can be made in an existing one (:func:`twin.io.paths.output_folder`: an
+    :class:`InputError` otherwise, before anything is built)."""
+    folder = output_folder(folder, "folder")
+    out_dir = folder / CASES
+    if folder.is_dir():
+        output_folder(out_dir, "folder")   # a file named "cases" there is refused too
+    made_folder = not folder.exists()
     created = not out_dir.exists()
+    folder.mkdir(exist_ok=True)
     out_dir.mkdir(exist_ok=True)
     remove_temporaries(out_dir)
     todo = [c for c in cases if not is_whole(out_dir / c.file, c.hash)]
@@ -260,6 +291,8 @@ def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
         _stop(pool)
         if created and not any(out_dir.iterdir()):
             out_dir.rmdir()
+            if made_folder and not any(folder.iterdir()):
+                folder.rmdir()
         raise
     return done
 

@@ -12,6 +12,7 @@ Every quantity carries its unit (parsed by :mod:`twin.units`)::
 
     [observers]                         # optional
     surface_grid = { parts = ["carrier", "column"], spacing = "100 mm" }   # dense virtual sensors
+                                        # (each part once; leave surface_grid out for no grid)
     cameras = ["carrier-front"]         # thermal cameras at the machines' named poses
 
     [parameters]                        # effect or instrument parameters, "effect.param"
@@ -192,6 +193,15 @@ def _observers(table: dict, source: str, machines: dict):
         parts = g.get("parts", required=True, kind=list)
         spacing = quantity(g.get("spacing", required=True), "length", source, g.field("spacing"))
         g.finish()
+        if not parts:
+            raise InputError(source, g.field("parts"), "names no part; name one or more, or leave surface_grid out "
+                                                       "for no grid")
+        for i, part in enumerate(parts):
+            if not isinstance(part, str):
+                raise InputError(source, f"{g.field('parts')}[{i}]", f"expected a part name, got {part!r}")
+        twice = sorted({p for p in parts if parts.count(p) > 1})
+        if twice:
+            raise InputError(source, g.field("parts"), f"part {twice[0]!r} is named more than once")
         if not 0.005 <= spacing <= 2.0:
             raise InputError(source, g.field("spacing"), f"must be from 5 mm to 2 m, got {grid['spacing']}")
         for mname, m in machines.items():
@@ -202,6 +212,9 @@ def _observers(table: dict, source: str, machines: dict):
                                                                           f"known: {', '.join(names)}")
         grid = {"parts": list(parts), "spacing": spacing}
     cameras = r.get("cameras", default=[], kind=list)
+    twice = sorted({str(c) for c in cameras if cameras.count(c) > 1})
+    if twice:
+        raise InputError(source, "observers.cameras", f"camera pose {twice[0]!r} is named more than once")
     for i, c in enumerate(cameras):
         for mname, m in machines.items():
             poses = [p.name for p in getattr(m, "camera_poses", ())] + ["overview-front"]
