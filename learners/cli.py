@@ -52,7 +52,8 @@ from twin.units import UnitError, parse_quantity
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
-_HEADINGS = ["learner", "test file", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "inputs", "fit s"]
+_HEADINGS = ["learner", "test file", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "unit", "inputs",
+             "fit s"]
 
 
 def add_learn_parser(subparsers):
@@ -136,12 +137,14 @@ def _fmt(value, digits=4):
     return str(value)
 
 
-def _text_table(rows):
-    cells = [_HEADINGS] + [[_fmt(r[c]) if c not in ("improvement_pct", "mre_pct", "fit_time_s")
+def _text_table(rows, timings):
+    """The terminal's leaderboard: the rows (``COLUMNS``) and each learner's fit time [s, wall
+    clock], which only the terminal shows (the written files hold what the inputs determine)."""
+    cells = [_HEADINGS] + [[_fmt(r[c]) if c not in ("improvement_pct", "mre_pct")
                             else (f"{r[c]:.2f}" if np.isfinite(r[c]) else "nan") for c in COLUMNS]
-                           for r in rows]
-    widths = [max(len(row[i]) for row in cells) for i in range(len(COLUMNS))]
-    numeric = {2, 3, 4, 5, 6, 7, 8, 10}
+                           + [f"{timings[r['learner']]:.2f}"] for r in rows]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(_HEADINGS))]
+    numeric = {2, 3, 4, 5, 6, 7, 8, 11}
     lines = []
     for row in cells:
         parts = [cell.rjust(w) if i in numeric else cell.ljust(w) for i, (cell, w) in enumerate(zip(row, widths))]
@@ -213,17 +216,30 @@ def run_learn(args) -> int:
     cols = list(selector.selected_)
     used = [train.input_names[i] for i in cols]
 
+    timings = {}
     rows = leaderboard(learners, [(r.X[:, cols], r.y) for r in runs],
                        [(label, [(tab.X[:, cols], tab.y) for tab in tabs]) for label, tabs in tests],
                        segments=args.segments, inputs=";".join(used), train_label=train_label,
-                       progress=progress_bar("learn", "fit"))
-    print(_text_table(rows))
+                       progress=progress_bar("learn", "fit"),
+                       unit=target_unit(runs + [tab for _, tabs in tests for tab in tabs], args.target),
+                       timings=timings)
+    print(_text_table(rows, timings))
     for path in args.output:
         if str(path).lower().endswith(".md"):
             write_markdown(path, rows, title=f"twin learn: {args.target}", note=_note(args, train_label))
         else:
             write_csv(path, rows)
     return 0
+
+
+def target_unit(tables, target: str) -> str:
+    """The target's unit, stated by the NetCDF files that hold it ("" when none does); files that
+    state different units are refused (their scores would mix them)."""
+    units = sorted({t.target_unit for t in tables if t.target_unit})
+    if len(units) > 1:
+        raise InputError("command line", "--target", f"{target} is in different units in the training and test "
+                                                     f"files ({', '.join(units)})")
+    return units[0] if units else ""
 
 
 def _interval(text):

@@ -3,11 +3,14 @@
 Each learner is fitted once on the training runs (:func:`learners.runs.fit_runs`: pooled learners
 on all rows, time-ordered ones on each run's own sequence) and predicts every test run from its own
 start. A row per learner and test set holds, on the residuals ``r = prediction - truth`` of all the
-set's runs together (um for a drift target):
+set's runs together, in the target's unit (the row's ``unit``: um for a drift, urad for a tilt):
 
     RMSE = sqrt(mean r^2),   NSE = 1 - sum r^2 / sum (y - mean y)^2,   R (Pearson),
     max |r|,   p95 |r| (the 95th percentile of |r|, linear interpolation),
-    improvement % = 100 (1 - max |r| / max |y|),   MRE %,   fit time (s, wall clock of ``fit``)
+    improvement % = 100 (1 - max |r| / max |y|),   MRE %
+
+The wall-clock time of each ``fit`` goes into ``timings`` when one is given (the command shows
+it), never into the rows: the same inputs and seed give the same rows, and the same files.
 
 (:mod:`learners.metrics`).
 
@@ -34,8 +37,9 @@ from twin.io.atomic import atomic_write, atomic_write_text
 __all__ = ["COLUMNS", "as_input_error", "segments_of", "leaderboard", "write_csv", "markdown", "write_markdown"]
 
 COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "p95_abs_residual", "improvement_pct", "mre_pct",
-           "inputs", "fit_time_s"]
-HEADINGS = ["learner", "test", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "inputs", "fit s"]
+           "unit", "inputs"]
+HEADINGS = ["learner", "test", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "unit", "inputs"]
+IN_UNIT = ("rmse", "max_abs_residual", "p95_abs_residual")   # the columns in the target's unit
 
 
 @contextlib.contextmanager
@@ -58,16 +62,20 @@ def segments_of(label: str, lengths: list[int], n: int):
 
 
 def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: int = 1, inputs: str = "",
-                train_label: str = "training runs", progress=None) -> list[dict]:
+                train_label: str = "training runs", progress=None, unit: str = "",
+                timings: dict | None = None) -> list[dict]:
     """Rows (``COLUMNS``) for ``learners`` = {name: unfitted estimator}, ``train_runs`` =
     [(X, y), ...] and ``test_sets`` = [(label, [(X, y), ...]), ...] (module doc). ``inputs``: the
-    input names written in each row; ``progress(done, total)`` is called after each learner."""
+    input names written in each row; ``unit``: the target's unit, written in each row ("" when
+    not known); ``progress(done, total)`` is called after each learner; ``timings`` (a dict)
+    receives each learner's fit time [s, wall clock]."""
     rows = []
     for done, (name, est) in enumerate(learners.items(), start=1):
         start = time.perf_counter()
         with as_input_error(train_label, name):
             fit_runs(est, train_runs, name)
-        fit_s = time.perf_counter() - start
+        if timings is not None:
+            timings[name] = time.perf_counter() - start
         for label, runs in test_sets:
             with as_input_error(label, name):
                 preds = [np.asarray(est.predict(X), dtype=float).ravel() for X, _ in runs]   # each run from its start
@@ -80,8 +88,7 @@ def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: 
                 p = np.concatenate([q[s] for q, s in zip(preds, pick)])
                 scores = _defined_scores(z, p, seg_label, name, segment=seg_label != str(label))
                 rows.append({"learner": name, "test": seg_label, **scores,
-                             "p95_abs_residual": abs_residual_percentile(z, p), "inputs": inputs,
-                             "fit_time_s": float(fit_s)})
+                             "p95_abs_residual": abs_residual_percentile(z, p), "unit": unit, "inputs": inputs})
         if progress is not None:
             progress(done, len(learners))
     return rows
@@ -122,18 +129,28 @@ def _cell(value, column):
         return str(value).replace("|", "\\|")
     if not np.isfinite(value):
         return "nan"
-    return f"{value:.2f}" if column in ("improvement_pct", "mre_pct", "fit_time_s") else f"{value:.4g}"
+    return f"{value:.2f}" if column in ("improvement_pct", "mre_pct") else f"{value:.4g}"
 
 
-def markdown(rows, title: str = "Leaderboard", units: str = "um", note: str = "") -> str:
+def unit_heading(unit: str) -> str:
+    """How a heading names the target's unit: "um", or "(target's unit)" when not known."""
+    return unit or "(target's unit)"
+
+
+def markdown(rows, title: str = "Leaderboard", note: str = "") -> str:
     """A Markdown page: ``title``, ``note``, then one table per test set (its whole runs first,
-    then its segments), learners sorted by RMSE of the whole runs; the inputs listed once."""
+    then its segments), learners sorted by RMSE of the whole runs; the inputs listed once, the
+    target's unit in the headings (the rows' ``unit``)."""
     lines = [f"# {title}", ""]
     if note:
         lines += [note, ""]
     inputs = sorted({r["inputs"] for r in rows})
-    cols = [c for c in COLUMNS if c not in ("test", "inputs")]
-    heads = [(h if h not in ("RMSE", "max|res|", "p95|res|") else f"{h} {units}").replace("|", "\\|")
+    units = sorted({r["unit"] for r in rows})
+    if len(units) > 1:
+        raise ValueError(f"the rows are in different units ({', '.join(units)}); one table needs one unit")
+    unit = unit_heading(units[0] if units else "")
+    cols = [c for c in COLUMNS if c not in ("test", "inputs", "unit")]
+    heads = [(h if c not in IN_UNIT else f"{h} {unit}").replace("|", "\\|")
              for h, c in zip(HEADINGS, COLUMNS) if c in cols]
     for test in dict.fromkeys(r["test"] for r in rows):
         part = sorted((r for r in rows if r["test"] == test), key=lambda r: (np.nan_to_num(r["rmse"], nan=np.inf)))

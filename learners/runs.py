@@ -80,7 +80,7 @@ def resample(table: Table, interval: float | None, source: str, field: str = "--
     if kept < MIN_ROWS:
         raise InputError(source, field, f"thinned to {interval:g} s the run keeps {kept} row(s) of {len(table.time)}; "
                                         f"at least {MIN_ROWS} are needed: choose a shorter interval")
-    return Table(table.time[::k], table.X[::k], table.y[::k], table.input_names)
+    return table._replace(time=table.time[::k], X=table.X[::k], y=table.y[::k])
 
 
 def check_one_interval(tables: list, names: list[str]) -> None:

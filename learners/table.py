@@ -39,12 +39,15 @@ _TIME_FACTORS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "min": 60.
 
 
 class Table(NamedTuple):
-    """A loaded table: ``time`` (n,) s, ``X`` (n, p), ``y`` (n,), ``input_names`` (p names)."""
+    """A loaded table: ``time`` (n,) s, ``X`` (n, p), ``y`` (n,), ``input_names`` (p names),
+    ``target_unit`` (the target variable's ``units`` attribute in a NetCDF file; "" for a CSV
+    column, whose unit the file does not state)."""
 
     time: np.ndarray
     X: np.ndarray
     y: np.ndarray
     input_names: list
+    target_unit: str = ""
 
 
 def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_ROWS, field="file") -> Table:
@@ -59,8 +62,9 @@ def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_RO
                                                      "(a drift, a probe, a temperature)")
     if isinstance(inputs, str):
         inputs = None if inputs.strip() in ("", "all") else [s.strip() for s in inputs.split(",") if s.strip()]
+    unit = ""
     if _is_netcdf(path):
-        time, X, y, names = _load_netcdf(path, target, inputs, time_column)
+        time, X, y, names, unit = _load_netcdf(path, target, inputs, time_column)
     else:
         time, X, y, names = _load_csv(path, target, inputs, time_column, field)
     if len(time) < min_rows:
@@ -72,7 +76,7 @@ def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_RO
                                             f"({time[i - 1]:g} s then {time[i]:g} s)")
     if not names:
         raise InputError(path, "inputs", "no input columns")
-    return Table(time, X, y, names)
+    return Table(time, X, y, names, unit)
 
 
 def check_problem(table: Table, path, target: str, *, training: bool = True, n_select: int | None = None) -> None:
@@ -236,4 +240,5 @@ def _load_netcdf(path, target, inputs, time_column):
             raise InputError(path, name, f"missing input; sensors: {', '.join(sensors) or 'none'}")
     y = _series(path, ds, target, tname)
     X = np.column_stack(columns) if columns else np.empty((len(time), 0))
-    return _finite(path, tname, time), X, y, list(inputs)
+    unit = str(ds[target.partition(":")[0]].attrs.get("units", ""))
+    return _finite(path, tname, time), X, y, list(inputs), unit

@@ -386,7 +386,8 @@ def test_learn_trains_on_several_runs_and_on_a_dataset_split(built, capsys):
     assert f"[test: {n_test} runs]" in capsys.readouterr().out
     board = pd.read_csv(scores)
     assert len(board) == 3 * 3 and board["test"].str.endswith("[segment 2/2]").sum() == 3
-    assert (board["p95_abs_residual"] <= board["max_abs_residual"] + 1e-12).all() and (board["fit_time_s"] >= 0).all()
+    assert (board["p95_abs_residual"] <= board["max_abs_residual"] + 1e-12).all() and (board["unit"] == "um").all()
+    assert "fit_time_s" not in board      # wall clock is shown, not written: the same inputs give the same file
     # every time-ordered learner now trains on several runs, each its own sequence
     assert main(["learn", "--train", files[0], "--train", files[1], "--test", files[2], "--target", "drift:Z",
                  "--select", "correlation:2", "--learner", "gm11,gmc1n,combination"]) == 0

@@ -40,7 +40,7 @@ def test_leaderboard_scores_whole_runs_and_segments_on_the_right_rows():
         assert row["rmse"] == pytest.approx(np.sqrt(np.mean(y ** 2)), rel=1e-12)
         assert row["max_abs_residual"] == pytest.approx(np.max(np.abs(y)), rel=1e-12)
         assert row["p95_abs_residual"] == pytest.approx(np.percentile(np.abs(y), 95), rel=1e-12)
-        assert row["inputs"] == "a;b" and row["fit_time_s"] >= 0
+        assert row["inputs"] == "a;b" and row["unit"] == "" and "fit_time_s" not in row
 
 
 def test_leaderboard_fits_time_ordered_learners_on_runs_and_refuses_divergence():
@@ -59,14 +59,18 @@ def test_leaderboard_fits_time_ordered_learners_on_runs_and_refuses_divergence()
 
 def test_markdown_has_one_table_per_test_set_sorted_by_rmse_and_escapes_bars():
     rows = [{"learner": n, "test": "set", "rmse": e, "nse": 0.5, "r": 0.9, "max_abs_residual": 2.0,
-             "p95_abs_residual": 1.0, "improvement_pct": 10.0, "mre_pct": 5.0, "inputs": "x", "fit_time_s": 0.1}
+             "p95_abs_residual": 1.0, "improvement_pct": 10.0, "mre_pct": 5.0, "unit": "urad", "inputs": "x"}
             for n, e in (("b", 2.0), ("a", 1.0))]
     text = markdown(rows, title="T")
     lines = text.splitlines()
     assert lines[0] == "# T" and "## set" in lines
     body = [ln for ln in lines if ln.startswith("| a") or ln.startswith("| b")]
     assert [ln.split()[1] for ln in body] == ["a", "b"]
-    assert all(ln.count("|") - ln.count("\\|") == 10 for ln in lines if ln.startswith("|"))   # 9 columns
+    assert all(ln.count("|") - ln.count("\\|") == 9 for ln in lines if ln.startswith("|"))   # 8 columns
+    assert "RMSE urad" in text and "max\\|res\\| urad" in text     # the rows' unit in the headings
+    assert "RMSE (target's unit)" in markdown([{**r, "unit": ""} for r in rows])
+    with pytest.raises(ValueError, match="different units"):
+        markdown([rows[0], {**rows[1], "unit": "um"}])
 
 
 def test_resample_thins_to_a_whole_multiple_and_refuses_others():
@@ -80,3 +84,20 @@ def test_resample_thins_to_a_whole_multiple_and_refuses_others():
         resample(tab, 25.0, "run.nc")
     with pytest.raises(InputError, match="equally spaced"):
         resample(tab._replace(time=t ** 1.5), 60.0, "run.nc")
+
+
+def test_leaderboard_rows_carry_the_unit_and_no_wall_time_so_repeats_write_the_same_bytes(tmp_path):
+    """The same learners on the same runs give the same CSV bytes twice: the rows hold the target's
+    unit and the scores, and each fit's wall-clock time goes only to ``timings``."""
+    from learners.leaderboard import write_csv
+
+    rng = np.random.default_rng(1)
+    runs = [(rng.normal(size=(12, 2)), rng.normal(size=12))]
+    files = []
+    for k in range(2):
+        timings = {}
+        rows = leaderboard({"zero": Zero()}, runs, [("t", runs)], unit="um", timings=timings)
+        assert rows[0]["unit"] == "um" and set(timings) == {"zero"} and timings["zero"] >= 0
+        files.append(write_csv(tmp_path / f"b{k}.csv", rows))
+    assert (tmp_path / "b0.csv").read_bytes() == (tmp_path / "b1.csv").read_bytes()
+    assert "unit" in (tmp_path / "b0.csv").read_text().splitlines()[0].split(",")

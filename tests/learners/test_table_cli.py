@@ -39,10 +39,10 @@ def _args(*argv):
 
 
 def test_csv_loads_with_default_inputs(tmp_path):
-    time, X, y, names = load_table(_write_csv(tmp_path / "a.csv"), "drift_z")
+    time, X, y, names, unit = load_table(_write_csv(tmp_path / "a.csv"), "drift_z")
     assert names == ["T1", "T2", "T3", "T4"] and X.shape == (60, 4) and y.shape == (60,)
-    assert time[1] == 10.0
-    _, X2, _, names2 = load_table(str(tmp_path / "a.csv"), "drift_z", inputs="T3,T1")
+    assert time[1] == 10.0 and unit == ""           # a CSV does not state its columns' units
+    _, X2, _, names2, _ = load_table(str(tmp_path / "a.csv"), "drift_z", inputs="T3,T1")
     assert names2 == ["T3", "T1"] and np.array_equal(X2, X[:, [2, 0]])
 
 
@@ -142,8 +142,9 @@ def _write_netcdf(path, n=50, seed=0):
 def test_netcdf_targets_and_learn(tmp_path, capsys):
     train = _write_netcdf(tmp_path / "train.nc", seed=0)
     test = _write_netcdf(tmp_path / "test.nc", seed=1)
-    time, X, y, names = load_table(train, "drift:Z")
+    time, X, y, names, unit = load_table(train, "drift:Z")
     assert names == ["S1", "S2", "S3", "S4"] and X.shape == (50, 4)
+    assert unit == "um" and load_table(train, "tilt:A").target_unit == "urad"   # the variable's units attribute
     assert np.allclose(load_table(train, "probe:Y2").y, y + 1.0)
     assert np.allclose(load_table(train, "tilt:A").y, 0.2 * y)
     assert np.allclose(load_table(train, "spindle_speed").y, 8000.0)
@@ -155,6 +156,27 @@ def test_netcdf_targets_and_learn(tmp_path, capsys):
     assert run_learn(_args("--train", train, "--test", test, "--target", "drift:Z",
                            "--learner", "mlr,ar-temp", "--select", "hier-corr:2")) == 0
     assert "S1" in capsys.readouterr().out
+
+
+def test_learn_writes_the_targets_unit_and_refuses_files_in_different_units(tmp_path, capsys):
+    """A tilt target is scored in urad: the Markdown headings and the CSV's unit column say so;
+    a test file whose target is in another unit than the training file's is refused."""
+    import xarray as xr
+
+    train = _write_netcdf(tmp_path / "train.nc", seed=0)
+    test = _write_netcdf(tmp_path / "test.nc", seed=1)
+    md, table = tmp_path / "b.md", tmp_path / "b.csv"
+    assert run_learn(_args("--train", train, "--test", test, "--target", "tilt:A", "--learner", "mlr",
+                           "--select", "hier-corr:2", "-o", str(md), "-o", str(table))) == 0
+    assert "RMSE urad" in md.read_text() and "um" not in md.read_text().split("\n## ")[1].splitlines()[2]
+    header, row = table.read_text().splitlines()[:2]
+    assert row.split(",")[header.split(",").index("unit")] == "urad"
+    ds = xr.load_dataset(test)
+    ds["tilt"].attrs["units"] = "mrad"
+    ds.to_netcdf(tmp_path / "mrad.nc")
+    with pytest.raises(InputError, match="different units"):
+        run_learn(_args("--train", train, "--test", str(tmp_path / "mrad.nc"), "--target", "tilt:A",
+                        "--learner", "mlr", "--select", "hier-corr:2"))
 
 
 def test_time_ordered_learners_need_one_sample_interval(tmp_path, capsys):
