@@ -3,6 +3,10 @@
     python -m validate.benchmark --machine cframe-vmc --scenario etve-day-night --spacing 20mm \
         --solver full|rom|direct|iterative [--device gpu] [--cases N] [--heat-tol "1e-4 K"] [--json]
 
+(``--mesh coarse|default|fine`` instead of ``--spacing``). Every option is checked first, as the
+twin CLI checks them: the scenario's speeds against the machine, the mesh's size and the run's
+(:mod:`twin.limits`); bad input is one line ``error: <source>: <field>: <message>``, exit code 2.
+
 ``nodes``, ``preparation_s`` (mesh, heat and elastic assembly, elastic adjoints, the observers'
 rows on the run's layout; for the reduced model also its offline phase, and the same basis when
 the full model's iterative heat steps start from it, ``--heat-start``) and ``prepare_s`` (those
@@ -24,7 +28,6 @@ from __future__ import annotations
 import argparse
 import json
 import resource
-import sys
 import time
 from dataclasses import replace
 
@@ -34,18 +37,27 @@ SOLVER_NAMES = {"full": "auto", "rom": "rom", "direct": "direct", "iterative": "
 
 
 def _parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="python -m validate.benchmark", description=__doc__.splitlines()[0])
+    from twin.cli.options import add_seed_option, whole_number
+    from validate.studies.common import cli_parser, quantity
+
+    ap = cli_parser("python -m validate.benchmark", __doc__.splitlines()[0])
     ap.add_argument("--machine", default="cframe-vmc")
     ap.add_argument("--scenario", default="etve-day-night")
-    ap.add_argument("--spacing", default=None, help="cell size with its unit, e.g. 20mm (default: --mesh)")
-    ap.add_argument("--mesh", default="default", help="a named resolution when --spacing is not given")
+    ap.add_argument("--spacing", type=quantity("length"), default=None,
+                    help="cell size with its unit, e.g. 20mm (default: the --mesh resolution's)")
+    ap.add_argument("--mesh", default=None, choices=["coarse", "default", "fine"],
+                    help="a named resolution, not with --spacing (default: default)")
     ap.add_argument("--solver", default="full", choices=sorted(SOLVER_NAMES))
     ap.add_argument("--device", default="cpu", choices=["cpu", "gpu"])
-    ap.add_argument("--cases", type=int, default=1, help="number of batched cases (default 1: one plain run)")
-    ap.add_argument("--rom-order", type=int, default=48)
-    ap.add_argument("--elastic-coarsening", type=int, default=1,
-                    help="solve the elasticity on every N-th grid line of the temperature mesh (default 1: the same)")
-    ap.add_argument("--heat-tol", default=None,
+    ap.add_argument("--cases", type=whole_number("cases", 1), default=1,
+                    help="number of batched cases (default 1: one plain run)")
+    ap.add_argument("--rom-order", type=whole_number("basis vectors", 2), default=48,
+                    help="the reduced model's order (default 48)")
+    # upper: twin.physics.solvers.MAX_ELASTIC_COARSENING, as twin.cli.options (the parser stays light)
+    ap.add_argument("--elastic-coarsening", type=whole_number("grid lines", 1, 8), default=1,
+                    help="solve the elasticity on every N-th grid line of the temperature mesh, 1 to 8 (default 1: "
+                         "the same)")
+    ap.add_argument("--heat-tol", type=quantity("temperature_difference"), default=None,
                     help="iterative heat solver: bound on the run's capacity-weighted RMS temperature error, "
                          "with its unit (default 1e-6 K)")
     ap.add_argument("--heat-start", default="auto", choices=["auto", "projection", "reduced"],
@@ -58,7 +70,7 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--no-bound", action="store_true", help="batched ROM: skip the verified error bound")
     ap.add_argument("--prepare-only", action="store_true",
                     help="stop after the preparation (mesh, assembly, elastic adjoints, rows, the basis): its stages and memory")
-    ap.add_argument("--seed", type=int, default=0)
+    add_seed_option(ap, "seed of the cases' factors (--cases)")
     ap.add_argument("--json", action="store_true", help="print only the JSON object")
     return ap
 
@@ -83,7 +95,15 @@ def vary_cases(scenario, spec, n: int, seed: int) -> list:
 
 
 def main(argv=None) -> int:
-    args = _parser().parse_args(argv)
+    """The benchmark; bad input is one line ``error: <source>: <field>: <message>`` and exit code 2,
+    found before any preparation (the mesh, whose size is checked, included)."""
+    from validate.studies.common import run_cli
+
+    return run_cli(_parser().parse_args, argv, _run)
+
+
+def _run(args) -> int:
+    from twin import limits
     from twin.api import machine_by_name
     from twin.errors import InputError
     from twin.fem.mesh import build_mesh, mesh_machine
@@ -92,20 +112,18 @@ def main(argv=None) -> int:
     from twin.physics.prepared import PreparedTwin
     from twin.physics.solvers import SolverOptions
     from twin.scenario import load_scenario
-    from twin.units import UnitError, parse_quantity
 
-    try:
-        machine = machine_by_name(args.machine)
-        scenario = load_scenario(args.scenario)
-        tol = {"heat_tol": parse_quantity(args.heat_tol, "temperature_difference")} if args.heat_tol else {}
-        options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order,
-                                elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
-        spacing = parse_quantity(args.spacing, "length") if args.spacing else None
-    except (InputError, UnitError) as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 2
+    if args.spacing is not None and args.mesh is not None:
+        raise InputError("command line", "--spacing", "give --spacing or --mesh, not both")
+    machine = machine_by_name(args.machine)
+    scenario = load_scenario(args.scenario)
+    limits.check_scenario(scenario, machine)
+    tol = {"heat_tol": args.heat_tol} if args.heat_tol is not None else {}
+    options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order,
+                            elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
     t0, c0 = time.perf_counter(), time.process_time()
-    mm = build_mesh(machine, spacing) if spacing else mesh_machine(machine, args.mesh)
+    mm = build_mesh(machine, args.spacing) if args.spacing is not None else mesh_machine(machine, args.mesh or "default")
+    limits.check_run_size(scenario, mm.nheat)
     stages = {"mesh": time.perf_counter() - t0}
     twin = PreparedTwin(machine, mm, solver=options)
     stages["heat_assembly"] = time.perf_counter() - t0 - sum(stages.values())

@@ -12,7 +12,6 @@ the machine and its load.
 
 from __future__ import annotations
 
-import argparse
 import os
 import resource
 import time
@@ -34,31 +33,66 @@ def timed_run(machine, scenario, twin, observers, path: Path) -> dict:
     return {"run": t1 - t0, "package": t2 - t1, "write": t3 - t2, "total": t3 - t0, "bytes": os.path.getsize(path)}
 
 
+DEFAULT_OUTPUT = "validate-out/camera_benchmark"
+FILES = ("plain.nc", "camera.nc")
+
+
+def _parser():
+    from twin.cli.options import whole_number
+    from validate.studies.common import cli_parser
+
+    ap = cli_parser("python -m validate.camera_benchmark", __doc__.splitlines()[0])
+    ap.add_argument("--machine", default="cframe-vmc", help="machine (default: %(default)s)")
+    ap.add_argument("--scenario", default="spindle-heat-cool-9000", help="scenario name or file (default: %(default)s)")
+    ap.add_argument("--mesh", default="default", choices=["coarse", "default", "fine"],
+                    help="mesh resolution (default: %(default)s)")
+    ap.add_argument("--camera", default="carrier-front", metavar="POSE",
+                    help="the machine's camera pose (default: %(default)s)")
+    ap.add_argument("--repeat", type=whole_number("repetitions", 1), default=2,
+                    help="timed runs of each kind, at least 1 (default: %(default)s)")
+    ap.add_argument("-o", "--output", default=DEFAULT_OUTPUT,
+                    help=f"folder for {' and '.join(FILES)} (default: %(default)s)")
+    return ap
+
+
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m validate.camera_benchmark")
-    ap.add_argument("--machine", default="cframe-vmc")
-    ap.add_argument("--scenario", default="spindle-heat-cool-9000")
-    ap.add_argument("--mesh", default="default")
-    ap.add_argument("--camera", default="carrier-front")
-    ap.add_argument("--repeat", type=int, default=2)
-    ap.add_argument("-o", "--output", default="validate-out/camera_benchmark")
-    args = ap.parse_args(argv)
+    """The benchmark; bad input is one line ``error: <source>: <field>: <message>`` and exit code 2,
+    found before the output folder is made or any run starts."""
+    from validate.studies.common import run_cli
+
+    return run_cli(_parser().parse_args, argv, _run)
+
+
+def _run(args) -> int:
+    from twin import limits
     from twin.api import machine_by_name
+    from twin.cli.options import declare_scenario
     from twin.fem.mesh import mesh_machine
+    from twin.io.paths import Files
     from twin.observe import standard_observers
     from twin.observe.camera import CameraConfig, ThermalCamera
     from twin.physics.prepared import PreparedTwin
     from twin.scenario import load_scenario
+    from validate.studies.common import check_output_folder
 
-    m, sc = machine_by_name(args.machine), load_scenario(args.scenario)
-    out = Path(args.output)
+    m = machine_by_name(args.machine)
+    files = Files()
+    declare_scenario(files, args.scenario)
+    sc = load_scenario(args.scenario)
+    limits.check_scenario(sc, m)
+    config = CameraConfig(pose=args.camera, source="command line", where="--camera")
+    config.resolve_pose(m)
+    config.check(sc)
+    out = check_output_folder(args.output, FILES, default=DEFAULT_OUTPUT, files=files)
+    mm = mesh_machine(m, args.mesh)
+    limits.check_run_size(sc, mm.nheat)
+    twin = PreparedTwin(m, mm)
     out.mkdir(parents=True, exist_ok=True)
-    twin = PreparedTwin(m, mesh_machine(m, args.mesh))
     timed_run(m, sc, twin, standard_observers(m), out / "plain.nc")  # warm-up: factorisations
     plain, camera = [], []
-    for _ in range(max(1, args.repeat)):
+    for _ in range(args.repeat):
         plain.append(timed_run(m, sc, twin, standard_observers(m), out / "plain.nc"))
-        cam = ThermalCamera(m, CameraConfig(pose=args.camera))
+        cam = ThermalCamera(m, config)
         camera.append(timed_run(m, sc, twin, standard_observers(m) + [cam], out / "camera.nc"))
     best = {k: min(r["total"] for r in runs) for k, runs in (("plain", plain), ("camera", camera))}
     c = min(camera, key=lambda r: r["total"])

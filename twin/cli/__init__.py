@@ -39,7 +39,7 @@ class _Once(argparse._StoreAction):
         super().__call__(parser, namespace, values, option_string)
 
 
-class _Parser(argparse.ArgumentParser):
+class Parser(argparse.ArgumentParser):
     """Usage errors as one line ``error: command line: <option>: <message>`` and exit code 2, like
     bad input; single-valued options refuse to be repeated."""
 
@@ -63,8 +63,8 @@ def registered_commands() -> list:
 def build_parser() -> argparse.ArgumentParser:
     from twin.cli import cmd_dataset, cmd_frames, cmd_list, cmd_plot, cmd_simulate
 
-    parser = _Parser(prog="twin", description="thermal-twin: digital twin of CNC machine-tool thermal errors")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    parser = Parser(prog="twin", description="thermal-twin: digital twin of CNC machine-tool thermal errors")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for module in (cmd_list, cmd_simulate, cmd_plot, cmd_frames, cmd_dataset):
         module.add_parser(sub)
     for ep in registered_commands():

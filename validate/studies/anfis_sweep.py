@@ -21,7 +21,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from twin.plotting import save_figure
-from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
+from validate.studies.common import data_main, fit_score, markdown_table, preset, select, write_csv
 
 NAME = "anfis_sweep"
 # thesis Table 5-2 (test RMSE, test NSE) and Table 5-1 (validation RMSE, test RMSE), um
@@ -111,7 +111,10 @@ MF_HEAD = ["MFs", "epochs", "epoch kept", "train RMSE um", "checking RMSE um", "
 
 
 def main(argv=None) -> int:
-    args, out, data = start(NAME, __doc__, argv)
+    return data_main(NAME, __doc__, argv, _run, ("anfis_inputs.csv", "anfis_mfs.csv", "anfis_sweep.md", "anfis_sweep.png"))
+
+
+def _run(args, out, data) -> int:
     print("input sweep 1..8 ...", flush=True)
     inputs = input_sweep(data, args.seed)
     print("MF sweep 2..9 ...", flush=True)

@@ -20,6 +20,8 @@ import argparse
 
 import numpy as np
 
+from validate.studies.common import cli_parser, run_cli
+
 SCENARIO = "seed003-exp1"
 
 
@@ -102,20 +104,47 @@ def differences(ds, ref) -> dict:
             "d_drift_um": np.abs(ds.drift.values - ref.drift.values).max(axis=0)}
 
 
+def poses_mm(text: str) -> list[float]:
+    """argparse type of ``--poses``: comma-separated Y positions in mm (bare numbers), finite and distinct."""
+    values = []
+    for item in (t.strip() for t in text.split(",")):
+        try:
+            v = float(item)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected comma-separated Y positions in mm (e.g. 60,340), got "
+                                             f"{item!r}") from None
+        if not np.isfinite(v):
+            raise argparse.ArgumentTypeError(f"{item!r} is not a finite position")
+        if v in values:
+            raise argparse.ArgumentTypeError(f"{v:g} mm given more than once")
+        values.append(v)
+    return values
+
+
 def main(argv=None) -> int:
+    p = cli_parser("python -m validate.studies.axis_pose", __doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="coarse mesh (default: the default mesh)")
+    p.add_argument("--poses", type=poses_mm, default="60,340",
+                   help="Y poses [mm] to compare with the reference, within the Y travel (default 60,340)")
+    p.add_argument("--readout", action="store_true", help="only the read-out comparison (warm-up, then Y held)")
+    return run_cli(p.parse_args, argv, _run)
+
+
+def _run(args) -> int:
     from geometries import build_machine
     from geometries.axes import at_pose, with_feed_drives
+    from twin.errors import InputError
     from twin.scenario import load_scenario
 
-    p = argparse.ArgumentParser(prog="python -m validate.studies.axis_pose", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="coarse mesh (default: the default mesh)")
-    p.add_argument("--poses", default="60,340", help="Y poses [mm] to compare with the reference (default 60,340)")
-    p.add_argument("--readout", action="store_true", help="only the read-out comparison (warm-up, then Y held)")
-    args = p.parse_args(argv)
     resolution = "coarse" if args.quick else "default"
-    sc = load_scenario(SCENARIO)
     base = with_feed_drives(build_machine("cframe-vmc"), {"Y"})
-    for mm in (float(v) for v in args.poses.split(",")):
+    lo, hi = (1e3 * t for t in base.axis("Y").travel)
+    outside = [v for v in args.poses if not lo <= v <= hi]
+    if outside:
+        raise InputError("command line", "--poses", f"{outside[0]:g} mm is outside the Y axis's travel, {lo:g} to "
+                                                    f"{hi:g} mm")
+    sc = load_scenario(SCENARIO)
+    for mm in args.poses:
         r = readout_errors(base, "Y", mm, resolution)
         print(f"read-out, {HOLD_SPEED}, Y {WARM:g} min to and fro then held at {mm:.0f} mm ({resolution}): drift X Y Z at the end on "
               f"the mesh built there {np.round(r['truth_drift'], 2)} um; largest |error| of the reference-pose mesh read "
@@ -128,7 +157,7 @@ def main(argv=None) -> int:
     print(f"{SCENARIO} on {resolution}: reference pose Y = {p_ref * 1e3:.0f} mm, k - k0 at the end "
           f"{ref.positioning_slope.values[-1]:.4f} um/mm, error at {ref.target.values[-1]:g} mm "
           f"{ref.positioning_error.values[-1, -1, 0]:.2f} um, drift {np.round(ref.drift.values[-1], 2)} um")
-    for mm in (float(v) for v in args.poses.split(",")):
+    for mm in args.poses:
         d = differences(run_at(at_pose(base, "Y", mm * 1e-3), sc, resolution), ref)
         print(f"pose Y = {mm:.0f} mm: |dk| <= {d['dk_um_per_mm']:.4f} um/mm ({100 * d['dk_share']:.1f} % of the end "
               f"value), error at the last target {d['d_error_um']:+.2f} um, |dT| <= {d['dT_K']:.2f} K ({d['dT_site']}), "

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import argparse
 import csv
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from learners import make_learner, make_selector
-from learners.metrics import score_all
-
-__all__ = ["parse_args", "preset", "fit_score", "select", "write_csv", "markdown_table", "fmt", "table_main"]
+__all__ = ["cli_parser", "quantity", "whole_numbers", "run_cli", "check_output_folder", "check_camera_pose",
+           "parse_args", "study_main", "data_main", "table_main", "preset", "fit_score", "select", "write_csv",
+           "markdown_table", "fmt"]
 
 # Seed-like hyper-parameters (seed 001: ANFIS-FCM 6 rules for 1-5 inputs; ANN 4-10-1).
 # ANFIS: MATLAB anfis with checking data, as seed 001 split its training test into training and
@@ -25,39 +25,168 @@ PRESETS = {
 }
 
 
-def parse_args(name: str, doc: str, argv=None) -> argparse.Namespace:
-    """``[--quick] [-o DIR] [--seed N] [--camera [POSE]]``; the default folder is
-    ``validate-out/<name>/``."""
-    p = argparse.ArgumentParser(prog=f"python -m validate.studies.{name}", description=doc.splitlines()[0])
+# ------------------------------------------------------------------------------------------ command line
+# The studies and benchmarks follow the twin CLI's rules (README "Errors"): a usage error or bad input
+# is one line ``error: <source>: <field>: <message>`` on stderr and exit code 2, checked before any
+# output folder is made or any run starts; an option that takes one value refuses a second.
+
+
+def cli_parser(prog: str, description: str) -> argparse.ArgumentParser:
+    """An argument parser with the twin CLI's usage errors (one line naming the option, exit code 2)
+    that refuses a single-valued option given twice (``twin.cli``)."""
+    from twin.cli import Parser
+
+    return Parser(prog=prog, description=description)
+
+
+def quantity(dimension: str):
+    """argparse type of a positive quantity with its unit (``"20mm"``, ``"1e-6 K"``; :func:`twin.units.
+    parse_quantity`), in SI units."""
+    def parse(text: str) -> float:
+        from twin.units import UnitError, parse_quantity
+
+        try:
+            value = parse_quantity(text, dimension)
+        except UnitError as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
+        if not value > 0:
+            raise argparse.ArgumentTypeError(f"must be positive, got {text!r}")
+        return value
+    return parse
+
+
+def whole_numbers(what: str, lower: int = 1):
+    """argparse type of a comma-separated list of distinct whole numbers of at least ``lower``."""
+    from twin.cli.options import whole_number
+
+    one = whole_number(what, lower)
+
+    def parse(text: str) -> list[int]:
+        items = [t.strip() for t in text.split(",") if t.strip()]
+        if not items:
+            raise argparse.ArgumentTypeError(f"expected comma-separated whole numbers of {what}, got {text!r}")
+        values = [one(t) for t in items]
+        twice = sorted({v for v in values if values.count(v) > 1})
+        if twice:
+            raise argparse.ArgumentTypeError(f"{', '.join(map(str, twice))} given more than once")
+        return values
+    return parse
+
+
+def run_cli(parse, argv, body) -> int:
+    """``body(parse(argv))`` as the twin CLI runs a command (``twin.cli.main``): a usage error
+    returns 2 (its line printed by the parser; ``--help`` returns 0), an :class:`twin.errors.
+    InputError` prints ``error: <source>: <field>: <message>`` and returns 2."""
+    from twin.errors import InputError
+
+    try:
+        args = parse(argv)
+    except SystemExit as exit_:
+        return int(exit_.code or 0)
+    try:
+        return int(body(args) or 0)
+    except InputError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+
+
+def check_output_folder(path, contents: tuple[str, ...] = (), field: str = "-o", default=None, files=None) -> Path:
+    """The output folder ``path`` checked as the twin CLI checks one (:meth:`twin.io.paths.Files.folder`:
+    a folder, or one that can be made in an existing writable folder, never a file; the files it
+    will hold, ``contents``, checked like outputs, never an input declared to ``files``), before
+    anything is made or simulated; it is not created here. The ``default`` folder (e.g.
+    ``validate-out/NAME``) may lack its parents, made with it: then the nearest missing one is
+    checked."""
+    from twin.io.paths import Files, output_folder
+
+    path = Path(path)
+    top = path
+    while default is not None and path == Path(default) and not top.parent.exists() and top.parent != top:
+        top = top.parent
+    if top != path:
+        output_folder(top, field)
+        return path
+    return (files if files is not None else Files()).folder(path, field, tuple(contents))
+
+
+def check_camera_pose(pose: str, machine: str = "cframe-vmc") -> str:
+    """``--camera POSE`` checked: a camera pose of ``machine`` aimed at a part (the part the spots
+    are laid on, :func:`validate.studies.learner_data.build_camera_data`)."""
+    from twin.api import machine_by_name
+    from twin.errors import InputError
+    from twin.observe.camera import CameraConfig
+
+    m = machine_by_name(machine)
+    aimed = [p.name for p in m.camera_poses if p.subject]
+    if not CameraConfig(pose=pose, source="command line", where="--camera").resolve_pose(m).subject:
+        raise InputError("command line", "--camera", f"pose {pose!r} is aimed at no part of machine {m.name}, so it "
+                                                     f"has no spots; use one of {', '.join(aimed)}")
+    return pose
+
+
+def parse_args(name: str, doc: str, argv=None, camera: bool = False, seed: bool = True,
+               folder: str | None = None) -> argparse.Namespace:
+    """``[--quick] [-o DIR] [--seed N] [--camera [POSE]]`` (``--seed`` only with ``seed``, for the
+    studies that draw noise or seed a learner; ``--camera`` only with ``camera``, for those that read
+    camera frames); the default folder is ``validate-out/<folder>`` (``folder`` defaults to ``name``;
+    ``validate-out/<folder>-camera`` with --camera). A usage error exits (SystemExit 2) with one
+    line, like the twin CLI."""
+    from twin.cli.options import seed as seed_type
+
+    p = cli_parser(f"python -m validate.studies.{name}", doc.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="coarse mesh (smoke run); default: the default mesh")
-    p.add_argument("-o", "--output", help=f"output folder (default validate-out/{name}, or validate-out/{name}-camera "
-                                          "with --camera)")
-    p.add_argument("--seed", type=int, default=0, help="noise seed and random_state (default 0)")
-    p.add_argument("--camera", nargs="?", const="carrier-front", metavar="POSE",
-                   help="take the inputs from a thermal camera at POSE (default carrier-front): seed 001's 525 "
-                        "virtual spots on the frames, instead of the dense surface-sensor grid")
+    folder = folder or name
+    p.add_argument("-o", "--output", help=f"output folder (default validate-out/{folder}"
+                                          + (f", or validate-out/{folder}-camera with --camera)" if camera else ")"))
+    if seed:
+        p.add_argument("--seed", type=seed_type, default=0, help="noise seed and random_state (0 to 2**32-1, default 0)")
+    if camera:
+        p.add_argument("--camera", nargs="?", const="carrier-front", metavar="POSE",
+                       help="take the inputs from a thermal camera at POSE (default carrier-front): seed 001's 525 "
+                            "virtual spots on the frames, instead of the dense surface-sensor grid")
     args = p.parse_args(argv)
-    args.output = args.output or f"validate-out/{name}{'-camera' if args.camera else ''}"
+    args.default_output = f"validate-out/{folder}{'-camera' if getattr(args, 'camera', None) else ''}"
+    args.output = args.output or args.default_output
     return args
 
 
-def start(name: str, doc: str, argv=None):
-    """Common start of a study's ``main``: parse the options, create the output folder and build
-    (or read cached) training and test data. Returns (args, output folder, StudyData)."""
-    from validate.studies.learner_data import build_camera_data, build_data
+def study_main(name: str, doc: str, argv, body, contents: tuple[str, ...] = (), camera: bool = False,
+               seed: bool = True, folder: str | None = None) -> int:
+    """``main`` of a study on the common options (:func:`parse_args`, whose ``camera``, ``seed`` and
+    ``folder`` it passes on): parse ``argv``, check the camera pose and the output folder with the
+    files it will hold (``contents``) before anything is made or simulated, then return
+    ``body(args, out)`` (``out`` not yet made: the body makes it when it writes). Bad input: one
+    line ``error: <source>: <field>: <message>``, exit code 2."""
+    def run(args):
+        if getattr(args, "camera", None) is not None:
+            check_camera_pose(args.camera)
+        out = check_output_folder(args.output, contents, default=args.default_output)
+        return body(args, out)
+    return run_cli(lambda a: parse_args(name, doc, a, camera=camera, seed=seed, folder=folder), argv, run)
 
-    args = parse_args(name, doc, argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    print(f"simulating (or reading cached runs) in {out} ...", flush=True)
-    resolution = "coarse" if args.quick else "default"
-    if args.camera:
-        return args, out, build_camera_data(out, resolution=resolution, pose=args.camera, seed=args.seed)
-    return args, out, build_data(out, resolution=resolution, seed=args.seed)
+
+def data_main(name: str, doc: str, argv, body, contents: tuple[str, ...] = ()) -> int:
+    """``main`` of a study on the seed-001 runs (:mod:`validate.studies.learner_data`): the options
+    of :func:`study_main` with ``--camera``, checked; then the output folder is made, the training
+    and test data built (or read cached from it) and ``body(args, out, StudyData)`` returned."""
+    def run(args, out):
+        from validate.studies.learner_data import build_camera_data, build_data
+
+        out.mkdir(parents=True, exist_ok=True)
+        print(f"simulating (or reading cached runs) in {out} ...", flush=True)
+        resolution = "coarse" if args.quick else "default"
+        if args.camera:
+            data = build_camera_data(out, resolution=resolution, pose=args.camera, seed=args.seed)
+        else:
+            data = build_data(out, resolution=resolution, seed=args.seed)
+        return body(args, out, data)
+    return study_main(name, doc, argv, run, contents, camera=True)
 
 
 def preset(name: str, seed: int = 0, **override):
     """A registered learner with the studies' seed-like presets and ``random_state=seed``."""
+    from learners import make_learner
+
     est = make_learner(name, **{**PRESETS.get(name, {}), **override})
     if "random_state" in est.get_params(deep=False):
         est.set_params(random_state=seed)
@@ -66,6 +195,8 @@ def preset(name: str, seed: int = 0, **override):
 
 def select(X, y, k: int, names: list[str], method: str = "gm0n-fcm", seed: int = 0) -> list[int]:
     """Indices (into ``names``/columns of ``X``) of the ``k`` inputs a selector picks on (X, y)."""
+    from learners import make_selector
+
     sel = make_selector(method, n_select=k)
     if "random_state" in sel.get_params(deep=False):
         sel.set_params(random_state=seed)
@@ -75,6 +206,8 @@ def select(X, y, k: int, names: list[str], method: str = "gm0n-fcm", seed: int =
 
 def fit_score(est, X_train, y_train, X_test, y_test) -> tuple[dict, np.ndarray]:
     """Fit on train, predict both; returns (row of train_/test_ metrics + fit_time_s, test prediction)."""
+    from learners.metrics import score_all
+
     start = time.perf_counter()
     est.fit(X_train, y_train)
     fit_s = time.perf_counter() - start
@@ -87,21 +220,21 @@ def fit_score(est, X_train, y_train, X_test, y_test) -> tuple[dict, np.ndarray]:
 
 
 def table_main(name: str, doc: str, argv, rows_for, markdown) -> int:
-    """``main`` of a study that writes one table: parse ``[--quick] [-o DIR]``, compute
-    ``rows_for(resolution)`` (coarse mesh with ``--quick``, else default), write ``<name>.csv`` and
-    ``<name>.md`` (``markdown(rows, command, resolution)``) into the output folder and print it."""
+    """``main`` of a study that writes one table: ``[--quick] [-o DIR]`` checked (:func:`study_main`),
+    compute ``rows_for(resolution)`` (coarse mesh with ``--quick``, else default), write ``<name>.csv``
+    and ``<name>.md`` (``markdown(rows, command, resolution)``) into the output folder and print it."""
     from twin.io.atomic import atomic_write_text
 
-    args = parse_args(name, doc, argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    resolution = "coarse" if args.quick else "default"
-    rows = rows_for(resolution)
-    write_csv(out / f"{name}.csv", rows)
-    command = f"python -m validate.studies.{name}{' --quick' if args.quick else ''}"
-    atomic_write_text(out / f"{name}.md", markdown(rows, command, resolution))
-    print(markdown(rows, command, resolution))
-    return 0
+    def run(args, out):
+        resolution = "coarse" if args.quick else "default"
+        rows = rows_for(resolution)
+        out.mkdir(parents=True, exist_ok=True)
+        write_csv(out / f"{name}.csv", rows)
+        command = f"python -m validate.studies.{name}{' --quick' if args.quick else ''}"
+        atomic_write_text(out / f"{name}.md", markdown(rows, command, resolution))
+        print(markdown(rows, command, resolution))
+        return 0
+    return study_main(name, doc, argv, run, (f"{name}.csv", f"{name}.md"), seed=False)
 
 
 def write_csv(path: Path, rows: list[dict]) -> Path:

@@ -26,9 +26,7 @@ example: time-ordered learners count in samples, so all runs must share one).
 
 from __future__ import annotations
 
-import argparse
 import csv
-import sys
 import time
 from pathlib import Path
 
@@ -38,12 +36,12 @@ from learners.leaderboard import leaderboard, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_selector
 from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table
-from twin.cli.options import whole_number
+from twin.cli.options import add_seed_option, whole_number
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
-from twin.io.paths import output_folder, read_text
-from twin.units import UnitError, parse_quantity
-from validate.studies.common import markdown_table, preset, write_csv as write_rows
+from twin.io.paths import Files, read_text
+from validate.studies.common import (check_output_folder, cli_parser, markdown_table, preset, quantity, run_cli,
+                                     write_csv as write_rows)
 from validate.studies.placement_search import exhaustive_best, greedy_oracle
 from validate.studies.sensor_placement import INTUITIVE
 
@@ -157,10 +155,11 @@ def run_placement(train, tests, names, sets, learner_names, seed: int):
 
 
 DEFAULT_OUTPUT = f"validate-out/{NAME}"
+OUTPUTS = ("leaderboard.csv", "leaderboard.md", "placement.csv", "placement.md")
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
+    p = cli_parser(f"python -m validate.studies.{NAME}", __doc__.splitlines()[0])
     p.add_argument("dataset", help="a twin dataset folder (twin dataset SPEC -o DIR)")
     p.add_argument("-o", "--output", default=DEFAULT_OUTPUT,
                    help=f"output folder (default validate-out/{NAME})")
@@ -169,12 +168,13 @@ def _parser():
     p.add_argument("--target", default="drift:Z", help="the target (default drift:Z, the true tool-point drift)")
     p.add_argument("--learners", default=",".join(SEED_LEARNERS), help="comma-separated learners (default: the seeds')")
     p.add_argument("--select", default="gm0n-fcm:4", help="METHOD:K for the leaderboard's inputs (default gm0n-fcm:4)")
-    p.add_argument("--interval", default="60 s", help="thin every run to this sample interval (default '60 s')")
+    p.add_argument("--interval", type=quantity("time"), default="60 s",
+                   help="thin every run to this sample interval, with its unit (default '60 s')")
     p.add_argument("--segments", type=whole_number("segments", 1), default=4, help="time segments per run in the leaderboard (default 4)")
     p.add_argument("--n-random", type=whole_number("random sets"), default=20, help="random sensor sets (default 20)")
     p.add_argument("--no-exhaustive", action="store_true", help="skip the exhaustive search of the placement")
     p.add_argument("--no-placement", action="store_true", help="the leaderboard only")
-    p.add_argument("--seed", type=whole_number("seed", 0, 2**32 - 1), default=0, help="random_state of learners, selectors and draws (default 0)")
+    add_seed_option(p, "random_state of learners, selectors and draws")
     return p
 
 
@@ -187,6 +187,9 @@ def _check_names(args) -> list[str]:
         raise InputError("command line", "--learners",
                          f"unknown learner {unknown[0]!r}; known: {', '.join(sorted(LEARNERS))}" if unknown
                          else "no learner given")
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise InputError("command line", "--learners", f"{', '.join(twice)} given more than once")
     method, _, k = args.select.partition(":")
     if method not in SELECTORS:
         raise InputError("command line", "--select", f"unknown selector {method!r}; known: {', '.join(sorted(SELECTORS))}")
@@ -197,20 +200,21 @@ def _check_names(args) -> list[str]:
 
 def _run(args) -> int:
     learner_names = _check_names(args)
-    try:
-        interval = parse_quantity(args.interval, "time")
-    except UnitError as exc:
-        raise InputError("command line", "--interval", str(exc)) from None
+    interval = args.interval
     if not Path(args.dataset).is_dir():
         raise InputError(args.dataset, "dataset", "not a dataset folder (twin dataset SPEC -o DIR makes one)")
-    if args.output == DEFAULT_OUTPUT:
-        Path(DEFAULT_OUTPUT).parent.mkdir(exist_ok=True)
-    out = output_folder(args.output, "-o")
-    out.mkdir(parents=True, exist_ok=True)
+    files = Files()
+    files.input(Path(args.dataset) / "index.csv", "dataset", "dataset index (index.csv)")
+    out = check_output_folder(args.output, OUTPUTS if not args.no_placement else OUTPUTS[:2], default=DEFAULT_OUTPUT,
+                              files=files)
     print(f"reading {args.dataset} ...", flush=True)
     train = load_split(args.dataset, args.train_split, args.target, interval)
     names = train[0][1].input_names
     tests = load_split(args.dataset, args.split, args.target, interval, inputs=names)
+    k = int(args.select.partition(":")[2] or 4)
+    if k > len(names):
+        raise InputError("command line", "--select", f"asks for {k} inputs, the dataset's runs have {len(names)} sensors")
+    out.mkdir(parents=True, exist_ok=True)
     print(f"{len(train)} training runs ({sum(len(t.y) for _, t in train)} rows), {len(tests)} test runs "
           f"({sum(len(t.y) for _, t in tests)} rows), {len(names)} sensors", flush=True)
 
@@ -222,13 +226,12 @@ def _run(args) -> int:
     note = (f"Dataset `{args.dataset}`: trained on the {len(train)} runs of split `{args.train_split}`, scored against "
             f"the noise-free `{args.target}` of the {len(tests)} runs of split `{args.split}` (each run predicted from "
             f"its own start); inputs: the measured temperatures [degC] that `{args.select}` picks on the training "
-            f"runs; every run thinned to {args.interval}. Plausible, not a measured machine.")
+            f"runs; every run thinned to {interval:g} s. Plausible, not a measured machine.")
     write_csv(out / "leaderboard.csv", rows)
     write_markdown(out / "leaderboard.md", rows, title=f"Leaderboard: {args.target}", note=note)
     print(f"wrote {out / 'leaderboard.md'}, leaderboard.csv", flush=True)
     if args.no_placement:
         return 0
-    k = int(args.select.partition(":")[2] or 4)
     print("placement: selecting, drawing, searching ...", flush=True)
     sets, notes = placement_sets(train, tests, names, k, args.seed, args.n_random, not args.no_exhaustive,
                                  lambda d, n: print(f"  exhaustive {d}/{n}", flush=True) if d % 5_000_000 < 200_000
@@ -252,12 +255,7 @@ def _run(args) -> int:
 
 
 def main(argv=None) -> int:
-    args = _parser().parse_args(argv)
-    try:
-        return _run(args)
-    except InputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+    return run_cli(_parser().parse_args, argv, _run)
 
 
 if __name__ == "__main__":

@@ -22,12 +22,14 @@ bearing x1.2 on the heat-cool test). About 10 twin runs on the default mesh: 3-6
 
 from __future__ import annotations
 
-import argparse
 from dataclasses import replace
 
 import numpy as np
 
 from learners.metrics import rms
+from validate.studies.common import cli_parser, run_cli
+
+MESHES = ("coarse", "default", "fine")
 
 CAUSES = {
     "spindle-heat-cool-9000": ("ambient_convection.h x1.3", "column.+x 60 W", "spindle_forced_convection.h_reference x0.6",
@@ -101,10 +103,19 @@ def signals(scenario: str, causes, resolution: str = "default", error_mesh: str 
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--resolution", default="default", help="the model's mesh (default: %(default)s)")
-    ap.add_argument("--error-mesh", default="coarse", help="the model-error estimate's mesh (default: %(default)s)")
-    a = ap.parse_args(argv)
+    ap = cli_parser("python -m validate.studies.diagnosis_signals", __doc__.splitlines()[0])
+    ap.add_argument("--resolution", default="default", choices=MESHES, help="the model's mesh (default: %(default)s)")
+    ap.add_argument("--error-mesh", default="coarse", choices=MESHES,
+                    help="the model-error estimate's mesh, another than --resolution (default: %(default)s)")
+    return run_cli(ap.parse_args, argv, _run)
+
+
+def _run(a) -> int:
+    from twin.errors import InputError
+
+    if a.error_mesh == a.resolution:
+        raise InputError("command line", "--error-mesh", f"{a.error_mesh} is the model's own mesh (--resolution): it "
+                                                         "must be another resolution")
     unit = {"temperature": "K", "probe": "um"}
     for scenario, causes in CAUSES.items():
         res = signals(scenario, causes, a.resolution, a.error_mesh)

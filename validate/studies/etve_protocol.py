@@ -22,7 +22,6 @@ from the test's first reading. Writes ``DIR/etve-protocol.md`` and prints the ta
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +29,7 @@ import numpy as np
 from learners import make_learner
 from learners.metrics import score_all
 from twin.io.atomic import atomic_write_text
+from validate.studies.common import study_main
 
 SENSORS = ("carrier_front", "column_side")
 FIRST = 6   # readings of the training test GNNMCI learns from (the seed: 5; see the module docstring)
@@ -96,14 +96,12 @@ def run(resolution: str = "default", seed: int = 0, progress=print) -> dict:
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m validate.studies.etve_protocol", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="coarse mesh; default: the default mesh")
-    p.add_argument("-o", "--output", default="validate-out/etve-protocol", help="output folder")
-    p.add_argument("--seed", type=int, default=0, help="noise seed and random_state (default 0)")
-    args = p.parse_args(argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
+    return study_main("etve_protocol", __doc__, argv, _run, ("etve-protocol.md",), folder="etve-protocol")
+
+
+def _run(args, out: Path) -> int:
     text = table(run("coarse" if args.quick else "default", args.seed))
+    out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "etve-protocol.md", "# The thesis's ETVE protocol on the twin\n\n" + text + "\n")
     print(text)
     return 0

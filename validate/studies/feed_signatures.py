@@ -11,9 +11,9 @@ effects apart (the diagnosis reports them as indistinguishable above 0.95).
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
+
+from validate.studies.common import cli_parser, run_cli
 
 FEED = ("feed_nut_y", "feed_motor_y", "feed_guideways_y", "feed_bearings_y")
 GROUPS = ("temperature", "probe", "positioning")
@@ -43,10 +43,14 @@ def correlation(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m validate.studies.feed_signatures", description=__doc__.splitlines()[0])
-    p.add_argument("--mesh", default="coarse", help="mesh resolution (default: %(default)s)")
+    p = cli_parser("python -m validate.studies.feed_signatures", __doc__.splitlines()[0])
+    p.add_argument("--mesh", default="coarse", choices=["coarse", "default", "fine"],
+                   help="mesh resolution (default: %(default)s)")
     p.add_argument("--full", action="store_true", help="the whole 390 min scenario (default: the study's quick one)")
-    a = p.parse_args(argv)
+    return run_cli(p.parse_args, argv, _run)
+
+
+def _run(a) -> int:
     sig, groups, steps = responses(a.mesh, not a.full)
     for g in GROUPS:
         rows = steps if g == "positioning" else slice(None)

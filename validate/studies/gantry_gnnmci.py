@@ -28,7 +28,7 @@ import numpy as np
 
 from twin.io.atomic import atomic_write_text
 from twin.plotting import save_figure
-from validate.studies.common import fit_score, markdown_table, parse_args, preset, write_csv
+from validate.studies.common import fit_score, markdown_table, preset, study_main, write_csv
 
 NAME = "gantry_gnnmci"
 FBG = ("FBG-1", "FBG-2", "FBG-3", "FBG-4")
@@ -145,13 +145,15 @@ def markdown(rows: list[dict], command: str, resolution: str) -> str:
 
 
 def main(argv=None) -> int:
-    args = parse_args(NAME, __doc__, argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
+    return study_main(NAME, __doc__, argv, _run, ("gnnmci.csv", "gnnmci.md", "gnnmci.png"))
+
+
+def _run(args, out: Path) -> int:
     res = "coarse" if args.quick else "default"
     print(f"simulating gantry-ram ({res} mesh) ...", flush=True)
     data = simulate(res, args.seed)
     rows, preds = run_study(data, args.seed)
+    out.mkdir(parents=True, exist_ok=True)
     write_csv(out / "gnnmci.csv", rows)
     command = f"python -m validate.studies.gantry_gnnmci{' --quick' if args.quick else ''}"
     atomic_write_text(out / "gnnmci.md", markdown(rows, command, res))

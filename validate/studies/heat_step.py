@@ -32,16 +32,15 @@ two runs' bounds). Writes ``heat_step.md`` and ``.csv`` into ``validate-out/heat
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import scipy.sparse.linalg as spla
 
 from twin.physics.steppers import IterativeStepper
-from validate.studies.common import markdown_table, write_csv
+from validate.studies.common import (check_output_folder, cli_parser, markdown_table, quantity, run_cli,
+                                     whole_numbers, write_csv)
 
 NAME = "heat_step"
 SCENARIO = "etve-day-night"
@@ -123,7 +122,7 @@ def rows_for(spacing: float | None, steps: int, heat_tol: float, coarsenings: li
     from twin.physics.prepared import PreparedTwin
 
     machine, scenario = machine_by_name(MACHINE), load_scenario(SCENARIO)
-    mm = build_mesh(machine, spacing) if spacing else mesh_machine(machine, "coarse")
+    mm = build_mesh(machine, spacing) if spacing is not None else mesh_machine(machine, "coarse")
     twin = PreparedTwin(machine, mm, solver="iterative")
     loads = twin.loads(scenario, model_spec(machine))
     sensors = TemperatureSensors(sensor_points(machine))
@@ -168,33 +167,40 @@ def markdown(rows: list[dict], command: str) -> str:
         markdown_table(rows, cols, heads), ""])
 
 
+DEFAULT_OUTPUT = f"validate-out/{NAME}"
+
+
+def _parser():
+    from twin.cli.options import whole_number
+
+    p = cli_parser(f"python -m validate.studies.{NAME}", __doc__.splitlines()[0])
+    p.add_argument("--spacing", type=quantity("length"), help="cell size with its unit (default 40mm)")
+    p.add_argument("--steps", type=whole_number("steps", 1, 1440), help="steps solved by each variant, 1 to 1440 "
+                                                                        "(default 300)")
+    p.add_argument("--heat-tol", type=quantity("temperature_difference"), default="1e-6 K",
+                   help="the run's verified tolerance with its unit (default 1e-6 K)")
+    p.add_argument("--coarsening", type=whole_numbers("grid lines", 2), default="2,3",
+                   help="two-grid coarse grids: every N-th line (N >= 2), comma-separated (default 2,3)")
+    p.add_argument("--quick", action="store_true", help="the coarse mesh and 60 steps (a smoke run)")
+    p.add_argument("-o", "--output", default=DEFAULT_OUTPUT, help=f"output folder (default {DEFAULT_OUTPUT})")
+    return p
+
+
 def main(argv=None) -> int:
+    return run_cli(_parser().parse_args, argv, lambda args: _run(args, argv))
+
+
+def _run(args, argv) -> int:
     from twin.errors import InputError
     from twin.io.atomic import atomic_write_text
-    from twin.units import UnitError, parse_quantity
 
-    p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
-    p.add_argument("--spacing", help="cell size with its unit (default 40mm)")
-    p.add_argument("--steps", type=int, help="steps solved by each variant (default 300)")
-    p.add_argument("--heat-tol", default="1e-6 K", help="the run's verified tolerance with its unit (default 1e-6 K)")
-    p.add_argument("--coarsening", default="2,3", help="two-grid coarse grids: every N-th line, comma-separated")
-    p.add_argument("--quick", action="store_true", help="the coarse mesh and 60 steps (a smoke run)")
-    p.add_argument("-o", "--output", default=f"validate-out/{NAME}")
-    args = p.parse_args(argv)
-    try:
-        if args.quick and (args.spacing or args.steps):
-            raise ValueError("--quick sets the mesh (coarse) and the steps (60): leave out --spacing and --steps")
-        steps = 60 if args.quick else (300 if args.steps is None else args.steps)
-        spacing = None if args.quick else parse_quantity(args.spacing or "40mm", "length")
-        heat_tol = parse_quantity(args.heat_tol, "temperature_difference")
-        coarsenings = [int(c) for c in args.coarsening.split(",") if c.strip()]
-        if heat_tol <= 0 or not 1 <= steps <= 1440 or any(c < 2 for c in coarsenings):
-            raise ValueError("--heat-tol must be positive, --steps within 1..1440, every --coarsening >= 2")
-    except (InputError, UnitError, ValueError) as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 2
-    rows = rows_for(spacing, steps, heat_tol, coarsenings)
-    out = Path(args.output)
+    if args.quick and (args.spacing is not None or args.steps is not None):
+        raise InputError("command line", "--quick", "sets the mesh (coarse) and the steps (60): leave out --spacing "
+                                                    "and --steps")
+    steps = 60 if args.quick else (300 if args.steps is None else args.steps)
+    spacing = None if args.quick else (0.04 if args.spacing is None else args.spacing)
+    out = check_output_folder(args.output, (f"{NAME}.csv", f"{NAME}.md"), default=DEFAULT_OUTPUT)
+    rows = rows_for(spacing, steps, args.heat_tol, args.coarsening)
     out.mkdir(parents=True, exist_ok=True)
     command = "python -m validate.studies.heat_step " + " ".join(argv if argv is not None else sys.argv[1:])
     text = markdown(rows, command.strip())

@@ -15,7 +15,6 @@ them every 20 s (the day-night scenario is kept whole: its excitation is the 24 
 
 from __future__ import annotations
 
-import argparse
 import csv
 import io
 import time
@@ -27,8 +26,10 @@ from geometries import MACHINES, build_machine
 from geometries.axes import with_feed_drives
 from twin.effects import EFFECTS
 from twin.fem.mesh import mesh_machine
+from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
 from validate.studies import diagnosis_cases as cases_
+from validate.studies.common import cli_parser
 from validate.studies.diagnosis_cases import BARS, CLASSES, all_cases, run_case, score
 
 _WORKER: dict = {}
@@ -172,8 +173,10 @@ def _typed(row: dict) -> dict:
     return out
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def _parser():
+    from twin.cli.options import whole_number
+
+    ap = cli_parser("python -m validate.studies.hidden_effect", __doc__.splitlines()[0])
     ap.add_argument("--machine", default="cframe-vmc", help="machine (default: %(default)s)")
     ap.add_argument("--classes", default=",".join(CLASSES), help=f"comma-separated classes (default: all: {', '.join(CLASSES)})")
     ap.add_argument("--effects", help="hidden class: comma-separated hidden effects (default: spindle_motor and every "
@@ -184,58 +187,103 @@ def main(argv=None) -> int:
                                         "text, e.g. 'etve-day-night')")
     ap.add_argument("--quick", action="store_true", help="shortened spindle scenarios")
     ap.add_argument("--out", help="folder for hidden_effect.md/.csv (default: validate-out/hidden_effect/MACHINE)")
-    ap.add_argument("--jobs", type=int, default=1, help="cases run in parallel processes (default 1)")
+    ap.add_argument("--jobs", type=whole_number("processes", 1), default=1,
+                    help="cases run in parallel processes (default 1)")
     ap.add_argument("--analyse", action="store_true", help="re-render hidden_effect.md from an existing hidden_effect.csv")
     ap.add_argument("--truth", default="fine", help="mesh resolution of the truth (default: %(default)s)")
     ap.add_argument("--model", default="default", help="mesh resolution of the diagnosing model (default: %(default)s)")
     ap.add_argument("--error-mesh", default="coarse", help="mesh of the model-error estimate, or 'none' (default: %(default)s)")
+    return ap
+
+
+def main(argv=None) -> int:
+    """The study; bad options and files exit (SystemExit, code 2) with one line ``error: <source>:
+    <field>: <message>``, before any case runs or any file is written."""
+    ap = _parser()
     a = ap.parse_args(argv)
+    try:
+        return _analyse(a) if a.analyse else _study(a)
+    except InputError as err:
+        ap.exit(2, f"error: {err}\n")
+
+
+def _analyse(a) -> int:
+    """--analyse: hidden_effect.md re-rendered from the hidden_effect.csv beside it."""
+    from twin.io.paths import input_file, output_file, read_text
+
     out = Path(a.out or f"validate-out/hidden_effect/{a.machine}")
-    if a.analyse:
-        with open(out / "hidden_effect.csv", newline="") as fh:
-            rows = [score(_typed(r)) for r in csv.DictReader(fh)]
-        old = (out / "hidden_effect.md").read_text()
-        cmd = old.split("Command: `", 1)[1].split("`", 1)[0] if "Command: `" in old else "?"
-        text = markdown(rows, cmd, "(quick)" in old.splitlines()[0]) + "\n" + failure_analysis(rows)
-        atomic_write_text(out / "hidden_effect.md", text)
-        print(text.split("## Cases")[0])
-        return 0
+    table = input_file(out / "hidden_effect.csv", "--out", "study table (hidden_effect.csv)")
+    old = read_text(out / "hidden_effect.md", "--out", "study report (hidden_effect.md)")
+    output_file(out / "hidden_effect.md", "--out")
+    try:
+        rows = [score(_typed(r)) for r in csv.DictReader(io.StringIO(read_text(table, "--out")))]
+    except (KeyError, ValueError, TypeError) as err:
+        raise InputError(str(table), "--out", f"not a table this study wrote ({type(err).__name__}: {err})") from None
+    if not rows:
+        raise InputError(str(table), "--out", "holds no case")
+    cmd = old.split("Command: `", 1)[1].split("`", 1)[0] if "Command: `" in old else "?"
+    text = markdown(rows, cmd, "(quick)" in old.splitlines()[0]) + "\n" + failure_analysis(rows)
+    atomic_write_text(out / "hidden_effect.md", text)
+    print(text.split("## Cases")[0])
+    return 0
+
+
+def _study(a) -> int:
+    from validate.studies.common import check_output_folder
+
     if a.machine not in MACHINES:
-        ap.error(f"--machine: unknown machine {a.machine!r} (known: {', '.join(sorted(MACHINES))})")
+        raise InputError("command line", "--machine", f"unknown machine {a.machine!r} (known: {', '.join(sorted(MACHINES))})")
+    default_out = f"validate-out/hidden_effect/{a.machine}"
+    out = check_output_folder(a.out or default_out, ("hidden_effect.csv", "hidden_effect.md"), field="--out",
+                              default=default_out)
     machine = build_machine(a.machine)
     classes = [c.strip() for c in a.classes.split(",") if c.strip()]
     unknown = [c for c in classes if c not in CLASSES]
     if unknown:
-        ap.error(f"--classes: unknown class {unknown[0]!r} (known: {', '.join(CLASSES)})")
-    hidden = a.effects.split(",") if a.effects else None
-    if hidden:
+        raise InputError("command line", "--classes", f"unknown class {unknown[0]!r} (known: {', '.join(CLASSES)})")
+    if not classes or len(set(classes)) < len(classes):
+        raise InputError("command line", "--classes", "no class given" if not classes else
+                         f"{', '.join(sorted({c for c in classes if classes.count(c) > 1}))} given more than once")
+    hidden = [h.strip() for h in a.effects.split(",") if h.strip()] if a.effects is not None else None
+    if hidden is not None:
         bad = [h for h in hidden if h not in EFFECTS]
-        if bad:
-            ap.error(f"unknown effects: {', '.join(bad)}")
+        if bad or not hidden:
+            raise InputError("command line", "--effects", f"unknown effects: {', '.join(bad)}" if bad else
+                             "no effect given")
+        twice = sorted({h for h in hidden if hidden.count(h) > 1})
+        if twice:
+            raise InputError("command line", "--effects", f"{', '.join(twice)} given more than once")
+        if "hidden" not in classes:
+            raise InputError("command line", "--effects", "names the hidden class's effects: add hidden to --classes")
         refused = [h for h in hidden if not EFFECTS[h].applies_to(with_feed_drives(machine))]
         if refused:
-            ap.error(f"effects that do not apply to {machine.name}: {', '.join(refused)}")
+            raise InputError("command line", "--effects", f"effects that do not apply to {machine.name}: "
+                                                          f"{', '.join(refused)}")
     sizes = machine.resolutions
     for opt in ("truth", "model", "error_mesh"):
         v = getattr(a, opt)
         if v not in sizes and not (opt == "error_mesh" and v == "none"):
-            ap.error(f"--{opt.replace('_', '-')}: unknown mesh resolution {v!r} (known: {', '.join(sizes)})")
+            raise InputError("command line", f"--{opt.replace('_', '-')}",
+                             f"unknown mesh resolution {v!r} (known: {', '.join(sizes)})")
     if a.error_mesh == a.model:
-        ap.error(f"--error-mesh {a.error_mesh} is the model's own mesh: it must be another resolution")
+        raise InputError("command line", "--error-mesh", f"{a.error_mesh} is the model's own mesh: it must be another "
+                                                         "resolution")
     if sizes[a.truth] > sizes[a.model]:
-        ap.error(f"--truth {a.truth} is coarser than --model {a.model}: the truth must be at least as fine")
+        raise InputError("command line", "--truth", f"{a.truth} is coarser than --model {a.model}: the truth must be at "
+                                                    "least as fine")
     error = None if a.error_mesh == "none" else a.error_mesh
     plan = all_cases(machine, classes, hidden)
     if a.cases:
         wanted = [w.strip() for w in a.cases.split(",") if w.strip()]
         plan = [c for c in plan if any(w in c.label for w in wanted)]
         if not plan:
-            ap.error(f"--cases: no case of the classes {', '.join(classes)} matches {a.cases!r}")
+            raise InputError("command line", "--cases", f"no case of the classes {', '.join(classes)} matches "
+                                                        f"{a.cases!r}")
     if a.scenarios:
         wanted = [w.strip() for w in a.scenarios.split(",") if w.strip()]
         plan = [c for c in plan if any(w in c.scenario for w in wanted)]
         if not plan:
-            ap.error(f"--scenarios: no planned case runs on {a.scenarios!r}")
+            raise InputError("command line", "--scenarios", f"no planned case runs on {a.scenarios!r}")
     work = [(c, a.quick, a.truth, a.model, error, machine.name) for c in plan]
     cmd = (f"python -m validate.studies.hidden_effect --machine {machine.name} --classes {','.join(classes)}"
            + (" --quick" if a.quick else "") + (f" --effects {a.effects}" if a.effects else "")

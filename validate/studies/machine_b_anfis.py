@@ -22,7 +22,7 @@ import numpy as np
 
 from twin.io.atomic import atomic_write_text
 from twin.plotting import save_figure
-from validate.studies.common import fit_score, markdown_table, parse_args, preset, write_csv
+from validate.studies.common import fit_score, markdown_table, preset, study_main, write_csv
 from validate.studies.machine_b_data import column, load_tests
 from validate.studies.machine_b_gra import SEED_SELECTED
 from validate.studies.machine_b_gra import run_study as gra_study
@@ -105,8 +105,10 @@ def plot(path: Path, runs, preds, label: str):
 
 
 def main(argv=None) -> int:
-    args = parse_args(NAME, __doc__, argv)
-    out = Path(args.output)
+    return study_main(NAME, __doc__, argv, _run, ("anfis.csv", "anfis.md", "anfis.png"))
+
+
+def _run(args, out: Path) -> int:
     out.mkdir(parents=True, exist_ok=True)
     res = "coarse" if args.quick else "default"
     runs = load_tests(out, res, args.seed)

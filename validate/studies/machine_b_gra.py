@@ -24,7 +24,7 @@ import numpy as np
 from learners.selection_grey import similitude_degree
 from twin.io.atomic import atomic_write_text
 from twin.plotting import save_figure
-from validate.studies.common import parse_args, select, write_csv
+from validate.studies.common import select, study_main, write_csv
 from validate.studies.machine_b_data import GROUPS, load_tests
 
 NAME = "machine_b_gra"
@@ -120,8 +120,10 @@ def plot(path: Path, rows):
 
 
 def main(argv=None) -> int:
-    args = parse_args(NAME, __doc__, argv)
-    out = Path(args.output)
+    return study_main(NAME, __doc__, argv, _run, ("gra.csv", "gra.md", "gra.png"))
+
+
+def _run(args, out: Path) -> int:
     out.mkdir(parents=True, exist_ok=True)
     res = "coarse" if args.quick else "default"
     runs = load_tests(out, res, args.seed, tests=("VI",))

@@ -19,7 +19,7 @@ import numpy as np
 
 import learners
 from twin.plotting import save_figure
-from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
+from validate.studies.common import data_main, fit_score, markdown_table, preset, select, write_csv
 
 NAME = "seed001"
 SEED_ROWS = [  # seed 001 Table 5 (FCM-ANFIS 4) and Table 6, Z axis, test set; um
@@ -231,7 +231,10 @@ def markdown(rows, extra, data) -> str:
 
 
 def main(argv=None) -> int:
-    args, out, data = start(NAME, __doc__, argv)
+    return data_main(NAME, __doc__, argv, _run, ("seed001.csv", "seed001.md", "seed001.png", "frames.png"))
+
+
+def _run(args, out, data) -> int:
     print(f"{len(data.candidates)} candidate sensors; fitting {len(learners.LEARNERS)} learners per axis ...",
           flush=True)
     rows, extra = run_study(data, seed=args.seed)

@@ -14,14 +14,13 @@ PCR (85 % cumulative variance) and an ANN 5-4-1 on Exp I, and scores the thermal
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
 import scipy.stats
 
 from learners import make_learner, make_selector
-from validate.studies.common import markdown_table, write_csv
+from validate.studies.common import markdown_table, study_main, write_csv
 
 NAME = "seed003"
 K0 = -0.3903   # um/mm, the seed's cold slope (note 003, sec. 5.5)
@@ -168,22 +167,23 @@ WHY = """- The twin's k comes from the screw's temperature alone (semi-closed lo
   extrapolates. Plausible, not a measured machine."""
 
 
+RUNS = ("seed003-exp1", "seed003-exp2")
+
+
 def main(argv=None) -> int:
+    return study_main(NAME, __doc__, argv, _run, tuple(f"{n}.nc" for n in RUNS) + (f"{NAME}.md", f"{NAME}.csv"))
+
+
+def _run(args, out: Path) -> int:
     from twin.api import simulate
     from twin.io.results import write_netcdf
 
-    p = argparse.ArgumentParser(prog=f"python -m validate.studies.{NAME}", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="coarse mesh (smoke run); default: the default mesh")
-    p.add_argument("-o", "--output", default=f"validate-out/{NAME}", help="output folder")
-    p.add_argument("--seed", type=int, default=0, help="noise seed and random_state (default 0)")
-    args = p.parse_args(argv)
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
     resolution = "coarse" if args.quick else "default"
     runs = []
-    for name in ("seed003-exp1", "seed003-exp2"):
+    for name in RUNS:
         print(f"simulating {name} on the {resolution} mesh ...", flush=True)
         ds, _ = simulate("cframe-vmc", name, resolution=resolution, seed=args.seed)
+        out.mkdir(parents=True, exist_ok=True)
         write_netcdf(ds, out / f"{name}.nc")
         runs.append(ds)
     res = run_study(*runs, seed=args.seed)

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from twin.plotting import save_figure
-from validate.studies.common import fit_score, markdown_table, preset, select, start, write_csv
+from validate.studies.common import data_main, fit_score, markdown_table, preset, select, write_csv
 from validate.studies.placement_search import greedy_oracle
 
 NAME = "sensor_placement"
@@ -123,7 +123,10 @@ HEADERS = ["sensor set", "learner", "sets", "test RMSE um (mean)", "min", "max",
 
 
 def main(argv=None) -> int:
-    args, out, data = start(NAME, __doc__, argv)
+    return data_main(NAME, __doc__, argv, _run, ("placement.csv", "placement_draws.csv", "placement.md", "placement.png"))
+
+
+def _run(args, out, data) -> int:
     print("scoring sensor sets (greedy oracle searches the whole grid) ...", flush=True)
     rows, raw = run_study(data, seed=args.seed)
     write_csv(out / "placement.csv", rows)

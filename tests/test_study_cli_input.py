@@ -1,0 +1,235 @@
+"""Bad input to the module command lines ``python -m validate.benchmark``, ``python -m
+validate.camera_benchmark`` and ``python -m validate.studies.<name>``: as in the twin CLI (README
+"Errors"), one line ``error: <source>: <field>: <message>`` on stderr, exit code 2, no traceback,
+found before any output folder is made or any run starts. Every case here fails while the options
+are checked: no study or benchmark runs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from validate import benchmark, camera_benchmark
+from validate.studies import (axis_pose, dataset_learners, diagnosis_signals, etve_protocol, feed_signatures,
+                              gantry_gnnmci, gantry_tests, gantry_z_variants, heat_step, hidden_effect,
+                              machine_b_anfis, machine_b_gra, seed001, seed003)
+
+
+def one_error(capsys, *needles) -> str:
+    """The one ``error:`` line on stderr, holding every needle."""
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "Traceback" not in err
+    for needle in needles:
+        assert needle in lines[0], err
+    return lines[0]
+
+
+@pytest.fixture
+def fast_scenario(tmp_path):
+    """The seeds' heat-cool test at 30000 rpm, beyond cframe-vmc's 9000 rpm."""
+    from twin.scenario import scenario_path
+
+    text = scenario_path("spindle-heat-cool-9000").read_text().replace("9000 rpm", "30000 rpm")
+    path = tmp_path / "fast.toml"
+    path.write_text(text)
+    return path
+
+
+# 4 ---------------------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("study", [gantry_tests, gantry_z_variants, gantry_gnnmci, machine_b_gra, machine_b_anfis])
+def test_studies_without_a_camera_do_not_offer_camera(study, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert study.main(["--quick", "--camera", "bogus", "-o", str(out)]) == 2
+    one_error(capsys, "unrecognized arguments: --camera")
+    assert not out.exists()
+
+
+def test_a_camera_study_checks_the_pose_before_anything_is_written(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert seed001.main(["--quick", "--camera", "bogus", "-o", str(out)]) == 2
+    one_error(capsys, "command line: --camera: ", "no camera pose 'bogus'")
+    assert seed001.main(["--quick", "--camera", "overview-front", "-o", str(out)]) == 2   # aimed at no part: no spots
+    one_error(capsys, "--camera: ", "aimed at no part")
+    assert not out.exists()
+
+
+# 5 ---------------------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("spacing", ["-100mm", "0mm"])
+def test_benchmark_refuses_a_spacing_that_is_not_positive(spacing, capsys):
+    assert benchmark.main([f"--spacing={spacing}"]) == 2
+    one_error(capsys, "command line: --spacing: must be positive")
+
+
+def test_benchmark_refuses_a_mesh_too_large_to_allocate(capsys):
+    """--spacing 1mm: about 1.6e9 nodes, refused by twin.fem.mesh.build_mesh before any memory is
+    taken (an InputError, not a MemoryError)."""
+    assert benchmark.main(["--spacing", "1mm"]) == 2
+    one_error(capsys, "spacing")
+
+
+@pytest.mark.parametrize("spacing", ["-40mm", "0mm"])
+def test_heat_step_refuses_a_spacing_that_is_not_positive(spacing, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert heat_step.main([f"--spacing={spacing}", "--steps", "1", "-o", str(out)]) == 2
+    one_error(capsys, "command line: --spacing: must be positive")
+    assert not out.exists()
+
+
+# 6 ---------------------------------------------------------------------------------------------------------------
+
+
+def test_benchmark_checks_the_scenario_against_the_machine(fast_scenario, capsys):
+    assert benchmark.main(["--scenario", str(fast_scenario), "--mesh", "coarse"]) == 2
+    one_error(capsys, "spindle[0].speed", "beyond machine cframe-vmc's maximum of 9000 rpm")
+
+
+def test_benchmark_checks_the_run_size(monkeypatch, capsys):
+    from twin import limits
+
+    monkeypatch.setattr(limits, "MAX_NODE_STEPS", 1.0)
+    assert benchmark.main(["--scenario", "spindle-heat-cool-9000", "--mesh", "coarse"]) == 2
+    one_error(capsys, "node-steps")
+
+
+def test_camera_benchmark_checks_the_scenario_against_the_machine(fast_scenario, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert camera_benchmark.main(["--scenario", str(fast_scenario), "-o", str(out)]) == 2
+    one_error(capsys, "beyond machine cframe-vmc's maximum")
+    assert not out.exists()
+
+
+# 7 ---------------------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--cases", "0"], "command line: --cases: must be at least 1"),
+    (["--cases", "-5"], "command line: --cases: must be at least 1"),
+    (["--mesh", "bogus"], "command line: --mesh: invalid choice: 'bogus'"),
+    (["--cases", "3", "--seed", "-1", "--solver", "rom"], "command line: --seed: -1 is outside"),
+    (["--machine", "belt-vmc", "--machine", "cframe-vmc"], "command line: --machine: given more than once"),
+    (["--spacing", "100"], "command line: --spacing: '100' has no unit"),
+    (["--spacing", "20mm", "--mesh", "coarse"], "--spacing or --mesh, not both"),
+    (["--machine", "bogus"], "unknown machine 'bogus'"),
+])
+def test_benchmark_refuses_bad_options(argv, needle, capsys):
+    assert benchmark.main(argv) == 2
+    one_error(capsys, needle)
+
+
+# 8 ---------------------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--machine", "bogus"], "unknown machine 'bogus'"),
+    (["--scenario", "bogus"], "unknown scenario 'bogus'"),
+    (["--camera", "bogus"], "command line: --camera: machine cframe-vmc has no camera pose 'bogus'"),
+    (["--mesh", "bogus"], "command line: --mesh: invalid choice"),
+    (["--repeat", "0"], "command line: --repeat: must be at least 1"),
+    (["--repeat", "1", "--repeat", "2"], "command line: --repeat: given more than once"),
+])
+def test_camera_benchmark_checks_everything_before_its_folder(argv, needle, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert camera_benchmark.main([*argv, "-o", str(out)]) == 2
+    one_error(capsys, needle)
+    assert not out.exists()
+
+
+def test_camera_benchmark_refuses_a_file_as_its_folder(tmp_path, capsys):
+    path = tmp_path / "file"
+    path.write_text("keep")
+    assert camera_benchmark.main(["-o", str(path)]) == 2
+    one_error(capsys, f"{path}: -o: exists and is not a folder")
+    assert path.read_text() == "keep"
+
+
+# 9 ---------------------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("study", [seed001, seed003, heat_step, etve_protocol])
+def test_a_study_refuses_a_file_as_its_folder(study, tmp_path, capsys):
+    path = tmp_path / "file"
+    path.write_text("keep")
+    assert study.main(["--quick", "-o", str(path)]) == 2
+    one_error(capsys, f"{path}: -o: exists and is not a folder")
+    assert path.read_text() == "keep"
+
+
+@pytest.mark.parametrize("study", [seed001, seed003, etve_protocol, gantry_gnnmci, machine_b_gra])
+@pytest.mark.parametrize("seed, needle", [("-1", "-1 is outside"), ("1.5", "not an integer")])
+def test_a_study_checks_its_seed_before_anything_is_made(study, seed, needle, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert study.main(["--quick", f"--seed={seed}", "-o", str(out)]) == 2
+    one_error(capsys, "command line: --seed: ", needle)
+    assert study.main(["--quick", "--seed", "1", "--seed", "2", "-o", str(out)]) == 2
+    one_error(capsys, "--seed: given more than once")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("main, argv, needle", [
+    (feed_signatures.main, ["--mesh", "bogus"], "command line: --mesh: invalid choice: 'bogus'"),
+    (diagnosis_signals.main, ["--resolution", "bogus"], "command line: --resolution: invalid choice: 'bogus'"),
+    (diagnosis_signals.main, ["--error-mesh", "bogus"], "command line: --error-mesh: invalid choice: 'bogus'"),
+    (diagnosis_signals.main, ["--error-mesh", "default"], "command line: --error-mesh: default is the model's own"),
+    (axis_pose.main, ["--readout", "--poses", "abc"], "command line: --poses: expected comma-separated"),
+    (axis_pose.main, ["--readout", "--poses=-500"], "command line: --poses: -500 mm is outside the Y axis's travel"),
+    (axis_pose.main, ["--readout", "--poses", "60,60"], "command line: --poses: 60 mm given more than once"),
+    (heat_step.main, ["--coarsening", "2,2"], "command line: --coarsening: 2 given more than once"),
+])
+def test_study_options_are_checked_names_and_numbers(main, argv, needle, capsys):
+    assert main(argv) == 2
+    one_error(capsys, needle)
+
+
+def test_hidden_effect_analyse_needs_its_table(tmp_path, capsys):
+    with pytest.raises(SystemExit) as e:
+        hidden_effect.main(["--analyse", "--out", str(tmp_path / "none")])
+    assert e.value.code == 2
+    one_error(capsys, "hidden_effect.csv: --out: no such study table")
+
+
+def test_hidden_effect_checks_its_folder_before_any_case(tmp_path, capsys):
+    path = tmp_path / "file"
+    path.write_text("keep")
+    with pytest.raises(SystemExit) as e:
+        hidden_effect.main(["--out", str(path), "--classes", "none"])
+    assert e.value.code == 2
+    one_error(capsys, f"{path}: --out: exists and is not a folder")
+
+
+# 10 --------------------------------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def csv_dataset(tmp_path):
+    """A dataset folder of two CSV runs (train, test) with two sensors, ten rows at 60 s."""
+    folder = tmp_path / "ds"
+    folder.mkdir()
+    t = np.arange(10) * 60.0
+    for name in ("a", "b"):
+        rows = ["time,T1,T2,drift:Z"] + [f"{x},{np.sin(x / 100) + 0.01 * i},{np.cos(x / 90)},{x / 60 + np.sin(x)}"
+                                         for i, x in enumerate(t)]
+        (folder / f"{name}.csv").write_text("\n".join(rows) + "\n")
+    (folder / "index.csv").write_text("file,split,built,family\na.csv,train,True,f\nb.csv,test,True,f\n")
+    return folder
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--select", "gm0n-fcm:5"], "command line: --select: asks for 5 inputs, the dataset's runs have 2 sensors"),
+    (["--learners", "mlr,mlr"], "command line: --learners: mlr given more than once"),
+    (["--seed", "1", "--seed", "2"], "command line: --seed: given more than once"),
+    (["--interval", "0 s"], "command line: --interval: must be positive"),
+    (["--interval", "-60 s"], "command line: --interval: must be positive"),
+    (["--split", "bogus"], "no split 'bogus'"),
+    (["--target", "bogus"], "a.csv: bogus: missing target column"),
+])
+def test_dataset_study_checks_everything_before_its_folder(csv_dataset, argv, needle, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert dataset_learners.main([str(csv_dataset), "-o", str(out), *argv]) == 2
+    one_error(capsys, needle)
+    assert not out.exists()
