@@ -137,3 +137,19 @@ def test_dataset_study_refuses_a_missing_dataset(tmp_path, capsys):
     from validate.studies import dataset_learners
     assert dataset_learners.main([str(tmp_path / "none"), "-o", str(tmp_path / "out")]) == 2
     assert "dataset: not a dataset folder" in capsys.readouterr().err and not (tmp_path / "out").exists()
+
+
+def test_study_rows_hold_no_wall_time_so_repeats_write_the_same_files(tmp_path):
+    """fit_score's row holds the scores only (no wall-clock fit time): the same learner on the
+    same data gives the same row, and the study CSV the same bytes."""
+    import numpy as np
+
+    from validate.studies.common import fit_score, preset, write_csv
+
+    rng = np.random.default_rng(0)
+    X, y = rng.normal(size=(40, 3)), rng.normal(size=40)
+    rows = [fit_score(preset("mlr"), X[:30], y[:30], X[30:], y[30:])[0] for _ in range(2)]
+    assert rows[0] == rows[1] and not any("time" in k for k in rows[0])
+    write_csv(tmp_path / "a.csv", rows[:1])
+    write_csv(tmp_path / "b.csv", rows[1:])
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()

@@ -1,5 +1,6 @@
 """Searching sensor sets with the truth: the best k-sensor set for least squares, by greedy forward
-selection (a bound no real selection reaches, not an optimum) or by exhaustive search (the optimum).
+selection (a reference: greedy, so neither a bound nor an optimum) or by exhaustive search (the
+optimum for least squares).
 
 Both judge a set S by the test RMSE [um] of least squares with an intercept (the ``mlr`` learner)
 fitted on the training rows::
@@ -42,7 +43,8 @@ def lstsq_test_rmse(Xtr, ytr, Xte, yte) -> float:
 
 def greedy_oracle(Xtr, ytr, Xte, yte, candidates, k: int = 4) -> list[int]:
     """Columns chosen by forward selection, each step adding the candidate that most lowers the
-    test RMSE of least squares; uses the test truth, so it is a bound, and greedy: not an optimum."""
+    test RMSE of least squares; it uses the test truth, but greedy: not an optimum, and not a bound
+    (a real selection can do better, as the exhaustive search shows)."""
     chosen: list[int] = []
     for _ in range(k):
         best, best_rmse = None, np.inf

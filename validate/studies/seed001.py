@@ -29,9 +29,9 @@ SEED_ROWS = [  # seed 001 Table 5 (FCM-ANFIS 4) and Table 6, Z axis, test set; u
      "test_max_abs_residual": 7.0210},
 ]
 COLUMNS = ["axis", "learner", "train_rmse", "train_nse", "test_rmse", "test_nse", "test_r", "test_max_abs_residual",
-           "test_improvement_pct", "fit_time_s"]
+           "test_improvement_pct"]
 HEADERS = ["axis", "learner", "train RMSE um", "train NSE", "test RMSE um", "test NSE", "test R", "test max|res| um",
-           "improvement %", "fit s"]
+           "improvement %"]
 
 
 def run_study(data, seed: int = 0, learner_names=None, axes=("Z", "Y"), k: int = 4) -> tuple[list[dict], dict]:

@@ -13,8 +13,9 @@ drift [um], measured temperature rises [degC]) and scores, with ``mlr`` and ``an
 - ``random``: 20 seeded draws of 4 grid sensors (mean, min, max over the draws);
 - ``greedy-oracle``: forward selection over the grid, each step adding the sensor that most lowers
   the *test-set* RMSE of least squares (= ``mlr``) trained on the training run; it uses the known
-  truth of the test run, so it is a bound that no real selection can reach (greedy, not the optimum;
-  :mod:`validate.studies.placement_search`, whose exhaustive search the dataset study
+  truth of the test run: a reference, not a method, and neither a bound nor an optimum (greedy, and
+  judged by least squares, not by each learner; :mod:`validate.studies.placement_search`, whose
+  exhaustive search, the least-squares optimum, the dataset study
   :mod:`validate.studies.dataset_learners` runs).
 
 Writes ``placement.md``, ``placement.csv`` and ``placement.png``. With ``--camera`` the candidates
@@ -112,7 +113,7 @@ def reading(rows) -> str:
         out.append(f"- `{name}`: gm0n-fcm {r['gm0n-fcm']['test_rmse']:.2f} um, intuitive "
                    f"{r['intuitive']['test_rmse']:.2f}, one sensor moved {r['seed-move']['test_rmse']:.2f}, random "
                    f"{r['random']['test_rmse']:.2f} (best draw {r['random'].get('test_rmse_min', np.nan):.2f}), "
-                   f"truth-greedy bound {r['greedy-oracle']['test_rmse']:.2f} um.")
+                   f"truth-greedy {r['greedy-oracle']['test_rmse']:.2f} um.")
     return "\n".join(out)
 
 
@@ -136,7 +137,8 @@ def _run(args, out, data) -> int:
     kind = (f"spots on the `{i['pose']}` camera's frames" if i.get("mode") == "camera" else "grid")
     text = (f"# Sensor placement on `{i['machine']}` (mesh `{i['mesh']}`), Z drift\n\n"
             f"Train `{i['train']}`, test `{i['test']}`; {i['n_grid']} {kind} candidates. The greedy oracle "
-            "uses the test run's truth and is a lower bound, not a method.\n\n" + table + "\n\n" + reading(rows) + "\n")
+            "uses the test run's truth: a reference, not a method, and neither a bound nor an optimum (greedy, "
+            "chosen for least squares).\n\n" + table + "\n\n" + reading(rows) + "\n")
     (out / "placement.md").write_text(text)
     plot(out / "placement.png", rows)
     print(table)
