@@ -13,9 +13,11 @@ The story, on generated data (nothing is downloaded):
    reads, so the rest of the story runs exactly the path a user's own data takes.
 2. **Compare** (:mod:`validate.compare`): the twin (default effects, on the demo's mesh) driven by
    the measured inputs; RMSE / max|r| / NSE per channel and per phase; worst channels first.
-3. **Diagnose** (:mod:`validate.diagnose`) on the ``coarse`` mesh (about 20 twin runs): every
-   library effect not in the model, ranked, with the fitted strength in W, K/m, W/K ... and a
-   confidence.
+3. **Diagnose** (:mod:`validate.diagnose`) on the ``coarse`` mesh with ``twin diagnose``'s defaults
+   (the model error estimated on the next finer mesh, every uncertain parameter tried; about 50
+   twin runs): every library effect not in the model, ranked, with the fitted strength in W, K/m,
+   W/K ..., the BIC weight and whether it passes the significance test, the expansion nuisance, and
+   the verdict. The command it prints, ``twin diagnose CSV``, reproduces these numbers.
 4. **Apply**: the top candidate at its fitted strength, RMSE before/after per channel, on the
    coarse mesh of the diagnosis and again on the demo's mesh (as ``twin compare --effects
    +NAME --set NAME.p=V`` would).
@@ -38,6 +40,7 @@ from learners.metrics import rms
 from twin.fem.mesh import mesh_machine
 from twin.units import format_quantity
 from validate.channels import GROUPS
+from validate.verdict import share_text
 
 MACHINE = "cframe-vmc"
 SCENARIO = "spindle-heat-cool-9000"
@@ -148,18 +151,30 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     machine = build_machine(MACHINE)
     mm = mesh_machine(machine, DIAGNOSE_MESH)
     sc_meas = scenario_from_measurement(meas)
-    d = diagnose(meas, machine, sc_meas, model_spec(machine), mm=mm)
-    say(f"diagnose (twin diagnose {csv_path}): every library effect not in the model and every uncertain "
-        f"parameter of its own, fitted on the {DIAGNOSE_MESH} mesh ({d.runs} twin runs)")
+    error_mesh = diagnose_error_mesh(machine)
+    d = diagnose(meas, machine, sc_meas, model_spec(machine), mm=mm, error_resolution=error_mesh)
+    say(f"diagnose (twin diagnose {csv_path}; its defaults --mesh {DIAGNOSE_MESH} --error-mesh auto = {error_mesh}, "
+        f"which reproduce these numbers): every library effect not in the model and every uncertain parameter of "
+        f"its own, fitted on the {DIAGNOSE_MESH} mesh, the model error estimated on the {error_mesh} mesh "
+        f"({d.runs} twin runs)")
+    say(f"  explained: share of the weighted residual {share_text(d.residual_factor)}; BIC weight: relative among "
+        f"the candidates, not the probability of being the cause; significant: >= {d.test[0]:g} BIC units and "
+        f">= {d.test[1]:.0%} explained")
     for i, cand in enumerate(d.candidates[:3], 1):
         vals = _candidate_args(cand)
-        say(f"  {i}. {cand['effect']:<24} explains {cand['explained']:5.1%}  confidence {cand['confidence']:.2f}  {vals}")
+        flags = "significant" if cand["significant"] else "not significant"
+        if cand["at_bound"]:
+            flags += ", AT ITS BOUND: " + ", ".join(cand["at_bound"])
+        say(f"  {i}. {cand['effect']:<24} explains {cand['explained']:5.1%}  BIC weight {cand['confidence']:.2f}  "
+            f"{vals}  ({flags})")
+    for line in _nuisance_lines(d):
+        say(line)
     say(f"  verdict: {d.message}")
     lap("diagnose")
 
     after_coarse = calibrated = cmp1 = None
     top = d.candidates[0] if d.candidates else None
-    if d.significant and top:
+    if d.named and top:
         after_coarse, calibrated, _ = apply_top(d, machine, sc_meas, mm)
         effects = ",".join(f"+{e}" for e in top["values_si"])
         settings = [x.replace(" ", "") for x in _settings(top)]
@@ -177,7 +192,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
                 f"({fit / hidden_value - 1:+.0%}; the model differs from the 'real' machine in materials, time step "
                 f"and mesh, and absorbs some of that)")
     else:
-        say("apply: nothing significant to add")
+        say(f"apply: nothing to add (the verdict is {d.verdict})")
     lap("apply")
 
     rep = out_dir / "report"
@@ -200,13 +215,39 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     return {
         "measurement": csv_path, "mapping": toml_path, "report": report, "json": json_path,
         "hidden": HIDDEN, "true_value": hidden_value, "top": top["effect"] if top else None,
-        "significant": d.significant, "fitted": top["parameters"] if top else {},
+        "significant": d.significant, "named": d.named, "verdict": d.verdict, "runs": d.runs,
+        "command": f"twin diagnose {csv_path}", "fitted": top["parameters"] if top else {},
         "explained": top["explained"] if top else 0.0, "confidence": top["confidence"] if top else 0.0,
         "rmse_before": {c.name: c.stats.rmse for c in cmp0.channels},
         "rmse_after": {c.name: c.stats.rmse for c in cmp1.channels} if cmp1 else {},
         "before_after_coarse": format_before_after(d, after_coarse, calibrated) if after_coarse is not None else "",
         "seconds": seconds,
     }
+
+
+def diagnose_error_mesh(machine) -> str | None:
+    """The mesh ``twin diagnose --error-mesh auto`` (its default) estimates the model error on for a
+    model on :data:`DIAGNOSE_MESH`: the next finer, else the next coarser."""
+    from validate.diagnose import coarser_resolution, finer_resolution
+
+    return finer_resolution(machine, DIAGNOSE_MESH) or coarser_resolution(machine, DIAGNOSE_MESH)
+
+
+def _nuisance_lines(d) -> list[str]:
+    """The thermal-expansion nuisance the diagnosis fitted (each material within its band), for the
+    baseline and with the named candidate; a material at its bound flagged, with what it means."""
+    from validate.diagnosis_text import nuisance_text
+
+    if not d.nuisance_baseline:
+        return []
+    out = ["  expansion nuisance (alpha within each material's band), baseline: " + nuisance_text(d.nuisance_baseline)]
+    if d.named:
+        out.append("    with the top candidate: " + nuisance_text(d.nuisance))
+    if any(v["at_bound"] for v in d.nuisance_baseline.values()):
+        out.append("    at its bound: the baseline's drift needs more than the materials' plausible spread"
+                   + (", which the top candidate removes" if d.named and not any(v["at_bound"] for v in d.nuisance.values())
+                      else ", so something else is wrong"))
+    return out
 
 
 def _compare_text(result) -> str:

@@ -23,14 +23,23 @@ weighted sum of squares SSE_k (nuisance fitted):
 * explained = 1 - SSE_k / SSE_0 (SSE_0: the baseline);
 * BIC_k = n_eff ln(SSE_k / N) + k ln(n_eff), n_eff the AR(1) effective sample count of the best
   candidate's residual (thermal residuals are strongly autocorrelated);
-* confidence = Schwarz weight of the candidate among all candidates and "nothing missing";
-  candidates within 6 BIC units, or with weighted signatures correlated |corr| > 0.95, are
+* confidence = Schwarz weight of the candidate among all candidates and "nothing missing"
+  (printed as the BIC weight): relative among this set, so the best of a set of poor candidates
+  holds about 1.00; it is not the probability that the candidate is the cause. Whether a candidate
+  passes the significance test (below) is its own flag ``significant``;
+* ``at_bound``: the members (``effect.parameter``) fitted at a bound of their range (within 1e-3
+  of its width), flagged like the nuisance's: the fit wants more than the range allows, or, at the
+  value where a missing effect adds nothing, the opposite sign;
+* candidates within 6 BIC units, or with weighted signatures correlated |corr| > 0.95, are
   reported as not distinguishable.
 
 Significance: the top candidate beats the baseline by >= ``bic_margin`` (10) BIC units and
 explains >= ``min_explained`` (50 %) of the weighted residual *of the groups above noise and model
 error* (factor > ``WITHIN`` before any candidate, :mod:`validate.verdict`; every group when none
-is): explained = 1 - SSE_k(A) / SSE_0(A), A those groups' channels. A group at its noise holds
+is): explained = 1 - SSE_k(A) / SSE_0(A), A those groups' channels. ``Diagnosis.significant`` is
+this test of the top candidate, whatever the verdict; the verdict names the candidate
+(``Diagnosis.named``) only when it is also needed: some group above noise and model error, or the
+candidate beyond the model error along its signature (:mod:`validate.verdict`). A group at its noise holds
 nothing a candidate could explain, so counting it would cap the share by how many quiet channels
 a machine has (the gantry's FBG gauges at 1.3x their noise held 43 % of the weighted residual and
 kept a candidate that removed 99 % of the lasers' residual and 73 % of the temperatures' under
@@ -75,7 +84,8 @@ class Diagnosis:
     candidates: list[dict] = field(default_factory=list)
     fits: list[Fit] = field(default_factory=list)
     verdict: str = "nothing_missing"
-    significant: bool = False
+    significant: bool = False                      # the top candidate passes the significance test
+    test: tuple = (10.0, 0.5)                      # (bic_margin, min_explained) of that test
     message: str = ""
     n_eff: float = 0.0
     residual_factor: dict = field(default_factory=dict)
@@ -92,6 +102,11 @@ class Diagnosis:
     error_resolution: str | None = None
     runs: int = 0
     twin: object = None
+
+    @property
+    def named(self) -> bool:
+        """True when the verdict names the top candidate (``explained`` or ``partly_explained``)."""
+        return self.verdict in ("explained", "partly_explained")
 
     # single-record views (the first record) for the report and the text
     @property
@@ -273,6 +288,8 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
         series.append(rec.model_error_series)
     w = evidence.flat([np.broadcast_to(rec.weights, rec.measured.shape) for rec in evidence.records])
     has_error = any(rec.model_error is not None for rec in evidence.records)
+    estimated = evidence.flat([np.broadcast_to(float(rec.model_error is not None), rec.measured.shape)
+                               for rec in evidence.records]) > 0
     fitter = BoundedFitter(r, w, responses, [-bands[m][0] for m in materials], [bands[m][0] for m in materials])
     d = Diagnosis(evidence, spec, base, w, fitter, materials, error_resolution=error_resolution, twin=twin,
                   model_error_flat=evidence.flat(errors) if has_error else None,
@@ -282,7 +299,8 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     d.nuisance_baseline = nuisance_report(fitter, materials, bands, zero)
     search = Search(evidence.observe, spec, base, fitter)
     fits = search.singles(pool, stage)
-    d.levels = V.group_levels(evidence, d.model_error_flat)
+    d.test = (bic_margin, min_explained)
+    d.levels = V.group_levels(evidence, d.model_error_flat, estimated)
     plain = fitter.residual_after(zero)
     d.residual_factor = V.residual_factors(evidence, plain, d.levels)
     d.share = Share(evidence, fitter, d.residual_factor, plain)
@@ -366,12 +384,56 @@ def _pair_significant(d: Diagnosis, pair: Fit, singles: list[Fit], n_eff: float,
     return bool(gain >= bic_margin and d.share.explained(pair.response, better.response) >= min_explained)
 
 
+NUISANCE_UNIT = "fraction of alpha"   # change and band: relative to the material's expansion coefficient
+
+
 def nuisance_report(fitter: BoundedFitter, materials: list[str], bands: dict, g: np.ndarray) -> dict:
-    """material -> {change, band, at_bound, source} of the expansion fitted to r - g."""
+    """material -> {change, band, unit, at_bound, source} of the expansion fitted to r - g; change
+    and band are fractions of the material's expansion coefficient alpha (0.1 = +10 %)."""
     c = fitter.nuisance(g)
     at = fitter.at_bound(c) if len(c) else []
-    return {m: {"change": float(v), "band": float(bands[m][0]), "at_bound": bool(a), "source": bands[m][1]}
+    return {m: {"change": float(v), "band": float(bands[m][0]), "unit": NUISANCE_UNIT, "at_bound": bool(a),
+                "source": bands[m][1]}
             for m, v, a in zip(materials, c, at)}
+
+
+BOUND_TOL = 1e-3   # a fitted value within this fraction of its range's width of a bound is at it
+
+
+def at_bound(f: Fit) -> list[str]:
+    """The members (``effect.parameter``) of a fit whose value sits at a bound of its range."""
+    out = []
+    for c, v in zip(f.candidates, f.values):
+        tol = BOUND_TOL * max(c.upper - c.lower, 1e-300)
+        if abs(v - c.lower) <= tol or abs(v - c.upper) <= tol:
+            out.append(f"{c.effect}.{c.parameter}")
+    return out
+
+
+def format_bounds(f: Fit) -> dict[str, dict[str, list[str]]]:
+    """{effect: {parameter: ["lower unit", "upper unit"]}}: the range each member was fitted in."""
+    from twin.units import format_quantity
+    out: dict[str, dict[str, list[str]]] = {}
+    for c in f.candidates:
+        out.setdefault(c.effect, {})[c.parameter] = [format_quantity(float(f"{b:.4g}"), c.dimension)
+                                                     for b in (c.lower, c.upper)]
+    return out
+
+
+def bound_text(f: Fit) -> str:
+    """'floor.conductance at its bound 200 W/m2K (range 2 W/m2K to 200 W/m2K)' for each member at a bound,
+    '; '-joined; a missing effect at the value where it adds nothing says so ('' when none)."""
+    from twin.units import format_quantity
+    out = []
+    names = set(at_bound(f))
+    for c, v in zip(f.candidates, f.values):
+        if f"{c.effect}.{c.parameter}" not in names:
+            continue
+        q = lambda x: format_quantity(float(f"{x:.3g}"), c.dimension)
+        nothing = (", where it adds nothing" if not c.in_model and abs(v - c.zero) <= BOUND_TOL * (c.upper - c.lower)
+                   else "")
+        out.append(f"{c.effect}.{c.parameter} at its bound {q(v)} (range {q(c.lower)} to {q(c.upper)}{nothing})")
+    return "; ".join(out)
 
 
 def statement(f: Fit) -> str:
@@ -379,12 +441,15 @@ def statement(f: Fit) -> str:
     return " and ".join(c.text(v) for c, v in zip(f.candidates, f.values))
 
 
-def format_values(f: Fit) -> dict[str, dict[str, str]]:
-    """{effect: {parameter: "value unit"}} of a fit."""
+def format_values(f: Fit, model: bool = False) -> dict[str, dict[str, str]]:
+    """{effect: {parameter: "value unit"}} of a fit; with ``model``, the model's values of the members
+    the model has (a parameter candidate's p_0)."""
     from twin.units import format_quantity
     out: dict[str, dict[str, str]] = {}
     for c, v in zip(f.candidates, f.values):
-        out.setdefault(c.effect, {})[c.parameter] = format_quantity(v, c.dimension)
+        if model and not c.in_model:
+            continue
+        out.setdefault(c.effect, {})[c.parameter] = format_quantity(c.zero if model else v, c.dimension)
     return out
 
 
@@ -413,25 +478,30 @@ def _score(d: Diagnosis, fits: list[Fit], min_explained: float, bic_margin: floa
         res = d.residual_after(f.response)
         rms_after = ev.per_channel(res)
         per_ch = 1 - (rms_after / np.where(before > 0, before, 1)) ** 2
+        explained = d.share.of_residual(res)
         d.candidates.append({
             "effect": f.name,
             "kind": f.kind,
             "parameters": format_values(f),
             "values_si": {c.effect: {c.parameter: v} for c, v in zip(f.candidates, f.values)},
             "model_values": {c.effect: {c.parameter: c.zero} for c in f.candidates if c.in_model},
+            "model_parameters": format_values(f, model=True),
             "statement": statement(f),
-            "explained": d.share.of_residual(res),
+            "explained": explained,
             "explained_all": float(1 - f.sse / sse0) if sse0 > 0 else 0.0,
             "rmse_after": {c: float(v) for c, v in zip(names, rms_after)},
             "delta_bic": float(bic0 - bics[i]),
             "confidence": float(weights[i + 1]),
             "indistinguishable_from": twins[:5],
             "explains_most": [names[k] for k in np.argsort(-per_ch)[:3]],
+            "significant": bool(bic0 - bics[i] >= bic_margin and explained >= min_explained),
+            "at_bound": at_bound(f),
+            "bounds": format_bounds(f),
             "fitted_parameters": f.nparams,
             "reasoning": reasoning(d, f.response),
         })
     top = d.candidates[0] if d.candidates else None
-    d.significant = bool(top and top["delta_bic"] >= bic_margin and top["explained"] >= min_explained)
+    d.significant = bool(top and top["significant"])
 
 
 def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, stage) -> None:
@@ -445,9 +515,8 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     if top_fit is not None and d.model_error_series_flat is not None:
         d.beyond_model_error = V.beyond_model_error(fitter, top_fit, d.model_error_series_flat)
     d.verdict = V.decide(d.residual_factor, d.significant, d.residual_factor_after, d.beyond_model_error)
-    d.significant = d.verdict in ("explained", "partly_explained")
     bands = expansion_bands(machine)
-    kept = d.verdict in ("explained", "partly_explained")
+    kept = d.named
     d.nuisance = nuisance_report(fitter, d.materials, bands, top_fit.response if kept else zero)
     left = after if kept else fitter.residual_after(zero)
     if d.verdict != "explained" and d.verdict != "nothing_missing" and localise_regions:
@@ -460,7 +529,10 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     top = d.candidates[0] if d.candidates else None
     d.message = V.message(d.verdict, top, d.residual_factor, d.residual_factor_after, d.levels,
                           V.worst_channels(ev, left, d.levels), V.worst_time(ev, left, d.weights_flat), d.regions,
-                          d.beyond_model_error)
+                          d.beyond_model_error, d.test)
+    bound = bound_text(top_fit) if top_fit is not None else ""
+    if bound:   # the fit would go past the bound if the range allowed it
+        d.message += f"; the {'named' if kept else 'best'} candidate's {bound}: the fit would go past it"
     at_bound = [m for m, v in d.nuisance.items() if v["at_bound"]]
     if at_bound:
         d.message += ("; " + ", ".join(f"{m} expansion at its bound {d.nuisance[m]['change']:+.0%}" for m in at_bound)

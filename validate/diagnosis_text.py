@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from validate.channels import GROUPS as CHANNEL_GROUPS, RUN_GROUPS, residual_unit
+from validate.verdict import share_text
 
 
 def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
@@ -47,7 +48,18 @@ def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
 
 
 def _params_text(c: dict) -> str:
-    return ", ".join(f"{e}.{p}={v}" for e, vals in c["parameters"].items() for p, v in vals.items())
+    """``effect.param=value unit``, each member fitted at a bound of its range flagged with the range."""
+    bound = set(c.get("at_bound", ()))
+    ranges = c.get("bounds", {})
+    out = []
+    for e, vals in c["parameters"].items():
+        for p, v in vals.items():
+            flag = ""
+            if f"{e}.{p}" in bound:
+                lo, hi = ranges.get(e, {}).get(p, ("?", "?"))
+                flag = f" (AT ITS BOUND, range {lo} to {hi})"
+            out.append(f"{e}.{p}={v}{flag}")
+    return ", ".join(out)
 
 
 def _unit(group: str) -> str:
@@ -68,31 +80,45 @@ def format_diagnosis(d, top: int = 8) -> str:
             if err is not None:
                 lines.append(f"    mesh error estimate ({d.error_resolution} vs the diagnosing mesh): "
                              + ", ".join(f"{names[i].split(':', 1)[1]} {err[i]:.3g}" for i in idx))
+    if err is None:
+        lines.append("  model error: not estimated (no --error-mesh run): the factors below compare with noise only")
     for g, f in d.residual_factor.items():
         noise, e = d.levels[g]
         after = d.residual_factor_after.get(g)
-        lines.append(f"  {g}: residual {f:.1f}x noise and model error (noise {noise:.2g} {_unit(g)}, model error "
-                     f"{e:.2g} {_unit(g)})" + (f"; {after:.1f}x after the top candidate" if after is not None else ""))
+        envelope = (f"noise and model error (noise {noise:.2g} {_unit(g)}, model error {e:.2g} {_unit(g)})"
+                    if e is not None else f"noise (noise {noise:.2g} {_unit(g)}, model error not estimated)")
+        lines.append(f"  {g}: residual {f:.1f}x {envelope}"
+                     + (f"; {after:.1f}x after the top candidate" if after is not None else ""))
     if d.beyond_model_error is not None:
         lines.append(f"  top candidate's fitted change: {d.beyond_model_error:.1f}x what the model error alone "
                      f"produces along its signature")
     if d.nuisance_baseline:
-        lines.append("Nuisance (thermal expansion within each material's band), baseline: " + _nuisance_text(d.nuisance_baseline))
+        lines.append("Nuisance (thermal expansion within each material's band), baseline: " + nuisance_text(d.nuisance_baseline))
         if d.nuisance is not d.nuisance_baseline and d.verdict in ("explained", "partly_explained"):
-            lines.append("  with the top candidate: " + _nuisance_text(d.nuisance))
+            lines.append("  with the top candidate: " + nuisance_text(d.nuisance))
     for gap in d.missing_channels:
         lines.append("Channels: " + gap["note"])
     lines.append("")
     w = max([44] + [len(c["effect"]) for c in d.candidates[:top]])   # long names keep the columns aligned
-    head = f"{'rank':>4}  {'candidate':<{w}} {'kind':<9} {'explained':>9} {'dBIC':>8} {'conf':>5}  parameters"
+    margin, share = getattr(d, "test", (10.0, 0.5))
+    lines += [f"explained: share of the weighted residual {share_text(d.residual_factor)} the candidate removes; "
+              f"dBIC: BIC units better than 'nothing missing'",
+              "BIC wt: Schwarz weight among these candidates and 'nothing missing' (relative: the best of a poor set "
+              "still holds about 1.00; not the probability that it is the cause)",
+              f"sig: passes the significance test (dBIC >= {margin:g} and explained >= {share:.0%}); AT ITS BOUND: "
+              f"fitted at a bound of its range"]
+    head = (f"{'rank':>4}  {'candidate':<{w}} {'kind':<9} {'explained':>9} {'dBIC':>8} {'BIC wt':>6} {'sig':>3}  "
+            f"parameters")
     lines += [head, "-" * len(head)]
     for i, c in enumerate(d.candidates[:top], 1):
+        sig = "yes" if c.get("significant") else "no"
         lines.append(f"{i:>4}  {c['effect']:<{w}} {c['kind']:<9} {c['explained']:>8.1%} {c['delta_bic']:>8.1f} "
-                     f"{c['confidence']:>5.2f}  {_params_text(c)}")
+                     f"{c['confidence']:>6.2f} {sig:>3}  {_params_text(c)}")
         if i <= 3:
             lines += _reasoning_lines(c)
     if d.regions:
-        lines += ["", "Where on the machine a generic heat input explains the residual best:"]
+        lines += ["", "Where on the machine a generic heat input explains the residual best (share of the weighted "
+                      "residual, all groups):"]
         rw = max([22] + [len(r["region"]) for r in d.regions])
         lines += [f"  {r['region']:<{rw}} {r['power_W']:>8.3g} W {r['schedule'].replace('_', ' '):<11} explains "
                   f"{r['explained']:.0%}" for r in d.regions]
@@ -100,7 +126,7 @@ def format_diagnosis(d, top: int = 8) -> str:
     return "\n".join(lines)
 
 
-def _nuisance_text(nuisance: dict) -> str:
+def nuisance_text(nuisance: dict) -> str:
     return ", ".join(f"{m} {v['change']:+.1%} (band +-{v['band']:.0%}{', AT ITS BOUND' if v['at_bound'] else ''})"
                      for m, v in nuisance.items())
 
@@ -123,6 +149,24 @@ def _reasoning_lines(c: dict, pad: str = " " * 6) -> list[str]:
     return out
 
 
+# what the JSON's unitless numbers are (the document's "dimensionless" entry)
+DIMENSIONLESS = {
+    "residual_factor": "ratio: RMS of the group's residual / sqrt(noise^2 + model error^2); noise alone where "
+                       "levels.<group>.model_error is null (not estimated)",
+    "beyond_model_error": "ratio: the top candidate's fitted change / the change the model error alone produces "
+                          "along its signature",
+    "candidates[].explained": "fraction (0-1, 1 = 100 %) of the weighted residual of the groups above noise and "
+                              "model error (of every group when none is)",
+    "candidates[].explained_all": "fraction (0-1) of the weighted residual of every group",
+    "candidates[].delta_bic": "BIC units better than 'nothing missing'",
+    "candidates[].confidence": "Schwarz (BIC) weight (0-1) among the candidates and 'nothing missing', relative "
+                               "to this set: not the probability that the candidate is the cause",
+    "nuisance.<material>.change": "fraction of the material's expansion coefficient alpha (0.1 = +10 %); band too",
+    "regions[].explained": "fraction (0-1) of the weighted residual of every group",
+    "reasoning share, explained": "fractions (0-1) of the weighted residual",
+}
+
+
 def diagnosis_json(d) -> dict:
     """The ``--json`` document (README, "twin diagnose")."""
     names = d.channels
@@ -131,24 +175,36 @@ def diagnosis_json(d) -> dict:
     return {
         "verdict": d.verdict,
         "significant": d.significant,
+        "named": d.named,
         "message": d.message,
         "measurements": d.evidence.labels,
         "baseline": {"rmse": {c: float(v) for c, v in zip(names, d.baseline_rmse)}, "units": units},
         "residual_factor": d.residual_factor,
         "residual_factor_after": d.residual_factor_after,
         "beyond_model_error": d.beyond_model_error,
-        "levels": {g: {"noise": n, "model_error": e, "unit": _unit(g)} for g, (n, e) in d.levels.items()},
+        "levels": {g: {"noise": n, "model_error": e, "model_error_estimated": e is not None, "unit": _unit(g)}
+                   for g, (n, e) in d.levels.items()},
         "nuisance": d.nuisance,
         "nuisance_baseline": d.nuisance_baseline,
         "effective_samples": d.n_eff,
-        "calibration": {"expansion": d.expansion,
-                        "rmse": {c: float(v) for c, v in zip(names, d.calibrated_rmse)}},
+        "calibration": {"expansion": d.expansion, "expansion_unit": "fraction of alpha",
+                        "rmse": {c: float(v) for c, v in zip(names, d.calibrated_rmse)}, "units": units},
         "model_error_rms": (None if err is None else
-                            {"resolution": d.error_resolution, "rmse": {c: float(v) for c, v in zip(names, err)}}),
+                            {"resolution": d.error_resolution, "rmse": {c: float(v) for c, v in zip(names, err)},
+                             "units": units}),
         "missing_channels": d.missing_channels,
         "phases": [{"measurement": r.label, "kind": p.kind, "phase": p.label, "start_s": p.start, "end_s": p.end}
                    for r in d.evidence.records for p in r.phases],
-        "candidates": [{k: v for k, v in c.items() if k != "values_si"} for c in d.candidates],
+        "candidates": [_candidate_json(c, units) for c in d.candidates],
         "regions": d.regions,
         "twin_runs": d.runs,
+        "dimensionless": DIMENSIONLESS,
     }
+
+
+def _candidate_json(c: dict, units: dict) -> dict:
+    """A candidate for the JSON: its SI values left out (``parameters`` carry them with units), the
+    units of ``rmse_after`` beside it."""
+    out = {k: v for k, v in c.items() if k != "values_si"}
+    out["rmse_after_units"] = units
+    return out

@@ -161,17 +161,23 @@ def _sensor_map(d, rec, after, machine) -> str:
 def _ranking(d) -> str:
     import matplotlib.pyplot as plt
 
+    from validate.verdict import share_text
+
     c = d.candidates[:10][::-1]
     fig, ax = plt.subplots(figsize=(8, 0.45 * len(c) + 1.2))
-    colours = ["C2" if (x is d.candidates[0] and d.significant) else "0.6" for x in c]
+    named = d.verdict in ("explained", "partly_explained")
+    colours = ["C2" if (x is d.candidates[0] and named) else "C1" if x.get("significant") else "0.6" for x in c]
     ax.barh([x["effect"] for x in c], [100 * x["explained"] for x in c], color=colours)
     for y, x in enumerate(c):
-        ax.text(max(100 * x["explained"], 0) + 1, y, f"{_candidate_text(x, names=False)}, confidence {x['confidence']:.2f}",
-                va="center", fontsize=7)
+        bound = ", AT A BOUND" if x.get("at_bound") else ""
+        ax.text(max(100 * x["explained"], 0) + 1, y,
+                f"{_candidate_text(x, names=False)}{bound}, BIC weight {x['confidence']:.2f}", va="center", fontsize=7)
     ax.set_xlim(0, 160)
     ax.set_xticks(range(0, 101, 20))
-    ax.set_xlabel("share of the weighted residual (groups above noise) the candidate explains at its fitted value [%]")
-    ax.set_title(f"verdict {d.verdict}; green: the candidate the verdict names; grey: not significant", fontsize=8)
+    ax.set_xlabel(f"share of the weighted residual {share_text(d.residual_factor)} the candidate explains at its "
+                  f"fitted value [%]")
+    ax.set_title(f"verdict {d.verdict}; green: the candidate the verdict names; orange: passes the significance "
+                 f"test, not named; grey: fails it", fontsize=8)
     return _png(fig)
 
 
@@ -188,9 +194,13 @@ _CAPTIONS = {
                    "coloured by the RMSE of measured minus model; the numbers are keyed below the picture.",
     "Candidate": "Each effect the model lacks and each uncertain parameter of its own effects, fitted to the "
                  "residual; the bar is the share of the weighted residual it explains (over the channel groups "
-                 "above noise and model error, every group when none is), the label its fitted value "
-                 "and its confidence (the Schwarz weight of the candidate among all candidates and 'nothing "
-                 "missing').",
+                 "above noise and model error, every group when none is), the label its fitted value (AT A BOUND "
+                 "when a member sits at a bound of its range) and its BIC weight (the Schwarz weight of the "
+                 "candidate among these candidates and 'nothing missing': relative, so the best of a poor set "
+                 "holds about 1.00; not the probability that it is the cause). Green: the candidate the verdict "
+                 "names; orange: it passes the significance test (>= 10 BIC units, >= 50 % explained) but the "
+                 "verdict does not name it (the residual is within noise and model error); grey: it fails the "
+                 "test.",
     "Where": "A generic heat input (constant, or while the spindle turns) fitted alone on each region of the "
              "machine's partition (each part, each part's outer faces by direction); the best regions are "
              "coloured by their fitted power [W] (volumes filled, faces as thick edges or hatched when they face "

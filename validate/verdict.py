@@ -7,7 +7,8 @@ Per channel group g (temperatures in K, probes and lasers in um, strains in um/m
 
 the residual with the bounded nuisance fitted, sigma_g the instruments' noise level
 (:func:`validate.evidence.noise_levels`) and e_g the RMS over the group's channels of the
-diagnosing model's estimated discretisation error (0 without an estimate). A factor of 1 is a
+diagnosing model's estimated discretisation error (None, and left out of the sum, without an
+estimate: the factor is then against noise alone, and every text says so). A factor of 1 is a
 residual the size of noise and model error; ``WITHIN`` (3) is the largest factor still called
 that. Then, with the top candidate (:mod:`validate.diagnose`'s significance test: >= 10 BIC units
 better than "nothing missing" and >= 50 % of the weighted residual of the groups above ``WITHIN``
@@ -15,7 +16,12 @@ explained, of every group when none is above):
 
 * ``nothing_missing``: every group's factor <= ``WITHIN``, unless the top candidate is significant
   *and beyond the model error along its own signature* (below): a candidate that would fit part of
-  such a residual, by no more than the model error alone would make it move, is named, not reported;
+  such a residual, by no more than the model error alone would make it move, is mentioned, not named.
+  A top candidate that passes the significance test is still called significant (the test is about
+  the candidate; the verdict about the residual): the message says it is significant, how much of a
+  residual that is itself within noise and model error it explains, and why the verdict does not
+  name it (its fitted change is < ``BEYOND`` times the model error's along its signature, or no
+  model error was estimated, so that comparison could not be made);
 * ``explained``: a significant candidate leaves every group's factor <= ``WITHIN``;
 * ``partly_explained``: a significant candidate, but some group's factor stays above ``WITHIN``
   after it (how much remains, and where, is stated);
@@ -55,26 +61,58 @@ BEYOND_CAP = 1e6
 VERDICTS = ("explained", "partly_explained", "unexplained", "nothing_missing")
 
 
-def group_levels(evidence, model_error_flat: np.ndarray | None) -> dict[str, tuple[float, float]]:
-    """group -> (noise sigma_g, model error e_g) over every record."""
+def group_levels(evidence, model_error_flat: np.ndarray | None,
+                 estimated_flat: np.ndarray | None = None) -> dict[str, tuple[float, float | None]]:
+    """group -> (noise sigma_g, model error e_g) over every record; e_g is None when no channel of
+    the group has a model-error estimate (``model_error_flat`` None, or ``estimated_flat``, a flat
+    boolean mask of the samples whose record has one, false on all of the group's samples)."""
     out = {}
     for g in evidence.groups():
         sig = [r.noise[g] for r in evidence.records if g in r.noise]
         noise = float(np.sqrt(np.mean(np.square(sig)))) if sig else 0.0
-        err = 0.0
+        err = None
         if model_error_flat is not None:
-            e = model_error_flat[evidence.group_mask(g)]
-            err = float(rms(e)) if e.size else 0.0
+            mask = evidence.group_mask(g)
+            if estimated_flat is not None:
+                mask = mask & estimated_flat
+            e = model_error_flat[mask]
+            err = float(rms(e)) if e.size else None
         out[g] = (noise, err)
     return out
 
 
+def envelope(level: tuple[float, float | None]) -> float:
+    """sqrt(noise^2 + model error^2) of a group's (noise, model error); noise alone without an
+    estimate of the model error."""
+    noise, err = level
+    return float(np.hypot(noise, err or 0.0))
+
+
+def estimated(levels: dict) -> bool:
+    """True when every group has a model-error estimate."""
+    return all(e is not None for _, e in levels.values())
+
+
+def against(levels: dict) -> str:
+    """What the factors compare with: 'noise and model error', 'noise alone, the model error not
+    estimated', or, when only some groups have an estimate, 'noise and model error, noise alone for
+    probe whose model error was not estimated'."""
+    missing = [g for g, (_, e) in levels.items() if e is None]
+    if not missing:
+        return "noise and model error"
+    if len(missing) == len(levels):
+        return "noise alone, the model error not estimated"
+    return (f"noise and model error, noise alone for {', '.join(missing)} whose model error was not "
+            f"estimated")
+
+
 def residual_factors(evidence, residual_flat: np.ndarray, levels: dict) -> dict[str, float]:
-    """group -> RMS of the residual over the group / sqrt(noise^2 + model error^2)."""
+    """group -> RMS of the residual over the group / sqrt(noise^2 + model error^2) (noise alone
+    where the model error was not estimated)."""
     out = {}
-    for g, (noise, err) in levels.items():
+    for g, level in levels.items():
         res = residual_flat[evidence.group_mask(g)]
-        out[g] = float(rms(res) / max(np.hypot(noise, err), 1e-300))
+        out[g] = float(rms(res) / max(envelope(level), 1e-300))
     return out
 
 
@@ -109,7 +147,7 @@ def worst_channels(evidence, residual_flat: np.ndarray, levels: dict, top: int =
     names = evidence.channel_names()
     per = evidence.per_channel(residual_flat)
     groups = [g for r in evidence.records for g in r.groups]
-    ratio = [v / max(np.hypot(*levels[g]), 1e-300) for v, g in zip(per, groups)]
+    ratio = [v / max(envelope(levels[g]), 1e-300) for v, g in zip(per, groups)]
     order = np.argsort(ratio)[::-1][:top]
     return [(names[i], float(ratio[i])) for i in order]
 
@@ -135,7 +173,7 @@ def above_noise(factors: dict[str, float]) -> list[str]:
     return [g for g, f in factors.items() if f > WITHIN]
 
 
-def _share_text(factors: dict[str, float]) -> str:
+def share_text(factors: dict[str, float]) -> str:
     """Which groups the explained share counts: '(of the groups above noise: laser, temperature)',
     '(all groups)', or '(all groups, none above noise)'."""
     above = above_noise(factors)
@@ -144,41 +182,109 @@ def _share_text(factors: dict[str, float]) -> str:
     return f"(of the groups above noise: {', '.join(above)})"
 
 
+def _factor_text(g: str, f: float, level: tuple) -> str:
+    """'probe 4.9x (noise 0.098 um, model error 0.12 um)', or '..., model error not estimated)'."""
+    unit = residual_unit(g)
+    noise, err = level
+    e = f"model error {err:.2g} {unit}" if err is not None else "model error not estimated"
+    return f"{g} {f:.1f}x (noise {noise:.2g} {unit}, {e})"
+
+
 def _factors_text(factors: dict[str, float], levels: dict) -> str:
-    unit = {g: residual_unit(g) for g in levels}
-    return ", ".join(f"{g} {f:.1f}x (noise {levels[g][0]:.2g} {unit[g]}, model error {levels[g][1]:.2g} {unit[g]})"
-                     for g, f in factors.items())
+    return ", ".join(_factor_text(g, f, levels[g]) for g, f in factors.items())
+
+
+def _inside(levels: dict) -> str:
+    """'noise and model error', or 'noise' when no group has a model-error estimate."""
+    return "noise" if all(e is None for _, e in levels.values()) else "noise and model error"
+
+
+def _above_text(factors: dict[str, float], levels: dict, what: str) -> str:
+    """'far above noise and model error: probe 4.9x (...); temperature 2.4x (...) is within the limit
+    of 3x': only the groups above ``WITHIN`` are called above (``what``: 'far above', 'still
+    above')."""
+    above = {g: f for g, f in factors.items() if f > WITHIN}
+    within = {g: f for g, f in factors.items() if f <= WITHIN}
+    text = f"{what} {against(levels)}: {_factors_text(above, levels)}"
+    if within:
+        text += (f"; {_factors_text(within, levels)} {'is' if len(within) == 1 else 'are'} within the limit "
+                 f"of {WITHIN:g}x")
+    return text
+
+
+def significance_reasons(top: dict, test: tuple[float, float]) -> str:
+    """Why ``top`` fails the significance test (``test``: (BIC margin, share)): 'explains < 50 %',
+    'dBIC < 10', or both."""
+    margin, share = test
+    out = []
+    if top["delta_bic"] < margin:
+        out.append(f"dBIC {top['delta_bic']:.1f} < {margin:g}")
+    if top["explained"] < share:
+        out.append(f"explains < {share:.0%}")
+    return " and ".join(out) or "it fails the pair test"
+
+
+def _all_groups_text(top: dict, factors: dict) -> str:
+    """', 17% of all groups' when the share counts only the groups above noise (a second base,
+    so the number compares with the region map's, which counts every group)."""
+    above = above_noise(factors)
+    if not above or len(above) == len(factors) or top.get("explained_all") is None:
+        return ""
+    return f", {top['explained_all']:.0%} of all groups"
 
 
 def message(verdict: str, top: dict | None, factors: dict, after: dict | None, levels: dict,
-            where: list[tuple[str, float]], when: str, regions: list[dict], beyond: float | None = None) -> str:
-    """One paragraph saying the verdict with its numbers."""
+            where: list[tuple[str, float]], when: str, regions: list[dict], beyond: float | None = None,
+            test: tuple[float, float] = (10.0, 0.5)) -> str:
+    """One paragraph saying the verdict with its numbers. ``test``: the significance test's BIC
+    margin and share (:func:`validate.diagnose.diagnose_many`'s ``bic_margin``, ``min_explained``);
+    ``top['significant']`` says whether the top candidate passes it. Every percentage states its
+    base (the groups above noise, or all groups); only the groups whose factor exceeds ``WITHIN``
+    are called above noise and model error; without a model-error estimate the text says the
+    comparison is with noise alone."""
     fac = _factors_text(factors, levels)
+    env = against(levels)
     along = (f"; along its signature the fitted change is {beyond:.1f}x what the model error alone produces"
              if beyond is not None else "")
+    share = share_text(factors)
     if verdict == "nothing_missing":
-        best = (f"; the best candidate {top['effect']} would explain {top['explained']:.0%} (dBIC "
-                f"{top['delta_bic']:.1f}), not significant" if top else "")
-        return f"nothing_missing: the residual is within noise and model error ({fac}){best}{along}"
+        head = f"nothing_missing: the residual is within {env} ({fac})"
+        if not top:
+            return head
+        if top.get("significant"):
+            why = (f"along its signature its fitted change is only {beyond:.1f}x what the model error alone "
+                   f"produces (the verdict names a candidate within the envelope from {BEYOND:g}x)"
+                   if beyond is not None else
+                   "no model error was estimated, so whether it stands beyond the model's own discretisation "
+                   "error could not be tested (--error-mesh auto, the default, estimates that error)")
+            return (head + f"; the best candidate {top['effect']} is significant (dBIC {top['delta_bic']:.1f} >= "
+                    f"{test[0]:g}, explains {top['explained']:.0%} >= {test[1]:.0%} of the weighted residual {share}), "
+                    f"but that residual is itself within {_inside(levels)}, so the verdict does not name it: {why}")
+        return (head + f"; the best candidate {top['effect']} would explain {top['explained']:.0%} of the weighted "
+                f"residual {share}, dBIC {top['delta_bic']:.1f}: not significant "
+                f"({significance_reasons(top, test)}){along}")
     if verdict in ("explained", "partly_explained"):
         head = (f"{verdict}: {top['statement']}; this explains {top['explained']:.0%} of the weighted residual "
-                f"{_share_text(factors)}, confidence {top['confidence']:.2f}")
+                f"{share}, BIC weight {top['confidence']:.2f} among the candidates")
         if verdict == "explained" and not any(f > WITHIN for f in factors.values()):
-            return (head + f"; the residual before it was within noise and model error ({fac}), but{along[1:]}; "
+            return (head + f"; the residual before it was within {env} ({fac}), but{along[1:]}; "
                     f"after it: {_factors_text(after, levels)}")
         if verdict == "explained":
-            return head + f"; residual after it within noise and model error ({_factors_text(after, levels)}){along}"
+            return head + f"; residual after it within {env} ({_factors_text(after, levels)}){along}"
         left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
-        return (head + f"; what remains is still above noise and model error ({_factors_text(after, levels)}), "
-                f"worst at {left}" + (f"; a heat input on {regions[0]['region']} would explain "
-                                      f"{regions[0]['explained']:.0%} of it" if regions else ""))
+        return (head + f"; what remains is {_above_text(after, levels, 'still above')}; worst at {left}"
+                + (f"; a heat input on {regions[0]['region']} would explain {regions[0]['explained']:.0%} of "
+                   f"what remains (weighted, all groups)" if regions else ""))
     left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
     best = ("there are no library candidates" if not top else
-            f"the best library candidate {top['effect']} explains only {top['explained']:.0%} (dBIC "
-            f"{top['delta_bic']:.1f})" if top["explained"] >= 0 else
+            f"the best library candidate {top['effect']} explains {'only ' * (top['explained'] < test[1])}"
+            f"{top['explained']:.0%} of the weighted "
+            f"residual {share}{_all_groups_text(top, factors)}, dBIC {top['delta_bic']:.1f}: not significant "
+            f"({significance_reasons(top, test)})" if top["explained"] >= 0 else
             f"the best library candidate {top['effect']} explains none of it: fitted, it leaves the groups "
             f"above noise {-top['explained']:.0%} worse (dBIC {top['delta_bic']:.1f})")
     reg = (f"; a generic heat input fits best on {regions[0]['region']} ({regions[0]['power_W']:.3g} W "
-           f"{regions[0]['schedule'].replace('_', ' ')}, explains {regions[0]['explained']:.0%})" if regions else "")
-    return (f"unexplained: the residual is far above noise and model error ({fac}); {best}: the cause is "
+           f"{regions[0]['schedule'].replace('_', ' ')}, explains {regions[0]['explained']:.0%} of the weighted "
+           f"residual of all groups)" if regions else "")
+    return (f"unexplained: the residual is {_above_text(factors, levels, 'far above')}; {best}; the cause is "
             f"probably outside the library; worst at {left}, mostly during {when}{reg}")
