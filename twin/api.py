@@ -2,7 +2,13 @@
 
 from __future__ import annotations
 
+from dataclasses import fields
+from os import PathLike
+
+import numpy as np
+
 from geometries import MACHINES, build_machine
+from geometries.base import Point
 from twin import limits
 from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
@@ -14,54 +20,149 @@ from twin.observe.camera import CameraConfig
 from twin.observe.interferometer import LaserInterferometer, check_interferometer
 from twin.observe.probing import DatumProbing, check_probing
 from twin.observe.camera import cameras as camera_observers
+from twin.physics.prepared import PreparedTwin, check_resolution, part_materials
+from twin.physics.solvers import as_options
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
 
 
+CLI = "command line"   # the source named in errors about the arguments (the CLI's, and Python's alike)
+
+
 def machine_by_name(name: str):
     """Build a registered machine; unknown names raise InputError."""
-    if name not in MACHINES:
+    if not isinstance(name, str) or name not in MACHINES:
         raise InputError("command line", "machine", f"unknown machine {name!r}; known: {', '.join(sorted(MACHINES))}")
     return build_machine(name)
 
 
 def simulate(machine: str, scenario: str | Scenario, effects: str | None = None, settings: list[str] | None = None,
-             resolution: str = "default", seed: int = 0, theta: float = 0.5, progress=None,
+             resolution: str | None = None, seed: int = 0, theta: float = 0.5, progress=None,
              sensors: list | None = None, materials: dict | None = None, solver=None,
              cameras: list | None = None, effects_file: str | None = None, prepared=None) -> tuple:
     """Simulate by names; returns (Dataset, RunResult). ``effects`` edits the machine's default
-    set (``"+a,-b"``) or replaces it (``"a,b"``); the effects of ``effects_file`` (a TOML file
+    set (``"+a,-b"``) or replaces it (``"a,b"``), one text; ``settings`` a list of
+    ``"effect.param=VALUE UNIT"`` texts; the effects of ``effects_file`` (a TOML file
     of custom effects, :mod:`twin.effects.custom`) are registered and switched on as well;
-    ``solver``: a :class:`twin.physics.solvers.SolverOptions` or a solver name (default: chosen
-    by size); ``cameras`` (pose names or :class:`twin.observe.camera.CameraConfig`) add thermal
-    cameras to those of the scenario; ``prepared``: a :class:`twin.physics.prepared.PreparedTwin`
-    of the machine on ``resolution`` (with ``materials``) to reuse. Everything is checked before
-    the run starts: names, units, the scenario's speeds against the machine's maximum and the
-    run's size (:mod:`twin.limits`)."""
+    ``resolution`` a mesh name of the machine (default ``"default"``); ``seed`` an integer from 0
+    to 2**32 - 1; ``theta`` the time scheme's, from 0.5 (Crank-Nicolson) to 1 (implicit Euler);
+    ``sensors`` :class:`geometries.base.Point` s with distinct names, each on its part (or in the
+    air); ``materials`` material name -> :class:`geometries.materials.Material` for materials the
+    machine is made of; ``solver``: a :class:`twin.physics.solvers.SolverOptions` or a solver name
+    (default: chosen by size); ``cameras`` (pose names or :class:`twin.observe.camera.CameraConfig`)
+    add thermal cameras to those of the scenario; ``prepared``: a
+    :class:`twin.physics.prepared.PreparedTwin` of this machine to reuse: its mesh, materials and
+    solver are the run's, so ``resolution``, ``materials`` and ``solver`` are left out or equal
+    to its own (anything else is refused, never ignored), and the result's attributes name them.
+    Everything is checked before the run starts (:class:`twin.errors.InputError` naming the
+    argument): names, types, units, the scenario's values and speeds against the machine's
+    maximum, the sensors' positions and the run's size (:mod:`twin.limits`)."""
+    seed = limits.seed_value(seed, CLI, "seed")
+    theta = _theta(theta)
     m = machine_by_name(machine)
-    if resolution not in m.resolutions:
-        raise InputError("command line", "--mesh", f"unknown resolution {resolution!r}; known: {', '.join(m.resolutions)}")
+    if prepared is not None:
+        _check_prepared(prepared, m)
+        if resolution is not None and resolution != prepared.resolution:
+            check_resolution(m, resolution, CLI, "--mesh")
+            raise InputError(CLI, "--mesh", f"the prepared twin's mesh is {prepared.resolution!r} "
+                                            f"({prepared.mm.nnodes} nodes), not {resolution!r}: leave resolution out "
+                                            f"or prepare the twin on {resolution!r}")
+        resolution = prepared.resolution
+    else:
+        resolution = check_resolution(m, "default" if resolution is None else resolution, CLI, "--mesh")
+    if not isinstance(scenario, (Scenario, str, PathLike)):
+        raise InputError(CLI, "scenario", f"expected a scenario name, a path to a .toml file or a twin.scenario.Scenario, "
+                                          f"got {scenario!r}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    sc.check()          # one built or changed in Python meets the loader's checks (again in check_scenario)
     m = machine_for(m, sc)
+    if prepared is not None and [p.name for p in prepared.machine.parts] != [p.name for p in m.parts]:
+        raise InputError(CLI, "prepared", f"the prepared twin's machine has the parts "
+                                          f"{', '.join(p.name for p in prepared.machine.parts)}; scenario {sc.name} "
+                                          f"runs on {', '.join(p.name for p in m.parts)} (the feed drives of its axes): "
+                                          "prepare the twin with twin.motion.machine_for(machine, scenario)")
     extra = ()
     if effects_file:
         from twin.effects.custom import load_effects_file
         extra = tuple(load_effects_file(effects_file, m))
     spec: ModelSpec = model_spec(m, effects, settings, extra)
     limits.check_scenario(sc, m)
+    parts = part_materials(m, materials, CLI, "materials")
+    options = as_options(solver)
+    if prepared is not None:
+        if materials is not None and parts != prepared.materials:
+            raise InputError(CLI, "materials", "differ from the prepared twin's (the materials it was assembled with): "
+                                               "leave materials out, the prepared twin's are used")
+        if solver is not None and options != prepared.options:
+            differ = [f"{f.name} {getattr(options, f.name)!r} (the prepared twin's: {getattr(prepared.options, f.name)!r})"
+                      for f in fields(options) if getattr(options, f.name) != getattr(prepared.options, f.name)]
+            raise InputError(CLI, "--solver", f"differs from the prepared twin's: {', '.join(differ)}; leave solver "
+                                              "out, the prepared twin's is used")
+    _check_sensors(sensors, m)
     configs = list(sc.cameras) + [c if isinstance(c, CameraConfig) else CameraConfig(pose=c) for c in cameras or ()]
     for c in configs:
         c.check(sc)
+    if sc.interferometer is not None:
+        check_interferometer(sc.interferometer, sc, m)
+    if sc.probing is not None:
+        check_probing(sc.probing, sc, m)
     mm = prepared.mm if prepared is not None else mesh_machine(m, resolution)
     limits.check_run_size(sc, mm.nheat)
     observers = standard_observers(m, sensors) + camera_observers(m, configs) if configs else None
     if sc.interferometer is not None:
-        check_interferometer(sc.interferometer, sc, m)
         observers = (observers or standard_observers(m, sensors)) + [LaserInterferometer(sc.interferometer, m)]
     if sc.probing is not None:
-        check_probing(sc.probing, sc, m)
         observers = (observers or standard_observers(m, sensors)) + [DatumProbing(sc.probing, m)]
     result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
-                            mm=None if prepared is not None else mm, prepared=prepared, solver=solver,
+                            mm=None if prepared is not None else mm, prepared=prepared, solver=options,
                             observers=observers)
     return to_dataset(result, seed, resolution), result
+
+
+def _theta(theta) -> float:
+    """The time scheme's theta: a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the
+    unconditionally stable range (:func:`twin.physics.heat.integrate`)."""
+    if isinstance(theta, (bool, np.bool_)) or not isinstance(theta, (int, float, np.integer, np.floating)) \
+            or not 0.5 <= theta <= 1.0:
+        raise InputError(CLI, "theta", f"a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the "
+                                       f"unconditionally stable range, got {theta!r}")
+    return float(theta)
+
+
+def _check_prepared(prepared, machine) -> None:
+    """``prepared`` is a :class:`PreparedTwin` of ``machine``."""
+    if not isinstance(prepared, PreparedTwin):
+        raise InputError(CLI, "prepared", f"expected a twin.physics.prepared.PreparedTwin, got {prepared!r}")
+    if prepared.machine.name != machine.name:
+        raise InputError(CLI, "prepared", f"the prepared twin is of machine {prepared.machine.name}, not "
+                                          f"{machine.name}")
+
+
+def _check_sensors(sensors, machine) -> None:
+    """``sensors``: None (the machine's sites) or a list of :class:`geometries.base.Point` s with
+    distinct non-empty names, each on its part of ``machine`` (anywhere on it when the part is
+    empty) or in the air near it (:func:`twin.limits.check_position`)."""
+    if sensors is None:
+        return
+    if not isinstance(sensors, (list, tuple)):
+        raise InputError(CLI, "sensors", f"expected a list of geometries.base.Point, got {sensors!r}")
+    seen = set()
+    for i, p in enumerate(sensors):
+        if not isinstance(p, Point):
+            raise InputError(CLI, f"sensors[{i}]", f"expected a geometries.base.Point(name, (x, y, z) [m], part), "
+                                                   f"got {p!r}")
+        if not isinstance(p.name, str) or not p.name.strip():
+            raise InputError(CLI, f"sensors[{i}]", f"a sensor's name is a non-empty text, got {p.name!r}")
+        field = f"sensors[{i}] {p.name}"
+        if p.name in seen:
+            raise InputError(CLI, field, "named twice: sensors need distinct names")
+        seen.add(p.name)
+        if not isinstance(p.part, str):
+            raise InputError(CLI, field, f"a sensor's part is a part name (or 'air'), got {p.part!r}")
+        try:
+            xyz = np.asarray(p.xyz, dtype=float)
+        except (TypeError, ValueError):
+            xyz = None
+        if xyz is None or xyz.shape != (3,):
+            raise InputError(CLI, field, f"a position is three numbers (x, y, z) [m], got {p.xyz!r}")
+        limits.check_position(machine, xyz, p.part, CLI, field)

@@ -26,6 +26,8 @@ affordable. Each check raises :class:`twin.errors.InputError` ``(source, field, 
   [m/s2] at most :data:`MAX_ACCELERATION` (50 m/s2, about 5 g: linear motors reach 2-5 g, ball
   screws about 1 g), a table move's implied speed (its largest |dposition/dt|) within
   :data:`MAX_FEED`, and at most :data:`MAX_MOTION_PIECES` pieces of constant acceleration per axis.
+* Meshes: at most :data:`MAX_NODES` nodes, estimated from the grid lines before any array of the
+  mesh is allocated (:func:`twin.fem.mesh.build_mesh`).
 * Seeds: integers from 0 to 2**32 - 1 (stored in the result's attributes, reproducible).
 """
 
@@ -46,6 +48,7 @@ PROBE_RANGE = 0.01                      # m: the measuring range of a displaceme
 STRAIN_RANGE = 5e-3                     # m/m: beyond any strain a machine structure survives
 AIR_REACH = 10.0                        # m: how far from the machine an air sensor may sit
 MAX_SEED = 2**32 - 1
+MAX_NODES = 4_000_000                   # mesh nodes: 4x the largest run measured (1 M nodes, 13.4 GiB peak, README)
 MAX_FEED = 2.0                          # m/s: 120 m/min, the fastest linear-motor machine tools
 MAX_ACCELERATION = 50.0                 # m/s2: about 5 g, beyond linear motors (2-5 g); ball screws ~1 g
 MAX_MOTION_PIECES = 4_000_000           # pieces of constant acceleration of one axis (a million strokes with dwells)
@@ -173,9 +176,22 @@ def check_run_size(scenario, nodes: int, field: str = "duration") -> None:
                                         "longer sample_interval or a shorter run)")
 
 
+def check_mesh_nodes(nodes: float, spacing: float, machine_name: str, source: str = "command line",
+                     field: str = "spacing") -> None:
+    """Refuse a mesh of (an estimated) ``nodes`` nodes beyond :data:`MAX_NODES`, before it is built."""
+    if not nodes <= MAX_NODES:
+        raise InputError(source, field, f"a spacing of {spacing * 1e3:.4g} mm would mesh machine {machine_name} with "
+                                        f"about {nodes:.3g} nodes; at most {MAX_NODES:.0e} are affordable (a larger "
+                                        "spacing)")
+
+
 def check_scenario(scenario, machine) -> None:
-    """A scenario against a machine: every spindle step within the machine's speed limit (with
-    :data:`LOGGED_SPEED_MARGIN` when the scenario was built from a log, ``extra["logged"]``)."""
+    """A scenario against a machine: its own values first (:meth:`twin.scenario.Scenario.check`,
+    the scenario loader's checks again: a scenario built in Python or changed with
+    ``dataclasses.replace`` never met the loader), then every spindle step within the machine's
+    speed limit (with :data:`LOGGED_SPEED_MARGIN` when the scenario was built from a log,
+    ``extra["logged"]``)."""
+    scenario.check()
     source = scenario.source or scenario.name
     logged = bool(scenario.extra.get("logged"))
     for i, (_, speed) in enumerate(scenario.steps):
@@ -197,7 +213,9 @@ def check_c_axis(scenario, machine, source: str) -> None:
 
 def check_position(machine, xyz, part: str, source: str, field: str) -> None:
     """A sensor position [m] checked against the machine: in the air (``part == "air"``) within
-    :data:`AIR_REACH` of its parts, else inside a box of ``part`` (any part when empty)."""
+    :data:`AIR_REACH` of its parts, else inside a box of ``part`` (any part when empty) and not
+    inside one of its voids (a bore, a hollow casting's cavity). A part nested in another's box
+    (a bearing zone in the spindle) counts as on both."""
     p = np.asarray(xyz, dtype=float)
     if not np.all(np.isfinite(p)):
         raise InputError(source, field, "position is not finite")
@@ -213,13 +231,20 @@ def check_position(machine, xyz, part: str, source: str, field: str) -> None:
         if np.any(p < lo - AIR_REACH) or np.any(p > hi + AIR_REACH):
             raise InputError(source, field, f"{where} is more than {AIR_REACH:g} m from machine {machine.name}")
         return
-    inside = [name for name, b in boxes if np.all(p >= np.asarray(b.lo) - 1e-9) and np.all(p <= np.asarray(b.hi) + 1e-9)]
+    inside = [q.name for q in machine.parts if any(_holds(b, p, 1e-9) for b in q.boxes)
+              and not any(_holds(v, p, -1e-9) for v in q.voids)]      # a void's inside is not the part's
     if part and part not in inside:
         raise InputError(source, field, f"{where} is not on part {part} of machine {machine.name}"
                                         + (f" (it lies in {', '.join(inside)})" if inside else ""))
     if not inside:
         span = ", ".join(f"{a} {l:.3g}..{h:.3g}" for a, l, h in zip("xyz", lo, hi))
         raise InputError(source, field, f"{where} is outside machine {machine.name} (its parts span {span} m)")
+
+
+def _holds(box, p: np.ndarray, tol: float) -> bool:
+    """Whether ``box`` holds the point ``p`` [m], its faces widened by ``tol`` [m] (narrowed when
+    negative)."""
+    return bool(np.all(p >= np.asarray(box.lo) - tol) and np.all(p <= np.asarray(box.hi) + tol))
 
 
 def _at_most(value: float, limit: float, source: str, field: str, message) -> float:
@@ -254,3 +279,15 @@ def check_seed(text) -> int:
     if not 0 <= seed <= MAX_SEED:
         raise ValueError(f"{seed} is outside 0..{MAX_SEED}")
     return seed
+
+
+def seed_value(seed, source: str, field: str = "seed") -> int:
+    """A seed given in Python: an integer (not a text, a float or None: the result must be
+    reproducible) from 0 to :data:`MAX_SEED` (:func:`check_seed`), else :class:`InputError`."""
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
+        raise InputError(source, field, f"expected an integer from 0 to {MAX_SEED}, got {seed!r} (a fixed seed "
+                                        "makes the result reproducible)")
+    try:
+        return check_seed(int(seed))
+    except ValueError as err:
+        raise InputError(source, field, str(err)) from None

@@ -50,6 +50,13 @@ class ModelSpec:
 def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
     """``"+a,-b"`` edits ``base``; ``"a,b"`` replaces it; None keeps it. Each effect is named once,
     and the two forms are not mixed (``"a,+b"``): either would leave the result to the order."""
+    if text is None:
+        return tuple(base)
+    if not isinstance(text, str):
+        raise InputError(CLI, "--effects", f"expected one text such as '+a,-b' (edit the machine's defaults) or 'a,b' "
+                                           f"(an exact set), got {text!r}" + (f": write {','.join(text)!r}" if
+                                           isinstance(text, (list, tuple)) and all(isinstance(t, str) for t in text)
+                                           else ""))
     if not text:
         return tuple(base)
     items = [s.strip() for s in text.split(",") if s.strip()]
@@ -82,9 +89,17 @@ def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def parse_settings(items: list[str] | None, effects: tuple[str, ...]) -> dict[str, dict[str, float]]:
-    """Parse ``["effect.param=VALUE UNIT", ...]`` into SI values, checking names and units."""
+    """Parse ``["effect.param=VALUE UNIT", ...]`` into SI values, checking names and units. A
+    bare text (not in a list) is refused: it would be read character by character."""
     out: dict[str, dict[str, float]] = {}
+    if isinstance(items, str):
+        raise InputError(CLI, "--set", f"expected a list of 'effect.param=VALUE UNIT' texts, got the text {items!r}: "
+                                       f"write [{items!r}]")
+    if items is not None and not isinstance(items, (list, tuple)):
+        raise InputError(CLI, "--set", f"expected a list of 'effect.param=VALUE UNIT' texts, got {items!r}")
     for item in items or []:
+        if not isinstance(item, str):
+            raise InputError(CLI, "--set", f"expected 'effect.param=VALUE UNIT' texts, got {item!r}")
         if "=" not in item or "." not in item.split("=", 1)[0]:
             raise InputError(CLI, f"--set {item}", "expected effect.param=VALUE UNIT, e.g. spindle_motor.power=300W")
         key, value = item.split("=", 1)

@@ -40,7 +40,9 @@ absolute zero or outside the plausible range of room air), a negative amplitude 
 to afford raise :class:`twin.errors.InputError` naming the file and the key
 (:mod:`twin.limits`); a file that is not UTF-8 text, a directory or a device is refused by
 :mod:`twin.io.paths`. Speeds are checked against a machine when one runs the scenario
-(:func:`twin.limits.check_scenario`).
+(:func:`twin.limits.check_scenario`), and so, again, are the scenario's own values
+(:meth:`Scenario.check`, the loader's checks on a built scenario): one made in Python or changed
+with ``dataclasses.replace`` never met the loader.
 """
 
 from __future__ import annotations
@@ -168,6 +170,12 @@ class Scenario:
             return self.initial_temperature
         return float(self.ambient_temperature(np.array([0.0]))[0])
 
+    def check(self) -> None:
+        """Raise :class:`InputError` naming the field if a value could not have come from the
+        loader (:func:`check_values`): for a scenario built in Python or changed with
+        ``dataclasses.replace``; :func:`twin.limits.check_scenario` calls it before a run."""
+        check_values(self)
+
 
 def available() -> list[str]:
     """Names of the bundled scenarios."""
@@ -249,7 +257,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     dt = top.positive("sample_interval", "time", default=10.0)
     t0 = top.get("initial_temperature", "temperature")
     if t0 is not None:
-        limits.check_temperatures(t0, source, "initial_temperature", "structure")
+        _check_initial(t0, source)
     ambient = _ambient(top.get("ambient", required=True), source)
     raw_steps = top.get("spindle", required=True)
     cameras = cameras_from_toml(top.get("camera"), source, _Reader)
@@ -271,17 +279,11 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     check_durations(axes, total, source)
     check_duration(c_axis, total, source)
-    if ambient.kind == "csv" and ambient.times[-1] < total:
-        raise InputError(source, "ambient.file", f"the room record {ambient.file} ends at {ambient.times[-1] / 3600:g} h, "
-                                                 f"before the scenario's {total / 3600:g} h")
+    _check_air_covers(ambient, total, source)
     for i, event in enumerate(ambient.events):
         if event.start >= total:
             raise InputError(source, f"ambient.events[{i}].start", f"{event.start / 3600:g} h is at or after the end "
                                                                    f"of the run ({total / 3600:g} h): it would change nothing")
-    if ambient.kind == "table" and (ambient.times[0] > 0 or ambient.times[-1] < total):
-        raise InputError(source, "ambient.times", f"the table covers {ambient.times[0] / 3600:g} h to "
-                                                  f"{ambient.times[-1] / 3600:g} h; it must cover the scenario's 0 to "
-                                                  f"{total / 3600:g} h (nothing is extrapolated)")
     return Scenario(name, tuple(steps), ambient, dt, t0, description, source, cameras=cameras, axes=axes,
                     interferometer=laser, probing=probing, c_axis=c_axis)
 
@@ -290,29 +292,16 @@ def _ambient(table, source: str) -> Ambient:
     r = _Reader(table, source, "ambient.")
     kind = r.get("kind", default="constant")
     if kind == "constant":
-        a = Ambient("constant", mean=_air(r, "temperature", source))
+        a = Ambient("constant", mean=r.get("temperature", "temperature", required=True))
     elif kind == "daily":
-        mean = _air(r, "mean", source)
+        mean = r.get("mean", "temperature", required=True)
         amplitude = r.get("amplitude", "temperature_difference", required=True)
-        if amplitude < 0:
-            raise InputError(source, "ambient.amplitude", f"must not be negative, got {r.table['amplitude']!r}")
-        for extreme in (mean - amplitude, mean + amplitude):
-            limits.check_temperatures(extreme, source, "ambient.amplitude")
         times_of_day = {key: r.get(key, "time", default=default)
                         for key, default in (("coldest_at", 6 * 3600.0), ("start_time_of_day", 0.0))}
-        for key, value in times_of_day.items():
-            if not 0.0 <= value < 86400.0:
-                raise InputError(source, f"ambient.{key}", f"a time of day from 0 h to 24 h (excluded), got "
-                                                           f"{r.table[key]!r}")
         a = Ambient("daily", mean=mean, amplitude=amplitude, **times_of_day)
     elif kind == "table":
         times = _list(r, "times", "time", source)
         temps = _list(r, "temperatures", "temperature", source)
-        if len(times) != len(temps) or len(times) < 1:
-            raise InputError(source, "ambient.temperatures", "needs as many entries as ambient.times")
-        if np.any(np.diff(times) <= 0):
-            raise InputError(source, "ambient.times", "must increase strictly")
-        limits.check_temperatures(temps, source, "ambient.temperatures")
         a = Ambient("table", times=tuple(times), temperatures=tuple(temps))
     elif kind == "csv":
         name = r.get("file", required=True)
@@ -327,12 +316,135 @@ def _ambient(table, source: str) -> Ambient:
     r.finish()
     if events:
         a = replace(a, events=events)
-        # the extremes of base + events: every event at its full change on the base's extremes
-        base = a.base(np.linspace(0.0, max(e.end for e in events) + 86400.0, 4001))
-        low = base.min() + sum(min(e.change, 0.0) for e in events)
-        high = base.max() + sum(max(e.change, 0.0) for e in events)
-        limits.check_temperatures([low, high], source, "ambient.events")
+    check_ambient(a, source)
     return a
+
+
+def check_ambient(a: Ambient, source: str) -> None:
+    """The room air's values: temperatures [degC] finite and plausible for room air (a daily
+    sine's extremes too, and base + events at their extremes), a daily amplitude not negative and
+    its times of day from 0 to 24 h, a table's times increasing with one temperature each, the
+    events' times not negative. The loader's checks of ``[ambient]`` (:func:`check_values` runs
+    them again on a built scenario)."""
+    if not isinstance(a, Ambient):
+        raise InputError(source, "ambient", f"expected a twin.scenario.Ambient, got {a!r}")
+    if a.kind == "constant":
+        limits.check_temperatures(_number(a.mean, source, "ambient.temperature"), source, "ambient.temperature")
+    elif a.kind == "daily":
+        mean = _number(a.mean, source, "ambient.mean")
+        limits.check_temperatures(mean, source, "ambient.mean")
+        amplitude = _number(a.amplitude, source, "ambient.amplitude")
+        if amplitude < 0:
+            raise InputError(source, "ambient.amplitude", f"must not be negative, got {amplitude:g} K")
+        for extreme in (mean - amplitude, mean + amplitude):
+            limits.check_temperatures(extreme, source, "ambient.amplitude")
+        for key in ("coldest_at", "start_time_of_day"):
+            value = _number(getattr(a, key), source, f"ambient.{key}")
+            if not 0.0 <= value < 86400.0:
+                raise InputError(source, f"ambient.{key}", f"a time of day from 0 h to 24 h (excluded), got "
+                                                           f"{value / 3600:g} h")
+    elif a.kind in ("table", "csv"):
+        times = _numbers(a.times, source, "ambient.times")
+        temps = _numbers(a.temperatures, source, "ambient.temperatures")
+        if len(times) != len(temps) or len(times) < 1:
+            raise InputError(source, "ambient.temperatures", "needs as many entries as ambient.times")
+        if np.any(np.diff(times) <= 0):
+            raise InputError(source, "ambient.times", "must increase strictly")
+        limits.check_temperatures(temps, source, "ambient.temperatures")
+    else:
+        raise InputError(source, "ambient.kind", f"unknown kind {a.kind!r}; known: constant, daily, table, csv")
+    if not isinstance(a.events, (tuple, list)):
+        raise InputError(source, "ambient.events", f"expected a tuple of twin.scenario.AirEvent, got {a.events!r}")
+    for i, e in enumerate(a.events):
+        where = f"ambient.events[{i}]"
+        if not isinstance(e, AirEvent):
+            raise InputError(source, where, f"expected a twin.scenario.AirEvent, got {e!r}")
+        _number(e.change, source, f"{where}.change")
+        for k in ("start", "fall", "hold", "recovery"):
+            if _number(getattr(e, k), source, f"{where}.{k}") < 0:
+                raise InputError(source, f"{where}.{k}", f"must not be negative, got {getattr(e, k):g} s")
+        if not isinstance(e.door, bool):
+            raise InputError(source, f"{where}.door", f"expected true or false, got {e.door!r}")
+    if a.events:
+        # the extremes of base + events: every event at its full change on the base's extremes
+        base = a.base(np.linspace(0.0, max(e.end for e in a.events) + 86400.0, 4001))
+        low = base.min() + sum(min(e.change, 0.0) for e in a.events)
+        high = base.max() + sum(max(e.change, 0.0) for e in a.events)
+        limits.check_temperatures([low, high], source, "ambient.events")
+
+
+def check_values(sc: Scenario) -> None:
+    """The loader's checks (:func:`scenario_from_dict`) on a built scenario, for one made in
+    Python or changed with ``dataclasses.replace``: a sample interval [s] finite and positive, an
+    initial temperature above absolute zero and plausible for a structure, one or more spindle
+    steps of a finite positive duration [s] and a number for the speed (the speed's limits are
+    the machine's, :func:`twin.limits.check_scenario`), an affordable number of time steps, the
+    room air (:func:`check_ambient`), and a table or room record covering the run (to half a
+    sample interval: a log's last step is snapped to the sample grid). Not re-checked, because
+    nothing breaks when they are not met: steps that are not multiples of the sample interval
+    (the outputs sample the steps), events, axis moves or C-axis steps beyond the end of a run
+    shortened in Python (they are never reached)."""
+    source = sc.source or sc.name
+    dt = _number(sc.sample_interval, source, "sample_interval")
+    if dt <= 0:
+        raise InputError(source, "sample_interval", f"must be positive, got {dt:g} s")
+    if sc.initial_temperature is not None:
+        _check_initial(_number(sc.initial_temperature, source, "initial_temperature"), source)
+    if not isinstance(sc.steps, (tuple, list)) or not sc.steps:
+        raise InputError(source, "spindle", f"expected one or more steps (duration [s], speed [rpm]), got {sc.steps!r}")
+    for i, step in enumerate(sc.steps):
+        if not isinstance(step, (tuple, list)) or len(step) != 2:
+            raise InputError(source, f"spindle[{i}]", f"expected (duration [s], speed [rpm]), got {step!r}")
+        if _number(step[0], source, f"spindle[{i}].duration") <= 0:
+            raise InputError(source, f"spindle[{i}].duration", f"must be positive, got {step[0]:g} s")
+        _number(step[1], source, f"spindle[{i}].speed")
+    total = sc.duration
+    limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
+    check_ambient(sc.ambient, source)
+    _check_air_covers(sc.ambient, total, source, slack=0.5 * dt * (1 + 1e-9))
+
+
+def _check_initial(t0: float, source: str) -> None:
+    """The machine's start temperature [degC]: above absolute zero and plausible for a structure."""
+    limits.check_temperatures(t0, source, "initial_temperature", "structure")
+
+
+def _check_air_covers(ambient: Ambient, total: float, source: str, slack: float = 0.0) -> None:
+    """A room record (csv) or table covers the run's 0 to ``total`` [s] (to ``slack`` [s] at the
+    end): nothing is extrapolated."""
+    if ambient.kind == "csv" and ambient.times[-1] < total - slack:
+        raise InputError(source, "ambient.file", f"the room record {ambient.file} ends at {ambient.times[-1] / 3600:g} h, "
+                                                 f"before the scenario's {total / 3600:g} h")
+    if ambient.kind == "table" and (ambient.times[0] > 0 or ambient.times[-1] < total - slack):
+        raise InputError(source, "ambient.times", f"the table covers {ambient.times[0] / 3600:g} h to "
+                                                  f"{ambient.times[-1] / 3600:g} h; it must cover the scenario's 0 to "
+                                                  f"{total / 3600:g} h (nothing is extrapolated)")
+
+
+def _number(value, source: str, field: str) -> float:
+    """``value`` as a float when it is a finite number (not a bool, a text or None)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(value):
+        raise InputError(source, field, f"expected a finite number, got {value!r}")
+    return float(value)
+
+
+def _numbers(values, source: str, field: str) -> np.ndarray:
+    """``values`` as a 1-D float array when every entry is a finite number."""
+    if isinstance(values, np.ndarray):
+        if values.ndim != 1 or values.dtype.kind not in "fiu":
+            raise InputError(source, field, f"expected a list of numbers, got an array of {values.dtype} {values.shape}")
+    elif isinstance(values, (tuple, list)):
+        for i, v in enumerate(values):
+            if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+                raise InputError(source, f"{field}[{i}]", f"expected a finite number, got {v!r}")
+    else:
+        raise InputError(source, field, f"expected a list of numbers, got {values!r}")
+    out = np.asarray(values, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(out))
+    if bad.size:
+        raise InputError(source, f"{field}[{bad[0]}]", f"expected a finite number, got {out[bad[0]]!r}")
+    return out
 
 
 def _events(r: _Reader, source: str) -> list:
@@ -349,19 +461,7 @@ def _event(raw, source: str, i: int) -> AirEvent:
     times = {k: e.get(k, "time", default=0.0, required=k in ("start", "fall")) for k in ("start", "fall", "hold", "recovery")}
     door = e.get("door", default=False)
     e.finish()
-    if not isinstance(door, bool):
-        raise InputError(source, f"ambient.events[{i}].door", f"expected true or false, got {raw['door']!r}")
-    for k, v in times.items():
-        if v < 0:
-            raise InputError(source, f"ambient.events[{i}].{k}", f"must not be negative, got {raw[k]!r}")
-    return AirEvent(change=change, door=door, **times)
-
-
-def _air(r: _Reader, key: str, source: str) -> float:
-    """A required room-air temperature [degC] of the ambient table, within the plausible range."""
-    value = r.get(key, "temperature", required=True)
-    limits.check_temperatures(value, source, r.prefix + key)
-    return value
+    return AirEvent(change=change, door=door, **times)      # its values: check_ambient
 
 
 def _list(r: _Reader, key: str, dimension: str, source: str) -> list[float]:

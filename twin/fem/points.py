@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from twin.errors import InputError
 from twin.fem.elements import shape_q1
 from twin.fem.mesh import MachineMesh
 
@@ -12,7 +13,9 @@ from twin.fem.mesh import MachineMesh
 def locate(mm: MachineMesh, xyz: np.ndarray, names: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Cell index and reference coordinates xi in [-1, 1]^3 of each point (n, 3) [m].
 
-    Raises ValueError naming the first point that lies outside the machine.
+    Raises :class:`twin.errors.InputError` (a ValueError) naming the first point that lies outside
+    the machine (a sensor's position is checked before a run, :func:`twin.limits.check_position`;
+    this is the last word, on the mesh itself).
     """
     xyz = np.atleast_2d(np.asarray(xyz, dtype=float))
     lo = mm.mesh.p[:, mm.mesh.t[0]].T  # corner (0,0,0) of every cell
@@ -22,7 +25,8 @@ def locate(mm: MachineMesh, xyz: np.ndarray, names: list[str] | None = None) -> 
         inside = np.flatnonzero(np.all((x >= lo - 1e-12) & (x <= hi + 1e-12), axis=1))
         if len(inside) == 0:
             label = names[i] if names else f"#{i}"
-            raise ValueError(f"point {label} at {tuple(np.round(x, 4))} m is outside the machine")
+            raise InputError("command line", f"point {label}", f"({', '.join(f'{c:.4g}' for c in x)}) m is outside "
+                                                                "the machine (in no cell of its mesh)")
         cells[i] = inside[0]
     xi = 2.0 * (xyz - lo[cells]) / (hi[cells] - lo[cells]) - 1.0
     return cells, xi

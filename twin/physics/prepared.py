@@ -30,28 +30,93 @@ import scipy.sparse as sp
 
 from twin.errors import InputError
 from twin.fem.assembly import assemble_heat, assemble_nested_coupling
-from twin.fem.mesh import mesh_machine
+from twin.fem.mesh import MachineMesh, mesh_machine
 from twin.fem.nesting import coarsen
 from twin.observe.base import Observer
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
 from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
 from twin.physics.solvers import as_options, mass_weights, output_bounds
+
+SOURCE = "PreparedTwin"     # the source named in errors about a PreparedTwin's arguments
+MATERIAL_PROPERTIES = ("conductivity", "density", "specific_heat", "youngs_modulus")   # positive [SI]
 from twin.physics.steppers import DirectStepper, IterativeStepper, ReducedStart
+
+
+def check_machine(machine, source: str = SOURCE) -> None:
+    """``machine`` is a built machine (:class:`geometries.base.Machine`), not its name."""
+    if isinstance(machine, str):
+        raise InputError(source, "machine", f"expected a Machine, got the name {machine!r}: pass "
+                                            f"twin.api.machine_by_name({machine!r}) (or geometries.build_machine)")
+    if not hasattr(machine, "parts") or not hasattr(machine, "resolutions"):
+        raise InputError(source, "machine", f"expected a Machine (twin.api.machine_by_name builds one), got {machine!r}")
+
+
+def check_resolution(machine, resolution, source: str = SOURCE, field: str = "resolution") -> str:
+    """``resolution`` is the name of one of ``machine``'s meshes."""
+    if not isinstance(resolution, str) or resolution not in machine.resolutions:
+        raise InputError(source, field, f"unknown resolution {resolution!r}; known: {', '.join(machine.resolutions)}")
+    return resolution
+
+
+def part_materials(machine, materials, source: str = SOURCE, field: str = "materials") -> dict:
+    """The replacement material of each part of ``machine`` from ``materials`` (material name ->
+    :class:`geometries.materials.Material`), checked: a dict, every name a material some part of
+    the machine is made of (nothing is ignored), every value a Material with finite properties
+    (conductivity, density, specific heat, Young's modulus positive; Poisson's ratio between -1
+    and 0.5; expansion finite)."""
+    from geometries.materials import Material
+
+    if materials is None:
+        return {}
+    if not isinstance(materials, dict):
+        raise InputError(source, field, f"expected a dict of material name -> Material, got {materials!r}")
+    used = sorted({p.material.name for p in machine.parts})
+    for name, material in materials.items():
+        if name not in used:
+            raise InputError(source, f"{field}[{name!r}]", f"no part of machine {machine.name} is made of {name!r}; "
+                                                           f"its materials: {', '.join(used)}")
+        if not isinstance(material, Material):
+            raise InputError(source, f"{field}[{name!r}]", f"expected a geometries.materials.Material (e.g. "
+                                                           f"MATERIALS[{name!r}].scaled(conductivity=1.05)), got "
+                                                           f"{material!r}")
+        values = {k: getattr(material, k) for k in MATERIAL_PROPERTIES + ("poisson_ratio", "expansion")}
+        bad = [k for k, v in values.items() if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating))
+               or not np.isfinite(v) or (k in MATERIAL_PROPERTIES and v <= 0)
+               or (k == "poisson_ratio" and not -1.0 < v < 0.5)]
+        if bad:
+            raise InputError(source, f"{field}[{name!r}].{bad[0]}", f"{values[bad[0]]!r} is not a possible value "
+                                                                    "(finite; positive; Poisson's ratio from -1 to 0.5)")
+    return {p.name: materials[p.material.name] for p in machine.parts if p.material.name in materials}
+
+
+def mesh_label(machine, mm) -> str:
+    """The name of ``machine``'s resolution ``mm`` was built at, else its spacing (``"12 mm"``)."""
+    names = [name for name, h in machine.resolutions.items() if np.isclose(h, mm.spacing, rtol=1e-9, atol=0.0)]
+    return names[0] if names else f"{mm.spacing * 1e3:.6g} mm"
 
 
 class PreparedTwin:
     """``machine`` meshed (``mm``, or ``resolution``) and assembled with ``materials`` (a map from
     material name to a replacement Material) once; :meth:`run` any scenario and effect set.
-    ``solver``: a :class:`twin.physics.solvers.SolverOptions` or a solver name (default auto)."""
+    ``solver``: a :class:`twin.physics.solvers.SolverOptions` or a solver name (default auto).
+    The arguments are checked before the mesh is built (:class:`twin.errors.InputError`): a
+    Machine (not its name), a resolution it has, materials it is made of (:func:`part_materials`).
+    ``resolution`` records the mesh's name (:func:`mesh_label`)."""
 
     def __init__(self, machine, mm=None, resolution: str = "default", materials: dict | None = None,
                  solver=None):
+        check_machine(machine)
+        if mm is None:
+            check_resolution(machine, resolution)
+        elif not isinstance(mm, MachineMesh):
+            raise InputError(SOURCE, "mm", f"expected a twin.fem.mesh.MachineMesh of the machine, got {mm!r}")
+        materials = part_materials(machine, materials)
         self.machine = machine
         self.options = as_options(solver)
         self.mm = mm if mm is not None else mesh_machine(machine, resolution)
-        self.materials = {p.name: materials[p.material.name] for p in machine.parts
-                          if materials and p.material.name in materials}
+        self.resolution = mesh_label(machine, self.mm)
+        self.materials = materials
         self.heat = assemble_heat(self.mm, self.materials)
         self._elastic = None
         self._nested = None

@@ -52,6 +52,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from twin.errors import InputError
 from twin.physics import kernels
 from twin.physics.solvers import DIRECT_LIMIT, amg_cycle, mass_weights, output_bounds, pcg, smoothed_aggregation
 
@@ -262,8 +263,9 @@ def build_reduced(system, h_refs: list, order: int = 48, gram: bool = True, rtol
         if all(x is None for x in pending):
             break
     if len(starts) < 4:
-        raise ValueError("the reduced model needs at least three blocks of moments to estimate its error; "
-                         f"the Krylov space is exhausted at order {V.shape[1]} (use the full model)")
+        raise InputError("command line", "--rom-order", "the reduced model needs at least three blocks of moments "
+                         f"to estimate its error; with rom_order {order} the basis stopped at order {V.shape[1]} "
+                         "(a larger rom_order, or the full model when the Krylov space is exhausted)")
     K = V.T @ (system.K @ V)
     H = np.stack([V.T @ (Hk @ V) for Hk in system.H]) if system.H else np.zeros((0, V.shape[1], V.shape[1]))
     gram = residual_gram(system, V) if gram else None

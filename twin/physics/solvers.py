@@ -43,6 +43,7 @@ import scipy.sparse as sp
 
 from twin.errors import InputError
 from twin.physics import kernels
+from twin.units import UnitError, parse_quantity
 
 SOLVERS = ("auto", "direct", "iterative", "rom")
 DEVICES = ("cpu", "gpu")
@@ -51,6 +52,8 @@ REDUCED_START_STEPS = 300   # "auto" starts the iterative heat steps from the re
 MAX_ELASTIC_COARSENING = 8  # the widest spacing of the elastic mesh's grid lines, in temperature cells
 DIRECT_LIMIT = 30_000       # temperature dofs up to which "auto" factorises (the default mesh: 15.6 k)
 MASS_BOUND = 27.0           # M >= M_L / 27 for trilinear bricks
+MIN_ROM_ORDER = 2           # the reduced model's smallest basis (a model may need more: three blocks of moments)
+MAX_ROM_ORDER = 500         # its largest: the basis is nodes x order, the bound's Gram matrix (order x films)^2
 
 
 @dataclass
@@ -60,9 +63,12 @@ class SolverOptions:
     ``solver``: auto (direct up to :data:`DIRECT_LIMIT` temperature dofs, iterative above), direct,
     iterative or rom (the reduced model, :mod:`twin.physics.rom`). ``device``: cpu or gpu (the
     iterative heat step on a GPU with CuPy). ``heat_tol`` [K]: bound on the capacity-weighted RMS
-    temperature error the iterative heat solver may add over a run (module docstring).
-    ``elastic_rtol``: relative residual of the iterative elastic adjoint solves. ``rom_order``:
-    the reduced model's basis size (:mod:`twin.physics.rom`). ``elastic_coarsening``: solve the
+    temperature error the iterative heat solver may add over a run (module docstring): a number
+    in K or a text with its unit (``"1e-4 K"``), finite and positive. ``elastic_rtol``: relative
+    residual of the iterative elastic adjoint solves, between 0 and 1. ``max_iterations``: CG
+    iterations a heat step may take (at least 1). ``rom_order``: the reduced model's basis size
+    (:mod:`twin.physics.rom`), a whole number from :data:`MIN_ROM_ORDER` to :data:`MAX_ROM_ORDER`.
+    Every value is checked here (:class:`twin.errors.InputError` naming it), before any work. ``elastic_coarsening``: solve the
     elasticity on every n-th grid line of the temperature mesh (:mod:`twin.fem.nesting`; 1: the
     same mesh), the thermal load still integrated on the temperature mesh's cells. ``heat_start``:
     how each iterative heat step starts: from the projection on the last solutions
@@ -92,8 +98,10 @@ class SolverOptions:
         if self.device == "gpu" and self.solver == "direct":
             raise InputError("command line", "--device", "the GPU path is the iterative heat step: use --solver "
                                                          "iterative or auto with --device gpu")
-        if not self.heat_tol > 0 or not self.elastic_rtol > 0 or self.rom_order < 2:
-            raise InputError("command line", "--solver", "tolerances must be positive and the ROM order at least 2")
+        self.heat_tol = _heat_tol(self.heat_tol)
+        self.elastic_rtol = _fraction(self.elastic_rtol, "elastic_rtol")
+        self.max_iterations = _whole(self.max_iterations, "max_iterations", 1, None, "iterations")
+        self.rom_order = _whole(self.rom_order, "--rom-order", MIN_ROM_ORDER, MAX_ROM_ORDER, "basis vectors")
         if isinstance(self.elastic_coarsening, bool) or not isinstance(self.elastic_coarsening, (int, np.integer)) \
                 or not 1 <= self.elastic_coarsening <= MAX_ELASTIC_COARSENING:
             raise InputError("command line", "--elastic-coarsening",
@@ -111,6 +119,40 @@ class SolverOptions:
         if self.device == "gpu":
             return "iterative"
         return "direct" if nheat <= DIRECT_LIMIT else "iterative"
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
+def _heat_tol(value) -> float:
+    """``heat_tol`` [K]: a number (in K) or a quantity text (``"1e-4 K"``), finite and positive."""
+    if isinstance(value, str):
+        try:
+            value = parse_quantity(value, "temperature_difference")
+        except UnitError as err:
+            raise InputError("command line", "--heat-tol", str(err)) from None
+    if not _is_number(value) or not np.isfinite(value) or not value > 0:
+        raise InputError("command line", "--heat-tol", f"a temperature difference in K (a number, or a text like "
+                                                       f"'1e-6 K'), finite and positive, got {value!r}")
+    return float(value)
+
+
+def _fraction(value, field: str) -> float:
+    """A relative tolerance: a number strictly between 0 and 1."""
+    if not _is_number(value) or not 0 < value < 1:
+        raise InputError("command line", field, f"a relative residual, a number greater than 0 and less than 1, "
+                                                f"got {value!r}")
+    return float(value)
+
+
+def _whole(value, field: str, lower: int, upper: int | None, what: str) -> int:
+    """A whole number of ``what`` from ``lower`` to ``upper`` (None: no upper limit)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) \
+            or value < lower or (upper is not None and value > upper):
+        span = f"from {lower} to {upper}" if upper is not None else f"at least {lower}"
+        raise InputError("command line", field, f"a whole number of {what} {span}, got {value!r}")
+    return int(value)
 
 
 DEFAULT = {"solver": "auto"}   # what None means; the test suite's --solver option changes it
