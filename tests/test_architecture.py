@@ -75,3 +75,20 @@ def test_import_graph_has_no_cycle():
         if n not in state:
             visit(n, [n])
     assert not cycles, "import cycles:\n" + "\n".join(cycles)
+
+
+def is_command_module(name: str) -> bool:
+    """Modules that are command lines (they may print): ``twin.cli``, the ``*_cli`` modules and
+    ``learners.cli``, the benchmarks and the studies run with ``python -m``."""
+    last = name.rsplit(".", 1)[-1]
+    return (name.startswith(("twin.cli", "validate.studies.")) or last == "cli" or last.endswith("_cli")
+            or name in ("validate.benchmark", "validate.camera_benchmark"))
+
+
+def test_only_command_modules_print():
+    """No printing from the library: a ``print`` call appears only in a command-line module; the
+    library returns its text or reports progress through a callback."""
+    printing = sorted(name for name, path in modules().items() if not is_command_module(name)
+                      and any(isinstance(n, ast.Call) and getattr(n.func, "id", None) == "print"
+                              for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))))
+    assert printing == []

@@ -172,7 +172,7 @@ def test_compare_command_on_csv(tmp_path, sim, capsys):
     """The ``twin compare`` subcommand as the CLI wires it (add_compare_parser -> run_compare)."""
     import argparse
 
-    from validate.compare import add_compare_parser
+    from validate.compare_cli import add_compare_parser
 
     parser = argparse.ArgumentParser(prog="twin")
     add_compare_parser(parser.add_subparsers(dest="command", required=True))

@@ -22,7 +22,6 @@ import numpy as np
 import xarray as xr
 
 from learners.metrics import max_abs_residual, nse, rmse
-from twin.cli.options import add_measurement_options, add_model_options
 from validate.channels import Phase, input_phases, stack
 
 
@@ -146,25 +145,3 @@ def model_for(measured: xr.Dataset, machine: str, scenario=None, effects: str | 
     sensors = sensors_of(measured) or None
     return simulate(machine, sc, effects, settings, resolution, seed, progress=progress, sensors=sensors,
                     effects_file=effects_file)
-
-
-def add_compare_parser(subparsers) -> None:
-    """``twin compare MEAS [--machine NAME] [--mapping TOML] [--scenario S] [--effects ..] [--set ..] [--mesh R]``."""
-    p = subparsers.add_parser("compare", help="compare the twin with a measurement: residuals per channel and phase")
-    add_measurement_options(p)
-    add_model_options(p)
-    p.set_defaults(func=run_compare)
-
-
-def run_compare(args) -> int:
-    """CLI body of ``twin compare``: prints the comparison table, returns 0."""
-    from twin.cli.progress import progress_bar
-    from twin.io.paths import Files
-    from validate.inputs import declare_inputs, load_inputs
-
-    declare_inputs(Files(), args)
-    meas, machine, sc, _ = load_inputs(args)
-    model, _ = model_for(meas, machine.name, sc, args.effects, args.set, args.mesh, args.seed,
-                         progress=progress_bar(f"{machine.name} / measured inputs"), effects_file=args.effects_file)
-    print(format_compare(compare(meas, model)))
-    return 0
