@@ -4,7 +4,6 @@ interferometer's need for the axis's motion (twin.observe.interferometer.check_i
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -30,13 +29,21 @@ def refused(data: dict) -> InputError:
     return err.value
 
 
+@pytest.fixture
+def nothing_built(monkeypatch):
+    """Building any motion's pieces fails the test: a refusal must come from the closed-form plan."""
+    import twin.motion
+
+    def build(*args, **kwargs):
+        raise AssertionError("a motion's pieces were built")
+    monkeypatch.setattr(twin.motion._Builder, "__init__", build)
+
+
 @pytest.mark.parametrize("count", [1_000_000_000, 10**15])
-def test_a_huge_count_is_refused_in_closed_form_and_fast(count):
+def test_a_huge_count_is_refused_in_closed_form(count, nothing_built):
     move = reciprocate(count=count)
     del move["axis"][0]["move"][0]["duration"]
-    start = time.perf_counter()
     err = refused(move)
-    assert time.perf_counter() - start < 1.0
     assert err.field == "axis[0].move" and "longer than the scenario" in str(err)
     one = 280e-3 / 20e-3 + 20e-3 / 10e-3          # d / v + v / a [s]: one stroke
     assert f"{count * one:g} s" in str(err)
@@ -66,11 +73,9 @@ def test_a_count_within_the_scenario_still_runs():
     assert np.isclose(m.position(np.array([16.0]))[0], 0.28) and np.isclose(m.position(np.array([32.0]))[0], 0.0)
 
 
-def test_too_many_pieces_are_refused_before_building():
+def test_too_many_pieces_are_refused_before_building(nothing_built):
     data = reciprocate(between=["0 mm", "1e-8 mm"], duration="10 min")
-    start = time.perf_counter()
     err = refused(data)
-    assert time.perf_counter() - start < 1.0
     assert err.field == "axis[0].move" and "affordable" in str(err)
 
 

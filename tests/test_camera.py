@@ -174,17 +174,21 @@ def test_a_part_behind_another_is_hidden():
 
 def test_temporal_noise_of_a_static_scene_is_the_netd():
     """200 frames of a black plate at 30 degC: the temporal standard deviation per pixel is the
-    NETD (5 %); with the temporal banding on it is sqrt(NETD^2 + s_tv^2 + s_th^2 + s_t^2) (3-D noise)."""
+    NETD; with the temporal banding on, the variance grows by s_tv^2 + s_th^2 + s_t^2 (3-D noise:
+    independent terms add in variance). The mean variance over 768 pixels x 200 frames has a
+    relative standard error of about 0.4 %; the banding adds 6 % of the NETD's variance, so the
+    excess is held to 25 % (a sensor without banding gives none of it)."""
     netd = Microbolometer(fixed_pattern=0.0, row_fixed=0.0, column_fixed=0.0, row_temporal=0.0,
                           column_temporal=0.0, frame_temporal=0.0, offset=0.0, drift=0.0)
     ds, _, _ = _frames(_plate(1.0), _config(sensor=netd), t0=30.0, nframes=200)
     std = ds.thermogram.values.astype(float).std(axis=0, ddof=1)
-    assert np.sqrt(np.mean(std ** 2)) == pytest.approx(0.08, rel=0.05)
+    plain = np.mean(std ** 2)
+    assert np.sqrt(plain) == pytest.approx(0.08, rel=0.02)
     banded = Microbolometer(offset=0.0, drift=0.0, frame_temporal=0.01)
     ds, _, _ = _frames(_plate(1.0), _config(sensor=banded), t0=30.0, nframes=200)
     std = ds.thermogram.values.astype(float).std(axis=0, ddof=1)
-    expected = math.sqrt(0.08 ** 2 + 0.01 ** 2 + 0.01 ** 2 + 0.01 ** 2)
-    assert np.sqrt(np.mean(std ** 2)) == pytest.approx(expected, rel=0.05)
+    excess = np.mean(std ** 2) - 0.08 ** 2
+    assert excess == pytest.approx(0.01 ** 2 + 0.01 ** 2 + 0.01 ** 2, rel=0.25)
 
 
 def test_frames_are_bit_identical_for_the_same_seed(tmp_path):

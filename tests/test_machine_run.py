@@ -9,11 +9,21 @@ from twin.api import simulate
 
 
 def test_energy_balance_over_a_full_machine_run(machine_coarse_run):
-    """First law over the run: heat in by sources = change of stored heat + heat convected out
-    (within 0.5 % of the heat in)."""
-    heat_in, convected_in, stored = machine_coarse_run.step_energy()
+    """First law over the run, the theta-scheme's exact discrete balance: heat in by sources +
+    heat convected in = change of stored heat, each step's terms at the scheme's own
+    theta-weighted temperature. With the direct solver it closes to round-off (1e-9 of the heat
+    in; measured about 3e-13); with an iterative one (the suite's --solver iterative) to the
+    steps' residuals, |sum_n 1^T r_n| <= sqrt(1^T M 1) sum_n rho_n (Cauchy-Schwarz in the M norm).
+    Convection taken at T^n or T^(n+1) instead would leave 2.5e-4."""
+    r = machine_coarse_run
+    heat_in, convected_in, stored = r.step_energy()
     assert heat_in > 1e6
-    assert abs(heat_in + convected_in - stored) < 0.005 * heat_in
+    info = r.solver_info
+    if info.get("solver_method") == "direct":
+        assert abs(heat_in + convected_in - stored) <= 1e-9 * heat_in
+    else:
+        capacity = float(r.loads.system.M.sum())
+        assert abs(heat_in + convected_in - stored) <= np.sqrt(capacity) * info["heat_residual_sum"] + 1e-9 * heat_in
 
 
 def test_heat_power_reports_the_documented_source_powers(machine_coarse_run):

@@ -41,7 +41,9 @@ def _run_slab(system, n, dt, nsteps, h, theta, start=None):
 
 @pytest.mark.parametrize("theta", [0.5, 1.0])
 def test_slab_transient_matches_series_solution(theta):
-    """1-D transient conduction, convective face: within 1 % of the initial excess at Fo = 0.1, 0.3, 1."""
+    """1-D transient conduction, convective face (Incropera 5.39 series): within 1e-3 of the
+    initial excess at Fo = 0.1, 0.3, 1 (measured 3.6e-4 with Crank-Nicolson at 1 s, 1.3e-4 implicit
+    at 0.25 s, on 2.5 mm cells; h or the heat capacity 2-3 % off would miss it by 8e-3)."""
     h, L = 450.0, 0.1
     mm, system = _slab(h, L)
     a = STEEL.conductivity / STEEL.volumetric_heat_capacity
@@ -53,7 +55,7 @@ def test_slab_transient_matches_series_solution(theta):
     for t in times:
         exact = slab_series(x, t, L, h, STEEL.conductivity, a)
         got = out[int(round(t / dt))]
-        assert np.max(np.abs(got - exact)) < 0.01, (theta, t, np.max(np.abs(got - exact)))
+        assert np.max(np.abs(got - exact)) < 1e-3, (theta, t, np.max(np.abs(got - exact)))
 
 
 @pytest.mark.parametrize("theta,order", [(0.5, 2.0), (1.0, 1.0)])
