@@ -177,8 +177,9 @@ def test_a_study_checks_its_seed_before_anything_is_made(study, seed, needle, tm
     (diagnosis_signals.main, ["--error-mesh", "bogus"], "command line: --error-mesh: invalid choice: 'bogus'"),
     (diagnosis_signals.main, ["--error-mesh", "default"], "command line: --error-mesh: default is the model's own"),
     (axis_pose.main, ["--readout", "--poses", "abc"], "command line: --poses: expected comma-separated"),
-    (axis_pose.main, ["--readout", "--poses=-500"], "command line: --poses: -500 mm is outside the Y axis's travel"),
-    (axis_pose.main, ["--readout", "--poses", "60,60"], "command line: --poses: 60 mm given more than once"),
+    (axis_pose.main, ["--readout", "--poses=-500 mm"], "command line: --poses: -500 mm is outside the Y axis's travel"),
+    (axis_pose.main, ["--readout", "--poses", "60 mm,0.06 m"], "command line: --poses: 60 mm given more than once"),
+    (axis_pose.main, ["--readout", "--poses", "60,340"], "command line: --poses: expected comma-separated"),
     (heat_step.main, ["--coarsening", "2,2"], "command line: --coarsening: 2 given more than once"),
 ])
 def test_study_options_are_checked_names_and_numbers(main, argv, needle, capsys):

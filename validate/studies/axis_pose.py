@@ -7,9 +7,9 @@ pose of ``--poses``, on the mesh built at that pose (the truth: nothing is carri
 reference-pose mesh read at the mesh's pose (the old read-out) and at the axis's pose (the new
 one); printed: the largest differences of the tool-point drift and the five probes [um].
 
-``python -m validate.studies.axis_pose [--quick] [--poses 60,340]`` runs ``cframe-vmc`` with its
+``python -m validate.studies.axis_pose [--quick] [--poses "60 mm,340 mm"]`` runs ``cframe-vmc`` with its
 feed drive on ``seed003-exp1`` three times, the saddle and table built at Y = p_ref (200 mm) and at
-each pose of ``--poses`` [mm] (:func:`geometries.axes.at_pose`), and prints per pose the largest
+each pose of ``--poses`` (lengths with their unit) (:func:`geometries.axes.at_pose`), and prints per pose the largest
 change of the thermal slope k - k0 [um/mm], of the error at the last target [um], of the sites'
 temperatures [K] and of the tool-point drift [um].
 """
@@ -105,14 +105,17 @@ def differences(ds, ref) -> dict:
 
 
 def poses_mm(text: str) -> list[float]:
-    """argparse type of ``--poses``: comma-separated Y positions in mm (bare numbers), finite and distinct."""
+    """argparse type of ``--poses``: comma-separated Y positions, each with its unit (``"60 mm,
+    0.34 m"``; :func:`twin.units.parse_quantity`), finite and distinct; returned in mm."""
+    from twin.units import UnitError, parse_quantity
+
     values = []
     for item in (t.strip() for t in text.split(",")):
         try:
-            v = float(item)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected comma-separated Y positions in mm (e.g. 60,340), got "
-                                             f"{item!r}") from None
+            v = 1e3 * parse_quantity(item, "length")
+        except UnitError as err:
+            raise argparse.ArgumentTypeError(f"expected comma-separated Y positions with their unit (e.g. "
+                                             f"\"60 mm,340 mm\"): {err}") from None
         if not np.isfinite(v):
             raise argparse.ArgumentTypeError(f"{item!r} is not a finite position")
         if v in values:
@@ -124,8 +127,9 @@ def poses_mm(text: str) -> list[float]:
 def main(argv=None) -> int:
     p = cli_parser("python -m validate.studies.axis_pose", __doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="coarse mesh (default: the default mesh)")
-    p.add_argument("--poses", type=poses_mm, default="60,340",
-                   help="Y poses [mm] to compare with the reference, within the Y travel (default 60,340)")
+    p.add_argument("--poses", type=poses_mm, default="60 mm,340 mm",
+                   help="Y poses, each with its unit, to compare with the reference, within the Y travel "
+                        "(default \"60 mm,340 mm\")")
     p.add_argument("--readout", action="store_true", help="only the read-out comparison (warm-up, then Y held)")
     return run_cli(p.parse_args, argv, _run)
 
