@@ -44,7 +44,7 @@ import numpy as np
 from learners.leaderboard import COLUMNS, as_input_error, leaderboard, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.runs import check_one_interval, dataset_runs, is_time_ordered, resample, select_runs
-from learners.table import Table, check_problem, load_table
+from learners.table import Table, check_problem, load_table, target_unit
 from twin.cli.options import add_seed_option, whole_number
 from twin.errors import InputError
 from twin.io.paths import Files
@@ -230,16 +230,6 @@ def run_learn(args) -> int:
         else:
             write_csv(path, rows)
     return 0
-
-
-def target_unit(tables, target: str) -> str:
-    """The target's unit, stated by the NetCDF files that hold it ("" when none does); files that
-    state different units are refused (their scores would mix them)."""
-    units = sorted({t.target_unit for t in tables if t.target_unit})
-    if len(units) > 1:
-        raise InputError("command line", "--target", f"{target} is in different units in the training and test "
-                                                     f"files ({', '.join(units)})")
-    return units[0] if units else ""
 
 
 def _interval(text):

@@ -242,3 +242,13 @@ def _load_netcdf(path, target, inputs, time_column):
     X = np.column_stack(columns) if columns else np.empty((len(time), 0))
     unit = str(ds[target.partition(":")[0]].attrs.get("units", ""))
     return _finite(path, tname, time), X, y, list(inputs), unit
+
+
+def target_unit(tables, target: str) -> str:
+    """The target's unit, stated by the NetCDF files that hold it ("" when none does); files that
+    state different units are refused (their scores would mix them)."""
+    units = sorted({t.target_unit for t in tables if t.target_unit})
+    if len(units) > 1:
+        raise InputError("command line", "--target", f"{target} is in different units in the training and test "
+                                                     f"files ({', '.join(units)})")
+    return units[0] if units else ""

@@ -237,3 +237,13 @@ def test_variant_study_row_reads_the_z_axis_test(z_test, z_run):
     assert r["drive_w"] == pytest.approx(expect, rel=1e-9)
     assert r["w_for_100um"] == pytest.approx(expect * 100.0 / abs(r["peak_z"]), rel=1e-12)
     assert "as built" in markdown([r], "cmd", "coarse")
+
+
+def test_twin_list_effects_says_which_axis_brings_a_drive_effect(capsys):
+    """A feed-drive effect is on by default only when a scenario moves the axis whose drive
+    brings it: `twin list effects` names that axis (z_axis_holding joins with the Z drive)."""
+    from twin.cli import main
+    assert main(["list", "effects", "--machine", "cframe-vmc"]) == 0
+    out = capsys.readouterr().out
+    assert "z_axis_holding (default when a scenario moves its Z axis)" in out
+    assert "feed_nut_y (default when a scenario moves its Y axis)" in out

@@ -43,10 +43,14 @@ def _effects(machine_name: str | None) -> None:
 
     def qualifier(name, base, m):
         """None if ``name`` is not on by default on machine ``m`` (``base`` with its feed drives),
-        "" if it always is, " when a scenario moves an axis" if its feed drive brings it."""
+        "" if it always is, " when a scenario moves its Z axis" (the axes whose feed drives bring
+        it) otherwise."""
         if name in base.default_effects:
             return ""
-        return " when a scenario moves an axis" if name in m.default_effects else None
+        if name not in m.default_effects:
+            return None
+        axes = [a.name for a in base.axes if name in with_feed_drives(base, {a.name}).default_effects]
+        return f" when a scenario moves its {' or '.join(axes)} axis" if axes else " when a scenario moves an axis"
 
     if machine_name is None:
         # a machine with a feed drive offers its effects when a scenario moves an axis

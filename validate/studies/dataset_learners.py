@@ -32,9 +32,9 @@ from pathlib import Path
 import numpy as np
 
 from learners.leaderboard import leaderboard, write_csv, write_markdown
-from learners.registry import LEARNERS, SELECTORS, make_selector
+from learners.registry import LEARNERS, make_selector
 from learners.runs import dataset_runs, resample, select_runs
-from learners.table import load_table
+from learners.table import load_table, target_unit
 from twin.cli.options import add_seed_option, whole_number
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
@@ -99,7 +99,8 @@ def run_leaderboard(train, tests, names, learner_names, select: str, split: str,
     return leaderboard(learners, [sub(t) for _, t in train],
                        [(label, [(X[:, cols], y) for X, y in runs]) for label, runs in _test_sets(tests, split)],
                        segments=segments, inputs=";".join(names[c] for c in cols),
-                       train_label=f"{len(train)} training runs", progress=progress), cols
+                       train_label=f"{len(train)} training runs", progress=progress,
+                       unit=target_unit([t for _, t in train + tests], "the target")), cols
 
 
 def placement_sets(train, tests, names, k: int, seed: int, n_random: int, exhaustive: bool, progress=None):
