@@ -51,7 +51,8 @@ def format_before_after(d, after: np.ndarray, calibrated: np.ndarray | None = No
     ev = d.evidence
     meas = ev.measured
     rms_after = ev.per_channel(meas - after)
-    head = f"{'channel':<32} {'unit':>4} {'before':>9} {'after':>9} {'change':>8}"
+    w = max([32] + [len(c) for c in d.channels])    # long sensor names keep the columns aligned
+    head = f"{'channel':<{w}} {'unit':>4} {'before':>9} {'after':>9} {'change':>8}"
     extra = calibrated is not None
     if extra:
         head += f" {'before+a':>9} {'after+a':>9} {'change':>8}"
@@ -59,7 +60,7 @@ def format_before_after(d, after: np.ndarray, calibrated: np.ndarray | None = No
         before_cal = d.calibrated_rmse
     lines = [head]
     for i, (c, g, b, a) in enumerate(zip(d.channels, d.groups, d.baseline_rmse, rms_after)):
-        line = f"{c:<32} {residual_unit(g):>4} {b:>9.4g} {a:>9.4g} {(a / b - 1) if b else 0:>+8.0%}"
+        line = f"{c:<{w}} {residual_unit(g):>4} {b:>9.4g} {a:>9.4g} {(a / b - 1) if b else 0:>+8.0%}"
         if extra:
             bc, ac = before_cal[i], rms_cal[i]
             line += f" {bc:>9.4g} {ac:>9.4g} {(ac / bc - 1) if bc else 0:>+8.0%}"

@@ -70,10 +70,11 @@ def _candidate_args(cand: dict) -> str:
 def _rmse_table(before, after=None, names: list[str] | None = None) -> list[str]:
     """Lines ``channel unit RMSE-before [RMSE-after change]`` from CompareResults."""
     rows = [c for c in before.channels if names is None or c.name in names]
-    head = f"    {'channel':<22} {'unit':>4} {'RMSE':>8}" + (f" {'after':>8} {'change':>7}" if after else "")
+    w = max([22] + [len(c.name) for c in rows])     # long sensor names keep the columns aligned
+    head = f"    {'channel':<{w}} {'unit':>4} {'RMSE':>8}" + (f" {'after':>8} {'change':>7}" if after else "")
     out = [head]
     for c in rows:
-        line = f"    {c.name:<22} {c.unit:>4} {c.stats.rmse:8.3g}"
+        line = f"    {c.name:<{w}} {c.unit:>4} {c.stats.rmse:8.3g}"
         if after:
             a = after.channel(c.name).stats.rmse
             line += f" {a:8.3g} {a / c.stats.rmse - 1 if c.stats.rmse else 0:+7.0%}"
@@ -141,8 +142,10 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     say(f"compare (twin compare {csv_path} --mesh {mesh}): the default twin driven by the measured inputs")
     say("  phases: " + "; ".join(f"{p.label} {p.start / 3600:.1f}-{p.end / 3600:.1f} h" for p in cmp0.phases))
     say("  worst channels (RMSE / std of the measurement; NSE 1 = perfect, < 0 = worse than a constant):")
-    for c in cmp0.ranking()[:5]:
-        say(f"    {c.name:<22} RMSE {c.stats.rmse:6.3g} {c.unit:<4} max|r| {c.stats.max_abs:6.3g} {c.unit:<4} "
+    worst = cmp0.ranking()[:5]
+    w = max([22] + [len(c.name) for c in worst])
+    for c in worst:
+        say(f"    {c.name:<{w}} RMSE {c.stats.rmse:6.3g} {c.unit:<4} max|r| {c.stats.max_abs:6.3g} {c.unit:<4} "
             f"NSE {c.stats.nse:6.2f}  ratio {c.normalised_rmse:5.2f}")
     c, p, s, v = cmp0.phase_ranking()[0]
     say(f"  worst phase: {c.name} during '{p.label}' (RMSE {s.rmse:.3g} {c.unit})")
