@@ -109,7 +109,7 @@ def report(res: dict) -> str:
     """The Markdown report: ours beside the seed's tables."""
     chosen = ", ".join(LABELS[i] for i in res["cols"])
     m = res["mlr"]
-    lines = [f"# Seed 003 on the twin (cframe-vmc, seed003-exp1 -> seed003-exp2)", "",
+    lines = ["# Seed 003 on the twin (cframe-vmc, seed003-exp1 -> seed003-exp2)", "",
              "Sites T1..T11 = " + ", ".join(f"{a} {b}" for a, b in zip(LABELS, SITES)) + ".", "",
              f"Slopes k [um/mm], Exp I: {', '.join(f'{v:.4f}' for v in res['k1'])} (seed: k0 = -0.3903, mean of the "
              f"eight -0.3243; ours {res['k1'].mean():.4f}); Exp II: {', '.join(f'{v:.4f}' for v in res['k2'])}.", "",
@@ -147,7 +147,7 @@ def verdict(rows: list[dict]) -> str:
     same = best["model"] == "PCR"
     return (f"**Verdict**: on the twin {best['model']} predicts Exp II best (RMSE {best['RMSE']:.2f} um); the seed's "
             f"PCR (4.21 um) {'also' if same else 'does not'} lead{'s' if same else ''} here"
-            + ("." if same else f": the seed's finding that PCR generalises best under the changed room and feed is "
+            + ("." if same else ": the seed's finding that PCR generalises best under the changed room and feed is "
                "not reproduced by this twin."))
 
 
