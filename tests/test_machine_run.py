@@ -74,3 +74,25 @@ def test_same_seed_same_output_and_noise_free_truth_kept(tmp_path):
     assert np.array_equal(a.temperature_true.values, c.temperature_true.values)
     q = a.temperature.values / 0.0625
     assert np.allclose(q, np.round(q))  # DS18S20 quantisation
+
+
+def test_one_factorisation_per_distinct_operator():
+    """The heat operator M/dt + theta (K + sum h_k H_k) changes only with the film coefficients,
+    which follow the spindle speed: a schedule visiting four distinct speeds (3000, 6000, 9000,
+    6000, 0, 3000 rpm) is factorised four times, a repeated speed reusing its LU; a second run of
+    the same schedule on the same prepared twin factorises nothing more."""
+    from geometries import build_machine
+    from twin.model import model_spec
+    from twin.observe import HeatBalance
+    from twin.physics.prepared import PreparedTwin
+    from twin.scenario import scenario_from_dict
+
+    m = build_machine("cframe-vmc")
+    twin = PreparedTwin(m, resolution="coarse", solver="direct")
+    speeds = ("3000 rpm", "6000 rpm", "9000 rpm", "6000 rpm", "0 rpm", "3000 rpm")
+    sc = scenario_from_dict({"name": "four-speeds", "sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+                             "spindle": [{"speed": s, "duration": "5 min"} for s in speeds]}, "s.toml")
+    twin.run(sc, model_spec(m), [HeatBalance()])
+    assert len(twin.factorisations) == 4
+    twin.run(sc, model_spec(m), [HeatBalance()])
+    assert len(twin.factorisations) == 4
