@@ -234,10 +234,10 @@ def _load_netcdf(path, target, inputs, time_column):
     for name in inputs:
         if name in sensors:
             columns.append(_series(path, ds, f"temperature:{name}", tname))
-        elif ":" in name or name in ds.variables:
+        elif name.partition(":")[0] in ds.variables:      # an address var or var:label
             columns.append(_series(path, ds, name, tname))
-        else:
-            raise InputError(path, name, f"missing input; sensors: {', '.join(sensors) or 'none'}")
+        else:   # a sensor this file lacks (a surface-grid sensor's name holds ':' too)
+            raise InputError(path, name, f"missing input sensor; this file's sensors: {', '.join(sensors) or 'none'}")
     y = _series(path, ds, target, tname)
     X = np.column_stack(columns) if columns else np.empty((len(time), 0))
     unit = str(ds[target.partition(":")[0]].attrs.get("units", ""))

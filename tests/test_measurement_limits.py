@@ -107,3 +107,20 @@ def test_a_result_with_sensors_on_the_feed_drive_reads_as_a_measurement(tmp_path
     (tmp_path / "off.nc").write_bytes(netcdf_bytes(ds.assign_coords(x=("sensor", [*ds.x.values[:2], 5.0]))))
     with pytest.raises(InputError, match="Y_front_bearing"):
         read_measurement(tmp_path / "off.nc")
+
+
+def test_surface_grid_names_read_back_but_at_signs_do_not(tmp_path):
+    """A dataset case's surface-grid sensors are named part:face:u:v (twin.observe.sensor_grid):
+    a NetCDF measurement allows ':' (the channel temperature:<name> keeps the name whole), while
+    '@' (the diagnosis's measurement suffix) and ',' stay refused, as in a mapping."""
+    from tests.fuzz_files import netcdf_bytes, result_dataset
+    from validate.channels import split
+
+    names = ["motor", "column:+x:0.015:1.175", "bed_front"]
+    (tmp_path / "g.nc").write_bytes(netcdf_bytes(result_dataset().assign_coords(sensor=names)))
+    assert list(read_measurement(tmp_path / "g.nc").sensor.values) == names
+    assert split("temperature:" + names[1]) == ("temperature", names[1])
+    for bad in ("a@b", "a,b"):
+        (tmp_path / "b.nc").write_bytes(netcdf_bytes(result_dataset().assign_coords(sensor=[bad, *names[1:]])))
+        with pytest.raises(InputError, match="sensor"):
+            read_measurement(tmp_path / "b.nc")

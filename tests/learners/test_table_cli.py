@@ -192,3 +192,14 @@ def test_time_ordered_learners_need_one_sample_interval(tmp_path, capsys):
     assert run_learn(_args(*common, "--learner", "mlr")) == 0
     assert run_learn(_args(*common, "--learner", "mlr,gm1n", "--interval", "20 s")) == 0
     assert "gm1n" in capsys.readouterr().out
+
+
+def test_a_grid_sensor_the_test_file_lacks_is_named_as_a_missing_sensor(tmp_path):
+    """Surface-grid sensor names hold ':' (part:face:u:v); one the file lacks is a missing input
+    sensor, not an address of a variable 'carrier' that does not exist."""
+    train = _write_netcdf(tmp_path / "train.nc", seed=0)
+    with pytest.raises(InputError) as err:
+        load_table(train, "drift:Z", inputs=["S1", "carrier:-x:0.015:1.175"])
+    assert err.value.field == "carrier:-x:0.015:1.175" and "missing input sensor" in err.value.message
+    assert np.allclose(load_table(train, "drift:Z", inputs=["S1", "probe:Y2"]).X[:, 1],
+                       load_table(train, "probe:Y2").y)     # an address still reads its variable

@@ -52,6 +52,7 @@ def check_values(values: np.ndarray, role: str, mach, src: str, column: str) -> 
 
 
 BAD_NAME_CHARACTERS = "@:,"   # '@' suffixes a channel with its measurement, ':' parts group from name, ',' lists names
+NETCDF_BAD_NAME_CHARACTERS = "@,"   # a result's surface-grid sensors are named part:face:u:v (twin.observe.sensor_grid)
 
 
 def sensor_name(entry: dict, default: str, msrc: str, key: str) -> str:
@@ -66,18 +67,21 @@ def sensor_name(entry: dict, default: str, msrc: str, key: str) -> str:
     return check_sensor_name(entry["name"], msrc, key + ".name")
 
 
-def check_sensor_name(name, src: str, field: str) -> str:
+def check_sensor_name(name, src: str, field: str, forbidden: str = BAD_NAME_CHARACTERS) -> str:
     """A sensor's name as given (in a mapping or a NetCDF measurement): a non-empty, printable
-    string without leading or trailing spaces and without '@', ':' or ','."""
+    string without leading or trailing spaces and without the ``forbidden`` characters (a
+    mapping's names: '@', ':' and ','; a NetCDF file's: '@' and ',', since the twin's own surface
+    grid names its points ``part:face:u:v``, which a channel name ``temperature:<name>`` keeps
+    whole)."""
     if not isinstance(name, str):
         raise InputError(src, field, f"expected a sensor name (a string), got {name!r}")
     if not name.strip():
         raise InputError(src, field, "the sensor name is empty")
-    bad = [c for c in BAD_NAME_CHARACTERS if c in name]
+    bad = [c for c in forbidden if c in name]
     if bad or any(not c.isprintable() for c in name) or name != name.strip():
         raise InputError(src, field, f"sensor name {name!r} may not contain "
                          + (f"{bad[0]!r}" if bad else "control characters or leading/trailing spaces")
-                         + " (names must not contain '@', ':' or ',')")
+                         + f" (names must not contain {', '.join(repr(c) for c in forbidden)})")
     return name
 
 

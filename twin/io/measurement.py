@@ -77,7 +77,8 @@ from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
 from twin.io.axis_logs import axis_name, check_log, integrated_feed
-from twin.io.mapping_columns import check_sensor_name, check_values, duty_fraction, instrument, sensor
+from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
+                                     instrument, sensor)
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml
 from twin.io.results import read_result
 from twin.observe.base import variable
@@ -176,7 +177,8 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
                                              f"{', '.join(a.name for a in mach.axes) or 'none'}")
             check_log(str(axis), t, mm[:, i] * 1e-3, mach, src, field)
     if "sensor" in ds.coords:
-        names = [check_sensor_name(str(n), src, f"sensor[{i}]") for i, n in enumerate(ds.sensor.values)]
+        names = [check_sensor_name(str(n), src, f"sensor[{i}]", NETCDF_BAD_NAME_CHARACTERS)
+                 for i, n in enumerate(ds.sensor.values)]
         twice = sorted({n for n in names if names.count(n) > 1})
         if twice:
             raise InputError(src, "sensor", f"sensor {twice[0]!r} appears twice")
