@@ -124,3 +124,36 @@ def test_surface_grid_names_read_back_but_at_signs_do_not(tmp_path):
         (tmp_path / "b.nc").write_bytes(netcdf_bytes(result_dataset().assign_coords(sensor=[bad, *names[1:]])))
         with pytest.raises(InputError, match="sensor"):
             read_measurement(tmp_path / "b.nc")
+
+
+def test_a_result_whose_scenario_moved_an_axis_needs_its_scenario(tmp_path):
+    """A twin result of a scenario with axis motion records the moved axes (``moved_axes``) but not
+    the moves (strokes faster than its samples): driven from the file alone the twin would run
+    another machine (the ram standing: the gantry's own Z-axis test compared with itself left
+    T5 5.9 K off), so compare asks for the scenario instead, and runs with it."""
+    from tests.fuzz_files import netcdf_bytes, result_dataset
+    from twin.io.measured_inputs import scenario_from_measurement
+
+    ds = result_dataset().assign_attrs(moved_axes="Y", scenario="seed003-exp1")
+    (tmp_path / "r.nc").write_bytes(netcdf_bytes(ds))
+    meas = read_measurement(tmp_path / "r.nc")
+    with pytest.raises(InputError) as err:
+        scenario_from_measurement(meas)
+    assert err.value.field == "axis_position" and "--scenario seed003-exp1" in err.value.message
+    assert str(tmp_path / "r.nc") in err.value.source
+    assert scenario_from_measurement(result_dataset()).axes == ()        # a spindle result drives itself
+
+
+def test_simulate_records_the_axes_its_scenario_moved():
+    from twin.api import simulate
+    from twin.scenario import scenario_from_dict
+
+    sc = scenario_from_dict({"name": "y", "sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+                             "spindle": [{"speed": "0 rpm", "duration": "4 min"}],
+                             "axis": [{"name": "Y", "move": [{"kind": "hold", "position": "140 mm",
+                                                               "duration": "4 min"}]}]}, "y.toml")
+    ds, _ = simulate("cframe-vmc", sc, resolution="coarse")
+    assert ds.attrs["moved_axes"] == "Y"
+    assert "moved_axes" not in simulate("cframe-vmc", scenario_from_dict(
+        {"name": "s", "sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+         "spindle": [{"speed": "0 rpm", "duration": "4 min"}]}, "s.toml"), resolution="coarse")[0].attrs

@@ -55,7 +55,15 @@ def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = No
     scenario is marked ``extra["logged"]``: its speeds are a log's, with a log's tolerance over the
     machine's maximum (:func:`twin.limits.check_scenario`).
     """
-    src = ds.attrs.get("source", "measurement")
+    src = ds.attrs.get("source") or ds.encoding.get("source") or "measurement"
+    moved = ds.attrs.get("moved_axes") or ("an axis" if "probing_error" in ds or "positioning_error" in ds else "")
+    if moved and "axis_position" not in ds:
+        # a twin result of a scenario with axis motion: the moves (strokes faster than the samples)
+        # are in its scenario, not in the file; rebuilding without them would drive another machine
+        named = ds.attrs.get("scenario")
+        raise InputError(src, "axis_position", f"the run moved axis {moved} and the file holds no logged axis "
+                                               "positions to drive the twin with: give --scenario "
+                                               + (f"{named} (the scenario that made it)" if named else "NAME"))
     needed = ("ambient_temperature",) + (() if "c_axis_speed" in ds else ("spindle_speed",))
     for var in needed:
         if var not in ds:

@@ -64,6 +64,7 @@ def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "")
         "machine": machine.name,
         "scenario": scenario_label or sc.name,
         "scenario_source": sc.source,
+        **({"moved_axes": ",".join(m.axis for m in sc.axes)} if sc.axes else {}),   # the motion is the scenario's
         "effects": ",".join(spec.effects),
         "parameters": json.dumps(params, sort_keys=True),
         "mesh": resolution,
