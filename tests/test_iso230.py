@@ -75,8 +75,31 @@ def test_spindle_test_needs_the_spindle_turning():
     ds = synthetic(speed=False)
     with pytest.raises(InputError) as err:
         evaluate(ds, "spindle", source="m.csv")
-    assert err.value.field == "--test" and "never turns" in err.value.message
+    assert err.value.field == "--test" and "neither the spindle nor a C axis turns" in err.value.message
     assert evaluate(ds, "etve").test == "etve"
+
+
+def test_a_turning_c_axis_is_the_spindle_evaluation_and_lasers_are_the_drift():
+    """The gantry's C-axis test: the C axis is the rotating source (its speed steps), the laser
+    triangulation sensors and their tilt are the measured drift (not the true tool point), and the
+    conditions say so; a record whose axes moved without an interferometer is the axis test on
+    that drift."""
+    ds = synthetic(speed=False)
+    n = ds.time.size
+    ds["c_axis_speed"] = ("time", np.where(np.arange(n) < n // 2, 2500.0, 0.0), {"units": "rpm"})
+    ds["laser"] = (("time", "laser_id"), np.column_stack([np.linspace(0, 2, n), np.linspace(0, 9, n)]), {"units": "um"})
+    ds["laser_tilt"] = ("time", np.linspace(0, 18, n), {"units": "urad"})
+    ds = ds.assign_coords(laser_id=["Y", "Z"]).drop_vars(["probe", "probe_drift", "probe_true", "probe_id"],
+                                                         errors="ignore")
+    assert default_test(ds) == "spindle"
+    ev = evaluate(ds, "spindle")
+    assert [c.name for c in ev.channels] == ["laser Y", "laser Z", "A (lasers)"]
+    assert ev.channels[1].range == pytest.approx(9.0, rel=1e-12) and [s[2] for s in ev.steps] == [2500.0, 0.0]
+    rows = dict(ev.conditions)
+    assert "laser triangulation" in rows["displacement sensors"] and rows["C axis"].startswith("up to 2500 rpm")
+    moved = ds.drop_vars("c_axis_speed").assign_attrs(moved_axes="Z")
+    assert default_test(moved) == "axis" and [c.name for c in evaluate(moved, "axis").channels][1] == "laser Z"
+    assert dict(evaluate(moved, "axis").conditions)["axes moved"] == "Z"
 
 
 def test_axis_needs_positioning_errors():
@@ -86,7 +109,7 @@ def test_axis_needs_positioning_errors():
     ds = synthetic()
     with pytest.raises(InputError) as err:
         evaluate(ds, "axis", source="r.nc")
-    assert err.value.field == "--test" and "interferometer" in err.value.message
+    assert err.value.field == "--test" and "interferometer" in err.value.message and "axes that moved" in err.value.message
     runs = np.array([0.0, 1200.0, 2400.0])
     fwd = np.array([[0.0, 1.0], [2.0, 0.0], [3.0, -1.0]])
     pe = np.stack([fwd, fwd + 0.5], axis=-1)            # a constant reversal error cancels in the mean

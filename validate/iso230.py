@@ -93,11 +93,20 @@ class Evaluation:
 
 
 def drift_channels(ds: xr.Dataset, source: str) -> list[Channel]:
-    """X, Y, Z [um] and A, B [urad]: the five-probe evaluation when present, else the true drift."""
+    """The measured drift: X, Y, Z [um] and A, B [urad] of the five-probe evaluation when present;
+    else the laser triangulation sensors on the test bar [um] and their tilt A [urad] (the
+    gantry's instruments); else the true tool-point drift (a result without either)."""
+    if "probe_drift" not in ds and "laser" in ds and "laser_id" in ds.coords:
+        out = [Channel(f"laser {i}", "um", np.asarray(ds.laser.sel(laser_id=i).values, float))
+               for i in ds.laser_id.values]
+        if "laser_tilt" in ds:
+            out.append(Channel("A (lasers)", "urad", np.asarray(ds.laser_tilt.values, float)))
+        return out
     var = "probe_drift" if "probe_drift" in ds else "drift" if "drift" in ds else None
     if var is None:
         raise InputError(source, "probe_drift", "no drift: the result or measurement needs the five ISO 230-3 "
-                                                "probes (probe_drift) or a tool-point drift")
+                                                "probes (probe_drift), laser triangulation sensors (laser) or a "
+                                                "tool-point drift")
     out = [Channel(str(a), "um", np.asarray(ds[var].sel(axis=a).values, float)) for a in ds[var].axis.values]
     if "tilt" in ds:
         out += [Channel(str(r), "urad", np.asarray(ds.tilt.sel(rotation=r).values, float))
@@ -114,16 +123,38 @@ def axis_channels(ds: xr.Dataset, source: str) -> tuple[np.ndarray, list[Channel
     runs, stacked = stack_runs(ds)
     if stacked is None:
         raise InputError(source, "--test", "an axis thermal-drift evaluation needs laser-interferometer runs "
-                                           "(positioning_error): this file has none; use --test etve or spindle")
+                                           "(positioning_error) or axes that moved: this file has neither; use "
+                                           "--test etve or spindle")
     return runs, [Channel(f"target {split(name)[1]}", unit, stacked.values[:, j] - stacked.values[0, j])
                   for j, (name, unit) in enumerate(zip(stacked.names, stacked.units))]
 
 
+def rotating(ds: xr.Dataset) -> tuple[str, np.ndarray] | None:
+    """(what, speed [rpm]) of the rotating source of a record: the spindle when it turns, else the
+    C axis when it turns (the gantry's head, ``c_axis_speed``); None when nothing turns."""
+    for var, what in (("spindle_speed", "spindle"), ("c_axis_speed", "C axis")):
+        if var in ds and np.any(np.abs(np.asarray(ds[var].values, float)) > 0):
+            return what, np.asarray(ds[var].values, float)
+    return None
+
+
+def moved_axes(ds: xr.Dataset) -> str:
+    """The axes a record moved: a result's ``moved_axes`` attribute, or a measurement's logged
+    axis positions ("" when none moved)."""
+    if ds.attrs.get("moved_axes"):
+        return str(ds.attrs["moved_axes"])
+    if "axis_position" in ds and "axis_name" in ds.coords:
+        moved = [str(a) for a in ds.axis_name.values if np.ptp(ds.axis_position.sel(axis_name=a).values) > 0]
+        return ",".join(moved)
+    return ""
+
+
 def default_test(ds: xr.Dataset) -> str:
-    """``axis`` with positioning errors, ``spindle`` when the spindle turned, else ``etve``."""
-    if "positioning_error" in ds:
+    """``axis`` with positioning errors or moved axes, ``spindle`` when the spindle (or the C axis)
+    turned, else ``etve``."""
+    if "positioning_error" in ds or moved_axes(ds):
         return "axis"
-    if "spindle_speed" in ds and np.any(np.abs(ds.spindle_speed.values) > 0):
+    if rotating(ds) is not None:
         return "spindle"
     return "etve"
 
@@ -149,7 +180,9 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
     if t.size < 2:
         raise InputError(source, "time", "needs at least two samples")
     air = np.asarray(ds.ambient_temperature.values, float) if "ambient_temperature" in ds else None
-    if test == "axis":   # read at the interferometer's runs; the air at those instants
+    if test == "axis" and "positioning_error" not in ds and moved_axes(ds):
+        channels = drift_channels(ds, source)    # the drift while the axes move (no interferometer)
+    elif test == "axis":   # read at the interferometer's runs; the air at those instants
         t_all, (t, channels) = t, axis_channels(ds, source)
         if t.size < 2:
             raise InputError(source, "run_time", "an axis thermal-drift evaluation needs at least two "
@@ -165,11 +198,13 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
         raise InputError("command line", "--segment", f"{segment:g} s is shorter than two sampling intervals of {source} "
                                                       f"({interval:g} s each); a segment's statistics need several samples")
     steps = []
-    if test == "spindle" and "spindle_speed" in ds and not np.any(np.asarray(ds.spindle_speed.values, float) > 0):
-        raise InputError(source, "--test", "the spindle never turns in this record: a spindle thermal-drift "
-                                           "evaluation needs it running (--test etve for a machine at rest)")
-    if test == "spindle" and "spindle_speed" in ds:
-        steps = speed_steps(t, np.asarray(ds.spindle_speed.values, float))
+    turning = rotating(ds)
+    if test == "spindle" and turning is None and ("spindle_speed" in ds or "c_axis_speed" in ds):
+        raise InputError(source, "--test", "neither the spindle nor a C axis turns in this record: a spindle "
+                                           "thermal-drift evaluation needs one running (--test etve for a machine "
+                                           "whose heat comes from the room)")
+    if test == "spindle" and turning is not None:
+        steps = speed_steps(t, turning[1])
     ev = Evaluation(test, source, t, channels, air, segments_of(t, length), steps)
     ev.conditions = conditions(ds, ev)
     return ev
@@ -183,11 +218,17 @@ def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:
             ("source", ev.source),
             ("test", a.get("scenario", "") or "measurement"),
             ("duration", f"{(t[-1] - t[0]) / 3600:.4g} h"),
-            ("sampling", f"{t.size} {'interferometer runs' if ev.test == 'axis' else 'samples'}, median interval "
-                         f"{float(np.median(np.diff(t))):g} s")]
+            ("sampling", f"{t.size} {'interferometer runs' if ev.test == 'axis' and 'positioning_error' in ds else 'samples'}"
+                         f", median interval {float(np.median(np.diff(t))):g} s")]
+    if moved_axes(ds):
+        rows.append(("axes moved", moved_axes(ds)))
     if "probe_id" in ds.coords:
         rows.append(("displacement sensors", f"{ds.probe_id.size} probes ({', '.join(map(str, ds.probe_id.values))}) "
                                              "on the test bar; drift and tilts by the five-probe evaluation"))
+    elif "laser" in ds and "laser_id" in ds.coords:
+        rows.append(("displacement sensors", f"{ds.laser_id.size} laser triangulation sensors "
+                                             f"({', '.join(map(str, ds.laser_id.values))}) on the test bar"
+                                             + ("; tilt A from the laser pair" if "laser_tilt" in ds else "")))
     elif "drift" in ds:
         rows.append(("displacement", "true tool-point drift (no probes in the file)"))
     if "sensor" in ds.coords:
@@ -200,6 +241,11 @@ def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:
     if "spindle_speed" in ds:
         n = np.asarray(ds.spindle_speed.values, float)
         rows.append(("spindle", "stationary" if not np.any(n) else f"up to {n.max():g} rpm"))
+    if "c_axis_speed" in ds:
+        n = np.asarray(ds.c_axis_speed.values, float)
+        rows.append(("C axis", "stationary" if not np.any(n) else
+                     f"up to {n.max():g} rpm" + (" (the speed steps of the spindle evaluation)"
+                                                 if ev.test == "spindle" and rotating(ds)[0] == "C axis" else "")))
     if a.get("effects"):
         rows.append(("model effects", str(a["effects"]) + " (a simulation: plausible, not a measured machine)"))
     return rows
