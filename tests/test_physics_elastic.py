@@ -54,7 +54,9 @@ def test_free_beam_with_linear_gradient_bends_with_curvature_alpha_dT_over_h():
 
 
 def test_adjoint_drift_equals_full_displacement_solve(machine_coarse_run):
-    """q = g^T K^-1 C dT computed as (C^T K^-1 g)^T dT equals g^T u of a full solve (1e-8 rel)."""
+    """q = g^T K^-1 C dT computed as (C^T K^-1 g)^T dT equals g^T u of a full solve: to round-off
+    with the direct solver (1e-11; measured 4e-13), to the adjoints' CG tolerance (1e-8) when the
+    suite forces an iterative one."""
     import scipy.sparse as sp
 
     from twin.observe import FiveProbeTestBar, ToolDrift
@@ -65,7 +67,8 @@ def test_adjoint_drift_equals_full_displacement_solve(machine_coarse_run):
     dT = r.hottest_field - r.scenario.start_temperature
     full = g @ solver.solve(solver.matrices.C @ dT)
     adjoint = solver.influence(g).T @ dT
-    assert np.max(np.abs(adjoint - full)) <= 1e-8 * np.max(np.abs(full))
+    tol = 1e-11 if r.solver_info.get("solver_method") == "direct" else 1e-8
+    assert np.max(np.abs(adjoint - full)) <= tol * np.max(np.abs(full))
     # and the run's own drift at the hottest instant is the same number
     i = int(np.argmin(np.abs(r.times - r.hottest_time)))
     assert np.allclose(r.drift[i], full[:3], rtol=1e-8, atol=1e-8 * np.max(np.abs(full)))
