@@ -10,6 +10,7 @@ import numpy as np
 from sklearn.utils.validation import check_array, check_is_fitted, check_X_y
 
 from twin.errors import InputError
+from twin.limits import is_number, is_whole
 
 
 def check_fit_data(estimator, X, y, *, min_samples: int = 2):
@@ -95,7 +96,7 @@ def _refuse(model, name: str, message: str):
 def check_int(model, name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
     """``value`` as an ``int`` if it is an integer (``int`` or numpy integer, not a bool) from
     ``minimum`` to ``maximum`` (None: no upper limit); an :class:`InputError` otherwise."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+    if not is_whole(value):
         _refuse(model, name, f"must be an integer >= {minimum}, got {value!r}")
     v = int(value)
     if v < minimum or (maximum is not None and v > maximum):
@@ -109,7 +110,7 @@ def check_float(model, name: str, value, minimum: float | None = None, maximum: 
     """``value`` as a ``float`` if it is a finite real number (not a bool) with ``minimum <= value
     <= maximum``; ``above``/``below`` make the bounds strict (``value > minimum``, ``value <
     maximum``). An :class:`InputError` otherwise (NaN and inf included)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+    if not is_number(value):
         _refuse(model, name, f"must be a finite number, got {value!r}")
     v = float(value)
     low = "" if minimum is None else f"{'>' if above else '>='} {minimum:g}"
@@ -164,7 +165,7 @@ def check_sizes(model, name: str, value) -> tuple[int, ...]:
     if not sizes:
         _refuse(model, name, "names no layer; give one or more sizes (integers >= 1)")
     for h in sizes:
-        if isinstance(h, (bool, np.bool_)) or not isinstance(h, (int, np.integer)) or h < 1:
+        if not is_whole(h) or h < 1:
             _refuse(model, name, f"every layer size must be an integer >= 1, got {value!r}")
     return tuple(int(h) for h in sizes)
 

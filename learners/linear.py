@@ -35,6 +35,7 @@ from learners._checks import check_count_fits, check_fit_data, check_int, check_
     check_predict_data, model_name, standardise
 from learners.registry import register_learner
 from twin.errors import InputError
+from twin.limits import is_whole
 
 __all__ = ["MLR", "PCR"]
 
@@ -107,7 +108,7 @@ class PCR(RegressorMixin, BaseEstimator):
 
     def _check_params(self):
         nc = self.n_components
-        if isinstance(nc, (int, np.integer)) and not isinstance(nc, (bool, np.bool_)):
+        if is_whole(nc):
             return check_int(self, "n_components", nc)
         ok = isinstance(nc, (float, np.floating)) and 0.0 < float(nc) < 1.0
         if not ok:

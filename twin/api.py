@@ -122,8 +122,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
 def _theta(theta) -> float:
     """The time scheme's theta: a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the
     unconditionally stable range (:func:`twin.physics.heat.integrate`)."""
-    if isinstance(theta, (bool, np.bool_)) or not isinstance(theta, (int, float, np.integer, np.floating)) \
-            or not 0.5 <= theta <= 1.0:
+    if not limits.is_number(theta) or not 0.5 <= theta <= 1.0:
         raise InputError(CLI, "theta", f"a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the "
                                        f"unconditionally stable range, got {theta!r}")
     return float(theta)

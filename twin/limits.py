@@ -281,10 +281,21 @@ def check_seed(text) -> int:
     return seed
 
 
+def is_number(value) -> bool:
+    """Whether ``value`` is a real number given as one (a Python or numpy int or float, not a bool,
+    a text or None); finiteness and range are the caller's to check."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
+def is_whole(value) -> bool:
+    """Whether ``value`` is a whole number given as one (a Python or numpy integer, not a bool)."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
 def seed_value(seed, source: str, field: str = "seed") -> int:
     """A seed given in Python: an integer (not a text, a float or None: the result must be
     reproducible) from 0 to :data:`MAX_SEED` (:func:`check_seed`), else :class:`InputError`."""
-    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
+    if not is_whole(seed):
         raise InputError(source, field, f"expected an integer from 0 to {MAX_SEED}, got {seed!r} (a fixed seed "
                                         "makes the result reproducible)")
     try:

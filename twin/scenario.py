@@ -423,8 +423,7 @@ def _check_air_covers(ambient: Ambient, total: float, source: str, slack: float 
 
 def _number(value, source: str, field: str) -> float:
     """``value`` as a float when it is a finite number (not a bool, a text or None)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(value):
+    if not limits.is_number(value) or not np.isfinite(value):
         raise InputError(source, field, f"expected a finite number, got {value!r}")
     return float(value)
 
@@ -436,7 +435,7 @@ def _numbers(values, source: str, field: str) -> np.ndarray:
             raise InputError(source, field, f"expected a list of numbers, got an array of {values.dtype} {values.shape}")
     elif isinstance(values, (tuple, list)):
         for i, v in enumerate(values):
-            if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+            if not limits.is_number(v):
                 raise InputError(source, f"{field}[{i}]", f"expected a finite number, got {v!r}")
     else:
         raise InputError(source, field, f"expected a list of numbers, got {values!r}")

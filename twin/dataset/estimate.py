@@ -10,7 +10,6 @@ factorisation per new operator on the direct solver); the estimate does not coun
 
 from __future__ import annotations
 
-import numbers
 import time
 
 from threadpoolctl import threadpool_limits
@@ -18,6 +17,7 @@ from threadpoolctl import threadpool_limits
 from twin.dataset.plan import Case
 from twin.dataset.runner import _prepared, check_jobs, simulate_case
 from twin.errors import InputError
+from twin.limits import is_whole
 
 
 def _steps(case: Case) -> int:
@@ -31,8 +31,7 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30) -> d
     :data:`twin.dataset.runner.MAX_JOBS`, ``calibration_steps`` one >= 1 (an
     :class:`InputError` otherwise, before anything runs)."""
     jobs = check_jobs(jobs, "estimate")
-    if isinstance(calibration_steps, bool) or not isinstance(calibration_steps, numbers.Integral) \
-            or calibration_steps < 1:
+    if not is_whole(calibration_steps) or calibration_steps < 1:
         raise InputError("estimate", "calibration_steps", f"must be a whole number of time steps >= 1, "
                                                           f"got {calibration_steps!r}")
     calibration_steps = int(calibration_steps)

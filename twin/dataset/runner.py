@@ -17,12 +17,12 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import json
-import numbers
 import re
 import threading
 import time
 from pathlib import Path
 
+from twin import limits
 from twin.dataset.plan import Case
 from twin.errors import InputError
 from twin.io.paths import output_folder
@@ -205,7 +205,7 @@ def check_jobs(jobs, source: str = "executor", field: str = "jobs") -> int:
     """``jobs`` as an int if it is a whole number of workers from 1 to :data:`MAX_JOBS` (the
     range of ``twin dataset --jobs``); an :class:`InputError` otherwise (0, negative numbers,
     2.5, True: never taken as "in this process")."""
-    if isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral):
+    if not limits.is_whole(jobs):
         raise InputError(source, field, f"expected a whole number of workers from 1 to {MAX_JOBS}, got {jobs!r}")
     n = int(jobs)
     if not 1 <= n <= MAX_JOBS:

@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from twin import limits
 from twin.errors import InputError
 from twin.fem.assembly import assemble_heat, assemble_nested_coupling
 from twin.fem.mesh import MachineMesh, mesh_machine
@@ -81,8 +82,7 @@ def part_materials(machine, materials, source: str = SOURCE, field: str = "mater
                                                            f"MATERIALS[{name!r}].scaled(conductivity=1.05)), got "
                                                            f"{material!r}")
         values = {k: getattr(material, k) for k in MATERIAL_PROPERTIES + ("poisson_ratio", "expansion")}
-        bad = [k for k, v in values.items() if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating))
-               or not np.isfinite(v) or (k in MATERIAL_PROPERTIES and v <= 0)
+        bad = [k for k, v in values.items() if not limits.is_number(v) or not np.isfinite(v) or (k in MATERIAL_PROPERTIES and v <= 0)
                or (k == "poisson_ratio" and not -1.0 < v < 0.5)]
         if bad:
             raise InputError(source, f"{field}[{name!r}].{bad[0]}", f"{values[bad[0]]!r} is not a possible value "

@@ -42,6 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from twin.errors import InputError
+from twin.limits import is_number, is_whole
 from twin.physics import kernels
 from twin.units import UnitError, parse_quantity
 
@@ -102,8 +103,7 @@ class SolverOptions:
         self.elastic_rtol = _fraction(self.elastic_rtol, "elastic_rtol")
         self.max_iterations = _whole(self.max_iterations, "max_iterations", 1, None, "iterations")
         self.rom_order = _whole(self.rom_order, "--rom-order", MIN_ROM_ORDER, MAX_ROM_ORDER, "basis vectors")
-        if isinstance(self.elastic_coarsening, bool) or not isinstance(self.elastic_coarsening, (int, np.integer)) \
-                or not 1 <= self.elastic_coarsening <= MAX_ELASTIC_COARSENING:
+        if not is_whole(self.elastic_coarsening) or not 1 <= self.elastic_coarsening <= MAX_ELASTIC_COARSENING:
             raise InputError("command line", "--elastic-coarsening",
                              f"must be a whole number from 1 (the temperature mesh) to {MAX_ELASTIC_COARSENING} (beyond, "
                              f"the elastic mesh keeps little but the parts' faces), got {self.elastic_coarsening!r}")
@@ -121,10 +121,6 @@ class SolverOptions:
         return "direct" if nheat <= DIRECT_LIMIT else "iterative"
 
 
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
-
-
 def _heat_tol(value) -> float:
     """``heat_tol`` [K]: a number (in K) or a quantity text (``"1e-4 K"``), finite and positive."""
     if isinstance(value, str):
@@ -132,7 +128,7 @@ def _heat_tol(value) -> float:
             value = parse_quantity(value, "temperature_difference")
         except UnitError as err:
             raise InputError("command line", "--heat-tol", str(err)) from None
-    if not _is_number(value) or not np.isfinite(value) or not value > 0:
+    if not is_number(value) or not np.isfinite(value) or not value > 0:
         raise InputError("command line", "--heat-tol", f"a temperature difference in K (a number, or a text like "
                                                        f"'1e-6 K'), finite and positive, got {value!r}")
     return float(value)
@@ -140,7 +136,7 @@ def _heat_tol(value) -> float:
 
 def _fraction(value, field: str) -> float:
     """A relative tolerance: a number strictly between 0 and 1."""
-    if not _is_number(value) or not 0 < value < 1:
+    if not is_number(value) or not 0 < value < 1:
         raise InputError("command line", field, f"a relative residual, a number greater than 0 and less than 1, "
                                                 f"got {value!r}")
     return float(value)
@@ -148,8 +144,7 @@ def _fraction(value, field: str) -> float:
 
 def _whole(value, field: str, lower: int, upper: int | None, what: str) -> int:
     """A whole number of ``what`` from ``lower`` to ``upper`` (None: no upper limit)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) \
-            or value < lower or (upper is not None and value > upper):
+    if not is_whole(value) or value < lower or (upper is not None and value > upper):
         span = f"from {lower} to {upper}" if upper is not None else f"at least {lower}"
         raise InputError("command line", field, f"a whole number of {what} {span}, got {value!r}")
     return int(value)
