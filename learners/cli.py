@@ -45,10 +45,9 @@ from learners.leaderboard import COLUMNS, as_input_error, leaderboard, write_csv
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.runs import check_one_interval, dataset_runs, is_time_ordered, resample, select_runs
 from learners.table import Table, check_problem, load_table, target_unit
-from twin.cli.options import add_seed_option, whole_number
+from twin.cli.options import add_seed_option, positive_quantity_value, whole_number
 from twin.errors import InputError
 from twin.io.paths import Files
-from twin.units import UnitError, parse_quantity
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
@@ -234,15 +233,7 @@ def run_learn(args) -> int:
 
 def _interval(text):
     """``--interval`` in s (None when not given)."""
-    if text is None:
-        return None
-    try:
-        value = parse_quantity(text, "time")
-    except UnitError as exc:
-        raise InputError("command line", "--interval", str(exc)) from None
-    if value <= 0:
-        raise InputError("command line", "--interval", f"must be positive, got {text!r}")
-    return value
+    return None if text is None else positive_quantity_value(text, "time", "--interval")
 
 
 def _note(args, train_label):

@@ -5,10 +5,9 @@
 
 from __future__ import annotations
 
-from twin.errors import InputError
+from twin.cli.options import positive_quantity_value
 from twin.io.atomic import output_folder
 from twin.io.paths import Files
-from twin.units import UnitError, parse_quantity
 from validate.inputs import declare_inputs
 
 REPORT_FILES = ("index.html", "report.md")
@@ -35,14 +34,7 @@ def run_report(args) -> int:
     from validate.iso230 import default_test, evaluate
     from validate.iso230_report import write_iso230_report
 
-    segment = None
-    if args.segment is not None:
-        try:
-            segment = parse_quantity(args.segment, "time")
-        except UnitError as err:
-            raise InputError("command line", "--segment", str(err)) from None
-        if segment <= 0:
-            raise InputError("command line", "--segment", f"must be positive, got {args.segment!r}")
+    segment = None if args.segment is None else positive_quantity_value(args.segment, "time", "--segment")
     files = Files()
     declare_inputs(files, args)
     out = files.folder(args.output, "-o", REPORT_FILES)

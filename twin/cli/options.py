@@ -16,6 +16,33 @@ def seed(text: str) -> int:
         raise argparse.ArgumentTypeError(str(err)) from None
 
 
+def positive_quantity_value(text: str, dimension: str, field: str) -> float:
+    """``text``, a positive quantity with its unit (``"60 s"``, ``"20mm"``; :func:`twin.units.
+    parse_quantity`), in SI units; else :class:`twin.errors.InputError` on the option ``field``."""
+    from twin.errors import InputError
+    from twin.units import UnitError, parse_quantity
+
+    try:
+        value = parse_quantity(text, dimension)
+    except UnitError as err:
+        raise InputError("command line", field, str(err)) from None
+    if not value > 0:
+        raise InputError("command line", field, f"must be positive, got {text!r}")
+    return value
+
+
+def positive_quantity(dimension: str):
+    """argparse type of a positive quantity with its unit (:func:`positive_quantity_value`)."""
+    from twin.errors import InputError
+
+    def parse(text: str) -> float:
+        try:
+            return positive_quantity_value(text, dimension, "")
+        except InputError as err:
+            raise argparse.ArgumentTypeError(err.message) from None
+    return parse
+
+
 def whole_number(what: str, lower: int = 0, upper: int | None = None):
     """argparse type of an integer option counting ``what`` (workers, cases, segments), from
     ``lower`` to ``upper`` (no upper limit: None)."""

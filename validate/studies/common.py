@@ -39,19 +39,11 @@ def cli_parser(prog: str, description: str) -> argparse.ArgumentParser:
 
 
 def quantity(dimension: str):
-    """argparse type of a positive quantity with its unit (``"20mm"``, ``"1e-6 K"``; :func:`twin.units.
-    parse_quantity`), in SI units."""
-    def parse(text: str) -> float:
-        from twin.units import UnitError, parse_quantity
+    """argparse type of a positive quantity with its unit, in SI units
+    (:func:`twin.cli.options.positive_quantity`)."""
+    from twin.cli.options import positive_quantity
 
-        try:
-            value = parse_quantity(text, dimension)
-        except UnitError as err:
-            raise argparse.ArgumentTypeError(str(err)) from None
-        if not value > 0:
-            raise argparse.ArgumentTypeError(f"must be positive, got {text!r}")
-        return value
-    return parse
+    return positive_quantity(dimension)
 
 
 def whole_numbers(what: str, lower: int = 1):
