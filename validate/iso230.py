@@ -220,8 +220,9 @@ def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:
             ("duration", f"{(t[-1] - t[0]) / 3600:.4g} h"),
             ("sampling", f"{t.size} {'interferometer runs' if ev.test == 'axis' and 'positioning_error' in ds else 'samples'}"
                          f", median interval {float(np.median(np.diff(t))):g} s")]
-    if moved_axes(ds):
-        rows.append(("axes moved", moved_axes(ds)))
+    moved = moved_axes(ds)
+    if moved:
+        rows.append(("axes moved", moved))
     if "probe_id" in ds.coords:
         rows.append(("displacement sensors", f"{ds.probe_id.size} probes ({', '.join(map(str, ds.probe_id.values))}) "
                                              "on the test bar; drift and tilts by the five-probe evaluation"))

@@ -22,12 +22,17 @@ def axis_name(entry: dict, seen: dict, mach, msrc: str, key: str) -> str:
         raise InputError(msrc, key + ".axis", "expected an axis name such as \"Y\"")
     if axis in seen:
         raise InputError(msrc, key + ".axis", f"axis {axis} mapped twice")
+    return known_axis(axis, mach, msrc, key + ".axis")
+
+
+def known_axis(axis: str, mach, src: str, field: str) -> str:
+    """``axis`` when ``mach`` has it (or no machine is given), else an error listing its axes."""
     if mach is not None:
         try:
             mach.axis(axis)
         except KeyError:
             known = ", ".join(a.name for a in mach.axes) or "none"
-            raise InputError(msrc, key + ".axis", f"machine {mach.name} has no axis {axis!r}; its axes: {known}") from None
+            raise InputError(src, field, f"machine {mach.name} has no axis {axis!r}; its axes: {known}") from None
     return axis
 
 

@@ -76,7 +76,7 @@ import xarray as xr
 from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
-from twin.io.axis_logs import axis_name, check_log, integrated_feed
+from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml
@@ -172,10 +172,7 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
         mm = ds.axis_position.transpose("time", "axis_name").values
         for i, axis in enumerate(ds.axis_name.values):
             field = f"axis_position:{axis}"
-            if mach is not None and str(axis) not in [a.name for a in mach.axes]:
-                raise InputError(src, field, f"machine {mach.name} has no axis {str(axis)!r}; its axes: "
-                                             f"{', '.join(a.name for a in mach.axes) or 'none'}")
-            check_log(str(axis), t, mm[:, i] * 1e-3, mach, src, field)
+            check_log(known_axis(str(axis), mach, src, field), t, mm[:, i] * 1e-3, mach, src, field)
     if "sensor" in ds.coords:
         names = [check_sensor_name(str(n), src, f"sensor[{i}]", NETCDF_BAD_NAME_CHARACTERS)
                  for i, n in enumerate(ds.sensor.values)]
