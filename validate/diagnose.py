@@ -65,6 +65,7 @@ from validate.candidates import candidate_pool
 from validate.diagnosis_text import diagnosis_json, format_diagnosis, reasoning  # noqa: F401  (re-exported)
 from validate.evidence import Evidence, channel_weights, make_records, noise_levels
 from validate.fit import BoundedFitter
+from validate.fit_text import at_bound, bound_text, format_bounds, format_values, statement
 from validate.search import Fit, Search
 from validate.signatures import DISPLACEMENT_GROUPS, Engine
 
@@ -395,62 +396,6 @@ def nuisance_report(fitter: BoundedFitter, materials: list[str], bands: dict, g:
     return {m: {"change": float(v), "band": float(bands[m][0]), "unit": NUISANCE_UNIT, "at_bound": bool(a),
                 "source": bands[m][1]}
             for m, v, a in zip(materials, c, at)}
-
-
-BOUND_TOL = 1e-3   # a fitted value within this fraction of its range's width of a bound is at it
-
-
-def at_bound(f: Fit) -> list[str]:
-    """The members (``effect.parameter``) of a fit whose value sits at a bound of its range."""
-    out = []
-    for c, v in zip(f.candidates, f.values):
-        tol = BOUND_TOL * max(c.upper - c.lower, 1e-300)
-        if abs(v - c.lower) <= tol or abs(v - c.upper) <= tol:
-            out.append(f"{c.effect}.{c.parameter}")
-    return out
-
-
-def format_bounds(f: Fit) -> dict[str, dict[str, list[str]]]:
-    """{effect: {parameter: ["lower unit", "upper unit"]}}: the range each member was fitted in."""
-    from twin.units import format_quantity
-    out: dict[str, dict[str, list[str]]] = {}
-    for c in f.candidates:
-        out.setdefault(c.effect, {})[c.parameter] = [format_quantity(float(f"{b:.4g}"), c.dimension)
-                                                     for b in (c.lower, c.upper)]
-    return out
-
-
-def bound_text(f: Fit) -> str:
-    """'floor.conductance at its bound 200 W/m2K (range 2 W/m2K to 200 W/m2K)' for each member at a bound,
-    '; '-joined; a missing effect at the value where it adds nothing says so ('' when none)."""
-    from twin.units import format_quantity
-    out = []
-    names = set(at_bound(f))
-    for c, v in zip(f.candidates, f.values):
-        if f"{c.effect}.{c.parameter}" not in names:
-            continue
-        q = lambda x: format_quantity(float(f"{x:.3g}"), c.dimension)
-        nothing = (", where it adds nothing" if not c.in_model and abs(v - c.zero) <= BOUND_TOL * (c.upper - c.lower)
-                   else "")
-        out.append(f"{c.effect}.{c.parameter} at its bound {q(v)} (range {q(c.lower)} to {q(c.upper)}{nothing})")
-    return "; ".join(out)
-
-
-def statement(f: Fit) -> str:
-    """'spindle_bearings.front_power is 195 W, not 150 W' (and ' and ' between pair members)."""
-    return " and ".join(c.text(v) for c, v in zip(f.candidates, f.values))
-
-
-def format_values(f: Fit, model: bool = False) -> dict[str, dict[str, str]]:
-    """{effect: {parameter: "value unit"}} of a fit; with ``model``, the model's values of the members
-    the model has (a parameter candidate's p_0)."""
-    from twin.units import format_quantity
-    out: dict[str, dict[str, str]] = {}
-    for c, v in zip(f.candidates, f.values):
-        if model and not c.in_model:
-            continue
-        out.setdefault(c.effect, {})[c.parameter] = format_quantity(c.zero if model else v, c.dimension)
-    return out
 
 
 def _score(d: Diagnosis, fits: list[Fit], min_explained: float, bic_margin: float) -> None:

@@ -24,6 +24,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import lsq_linear
 
+BOUND_TOL = 1e-3   # a fitted value within this fraction of its range's width of a bound is at it
+
 
 class BoundedFitter:
     """Weighted residual ``r`` (N,), weights ``w`` (N,), nuisance columns ``nuisance`` (k, N) with
@@ -76,10 +78,17 @@ class BoundedFitter:
         c = self.nuisance(g)
         return self.r - g - c @ self.N if self.k else self.r - g
 
-    def at_bound(self, c: np.ndarray, tol: float = 1e-3) -> np.ndarray:
+    def at_bound(self, c: np.ndarray, tol: float = BOUND_TOL) -> np.ndarray:
         """Which nuisance amplitudes sit at a bound (within ``tol`` of the band's width)."""
-        width = np.maximum(self.hi - self.lo, 1e-300)
-        return (np.abs(c - self.lo) <= tol * width) | (np.abs(c - self.hi) <= tol * width)
+        return at_bounds(c, self.lo, self.hi, tol)
+
+
+def at_bounds(values, lower, upper, tol: float = BOUND_TOL) -> np.ndarray:
+    """Which ``values`` sit at a bound of their range [``lower``, ``upper``]: within ``tol`` of
+    the range's width of either end (the nuisance's bands and the candidates' ranges alike)."""
+    values, lower, upper = (np.asarray(a, dtype=float) for a in (values, lower, upper))
+    width = np.maximum(upper - lower, 1e-300)
+    return (np.abs(values - lower) <= tol * width) | (np.abs(values - upper) <= tol * width)
 
 
 def gauss_newton(fitter: BoundedFitter, evaluate, p0: np.ndarray, lower: np.ndarray, upper: np.ndarray,
