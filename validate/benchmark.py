@@ -38,12 +38,13 @@ SOLVER_NAMES = {"full": "auto", "rom": "rom", "direct": "direct", "iterative": "
 
 def _parser() -> argparse.ArgumentParser:
     from twin.cli.options import add_seed_option, whole_number
-    from validate.studies.common import cli_parser, quantity
+    from twin.cli.options import positive_quantity
+    from validate.studies.common import cli_parser
 
     ap = cli_parser("python -m validate.benchmark", __doc__.splitlines()[0])
     ap.add_argument("--machine", default="cframe-vmc")
     ap.add_argument("--scenario", default="etve-day-night")
-    ap.add_argument("--spacing", type=quantity("length"), default=None,
+    ap.add_argument("--spacing", type=positive_quantity("length"), default=None,
                     help="cell size with its unit, e.g. 20mm (default: the --mesh resolution's)")
     ap.add_argument("--mesh", default=None, choices=["coarse", "default", "fine"],
                     help="a named resolution, not with --spacing (default: default)")
@@ -57,7 +58,7 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--elastic-coarsening", type=whole_number("grid lines", 1, 8), default=1,
                     help="solve the elasticity on every N-th grid line of the temperature mesh, 1 to 8 (default 1: "
                          "the same)")
-    ap.add_argument("--heat-tol", type=quantity("temperature_difference"), default=None,
+    ap.add_argument("--heat-tol", type=positive_quantity("temperature_difference"), default=None,
                     help="iterative heat solver: bound on the run's capacity-weighted RMS temperature error, "
                          "with its unit (default 1e-6 K)")
     ap.add_argument("--heat-start", default="auto", choices=["auto", "projection", "reduced"],

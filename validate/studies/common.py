@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cli_parser", "quantity", "whole_numbers", "run_cli", "check_output_folder", "check_camera_pose",
+__all__ = ["cli_parser", "whole_numbers", "run_cli", "check_output_folder", "check_camera_pose",
            "parse_args", "study_main", "data_main", "table_main", "preset", "fit_score", "select", "write_csv",
            "markdown_table", "fmt"]
 
@@ -36,14 +36,6 @@ def cli_parser(prog: str, description: str) -> argparse.ArgumentParser:
     from twin.cli import Parser
 
     return Parser(prog=prog, description=description)
-
-
-def quantity(dimension: str):
-    """argparse type of a positive quantity with its unit, in SI units
-    (:func:`twin.cli.options.positive_quantity`)."""
-    from twin.cli.options import positive_quantity
-
-    return positive_quantity(dimension)
 
 
 def whole_numbers(what: str, lower: int = 1):

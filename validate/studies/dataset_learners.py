@@ -35,11 +35,11 @@ from learners.leaderboard import leaderboard, write_csv, write_markdown
 from learners.registry import LEARNERS, make_selector
 from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table, target_unit
-from twin.cli.options import add_seed_option, whole_number
+from twin.cli.options import add_seed_option, positive_quantity, whole_number
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
 from twin.io.paths import Files, read_text
-from validate.studies.common import (check_output_folder, cli_parser, markdown_table, preset, quantity, run_cli,
+from validate.studies.common import (check_output_folder, cli_parser, markdown_table, preset, run_cli,
                                      write_csv as write_rows)
 from validate.studies.placement_search import exhaustive_best, greedy_oracle
 from validate.studies.sensor_placement import INTUITIVE
@@ -165,7 +165,7 @@ def _parser():
     p.add_argument("--target", default="drift:Z", help="the target (default drift:Z, the true tool-point drift)")
     p.add_argument("--learners", default=",".join(SEED_LEARNERS), help="comma-separated learners (default: the seeds')")
     p.add_argument("--select", default="gm0n-fcm:4", help="METHOD:K for the leaderboard's inputs (default gm0n-fcm:4)")
-    p.add_argument("--interval", type=quantity("time"), default="60 s",
+    p.add_argument("--interval", type=positive_quantity("time"), default="60 s",
                    help="thin every run to this sample interval, with its unit (default '60 s')")
     p.add_argument("--segments", type=whole_number("segments", 1), default=4, help="time segments per run in the leaderboard (default 4)")
     p.add_argument("--n-random", type=whole_number("random sets"), default=20, help="random sensor sets (default 20)")

@@ -38,8 +38,9 @@ import time
 import numpy as np
 import scipy.sparse.linalg as spla
 
+from twin.cli.options import positive_quantity
 from twin.physics.steppers import IterativeStepper
-from validate.studies.common import (check_output_folder, cli_parser, markdown_table, quantity, run_cli,
+from validate.studies.common import (check_output_folder, cli_parser, markdown_table, run_cli,
                                      whole_numbers, write_csv)
 
 NAME = "heat_step"
@@ -174,10 +175,10 @@ def _parser():
     from twin.cli.options import whole_number
 
     p = cli_parser(f"python -m validate.studies.{NAME}", __doc__.splitlines()[0])
-    p.add_argument("--spacing", type=quantity("length"), help="cell size with its unit (default 40mm)")
+    p.add_argument("--spacing", type=positive_quantity("length"), help="cell size with its unit (default 40mm)")
     p.add_argument("--steps", type=whole_number("steps", 1, 1440), help="steps solved by each variant, 1 to 1440 "
                                                                         "(default 300)")
-    p.add_argument("--heat-tol", type=quantity("temperature_difference"), default="1e-6 K",
+    p.add_argument("--heat-tol", type=positive_quantity("temperature_difference"), default="1e-6 K",
                    help="the run's verified tolerance with its unit (default 1e-6 K)")
     p.add_argument("--coarsening", type=whole_numbers("grid lines", 2), default="2,3",
                    help="two-grid coarse grids: every N-th line (N >= 2), comma-separated (default 2,3)")
