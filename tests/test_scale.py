@@ -454,3 +454,20 @@ def test_amg_set_up_is_reproducible_and_leaves_numpy_random_alone():
     cycles = [amg_cycle(smoothed_aggregation(sparse.csr_matrix(A), max_coarse=10)) for _ in range(2)]
     assert np.array_equal(np.random.get_state()[1], before)
     assert np.array_equal(cycles[0](b), cycles[1](b))
+
+
+def test_benchmark_cases_share_the_start_temperature_a_batch_needs():
+    """``validate.benchmark --cases N`` scales the room's amplitude; a room away from its mean at
+    t = 0 (etve-training starts at 08:00) must not give each case another start temperature, which
+    run_batch refuses: every case starts from case 0's, and case 0 is the scenario itself."""
+    from twin.api import machine_by_name
+    from twin.model import default_spec
+    from twin.scenario import load_scenario
+    from validate.benchmark import vary_cases
+    sc = load_scenario("etve-training")
+    assert sc.ambient_temperature(np.array([0.0]))[0] != pytest.approx(sc.ambient.mean)
+    cases = vary_cases(sc, default_spec(machine_by_name("cframe-vmc")), 4, seed=0)
+    assert {c.start_temperature for c, _ in cases} == {sc.start_temperature}
+    assert cases[0][0].ambient == sc.ambient
+    amps = [c.ambient.amplitude / sc.ambient.amplitude for c, _ in cases[1:]]
+    assert all(0.5 <= a <= 1.5 for a in amps) and len(set(amps)) == 3

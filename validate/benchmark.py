@@ -78,7 +78,9 @@ def _parser() -> argparse.ArgumentParser:
 
 def vary_cases(scenario, spec, n: int, seed: int) -> list:
     """``n`` (scenario, spec) cases: every linear strength and the ambient amplitude scaled by
-    factors uniform in [0.5, 1.5] (case 0 is the unscaled model)."""
+    factors uniform in [0.5, 1.5] (case 0 is the unscaled model). Every case starts from case 0's
+    machine temperature (batched cases share it): a room whose cycle is away from its mean at
+    t = 0 (``etve-training`` starts at 08:00) would otherwise start each case elsewhere."""
     from twin.effects import EFFECTS
     from twin.model import ModelSpec
 
@@ -91,7 +93,8 @@ def vary_cases(scenario, spec, n: int, seed: int) -> list:
         for k, e in enumerate(linear):
             params[e][EFFECTS[e].strength] *= f[k]
         amb = replace(scenario.ambient, amplitude=scenario.ambient.amplitude * f[-1])
-        cases.append((replace(scenario, ambient=amb), ModelSpec(spec.effects, params)))
+        cases.append((replace(scenario, ambient=amb, initial_temperature=scenario.start_temperature),
+                       ModelSpec(spec.effects, params)))
     return cases
 
 
