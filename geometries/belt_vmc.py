@@ -78,8 +78,9 @@ from __future__ import annotations
 from geometries.axes import LinearAxis, Scale
 from geometries.base import (PROBE_HEIGHTS, Box, Machine, Part, Point, Surface, common_surfaces, material,
                              test_bar_nest)
+from geometries import cframe_vmc
 from geometries.cframe_vmc import SPINDLE_EFFECTS
-from geometries.regions import Band, Facing, InBox, Named, Parts, Union
+from geometries.regions import Named
 
 NAME = "belt-vmc"
 
@@ -281,25 +282,6 @@ def axes(bed_top: float) -> list[LinearAxis]:
 
 
 def roles(col_top: float, col_y0: float) -> dict:
-    """The machine contract of the belt-driven VMC (see :func:`geometries.cframe_vmc.roles`): the
-    same places as the C-frame, plus the pulley's rim where the belt runs."""
-    skin = Named("skin")
-    return {
-        "spindle.front_bearing": Parts(("front_bearing",)),
-        "spindle.rear_bearing": Parts(("rear_bearing",)),
-        "spindle.motor": Parts(("motor",)),
-        "spindle.belt_contact": Named("belt_contact"),
-        "spindle.rotating": Union((Named("test_bar_skin"), Named("spindle_nose"))),
-        "spindle.jacket": Named("spindle_jacket"),
-        "test_bar.seat": Named("test_bar_seat"),
-        "test_bar.body": Parts(("test_bar",)),
-        "structure.skin": skin,
-        "structure.front": Facing(skin, "-y"),
-        # the column's front carries the Z guideways under their way covers: a draft reaches the
-        # head, the spindle and the bed, saddle and table in front of it, not the column face
-        "structure.open_front": InBox(Facing(skin, "-y"), Box((-10, -10, -10), (10, col_y0 - 0.01, 10))),
-        "structure.rear": Facing(skin, "+y"),
-        "floor.contact": Named("floor_contact"),
-        "cabinet.face": Named("column_side_left"),
-        "z_drive.top": Band(Parts(("column",)), "z", col_top - 0.2, col_top),
-    }
+    """The machine contract of the belt-driven VMC: the C-frame's places
+    (:func:`geometries.cframe_vmc.roles`), plus the pulley's rim where the belt runs."""
+    return {**cframe_vmc.roles(col_top, col_y0), "spindle.belt_contact": Named("belt_contact")}
