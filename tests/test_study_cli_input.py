@@ -222,6 +222,9 @@ def csv_dataset(tmp_path):
 
 @pytest.mark.parametrize("argv, needle", [
     (["--select", "gm0n-fcm:5"], "command line: --select: asks for 5 inputs, the dataset's runs have 2 sensors"),
+    (["--select", "all:2"], "command line: --select: all keeps every sensor and takes no count"),
+    (["--select", "all"], "the placement benchmark compares sets of 4 sensors"),
+    (["--select", "gm0n-fcm:"], "K must be a whole number >= 1, got ''"),
     (["--learners", "mlr,mlr"], "command line: --learners: mlr given more than once"),
     (["--seed", "1", "--seed", "2"], "command line: --seed: given more than once"),
     (["--interval", "0 s"], "command line: --interval: must be positive"),
@@ -234,3 +237,14 @@ def test_dataset_study_checks_everything_before_its_folder(csv_dataset, argv, ne
     assert dataset_learners.main([str(csv_dataset), "-o", str(out), *argv]) == 2
     one_error(capsys, needle)
     assert not out.exists()
+
+
+def test_dataset_study_leaderboard_on_every_sensor(csv_dataset, tmp_path):
+    """``--select all`` (the registry's selector without a count) puts every sensor into the
+    leaderboard's inputs."""
+    import pandas as pd
+    out = tmp_path / "out"
+    assert dataset_learners.main([str(csv_dataset), "-o", str(out), "--select", "all", "--no-placement",
+                                  "--learners", "mlr", "--segments", "1"]) == 0
+    board = pd.read_csv(out / "leaderboard.csv")
+    assert set(board["inputs"]) == {"T1;T2"}

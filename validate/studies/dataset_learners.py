@@ -12,9 +12,10 @@ and writes under OUT (default ``validate-out/dataset_learners/``):
   (the noise-free ``drift``; the inputs are the *measured* temperatures, absolute degC), on the
   whole split and on each scenario family in it, whole runs and ``--segments`` time segments
   (:mod:`learners.leaderboard`);
-- ``placement.csv`` / ``placement.md``: k-sensor sets (k from ``--select``) scored by the
-  placement learners (``mlr``, ``gm1n``): each selection method of the seeds
-  (``learners/selection_*.py``) picking on the training runs; the machine's intuitive sites (the
+- ``placement.csv`` / ``placement.md``: k-sensor sets (k from ``--select``, 4 with ``--select
+  all``, which puts every sensor into the leaderboard) scored by the placement learners (``mlr``,
+  ``gm1n``): each registered selection method that picks k (``learners/selection_*.py``) picking
+  on the training runs; the machine's intuitive sites (the
   first k of ``motor``, ``spindle_boss``, ``column_front_top``, ``test_bar``); ``--n-random``
   random sets; the truth-greedy set and the optimum for least squares found by
   exhaustive search over all C(p, k) sets with the test truth
@@ -32,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from learners.leaderboard import leaderboard, write_csv, write_markdown
-from learners.registry import LEARNERS, make_selector
+from learners.registry import LEARNERS, SELECTORS, make_selector
 from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity, whole_number
@@ -47,7 +48,7 @@ from validate.studies.sensor_placement import INTUITIVE
 NAME = "dataset_learners"
 SEED_LEARNERS = ("mlr", "pcr", "ann", "anfis-fcm", "lssvm", "pso-bpnn", "ar-temp", "combination", "gm1n", "gmc1n",
                  "gmc1n-pso", "gnnmci")
-SELECTORS = ("gm0n-fcm", "gra-fcm", "hier-corr", "fuzzy-r2", "correlation")
+ALL_SENSORS = "all"     # the registry's selector that keeps every sensor: no count, not a placement method
 PLACEMENT_LEARNERS = ("mlr", "gm1n")
 
 __all__ = ["load_split", "run_leaderboard", "placement_sets", "run_placement", "main"]
@@ -83,7 +84,7 @@ def _test_sets(tests, split):
 
 
 def _pick(X_runs, method: str, k: int, seed: int) -> list[int]:
-    sel = make_selector(method, **({"n_select": k} if method != "all" else {}))
+    sel = make_selector(method, **({"n_select": k} if method != ALL_SENSORS else {}))
     if "random_state" in sel.get_params(deep=False):
         sel.set_params(random_state=seed)
     return [int(i) for i in select_runs(sel, X_runs).selected_]
@@ -111,7 +112,7 @@ def placement_sets(train, tests, names, k: int, seed: int, n_random: int, exhaus
     yte = np.concatenate([t.y for _, t in tests])
     cand = list(range(len(names)))
     sets, notes = {}, {}
-    for method in SELECTORS:
+    for method in placement_selectors():
         sets[f"selected: {method}"] = [_pick([(t.X, t.y) for _, t in train], method, k, seed)]
         notes[f"selected: {method}"] = "picked on the training runs"
     intuitive = [names.index(s) for s in INTUITIVE[:k] if s in names]
@@ -164,7 +165,8 @@ def _parser():
     p.add_argument("--train-split", default="train", help="the split trained on (default train)")
     p.add_argument("--target", default="drift:Z", help="the target (default drift:Z, the true tool-point drift)")
     p.add_argument("--learners", default=",".join(SEED_LEARNERS), help="comma-separated learners (default: the seeds')")
-    p.add_argument("--select", default="gm0n-fcm:4", help="METHOD:K for the leaderboard's inputs (default gm0n-fcm:4)")
+    p.add_argument("--select", default="gm0n-fcm:4",
+                   help="METHOD:K for the leaderboard's inputs, or all: every sensor (default gm0n-fcm:4)")
     p.add_argument("--interval", type=positive_quantity("time"), default="60 s",
                    help="thin every run to this sample interval, with its unit (default '60 s')")
     p.add_argument("--segments", type=whole_number("segments", 1), default=4, help="time segments per run in the leaderboard (default 4)")
@@ -187,12 +189,20 @@ def _check_names(args) -> list[str]:
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise InputError("command line", "--learners", f"{', '.join(twice)} given more than once")
-    method, _, k = args.select.partition(":")
+    method, colon, k = args.select.partition(":")
     if method not in SELECTORS:
         raise InputError("command line", "--select", f"unknown selector {method!r}; known: {', '.join(sorted(SELECTORS))}")
-    if k and (not k.isdigit() or int(k) < 1):
+    if method == ALL_SENSORS and colon:
+        raise InputError("command line", "--select", f"{ALL_SENSORS} keeps every sensor and takes no count, got {k!r}")
+    if colon and (not k.isdigit() or int(k) < 1):
         raise InputError("command line", "--select", f"K must be a whole number >= 1, got {k!r}")
     return names
+
+
+def placement_selectors() -> list[str]:
+    """The registered selectors that pick a given number of sensors (every one but ``all``), in the
+    registry's order: a selector registered later joins the placement benchmark."""
+    return [name for name in SELECTORS if "n_select" in SELECTORS[name]().get_params()]
 
 
 def _run(args) -> int:
@@ -208,8 +218,12 @@ def _run(args) -> int:
     train = load_split(args.dataset, args.train_split, args.target, interval)
     names = train[0][1].input_names
     tests = load_split(args.dataset, args.split, args.target, interval, inputs=names)
-    k = int(args.select.partition(":")[2] or 4)
-    if k > len(names):
+    method, _, count = args.select.partition(":")
+    k = int(count or 4)
+    if method == ALL_SENSORS and k > len(names) and not args.no_placement:
+        raise InputError("command line", "--select", f"the placement benchmark compares sets of {k} sensors (its "
+                         f"default with {ALL_SENSORS}), the dataset's runs have {len(names)}: add --no-placement")
+    if method != ALL_SENSORS and k > len(names):
         raise InputError("command line", "--select", f"asks for {k} inputs, the dataset's runs have {len(names)} sensors")
     out.mkdir(parents=True, exist_ok=True)
     print(f"{len(train)} training runs ({sum(len(t.y) for _, t in train)} rows), {len(tests)} test runs "
