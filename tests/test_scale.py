@@ -391,6 +391,8 @@ def test_gpu_option_needs_the_iterative_path():
     from twin.errors import InputError
     with pytest.raises(InputError, match="--device"):
         SolverOptions("direct", "gpu")
+    with pytest.raises(InputError, match="reduced model"):   # it would run on the CPU under a "gpu" label
+        SolverOptions("rom", "gpu")
     assert SolverOptions("auto", "gpu").resolve(100) == "iterative"
     assert SolverOptions("auto").resolve(100) == "direct" and SolverOptions("auto").resolve(10**6) == "iterative"
 
@@ -471,3 +473,15 @@ def test_benchmark_cases_share_the_start_temperature_a_batch_needs():
     assert cases[0][0].ambient == sc.ambient
     amps = [c.ambient.amplitude / sc.ambient.amplitude for c, _ in cases[1:]]
     assert all(0.5 <= a <= 1.5 for a in amps) and len(set(amps)) == 3
+
+
+def test_benchmark_rom_error_names_the_outputs_it_compared(capsys):
+    """With --heat-only there is no drift output: the reduced model's error is measured on the
+    temperature sensors and the JSON says so (it reported 0.0, an empty maximum, before)."""
+    import json
+
+    from validate import benchmark
+    assert benchmark.main(["--mesh", "coarse", "--scenario", "etve-training", "--solver", "rom", "--heat-only",
+                           "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["max_rel_error_of"] == ["temperature"] and 0.0 < out["max_rel_error"] < 1e-2

@@ -164,7 +164,7 @@ def _run(args) -> int:
     if args.solver == "rom":
         result.update(rom_order=info["rom_order"], offline_s=round(offline, 3))
         if not args.no_reference:
-            result["max_rel_error"] = _reference_error(twin, cases, observers, readings)
+            result["max_rel_error"], result["max_rel_error_of"] = _reference_error(twin, cases, observers, readings)
     if args.cases == 1 and _elastic_reference(args):
         result["elastic_rel_error"] = _elastic_error(twin, loads, scenario, observers, readings, snapshots)
     return _print(result, args)
@@ -237,23 +237,23 @@ def _worst_relative(got: np.ndarray, ref: np.ndarray) -> float:
     return float(np.max(np.abs(got - ref).max(axis=0)[ok] / peak[ok]))
 
 
-def _reference_error(twin, cases, observers, readings, most: int = 3) -> float:
-    """max over the drift outputs (and up to ``most`` cases) of max_t |rom - full| / max_t |full|,
-    both as changes from the start."""
+def _reference_error(twin, cases, observers, readings, most: int = 3) -> tuple[float, list[str]]:
+    """(max over the drift outputs (and up to ``most`` cases) of max_t |rom - full| / max_t |full|,
+    both as changes from the start; the outputs compared). Without drift outputs (``--heat-only``)
+    the temperature sensors are compared instead, and the second item says so."""
     reduced_options = twin.options
     twin.options = replace(reduced_options, solver="auto")
+    keys = [k for k in ("drift", "probes") if k in readings] or ["temperature"]
     worst = 0.0
     try:
         for j, (sc, spec) in enumerate(cases[:most]):
             _, full = twin.run(sc, spec, observers)
-            for key in ("drift", "probes"):
-                if key not in full:
-                    continue
+            for key in keys:
                 ref = full[key] - full[key][0]
                 worst = max(worst, _worst_relative(readings[key][:, :, j] - readings[key][0, :, j], ref))
     finally:
         twin.options = reduced_options
-    return worst
+    return worst, keys
 
 
 if __name__ == "__main__":

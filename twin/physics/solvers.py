@@ -96,9 +96,10 @@ class SolverOptions:
         if self.heat_start not in HEAT_STARTS:
             raise InputError("command line", "--heat-start",
                              f"unknown heat start {self.heat_start!r}; known: {', '.join(HEAT_STARTS)}")
-        if self.device == "gpu" and self.solver == "direct":
-            raise InputError("command line", "--device", "the GPU path is the iterative heat step: use --solver "
-                                                         "iterative or auto with --device gpu")
+        if self.device == "gpu" and self.solver in ("direct", "rom"):
+            raise InputError("command line", "--device", f"the GPU path is the full-order iterative heat step, not the "
+                             f"{'direct solver' if self.solver == 'direct' else 'reduced model (it runs on the CPU)'}: "
+                             f"use --solver iterative or auto with --device gpu")
         self.heat_tol = _heat_tol(self.heat_tol)
         self.elastic_rtol = _fraction(self.elastic_rtol, "elastic_rtol")
         self.max_iterations = _whole(self.max_iterations, "max_iterations", 1, None, "iterations")
