@@ -95,6 +95,14 @@ class LinearAxis:
         return self.nut_at_zero + p
 
 
+def carried_sign(machine, axis: LinearAxis) -> float:
+    """+1 when ``axis`` moves the tool point's part, -1 when it moves the workpiece point's (0 when
+    it moves both or neither): the sign with which the axis's own positioning error, along its
+    direction, enters the tool's position relative to the workpiece."""
+    parts = {p.name: p.part for p in machine.points}
+    return float(parts[machine.tool_point] in axis.moving) - float(parts[machine.workpiece_point] in axis.moving)
+
+
 def with_feed_drives(machine, axes=None):
     """A copy of ``machine`` with the parts, surfaces, roles, sensor points and default effects of
     the :class:`FeedDrive` of every axis named in ``axes`` (all axes that have one when None; the

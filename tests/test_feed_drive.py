@@ -419,3 +419,34 @@ def test_the_diagnosis_study_hides_the_feed_drive_effects_on_the_axis_scenario()
     runs = load_case_scenario("seed003-exp1", quick=True).interferometer.runs   # the runs within 195 min, and its end
     assert runs == (0.0, 1200.0, 3600.0, 7200.0, 11700.0)
     assert load_case_scenario("seed003-exp1", quick=False).interferometer.runs[-1] == 23400.0
+
+
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_semi_closed_error_at_a_free_uniform_expansion_is_the_axis_own_coordinate(axis):
+    """ISO 230-2's positioning error is the moving side's actual minus commanded position along
+    the axis. A machine of one expansion coefficient at a uniform rise dT expands freely
+    (u = alpha dT (x - x0)), so e(p) = alpha dT (s (x_w - x_t) . d + p - p_ref), s = +1 for an
+    axis carrying the workpiece (X, Y), -1 for one carrying the tool (Z), to round-off. (The
+    structure's share took s = +1 on every axis before: Z read the tool's expansion with the
+    wrong sign against its screw's.)"""
+    from types import SimpleNamespace
+
+    from geometries import build_machine
+    from geometries.axes import carried_sign
+    from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
+    from twin.physics.prepared import PreparedTwin
+    machine = with_feed_drives(build_machine("cframe-vmc"), {axis})
+    iron = material("grey_cast_iron")
+    one_alpha = {p.material.name: p.material.scaled(expansion=iron.expansion / p.material.expansion)
+                 for p in machine.parts}
+    twin = PreparedTwin(machine, resolution="coarse", materials=one_alpha)
+    ax = machine.axis(axis)
+    obs = LaserInterferometer(InterferometerConfig(axis, (0.0,)), machine)
+    dT = 2.0
+    e = obs.rows(twin, SimpleNamespace(mm=twin.mm)) @ np.full(twin.mm.nheat, dT)
+    d = np.eye(3)["XYZ".index(axis)]
+    s = -carried_sign(machine, ax)
+    assert s == (-1.0 if axis == "Z" else 1.0)
+    gap = (np.subtract(machine.point(machine.workpiece_point).xyz, machine.point(machine.tool_point).xyz)) @ d
+    expect = iron.expansion * dT * (s * gap + obs.targets - ax.p_ref)
+    assert e == pytest.approx(expect, rel=1e-9, abs=1e-9 * np.abs(expect).max())

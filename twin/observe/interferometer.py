@@ -11,8 +11,12 @@ A scenario asks for it with::
 At each run the optics read every target in both directions with the structure's temperature
 frozen at that instant (the seconds a run takes are neglected, so both directions read alike:
 the model has no reversal error). The laser is on the tool side and the retroreflector on the
-workpiece; the error is the actual minus the commanded position of the workpiece relative to the
-tool along the axis:
+workpiece; the error is the actual minus the commanded position of the axis (ISO 230-2), the
+moving side relative to the other: of the workpiece relative to the tool when the axis carries the
+workpiece (s = +1: the C-frame's X and Y), of the tool relative to the workpiece when it carries
+the tool (s = -1: Z). So at a free uniform expansion alpha dT of a machine of one material,
+e(p) = alpha dT (s (x_w - x_t) . d + p - p_ref) with x_w, x_t the workpiece and tool points at
+the mesh's pose p_ref, whichever side moves:
 
 * **semi-closed loop** (rotary encoder): the nut sits where the screw's length from its fixed
   bearing puts it, so
@@ -20,8 +24,8 @@ tool along the axis:
       e(p) = alpha_s integral_{y_f}^{y_n(p)} (T_screw(s) - T_0) ds + c,
 
   with y_f the fixed bearing, y_n(p) the nut at commanded position p and c the structure's share
-  (tool relative to workpiece along the axis, plus the fixed bearing's displacement, minus the
-  nut's as the bonded mesh gives it), one adjoint functional (:mod:`twin.observe.displacement`);
+  (s (u_w - u_t) along the axis, plus the fixed bearing's displacement, minus the nut's as the
+  bonded mesh gives it), one adjoint functional (:mod:`twin.observe.displacement`);
   c does not depend on p, so it moves the curve and leaves its slope;
 * **closed loop** (linear scale): the read head stops where the graduation p is, and the
   graduations follow the scale's carrier, so
@@ -29,8 +33,7 @@ tool along the axis:
       e(p) = u_c(y_s(p)) + c',
 
   u_c the carrier's displacement along the axis at the scale's graduation for p and c' the
-  structure's share (workpiece relative to tool minus the read head's displacement at the mesh's
-  pose); the screw's expansion does not enter. Both from adjoint functionals (one per target).
+  structure's share (s (u_w - u_t) minus the read head's displacement at the mesh's pose); the screw's expansion does not enter. Both from adjoint functionals (one per target).
 
 Output: ``positioning_error(run_time, target, direction)`` [um] as the change from the cold state
 at t = 0 (the reference run: the thermal error), the targets' positions [mm], and
@@ -46,6 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from geometries.axes import carried_sign
 from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
@@ -116,6 +120,9 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
         axis = machine.axis(config.axis)
     except KeyError:
         raise InputError(src, "interferometer.axis", f"machine {machine.name} has no axis {config.axis!r}") from None
+    if carried_sign(machine, axis) == 0.0:
+        raise InputError(src, "interferometer.axis", f"axis {axis.name} of {machine.name} carries neither the tool nor "
+                                                     "the workpiece alone: its positioning error has no side")
     if (axis.drive if axis.feedback == "semi-closed" else axis.scale) is None:
         what = "screw (feed drive)" if axis.feedback == "semi-closed" else "linear scale"
         raise InputError(src, "interferometer.axis", f"axis {axis.name} of {machine.name} is {axis.feedback} loop and "
@@ -184,23 +191,25 @@ class LaserInterferometer(DisplacementObserver):
         return p
 
     def functionals(self, mm):
-        """Semi-closed, one row: (workpiece - tool) + fixed bearing - nut housing along the axis
+        """Semi-closed, one row: s (workpiece - tool) + fixed bearing - nut housing along the axis
         (the structure's share c: on the bonded mesh the moving body follows the structure under
         the nut; on the machine it follows the fixed bearing plus the screw). Closed, 1 + n_targets
-        rows: (workpiece - tool) - read head at the mesh's pose, then the scale's carrier at each
-        target's graduation."""
+        rows: s (workpiece - tool) - read head at the mesh's pose, then the scale's carrier at each
+        target's graduation. s = +1 when the axis carries the workpiece, -1 when it carries the
+        tool (module docstring)."""
         m, a = mm.machine, self.axis
         d = np.eye(3)["xyz".index(a.direction)]
         ends = [m.point(m.workpiece_point).xyz, m.point(m.tool_point).xyz]
+        s = -carried_sign(m, a)
         if a.feedback == "semi-closed":
             pts = ends + [self._point(a.drive.fixed_end, a.drive.screw_axis),
                           self._point(a.nut_coordinate(a.p_ref), np.add(a.drive.screw_axis, a.drive.nut_offset))]
-            weights = np.array([[1.0, -1.0, 1.0, -1.0]])
+            weights = np.array([[s, -s, 1.0, -1.0]])
         else:
             marks = [self._point(y, a.scale.line) for y in a.nut_coordinate(self.targets)]
             pts = ends + [self._point(a.nut_coordinate(a.p_ref), a.scale.head)] + marks
             weights = np.zeros((1 + len(marks), len(pts)))
-            weights[0, :3] = (1.0, -1.0, -1.0)
+            weights[0, :3] = (s, -s, -1.0)
             weights[np.arange(1, len(marks) + 1), np.arange(3, len(pts))] = 1.0
         P = interpolation_matrix(mm, np.array(pts), [f"interferometer point {i}" for i in range(len(pts))], field="mesh")
         return sp.csr_matrix(weights @ displacement_functional(P, d))

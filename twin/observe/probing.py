@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from geometries.axes import carried_sign
 from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.observe.base import variable
@@ -134,12 +135,9 @@ class DatumProbing(DisplacementObserver):
             for j, d in enumerate(self.datums):
                 pos = np.tile([d["XYZ".index(a)] for a in names], (len(raw), 1))
                 out[:, j] += carry.correction(raw[:, 3:3 + ncarry], pos, pairs)
-        parts = {p.name: p.part for p in machine.points}
-        tool, work = parts[machine.tool_point], parts[machine.workpiece_point]
         screw = raw[:, 3 + ncarry:]
         for i, a in enumerate(self.screws):
-            sign = float(tool in a.moving) - float(work in a.moving)
-            out[:, :, "xyz".index(a.direction)] += sign * screw[:, i * n:(i + 1) * n]
+            out[:, :, "xyz".index(a.direction)] += carried_sign(machine, a) * screw[:, i * n:(i + 1) * n]
         return out - out[:1]
 
     def data(self, raw, ctx):
