@@ -116,6 +116,9 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
 
     field = meshio.read(tmp_path / "hot.vtu")
     assert len(field.cells_dict["hexahedron"]) == ds.attrs["mesh_cells"]
+    # the field's instant, the VTK field data TimeValue [s]: one of the run's samples, after the start
+    (when,) = field.field_data["TimeValue"].tolist()
+    assert when > 0 and when in ds.time.values.tolist()
     assert field.point_data["temperature_degC"].max() > 20.5
     png = tmp_path / "r.png"
     assert main(["plot", str(out), "-o", str(png)]) == 0 and png.stat().st_size > 10000

@@ -363,6 +363,21 @@ def test_reduced_model_cases_are_identical_and_carry_no_wall_times(tmp_path):
     assert "rom_error_bound" in (tmp_path / "a" / "README.md").read_text()
 
 
+def test_reduced_model_cases_do_not_depend_on_the_case_a_worker_ran_before(tmp_path):
+    """A worker keeps its prepared twin, and the reduced basis is built from the film coefficients
+    of the run that first needs it: each case builds its own, so a case's bytes do not depend on
+    the order its worker met the cases in (--jobs 1 and --jobs 2 gave different files before)."""
+    from twin.dataset import runner
+    spec = load_spec(write_spec(tmp_path, SPEC.replace('seed = 3', 'seed = 3\nsolver = "rom"')))
+    cases = plan(spec)[:2]
+    for name, order in (("a", cases), ("b", cases[::-1])):
+        runner._local.__dict__.pop("twins", None)      # a fresh worker
+        out = tmp_path / name
+        out.mkdir()
+        build(order, out)
+    assert_same_cases(tmp_path / "b", tmp_path / "a")
+
+
 def test_the_bundled_example_plans_100_cases():
     from twin.scenario import SCENARIO_DIR
 

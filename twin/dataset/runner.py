@@ -89,6 +89,10 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
         data["camera"] = (own if isinstance(own, list) else [own]) + cams
     sc = scenario_from_dict(data, f"dataset:{family}", default_name=family)
     twin = _prepared(record["machine"], record["mesh"], record["solver"], tuple(sorted({m.axis for m in sc.axes})))
+    # the reduced basis is built from the film coefficients of the run that first needs it and then
+    # cached (twin.physics.rom.reduced_basis): a case must not reuse another's, or its numbers would
+    # depend on which case its worker ran before (--jobs 1 and --jobs 2 gave different files)
+    twin.reduced.clear()
     machine = twin.machine
     check_motions(sc, machine)
     if max_steps is not None:

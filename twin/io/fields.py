@@ -9,6 +9,7 @@ temporary file stays behind, and the same field gives byte-identical files.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
 from pathlib import Path
@@ -44,9 +45,12 @@ def declare_field(files, path: str | os.PathLike, field: str = "--field") -> Pat
 
 def write_temperature_field(mm, field: np.ndarray, path, time_s: float) -> Path:
     """Write the nodal temperature [degC] (temperature dofs mapped to mesh nodes; at a split
-    contact the first copy is kept) and each cell's part index on the hexahedral mesh. An XDMF
-    ``path`` also writes :func:`heavy_data_file` beside it (meshio's layout); commands use
-    :func:`save_temperature_field`."""
+    contact the first copy is kept) and each cell's part index on the hexahedral mesh
+    (coordinates in m), at the run's instant ``time_s`` [s]: a VTU holds it as the field data
+    ``TimeValue`` (the VTK convention ParaView reads; meshio reads it into ``field_data``), an
+    XDMF as a temporal collection of one step (``<Time Value=...>``; ParaView shows it, and
+    ``meshio.xdmf.TimeSeriesReader`` reads it). An XDMF ``path`` also writes
+    :func:`heavy_data_file` beside it (meshio's layout); commands use :func:`save_temperature_field`."""
     import meshio
 
     path = Path(path)
@@ -55,12 +59,30 @@ def write_temperature_field(mm, field: np.ndarray, path, time_s: float) -> Path:
     node_values = np.asarray(field)[: mm.nnodes]
     # meshio's hexahedron numbers corners counter-clockwise per face; scikit-fem's order differs
     order = [0, 2, 4, 1, 3, 6, 7, 5]
-    mesh = meshio.Mesh(mm.mesh.p.T, [("hexahedron", mm.mesh.t[order].T)],
-                       point_data={"temperature_degC": node_values},
-                       cell_data={"part": [mm.cell_part.astype(np.int32)]},
-                       field_data={"time_s": np.array([time_s, 0])})
-    mesh.write(path, file_format="xdmf" if path.suffix.lower() == ".xdmf" else "vtu")
+    points, cells = mm.mesh.p.T, [("hexahedron", mm.mesh.t[order].T)]
+    point_data, cell_data = {"temperature_degC": node_values}, {"part": [mm.cell_part.astype(np.int32)]}
+    if path.suffix.lower() == ".xdmf":
+        # meshio's time-series writer puts its HDF5 file in the working folder: write from the
+        # XDMF's own (this changes the process's working folder for the moment: not for threads)
+        with contextlib.chdir(path.resolve().parent), meshio.xdmf.TimeSeriesWriter(path.name) as series:
+            series.write_points_cells(points, cells)
+            series.write_data(float(time_s), point_data=point_data, cell_data=cell_data)
+        return path
+    meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data).write(path, file_format="vtu")
+    _add_vtu_time(path, float(time_s))
     return path
+
+
+def _add_vtu_time(path: Path, time_s: float) -> None:
+    """Insert the VTK field data ``TimeValue`` [s] after the ``<UnstructuredGrid>`` tag of a VTU
+    written by meshio (whose writer drops ``field_data``)."""
+    text = path.read_text(encoding="ascii")
+    tag = "<UnstructuredGrid>\n"
+    time_data = (f'<FieldData>\n<DataArray type="Float64" Name="TimeValue" NumberOfTuples="1" format="ascii">\n'
+                 f"{time_s!r}\n</DataArray>\n</FieldData>\n")
+    if tag not in text:   # pragma: no cover - meshio's layout changed
+        raise RuntimeError(f"{path}: no <UnstructuredGrid> tag to put the field's time after")
+    path.write_text(text.replace(tag, tag + time_data, 1), encoding="ascii")
 
 
 def save_temperature_field(mm, field: np.ndarray, path, time_s: float, field_name: str = "--field") -> list[Path]:
