@@ -239,7 +239,7 @@ class ThermalCamera(Observer):
                 "intrinsics": c.intrinsics.as_dict(), "band_um": [c.band[0] * 1e6, c.band[1] * 1e6],
                 "frame_interval_s": float(np.diff(ctx.times[self.sample_steps(ctx.times)][:2]).sum()),
                 "settings": self.settings(ctx.scenario).as_dict(),
-                "scene": {"room_temperature_degC": c.room_temperature, "room_humidity": c.room_humidity,
+                "scene": {"room_temperature_degC": c.room_temperature, "room_humidity_fraction": c.room_humidity,
                           "wall_distance_m": c.wall_distance, "air_path": c.air_path},
                 "sensor": c.sensor.as_dict(), "edge_rays": c.edge_rays, "rays": int(len(self.view.ray_pixel)),
                 "counts_stored": bool(getattr(self, "_counts_stored", c.store_counts))}

@@ -61,7 +61,12 @@ class Microbolometer:
         return Microbolometer(**{**asdict(self), **zero})
 
     def as_dict(self) -> dict:
-        return asdict(self)
+        """The parameters with their units in their names (a result's ``camera`` attribute)."""
+        units = {"netd": "K", "reference_temperature": "degC", "fixed_pattern": "K", "row_fixed": "K",
+                 "column_fixed": "K", "row_temporal": "K", "column_temporal": "K", "frame_temporal": "K",
+                 "offset": "K", "drift": "K", "drift_time": "s", "accuracy": "K", "range": "degC"}
+        return {f"{k}_{units[k]}" if k in units else k: list(v) if isinstance(v, tuple) else v
+                for k, v in asdict(self).items()}
 
 
 class SensorChain:

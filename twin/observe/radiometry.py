@@ -146,4 +146,4 @@ class ObjectSettings:
     def as_dict(self) -> dict:
         return {"emissivity": self.emissivity, "reflected_temperature_degC": self.reflected_temperature,
                 "distance_m": self.distance, "air_temperature_degC": self.air_temperature,
-                "relative_humidity": self.relative_humidity, "air_transmission": self.transmission}
+                "relative_humidity_fraction": self.relative_humidity, "air_transmission": self.transmission}
