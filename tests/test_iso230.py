@@ -118,7 +118,7 @@ def test_axis_needs_positioning_errors():
                           direction=["forward", "backward"])
     ev = evaluate(ds, "axis")
     assert default_test(ds) == "axis"
-    assert [(c.name, c.range) for c in ev.channels] == [("target 100", 3.0), ("target 400", 2.0)]
+    assert [(c.name, c.range) for c in ev.channels] == [("target 100 mm", 3.0), ("target 400 mm", 2.0)]
     assert np.array_equal(ev.channels[0].values, [0.0, 2.0, 3.0]) and np.array_equal(ev.time, runs)
     assert np.allclose(ev.air, np.interp(runs, ds.time.values, ds.ambient_temperature.values), rtol=0, atol=1e-12)
     with pytest.raises(InputError, match="two"):

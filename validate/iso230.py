@@ -125,7 +125,8 @@ def axis_channels(ds: xr.Dataset, source: str) -> tuple[np.ndarray, list[Channel
         raise InputError(source, "--test", "an axis thermal-drift evaluation needs laser-interferometer runs "
                                            "(positioning_error) or axes that moved: this file has neither; use "
                                            "--test etve or spindle")
-    return runs, [Channel(f"target {split(name)[1]}", unit, stacked.values[:, j] - stacked.values[0, j])
+    where = ds["target"].attrs.get("units", "") if "target" in ds.coords else ""   # the targets' positions: mm
+    return runs, [Channel(f"target {split(name)[1]} {where}".rstrip(), unit, stacked.values[:, j] - stacked.values[0, j])
                   for j, (name, unit) in enumerate(zip(stacked.names, stacked.units))]
 
 
