@@ -35,3 +35,26 @@ def test_air_sensors_read_the_model_air():
     strat = run(m, SHORT, spec, mm=mm, observers=[TemperatureSensors(air)])
     z = np.array([p.xyz[2] for p in air])
     np.testing.assert_allclose(strat.sensor_true, room + 0.8 * (z - 1.0), rtol=0, atol=1e-12)
+
+
+def test_five_probe_evaluation_of_a_rigid_motion_of_the_spindle_side():
+    """ISO 230-3's five-probe evaluation on a rigid motion u = t + theta x (x - r0) of the test bar,
+    spindle and carrier (the table still): the tilts A = (Y1 - Y2)/d and B = (X2 - X1)/d read
+    theta_x and theta_y, and the drift extrapolated to the tool point (X, Y linearly from the two
+    probe heights, Z the end probe) is the rigid motion of the tool point, t + theta x (x_tool - r0),
+    as the tool-point functional reads it: exact for a rigid motion, to round-off."""
+    from twin.observe import FiveProbeTestBar
+    from twin.observe.displacement import derived_from_probes, relative_displacement
+    m = build_machine("cframe-vmc")
+    mm = mesh_machine(m, "coarse")
+    nodes = np.unique(mm.mesh.t[:, mm.cells_of("test_bar", "spindle", "carrier")])
+    theta, t, r0 = np.array([7e-6, -4e-6, 0.0]), np.array([2e-6, -3e-6, 5e-6]), np.array([0.1, -0.2, 1.3])
+    u = np.zeros((mm.nnodes, 3))
+    u[nodes] = t + np.cross(theta, mm.mesh.p[:, nodes].T - r0)
+    readings = (FiveProbeTestBar().functionals(mm) @ u.ravel())[None, :] * 1e6
+    drift, tilt = derived_from_probes(readings, [p.name for p in m.probes], m)
+    exact = (t + np.cross(theta, np.asarray(m.point(m.tool_point).xyz) - r0)) * 1e6
+    np.testing.assert_allclose(tilt[0], theta[:2] * 1e6, rtol=1e-12)
+    np.testing.assert_allclose(drift[0], exact, rtol=1e-12)
+    tool = relative_displacement(mm, m.tool_point, m.workpiece_point, np.eye(3)) @ u.ravel() * 1e6
+    np.testing.assert_allclose(tool, exact, rtol=1e-12)

@@ -87,3 +87,30 @@ def test_point_interpolation_is_exact_for_trilinear_fields():
     u = np.zeros(3 * mm.nnodes)
     u[2::3] = field
     assert np.allclose(D @ u, exact, rtol=1e-12)
+
+
+def test_uniaxial_strain_and_thermal_forces_give_the_elastic_moduli():
+    """Hooke's law in the element: a uniaxial strain u = e x e_x gives the constrained (P-wave)
+    modulus sigma_xx = E (1 - nu) / ((1 + nu)(1 - 2 nu)) e on the face x = L and the lateral stress
+    sigma_yy = E nu / ((1 + nu)(1 - 2 nu)) e on the face y = w, and no force inside (uniform stress);
+    a uniform rise dT pushes the face x = L with 3 K alpha dT A, the bulk modulus K = E / (3 (1 - 2 nu)).
+    All exact for trilinear elements on these linear fields: to round-off. (The stress-free
+    thermal tests above cannot see E or nu.)"""
+    from twin.fem.assembly import assemble_elastic
+    L, w, e, dT = 0.3, 0.1, 1e-4, 1.0
+    mm = box_body((L, w, w), 0.05)
+    steel = MATERIALS["steel"]
+    E, nu = steel.youngs_modulus, steel.poisson_ratio
+    el = assemble_elastic(mm)
+    p = mm.mesh.p.T
+    u = np.zeros((mm.nnodes, 3))
+    u[:, 0] = e * p[:, 0]
+    f = (el.K @ u.ravel()).reshape(-1, 3)
+    right, top = np.isclose(p[:, 0], L), np.isclose(p[:, 1], w)
+    sigma_xx = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) * e
+    assert f[right, 0].sum() == pytest.approx(sigma_xx * w * w, rel=1e-12)
+    assert f[top, 1].sum() == pytest.approx(E * nu / ((1 + nu) * (1 - 2 * nu)) * e * L * w, rel=1e-12)
+    inside = np.all((p > 1e-9) & (p < np.array([L, w, w]) - 1e-9), axis=1)
+    assert inside.any() and np.abs(f[inside]).max() < 1e-12 * sigma_xx * w * w
+    thermal = (el.C @ np.full(mm.nheat, dT)).reshape(-1, 3)
+    assert thermal[right, 0].sum() == pytest.approx(E / (1 - 2 * nu) * steel.expansion * dT * w * w, rel=1e-12)
