@@ -146,3 +146,18 @@ def test_run_heat_power_and_energy_with_all_new_effects():
     assert np.all(door[inside] < 0)  # cold draft takes heat out
     src, conv, stored = run.step_energy()
     assert src + conv == pytest.approx(stored, rel=1e-9)
+
+
+def test_forced_convection_is_beckers_law_for_the_rotating_bar():
+    """Becker's rotating cylinder in still air, Nu = 0.133 Re^(2/3) Pr^(1/3) with Re = omega D^2 / nu:
+    h = h_ref (n/n_ref)^(2/3) exactly at half the reference speed (0.5^(2/3) h_ref), 0 at rest, and
+    the default h_ref 150 W/(m2 K) within 10 % of the correlation for the C-frame's 40 mm bar at
+    9000 rpm in air at 20 degC (nu 1.51e-5 m2/s, k 0.0257 W/(m K), Pr 0.71: 164 W/(m2 K))."""
+    from twin.effects.base import speed_power_law
+    p = EFFECTS["spindle_forced_convection"].defaults()
+    sc = Scenario("half", ((600.0, 4500.0), (600.0, 0.0)), Ambient("constant", mean=20.0), 60.0)
+    h = speed_power_law(sc, p["reference_speed"], p["exponent"], p["h_reference"])(np.array([300.0, 900.0]))
+    assert h[0] == pytest.approx(p["h_reference"] * 0.5 ** (2.0 / 3.0), rel=1e-14) and h[1] == 0.0
+    omega, diameter, nu, k, prandtl = p["reference_speed"] * 2 * np.pi / 60, 0.04, 1.51e-5, 0.0257, 0.71
+    becker = 0.133 * (omega * diameter ** 2 / nu) ** (2 / 3) * prandtl ** (1 / 3) * k / diameter
+    assert p["reference_speed"] == 9000.0 and p["h_reference"] == pytest.approx(becker, rel=0.10)

@@ -130,3 +130,23 @@ def test_a_gantry_result_drives_the_twin_again_and_plots(c_axis_runs, tmp_path):
     np.testing.assert_array_equal(sc.c_axis.duty(t)[t < 7200], 0.5)
     plot_result(ds, tmp_path / "r.png")
     assert (tmp_path / "r.png").stat().st_size > 1000
+
+
+def test_c_axis_powers_follow_their_own_speed_laws_below_the_reference_speed():
+    """Away from n_ref the two laws differ: at 1250 rpm (n/n_ref = 1/2), 10 s on / 10 s off
+    (d = 1/2), P_motor = d P_m (1/2)^1 = 75 W and P_bearing = d P_b (1/2)^(5/3) = 62.996 W (the
+    default exponents, motor x_m = 1, bearing Palmgren 5/3), exactly; 0 after the last step."""
+    from twin.effects import EFFECTS
+    from twin.effects.rotary import c_axis_power
+    from twin.scenario import scenario_from_dict
+    sc = scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+                             "spindle": [{"speed": "0 rpm", "duration": "2 h"}],
+                             "c_axis": [{"speed": "1250 rpm", "duration": "1 h", "on": "10 s", "dwell": "10 s"},
+                                        {"speed": "0 rpm", "duration": "1 h"}]}, "c.toml")
+    p = EFFECTS["c_axis_drive"].defaults()
+    t = np.array([60.0, 1800.0, 3540.0, 3660.0, 7000.0])
+    motor = c_axis_power(sc, p["reference_speed"], p["motor_exponent"], p["motor_power"])(t)
+    bearing = c_axis_power(sc, p["reference_speed"], p["bearing_exponent"], p["bearing_power"])(t)
+    np.testing.assert_allclose(motor[:3], 0.5 * 300.0 * 0.5, rtol=1e-14)
+    np.testing.assert_allclose(bearing[:3], 0.5 * 400.0 * 0.5 ** (5.0 / 3.0), rtol=1e-14)
+    assert np.all(motor[3:] == 0.0) and np.all(bearing[3:] == 0.0)
