@@ -35,6 +35,14 @@ def test_air_sensors_read_the_model_air():
     strat = run(m, SHORT, spec, mm=mm, observers=[TemperatureSensors(air)])
     z = np.array([p.xyz[2] for p in air])
     np.testing.assert_allclose(strat.sensor_true, room + 0.8 * (z - 1.0), rtol=0, atol=1e-12)
+    # and with stratified_swing in a room that swings: T_air(t) + s (z - z_ref) (T_air(t) - T_air(0))
+    daily = Scenario("daily", ((7200.0, 0.0),), Ambient("daily", mean=20.0, amplitude=3.0), 600.0)
+    room = daily.ambient_temperature(daily.times())[:, None]
+    spec = model_spec(m, "+stratified_swing", ["stratified_swing.growth=1.5 /m",
+                                               "stratified_swing.reference_height=0.5 m"])
+    swing = run(m, daily, spec, mm=mm, observers=[TemperatureSensors(air)])
+    np.testing.assert_allclose(swing.sensor_true, room + 1.5 * (z - 0.5) * (room - room[0]), rtol=0, atol=1e-12)
+    assert np.ptp(room) > 0.5
 
 
 def test_five_probe_evaluation_of_a_rigid_motion_of_the_spindle_side():

@@ -142,6 +142,13 @@ class Effect:
     def loads(self, mm, scenario, params: dict[str, float]) -> list:
         raise NotImplementedError
 
+    def air_change(self, z: np.ndarray, t: np.ndarray, scenario, params: dict[str, float]) -> np.ndarray | None:
+        """(n_t, n_z) [K] what this effect adds to the room air T_air(t) at heights ``z`` [m] and
+        times ``t`` [s] in the model's air (what a sensor in the air reads,
+        :func:`twin.observe.temperature.air_temperature`); None for an effect that leaves the air
+        as the room's (every effect but the stratifications)."""
+        return None
+
 
 EFFECTS: dict[str, Effect] = {}
 

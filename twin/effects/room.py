@@ -80,6 +80,10 @@ class AmbientStratification(Effect):
         return linear_in_height(mm, self.name, p["h"] * p["gradient"], p["reference_height"],
                                 lambda t: np.ones(np.shape(t)))
 
+    def air_change(self, z, t, scenario, p):
+        """g (z - z_ref) at every instant."""
+        return np.repeat(p["gradient"] * (np.asarray(z, float)[None, :] - p["reference_height"]), len(t), axis=0)
+
 
 @register_effect
 class StratifiedSwing(Effect):
@@ -111,6 +115,10 @@ class StratifiedSwing(Effect):
     def loads(self, mm, scenario, p):
         return linear_in_height(mm, self.name, p["h"] * p["growth"], p["reference_height"],
                                 lambda t: layered_swing(scenario, t))
+
+    def air_change(self, z, t, scenario, p):
+        """s (z - z_ref) (T_air(t) - T_air(0)), the door events left out (:func:`layered_swing`)."""
+        return p["growth"] * layered_swing(scenario, t)[:, None] * (np.asarray(z, float)[None, :] - p["reference_height"])
 
 
 def linear_in_height(mm, label: str, scale: float, z_ref: float, shape) -> list:

@@ -3,9 +3,10 @@
 A sensor whose site is on a part reads T at its point through the sensor model of
 :func:`twin.observe.instruments.temperature_reading` (first-order lag, bias, noise, quantisation).
 A sensor in the air (``part == "air"``, a machine's ``air_sites``) reads the air temperature the
-model assumes there: the room air T_air(t), plus g (z - z_ref) when the model has the
-``ambient_stratification`` effect (its gradient g and reference height z_ref). Its rows are zero:
-the model's air does not depend on the structure's temperature.
+model assumes there: the room air T_air(t) plus what the model's effects add to it at the
+sensor's height (:meth:`twin.effects.base.Effect.air_change`: g (z - z_ref) of
+``ambient_stratification``, s (z - z_ref) (T_air(t) - T_air(0)) of ``stratified_swing``). Its rows
+are zero: the model's air does not depend on the structure's temperature.
 """
 
 from __future__ import annotations
@@ -22,12 +23,15 @@ RECORDED = "temperature_recorded"   # RunContext.extra key: {sensor name: its re
 
 def air_temperature(points, ctx: RunContext) -> np.ndarray:
     """(n_t, n_points) the model's air temperature [degC] at ``points`` over the run."""
+    from twin.effects import EFFECTS
+
     air = np.asarray(ctx.scenario.ambient_temperature(ctx.times), float)[:, None]
-    z = np.array([p.xyz[2] for p in points], float)[None, :]
+    z = np.array([p.xyz[2] for p in points], float)
     out = np.repeat(air, len(points), axis=1)
-    strat = ctx.spec.params.get("ambient_stratification") if "ambient_stratification" in ctx.spec.effects else None
-    if strat:
-        out = out + strat["gradient"] * (z - strat["reference_height"])
+    for name in ctx.spec.effects:
+        change = EFFECTS[name].air_change(z, np.asarray(ctx.times, float), ctx.scenario, ctx.spec.params[name])
+        if change is not None:
+            out = out + change
     return out
 
 
