@@ -451,6 +451,9 @@ def test_the_dataset_study_writes_a_leaderboard_and_a_placement_benchmark(built,
     mlr = placement[placement["learner"] == "mlr"].set_index("set")
     assert {"selected: gm0n-fcm", "intuitive", "random", "truth-greedy", "truth-exhaustive"} <= set(mlr.index)
     assert (mlr.loc["truth-exhaustive", "rmse"] <= mlr["rmse_min"] + 1e-9).all()
+    # results carry units: both tables name the target's unit in their rows (drift: um)
+    assert set(placement["unit"]) == set(board["unit"]) == {"um"}
+    assert "| test RMSE um |" in (res / "placement.md").read_text()
     assert "truth-exhaustive" in (res / "placement.md").read_text()
     assert dataset_learners.main([str(out), "-o", str(res), "--split", "nope"]) == 2
 

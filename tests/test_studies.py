@@ -58,6 +58,14 @@ def test_placement_main_quick_writes_outputs(tmp_path):
     for name in ("placement.md", "placement.csv", "placement_draws.csv", "placement.png"):
         assert (tmp_path / name).stat().st_size > 0
     assert "greedy-oracle" in (tmp_path / "placement.md").read_text()
+    # results carry units: the CSV columns in um name it, as the Markdown's headings do
+    header = {name: (tmp_path / name).read_text().splitlines()[0].split(",")
+              for name in ("placement.csv", "placement_draws.csv")}
+    assert {"test_rmse_um", "test_max_abs_residual_um", "test_rmse_min_um", "test_rmse_max_um"} <= set(
+        header["placement.csv"])
+    assert {"train_rmse_um", "test_rmse_um", "test_max_abs_residual_um"} <= set(header["placement_draws.csv"])
+    assert not {"test_rmse", "test_rmse_min", "test_max_abs_residual"} & set(
+        header["placement.csv"] + header["placement_draws.csv"])
 
 
 def test_seed001_learner_notes_are_computed_from_the_models():
@@ -153,3 +161,22 @@ def test_study_rows_hold_no_wall_time_so_repeats_write_the_same_files(tmp_path):
     write_csv(tmp_path / "a.csv", rows[:1])
     write_csv(tmp_path / "b.csv", rows[1:])
     assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
+
+
+def test_study_csv_columns_carry_their_units(tmp_path):
+    """write_csv's ``units`` names a column's unit in its header (``test_rmse`` in um is
+    ``test_rmse_um``); the values and the other columns are unchanged, keys the rows lack ignored."""
+    import csv
+
+    from validate.studies.common import score_units, write_csv
+
+    rows = [{"learner": "mlr", "train_rmse": 1.5, "test_rmse": 2.5, "test_nse": 0.9, "test_max_abs_residual": 4.0},
+            {"learner": "ann", "test_rmse": 3.0, "extra": 7.0}]
+    write_csv(tmp_path / "u.csv", rows, {**score_units("um"), "extra": "K", "absent": "s"})
+    with open(tmp_path / "u.csv", newline="") as f:
+        back = list(csv.DictReader(f))
+    assert list(back[0]) == ["learner", "train_rmse_um", "test_rmse_um", "test_nse", "test_max_abs_residual_um",
+                             "extra_K"]
+    assert back[0]["test_rmse_um"] == "2.5" and back[1]["test_rmse_um"] == "3.0" and back[1]["extra_K"] == "7.0"
+    assert score_units("urad") == {"train_rmse": "urad", "train_max_abs_residual": "urad", "test_rmse": "urad",
+                                   "test_max_abs_residual": "urad"}

@@ -21,7 +21,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from twin.plotting import save_figure
-from validate.studies.common import data_main, fit_score, markdown_table, preset, select, write_csv
+from validate.studies.common import data_main, fit_score, markdown_table, preset, score_units, select, write_csv
 
 NAME = "anfis_sweep"
 # thesis Table 5-2 (test RMSE, test NSE) and Table 5-1 (validation RMSE, test RMSE), um
@@ -105,9 +105,12 @@ def reading(inputs, mfs) -> str:
 IN_COLS = ["n_inputs", "n_mfs", "best_epoch", "train_nse", "train_rmse", "test_nse", "test_rmse", "test_r", "test_max_abs_residual",
            "thesis_test_nse", "thesis_test_rmse"]
 IN_HEAD = ["inputs", "MFs", "epoch kept", "train NSE", "train RMSE um", "test NSE", "test RMSE um", "test R", "test max|res| um",
-           "thesis test NSE", "thesis test RMSE"]
+           "thesis test NSE", "thesis test RMSE um"]
 MF_COLS = ["n_mfs", "epochs", "best_epoch", "train_rmse", "checking_rmse", "test_rmse", "test_nse", "thesis_validation_rmse", "thesis_test_rmse"]
-MF_HEAD = ["MFs", "epochs", "epoch kept", "train RMSE um", "checking RMSE um", "test RMSE um", "test NSE", "thesis validation RMSE", "thesis test RMSE"]
+MF_HEAD = ["MFs", "epochs", "epoch kept", "train RMSE um", "checking RMSE um", "test RMSE um", "test NSE", "thesis validation RMSE um", "thesis test RMSE um"]
+# the CSV columns in um (Z drift): train_rmse_um, test_rmse_um, checking_rmse_um, thesis_test_rmse_um, ...
+CSV_UNITS = {**score_units("um"),
+             **dict.fromkeys(("checking_rmse", "thesis_test_rmse", "thesis_validation_rmse"), "um")}
 
 
 def main(argv=None) -> int:
@@ -119,8 +122,8 @@ def _run(args, out, data) -> int:
     inputs = input_sweep(data, args.seed)
     print("MF sweep 2..9 ...", flush=True)
     mfs = mf_sweep(data, args.seed)
-    write_csv(out / "anfis_inputs.csv", inputs)
-    write_csv(out / "anfis_mfs.csv", mfs)
+    write_csv(out / "anfis_inputs.csv", inputs, CSV_UNITS)
+    write_csv(out / "anfis_mfs.csv", mfs, CSV_UNITS)
     i = data.info
     t1, t2 = markdown_table(inputs, IN_COLS, IN_HEAD), markdown_table(mfs, MF_COLS, MF_HEAD)
     text = (f"# ANFIS-FCM sweeps on `{i['machine']}` (mesh `{i['mesh']}`), Z drift\n\n"

@@ -11,7 +11,7 @@ import numpy as np
 
 __all__ = ["cli_parser", "whole_numbers", "run_cli", "check_output_folder", "check_camera_pose",
            "parse_args", "study_main", "data_main", "table_main", "preset", "fit_score", "select", "write_csv",
-           "markdown_table", "fmt"]
+           "score_units", "markdown_table", "fmt"]
 
 # Seed-like hyper-parameters (seed 001: ANFIS-FCM 6 rules for 1-5 inputs; ANN 4-10-1).
 # ANFIS: MATLAB anfis with checking data, as seed 001 split its training test into training and
@@ -199,17 +199,18 @@ def fit_score(est, X_train, y_train, X_test, y_test) -> tuple[dict, np.ndarray]:
     return {**{f"train_{k}": float(v) for k, v in tr.items()}, **{f"test_{k}": float(v) for k, v in te.items()}}, pred
 
 
-def table_main(name: str, doc: str, argv, rows_for, markdown) -> int:
+def table_main(name: str, doc: str, argv, rows_for, markdown, units: dict[str, str] | None = None) -> int:
     """``main`` of a study that writes one table: ``[--quick] [-o DIR]`` checked (:func:`study_main`),
     compute ``rows_for(resolution)`` (coarse mesh with ``--quick``, else default), write ``<name>.csv``
-    and ``<name>.md`` (``markdown(rows, command, resolution)``) into the output folder and print it."""
+    (the columns of ``units`` named with their unit, :func:`write_csv`) and ``<name>.md``
+    (``markdown(rows, command, resolution)``) into the output folder and print it."""
     from twin.io.atomic import atomic_write_text
 
     def run(args, out):
         resolution = "coarse" if args.quick else "default"
         rows = rows_for(resolution)
         out.mkdir(parents=True, exist_ok=True)
-        write_csv(out / f"{name}.csv", rows)
+        write_csv(out / f"{name}.csv", rows, units)
         command = f"python -m validate.studies.{name}{' --quick' if args.quick else ''}"
         atomic_write_text(out / f"{name}.md", markdown(rows, command, resolution))
         print(markdown(rows, command, resolution))
@@ -217,17 +218,27 @@ def table_main(name: str, doc: str, argv, rows_for, markdown) -> int:
     return study_main(name, doc, argv, run, (f"{name}.csv", f"{name}.md"), seed=False)
 
 
-def write_csv(path: Path, rows: list[dict]) -> Path:
-    """Write dict rows (union of keys, in first-seen order) to ``path``."""
+def write_csv(path: Path, rows: list[dict], units: dict[str, str] | None = None) -> Path:
+    """Write dict rows (union of keys, in first-seen order) to ``path``. ``units`` = {key: unit}:
+    the header of each such column is ``<key>_<unit>`` (results carry units: ``test_rmse`` in um
+    is written ``test_rmse_um``); keys the rows lack are ignored."""
+    units = units or {}
     keys: list[str] = []
     for r in rows:
         keys += [k for k in r if k not in keys]
+    header = {k: f"{k}_{units[k]}" if k in units else k for k in keys}
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=keys)
+        w = csv.DictWriter(f, fieldnames=[header[k] for k in keys])
         w.writeheader()
-        w.writerows(rows)
+        w.writerows({header[k]: v for k, v in r.items()} for r in rows)
     return path
+
+
+def score_units(unit: str = "um") -> dict[str, str]:
+    """{column: unit} of :func:`fit_score`'s columns in the target's unit (RMSE and max |residual|
+    of the training and the test data), for :func:`write_csv`'s ``units``."""
+    return {f"{split}_{score}": unit for split in ("train", "test") for score in ("rmse", "max_abs_residual")}
 
 
 def fmt(v, digits: int = 3) -> str:

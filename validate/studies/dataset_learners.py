@@ -19,7 +19,8 @@ and writes under OUT (default ``validate-out/dataset_learners/``):
   first k of ``motor``, ``spindle_boss``, ``column_front_top``, ``test_bar``); ``--n-random``
   random sets; the truth-greedy set and the optimum for least squares found by
   exhaustive search over all C(p, k) sets with the test truth
-  (:mod:`validate.studies.placement_search`; it is the optimum of the ``mlr`` row only).
+  (:mod:`validate.studies.placement_search`; it is the optimum of the ``mlr`` row only). Its
+  RMSE and |residual| columns are in the target's unit, the rows' ``unit`` (as the leaderboard's).
 
 Every run is thinned to ``--interval`` (default 60 s, the coarsest sample interval of the bundled
 example: time-ordered learners count in samples, so all runs must share one).
@@ -32,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from learners.leaderboard import leaderboard, write_csv, write_markdown
+from learners.leaderboard import leaderboard, unit_heading, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_selector
 from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table, target_unit
@@ -92,7 +93,8 @@ def _pick(X_runs, method: str, k: int, seed: int) -> list[int]:
 
 def run_leaderboard(train, tests, names, learner_names, select: str, split: str, segments: int, seed: int,
                     progress=None):
-    """Leaderboard rows of ``learner_names`` on the inputs ``select`` ("METHOD:K") picks."""
+    """Leaderboard rows of ``learner_names`` on the inputs ``select`` ("METHOD:K") picks, in the
+    target's unit (the rows' ``unit``)."""
     method, _, k = select.partition(":")
     cols = _pick([(t.X, t.y) for _, t in train], method, int(k or 4), seed)
     sub = lambda t: (t.X[:, cols], t.y)   # noqa: E731
@@ -101,7 +103,12 @@ def run_leaderboard(train, tests, names, learner_names, select: str, split: str,
                        [(label, [(X[:, cols], y) for X, y in runs]) for label, runs in _test_sets(tests, split)],
                        segments=segments, inputs=";".join(names[c] for c in cols),
                        train_label=f"{len(train)} training runs", progress=progress,
-                       unit=target_unit([t for _, t in train + tests], "the target")), cols
+                       unit=_unit(train, tests)), cols
+
+
+def _unit(train, tests) -> str:
+    """The target's unit that the runs' files state ("" when none does)."""
+    return target_unit([t for _, t in train + tests], "the target")
 
 
 def placement_sets(train, tests, names, k: int, seed: int, n_random: int, exhaustive: bool, progress=None):
@@ -133,7 +140,9 @@ def placement_sets(train, tests, names, k: int, seed: int, n_random: int, exhaus
 
 def run_placement(train, tests, names, sets, learner_names, seed: int):
     """One row per set label and learner: test RMSE, NSE, max and p95 |residual| over the test
-    runs; random draws as mean with min and max."""
+    runs, in the target's unit (the row's ``unit``, as in the leaderboard); random draws as mean
+    with min and max."""
+    unit = _unit(train, tests)
     rows = []
     test_set = [(f"{len(tests)} test runs", [(t.X, t.y) for _, t in tests])]
     for label, col_sets in sets.items():
@@ -146,7 +155,7 @@ def run_placement(train, tests, names, sets, learner_names, seed: int):
                    "rmse_min": float(rmse.min()), "rmse_max": float(rmse.max()),
                    "nse": float(np.mean([s["nse"] for s in scores])),
                    "max_abs_residual": float(np.mean([s["max_abs_residual"] for s in scores])),
-                   "p95_abs_residual": float(np.mean([s["p95_abs_residual"] for s in scores])),
+                   "p95_abs_residual": float(np.mean([s["p95_abs_residual"] for s in scores])), "unit": unit,
                    "inputs": ";".join(names[c] for c in col_sets[0]) if len(col_sets) == 1 else "(random draws)"}
             rows.append(row)
     return rows
@@ -253,8 +262,9 @@ def _run(args) -> int:
     write_rows(out / "placement.csv", prow)
     cols = ["set", "learner", "n_sets", "rmse", "rmse_min", "rmse_max", "nse", "max_abs_residual", "p95_abs_residual",
             "inputs", "how"]
-    heads = ["sensor set", "learner", "sets", "test RMSE um", "min", "max", "NSE", "max \\|res\\| um",
-             "p95 \\|res\\| um", "inputs", "how"]
+    unit = unit_heading(prow[0]["unit"] if prow else "")
+    heads = ["sensor set", "learner", "sets", f"test RMSE {unit}", "min", "max", "NSE", f"max \\|res\\| {unit}",
+             f"p95 \\|res\\| {unit}", "inputs", "how"]
     text = (f"# Sensor placement on `{args.dataset}`, {k} sensors, {args.target}\n\n{note}\n\nCandidates: all "
             f"{len(names)} sensors. The truth-greedy and truth-exhaustive sets use the test runs' truth; the "
             "exhaustive one is the optimum for least squares (the `mlr` rows) over every set, not for `gm1n`.\n\n"

@@ -28,7 +28,7 @@ import numpy as np
 
 from twin.io.atomic import atomic_write_text
 from twin.plotting import save_figure
-from validate.studies.common import fit_score, markdown_table, preset, study_main, write_csv
+from validate.studies.common import fit_score, markdown_table, preset, score_units, study_main, write_csv
 
 NAME = "gantry_gnnmci"
 FBG = ("FBG-1", "FBG-2", "FBG-3", "FBG-4")
@@ -42,6 +42,8 @@ MODELS = (
     ("MLR T1..T6", "mlr", TEMPS, None),
 )
 TESTS = ("workshop", "2000rpm-3h")
+# gnnmci.csv: peak_z_um, train_rmse_um, test_rmse_um, test_max_abs_residual_um, seed_residual_um, ...
+CSV_UNITS = {"peak_z": "um", **score_units("um"), "seed_residual": "um"}
 
 
 def scenarios() -> dict:
@@ -134,8 +136,8 @@ def markdown(rows: list[dict], command: str, resolution: str) -> str:
              "FBG strain, DS18S20 temperatures), target the true Z [um]. Plausible, not a measured machine.", "",
              markdown_table(rows, ["model", "test", "peak_z", "train_rmse", "test_rmse", "test_max_abs_residual",
                                    "seed_residual"],
-                            ["model", "test", "peak abs Z [um]", "train RMSE", "test RMSE", "test max abs residual",
-                             "seed +- [um]"]), "",
+                            ["model", "test", "peak abs Z [um]", "train RMSE [um]", "test RMSE [um]",
+                             "test max abs residual [um]", "seed +- [um]"]), "",
              "Seed: temperature-only ANFIS about +-30 um, temperature + strain ANFIS about +-10 um, GNNMCI(1,6) "
              "on an unseen test below +-5 um, C-axis case 80 -> +-8 um (L5616-5636, L5961-5971, L6061-6069).", "",
              "Twin: GNNMCI(1,6) on FBG-1..4 + T2 leaves "
@@ -154,7 +156,7 @@ def _run(args, out: Path) -> int:
     data = simulate(res, args.seed)
     rows, preds = run_study(data, args.seed)
     out.mkdir(parents=True, exist_ok=True)
-    write_csv(out / "gnnmci.csv", rows)
+    write_csv(out / "gnnmci.csv", rows, CSV_UNITS)
     command = f"python -m validate.studies.gantry_gnnmci{' --quick' if args.quick else ''}"
     atomic_write_text(out / "gnnmci.md", markdown(rows, command, res))
     plot(out / "gnnmci.png", data, preds)

@@ -24,6 +24,9 @@ SEED = {
     ("gantry-c-axis", "peak_z"): ("over 80 um", (80.0, 130.0)),
     ("gantry-helical", "peak_z"): ("about 95 um", (65.0, 125.0)),
 }
+# gantry_tests.csv: the columns with a unit named with it (peak_z_um, rise_T1_K, early_z_per_k_t2_um_per_K, ...)
+CSV_UNITS = {"peak_z": "um", "band_z": "um", "peak_x": "um", **{f"rise_T{i}": "K" for i in range(1, 7)},
+             "early_z_per_k_t2": "um_per_K", "early_z_per_k_t1": "um_per_K"}
 EARLY = 600.0   # [s] the early window: the seed's first ten readings, about 10 min (INFERENCE)
 
 
@@ -84,7 +87,7 @@ def simulate(resolution: str, tests=TESTS) -> dict:
 def markdown(rows: list[dict], command: str, resolution: str) -> str:
     cols = ["test", "peak_z", "seed_z", "band_z", "t_peak_z_min", "peak_x", "rise_T1", "rise_T2", "rise_T3",
             "rise_T4", "rise_T5", "lag_t2_z_min", "lag_t2_fbg1_min", "early_z_per_k_t2", "early_z_per_k_t1"]
-    heads = ["test", "peak Z [um]", "seed", "band", "at [min]", "peak X [um]", "T1 [K]", "T2 [K]", "T3 [K]",
+    heads = ["test", "peak Z [um]", "seed", "band [um]", "at [min]", "peak X [um]", "T1 [K]", "T2 [K]", "T3 [K]",
              "T4 [K]", "T5 [K]", "T2 lag behind Z [min]", "T2 lag behind FBG-1 [min]", "early Z per K of T2 [um/K]",
              "early Z per K of T1 [um/K]"]
     return "\n".join([
@@ -97,7 +100,8 @@ def markdown(rows: list[dict], command: str, resolution: str) -> str:
 
 def main(argv=None) -> int:
     return table_main(NAME, __doc__, argv,
-                      lambda resolution: [summary(ds, test) for test, ds in simulate(resolution).items()], markdown)
+                      lambda resolution: [summary(ds, test) for test, ds in simulate(resolution).items()], markdown,
+                      CSV_UNITS)
 
 
 if __name__ == "__main__":

@@ -113,6 +113,11 @@ def row(variant: dict, resolution: str) -> dict:
             "drive_w": power, "w_for_100um": power * 100.0 / abs(peak)}
 
 
+# gantry_z_variants.csv: the columns with a unit named with it (peak_z_um, ram_rise_K, early_z_per_k_t2_um_per_K, ...)
+CSV_UNITS = {"peak_z": "um", "peak_x": "um", "ram_rise": "K", "whole_ram_z": "um", "rise_T2": "K",
+             "early_z_per_k_t2": "um_per_K"}
+
+
 def markdown(rows: list[dict], command: str, resolution: str) -> str:
     cols = ["variant", "why", "peak_z", "peak_x", "ram_rise", "whole_ram_z", "rise_T2", "lag_t2_z_min",
             "early_z_per_k_t2", "drive_w", "w_for_100um"]
@@ -127,7 +132,8 @@ def markdown(rows: list[dict], command: str, resolution: str) -> str:
 
 
 def main(argv=None) -> int:
-    return table_main(NAME, __doc__, argv, lambda resolution: [row(v, resolution) for v in variants()], markdown)
+    return table_main(NAME, __doc__, argv, lambda resolution: [row(v, resolution) for v in variants()], markdown,
+                      CSV_UNITS)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ import numpy as np
 
 from twin.io.atomic import atomic_write_text
 from twin.plotting import save_figure
-from validate.studies.common import fit_score, markdown_table, preset, study_main, write_csv
+from validate.studies.common import fit_score, markdown_table, preset, score_units, study_main, write_csv
 from validate.studies.machine_b_data import column, load_tests
 from validate.studies.machine_b_gra import SEED_SELECTED
 from validate.studies.machine_b_gra import run_study as gra_study
@@ -36,6 +36,8 @@ THESIS_PER_TEST = {  # Tables 5-7 / 5-8: (learner, test) -> (R, RMSE, NSE, resid
     ("anfis-grid", "V"): (0.97, 3.98, 0.95, 8), ("anfis-fcm", "V"): (0.99, 2.78, 0.97, 4),
     ("anfis-grid", "VI"): (0.98, 3.88, 0.95, 7)}
 TEST_RUNS = ("I", "II", "III", "V", "VI")
+# anfis.csv: the Y drift's scores in um (train_rmse_um, test_rmse_um, thesis_rmse_um, ...)
+CSV_UNITS = {**score_units("um"), **dict.fromkeys(("thesis_test_rmse", "thesis_rmse", "thesis_residual"), "um")}
 
 
 def _matrices(runs, points):
@@ -134,8 +136,8 @@ def _run(args, out: Path) -> int:
                "### Per test (Tables 5-7, 5-8)", "",
                markdown_table(test_rows, ["learner", "test", "test_r", "thesis_r", "test_rmse", "thesis_rmse",
                                           "test_nse", "thesis_nse", "test_max_abs_residual", "thesis_residual"],
-                              ["learner", "test", "R", "thesis R", "RMSE", "thesis RMSE", "NSE", "thesis NSE",
-                               "max abs residual", "thesis +-"])]
+                              ["learner", "test", "R", "thesis R", "RMSE [um]", "thesis RMSE [um]", "NSE", "thesis NSE",
+                               "max abs residual [um]", "thesis +- [um]"])]
         share = outside_training(data)
         grid = {r["test"]: r for r in test_rows if r["learner"] == "anfis-grid"}
         md += ["", "Inputs outside Test IV's range (share of samples): "
@@ -145,7 +147,7 @@ def _run(args, out: Path) -> int:
                + ", ".join(f"{k} {grid[k]['test_max_abs_residual']:.3g} um" for k in TEST_RUNS) + ")."]
         if label == "thesis":
             plot(out / "anfis.png", runs, preds, ", ".join(points))
-    write_csv(out / "anfis.csv", csv_rows)
+    write_csv(out / "anfis.csv", csv_rows, CSV_UNITS)
     atomic_write_text(out / "anfis.md", "\n".join(md) + "\n")
     print(f"wrote {out}/anfis.md, anfis.csv, anfis.png")
     return 0

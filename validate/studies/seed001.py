@@ -19,7 +19,7 @@ import numpy as np
 
 import learners
 from twin.plotting import save_figure
-from validate.studies.common import data_main, fit_score, markdown_table, preset, select, write_csv
+from validate.studies.common import data_main, fit_score, markdown_table, preset, score_units, select, write_csv
 
 NAME = "seed001"
 SEED_ROWS = [  # seed 001 Table 5 (FCM-ANFIS 4) and Table 6, Z axis, test set; um
@@ -238,7 +238,7 @@ def _run(args, out, data) -> int:
     print(f"{len(data.candidates)} candidate sensors; fitting {len(learners.LEARNERS)} learners per axis ...",
           flush=True)
     rows, extra = run_study(data, seed=args.seed)
-    write_csv(out / "seed001.csv", SEED_ROWS + rows)
+    write_csv(out / "seed001.csv", SEED_ROWS + rows, score_units("um"))   # train_rmse_um, test_rmse_um, ...
     (out / "seed001.md").write_text(markdown(rows, extra, data))
     plot(out / "seed001.png", data, extra)
     written = "seed001.csv, seed001.png"

@@ -9,7 +9,8 @@ twin's thermal slope change, k0 = -0.3903 um/mm the seed's cold slope: the twin 
 error), selects sensors by the maximal-tree fuzzy clustering with R^2 / F (seed Sec. 3.3), fits MLR,
 PCR (85 % cumulative variance) and an ANN 5-4-1 on Exp I, and scores the thermal error
 (k^ - k) y over the targets y = 0 .. 280 mm (RMSE, MAXR, MINR [um]) on both experiments. Writes
-``seed003.md`` (the seed's Tables 6-10 and 20-21 beside ours) and ``seed003.csv``.
+``seed003.md`` (the seed's Tables 6-10 and 20-21 beside ours) and ``seed003.csv`` (columns
+``RMSE_um``, ``MAXR_um``, ``MINR_um``).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ LABELS = [f"T{i + 1}" for i in range(len(SITES))]
 SEED_TABLE6 = {1: 0.963, 2: 0.963, 3: 0.971, 4: 0.989, 5: 0.997, 6: 0.999}
 SEED_SELECTION = "T1, T2, T5, T7, T11"
 SEED_MLR = {"R2": 0.997, "adj_R2": 0.988, "F": 120.014, "sig": 0.008, "se": 0.0044024}
+CSV_UNITS = {"RMSE": "um", "MAXR": "um", "MINR": "um"}   # seed003.csv: RMSE_um, MAXR_um, MINR_um
 SEED_SCORES = [  # Tables 20 and 21, um
     {"experiment": "I fit", "model": "PCR", "RMSE": 1.9978, "MAXR": 3.9, "MINR": -6.0},
     {"experiment": "I fit", "model": "MLR", "RMSE": 1.3134, "MAXR": 2.1, "MINR": -3.4},
@@ -188,7 +190,7 @@ def _run(args, out: Path) -> int:
         runs.append(ds)
     res = run_study(*runs, seed=args.seed)
     (out / f"{NAME}.md").write_text(report(res))
-    write_csv(out / f"{NAME}.csv", res["rows"])
+    write_csv(out / f"{NAME}.csv", res["rows"], CSV_UNITS)
     print(report(res))
     return 0
 

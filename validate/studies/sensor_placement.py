@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from twin.plotting import save_figure
-from validate.studies.common import data_main, fit_score, markdown_table, preset, select, write_csv
+from validate.studies.common import data_main, fit_score, markdown_table, preset, score_units, select, write_csv
 from validate.studies.placement_search import greedy_oracle
 
 NAME = "sensor_placement"
@@ -121,6 +121,9 @@ COLUMNS = ["set", "learner", "n_sets", "test_rmse", "test_rmse_min", "test_rmse_
            "test_max_abs_residual", "test_max_abs_residual_max", "inputs"]
 HEADERS = ["sensor set", "learner", "sets", "test RMSE um (mean)", "min", "max", "test NSE (mean)",
            "max|res| um (mean)", "max|res| max", "inputs"]
+# the CSV columns in um (Z drift): test_rmse_um, test_rmse_min_um, ..., as in the Markdown's headings
+CSV_UNITS = {**score_units("um"), **dict.fromkeys(("test_rmse_min", "test_rmse_max", "test_max_abs_residual_min",
+                                                   "test_max_abs_residual_max"), "um")}
 
 
 def main(argv=None) -> int:
@@ -130,8 +133,8 @@ def main(argv=None) -> int:
 def _run(args, out, data) -> int:
     print("scoring sensor sets (greedy oracle searches the whole grid) ...", flush=True)
     rows, raw = run_study(data, seed=args.seed)
-    write_csv(out / "placement.csv", rows)
-    write_csv(out / "placement_draws.csv", raw)
+    write_csv(out / "placement.csv", rows, CSV_UNITS)
+    write_csv(out / "placement_draws.csv", raw, CSV_UNITS)
     table = markdown_table(rows, COLUMNS, HEADERS)
     i = data.info
     kind = (f"spots on the `{i['pose']}` camera's frames" if i.get("mode") == "camera" else "grid")
