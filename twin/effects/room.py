@@ -51,8 +51,26 @@ class ElectricalCabinet(Effect):
 SKIN_H = Parameter("h", "heat_transfer_coefficient", 8.0, 0.5, 50.0, "skin coefficient (same as ambient_convection.h)")
 
 
+class LayeredAir(Effect):
+    """Base of the effects that layer the room air by height, T_air(z, t) = T_air(t) + c (z - z_ref)
+    f(t), as :meth:`layer` gives (c, z_ref [m], f): with linear convection the skin flux
+    h c (z - z_ref) f(t) (:func:`linear_in_height`), and the same change in the model's air
+    (:meth:`air_change`, what an air sensor reads)."""
+
+    def layer(self, scenario, p):
+        raise NotImplementedError
+
+    def loads(self, mm, scenario, p):
+        c, z_ref, shape = self.layer(scenario, p)
+        return linear_in_height(mm, self.name, p["h"] * c, z_ref, shape)
+
+    def air_change(self, z, t, scenario, p):
+        c, z_ref, shape = self.layer(scenario, p)
+        return c * shape(np.asarray(t, float))[:, None] * (np.asarray(z, float)[None, :] - z_ref)
+
+
 @register_effect
-class AmbientStratification(Effect):
+class AmbientStratification(LayeredAir):
     """Room air warmer with height: T_air(z, t) = T_air(t) + g (z - z_ref).
 
     Convection is linear, so on every skin face h (T - T_air - g (z - z_ref)) = h (T - T_air)
@@ -76,17 +94,13 @@ class AmbientStratification(Effect):
     uncertain = (
         Uncertain("gradient", -0.5, 2.0, "halls range from well mixed to strongly layered (VDI 2078)", linear=True),
     )
-    def loads(self, mm, scenario, p):
-        return linear_in_height(mm, self.name, p["h"] * p["gradient"], p["reference_height"],
-                                lambda t: np.ones(np.shape(t)))
-
-    def air_change(self, z, t, scenario, p):
+    def layer(self, scenario, p):
         """g (z - z_ref) at every instant."""
-        return np.repeat(p["gradient"] * (np.asarray(z, float)[None, :] - p["reference_height"]), len(t), axis=0)
+        return p["gradient"], p["reference_height"], lambda t: np.ones(np.shape(t))
 
 
 @register_effect
-class StratifiedSwing(Effect):
+class StratifiedSwing(LayeredAir):
     """The room's swing grows with height: warm air pools under the roof by day and the top of the
     hall cools most at night, so T_air(z, t) = T_air(t) + s (z - z_ref) (T_air(t) - T_air(0)).
 
@@ -112,13 +126,9 @@ class StratifiedSwing(Effect):
     )
     # no Uncertain range: with constant room air (most diagnosis scenarios) s leaves no trace
 
-    def loads(self, mm, scenario, p):
-        return linear_in_height(mm, self.name, p["h"] * p["growth"], p["reference_height"],
-                                lambda t: layered_swing(scenario, t))
-
-    def air_change(self, z, t, scenario, p):
+    def layer(self, scenario, p):
         """s (z - z_ref) (T_air(t) - T_air(0)), the door events left out (:func:`layered_swing`)."""
-        return p["growth"] * layered_swing(scenario, t)[:, None] * (np.asarray(z, float)[None, :] - p["reference_height"])
+        return p["growth"], p["reference_height"], lambda t: layered_swing(scenario, t)
 
 
 def linear_in_height(mm, label: str, scale: float, z_ref: float, shape) -> list:
