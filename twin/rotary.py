@@ -17,8 +17,8 @@ minutes) enters as its duty fraction d = on / (on + dwell): a load that follows 
 cycle mean d P(n) (the cycle is not resolved by the time step). What the mean leaves out is the
 ripple at the source, at most P t_on / (2 C) for a heated volume of capacity C that holds its heat
 over a cycle: 400 W for 10 s in the gantry's C bearing (a 60 mm steel slab, 22 kJ/K) is 0.09 K
-peak to peak, and less at the sensors and in the drift, which follow the structure's minutes. After the last step the C
-axis is at rest; the schedule may not outlast the run. Speeds beyond the machine's C axis are
+peak to peak, and less at the sensors and in the drift, which follow the structure's minutes.
+After the last step the C axis is at rest; the schedule may not outlast the run. Speeds beyond the machine's C axis are
 refused when the scenario runs on a machine (:func:`twin.limits.check_scenario`).
 """
 

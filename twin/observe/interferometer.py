@@ -33,7 +33,8 @@ the mesh's pose p_ref, whichever side moves:
       e(p) = u_c(y_s(p)) + c',
 
   u_c the carrier's displacement along the axis at the scale's graduation for p and c' the
-  structure's share (s (u_w - u_t) minus the read head's displacement at the mesh's pose); the screw's expansion does not enter. Both from adjoint functionals (one per target).
+  structure's share (s (u_w - u_t) minus the read head's displacement at the mesh's pose); the
+  screw's expansion does not enter. Both from adjoint functionals (one per target).
 
 Output: ``positioning_error(run_time, target, direction)`` [um] as the change from the cold state
 at t = 0 (the reference run: the thermal error), the targets' positions [mm], and

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from twin.effects import EFFECTS
 from twin.fem.points import interpolation_matrix
 from twin.observe.base import Observer, RunContext, variable
 from twin.observe.instruments import temperature_reading
@@ -23,8 +24,6 @@ RECORDED = "temperature_recorded"   # RunContext.extra key: {sensor name: its re
 
 def air_temperature(points, ctx: RunContext) -> np.ndarray:
     """(n_t, n_points) the model's air temperature [degC] at ``points`` over the run."""
-    from twin.effects import EFFECTS
-
     air = np.asarray(ctx.scenario.ambient_temperature(ctx.times), float)[:, None]
     z = np.array([p.xyz[2] for p in points], float)
     out = np.repeat(air, len(points), axis=1)
