@@ -269,6 +269,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     r = evidence.measured - base
     stage()
     errors, series, others = [], [], {}
+    error_twin = None   # the other mesh, prepared once for every measurement's scenario
     k = -1
     for rec, block in zip(evidence.records, evidence.split(base)):
         k += rec.counts_as is None   # the measurement's index (its interferometer record follows it)
@@ -279,7 +280,9 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
             rec.model_error = np.asarray(model_error[k], float) if rec.counts_as is None else None
         elif error_resolution:
             if id(rec.engine) not in others:   # one run on the other mesh serves the records of an engine
-                others[id(rec.engine)] = Engine(machine, rec.scenario, error_resolution, sensors=rec.sensor_points)
+                error_twin = error_twin or PreparedTwin(machine, resolution=error_resolution)
+                others[id(rec.engine)] = Engine(machine, rec.scenario, error_resolution, sensors=rec.sensor_points,
+                                                prepared=error_twin)
             rec.model_error_series = mesh_error(rec, machine, spec, error_resolution, others[id(rec.engine)])
             rec.model_error = rms(rec.model_error_series, axis=0)
         if rec.counts_as is None:
