@@ -134,14 +134,15 @@ def format_compare(result: CompareResult, top: int = 8) -> str:
 
 def model_for(measured: xr.Dataset, machine: str, scenario=None, effects: str | None = None,
               settings: list[str] | None = None, resolution: str = "default", seed: int = 0, progress=None,
-              effects_file: str | None = None):
+              effects_file: str | None = None, prepared=None):
     """Simulate the twin at the measurement's sensor sites, driven by its inputs unless a scenario
     (a name, a path or a Scenario) is given; the custom effects of ``effects_file`` are switched
-    on. Returns (model Dataset, RunResult)."""
+    on; ``prepared``: a :class:`twin.physics.prepared.PreparedTwin` of the machine on
+    ``resolution`` to reuse (:func:`twin.api.simulate`). Returns (model Dataset, RunResult)."""
     from twin.api import simulate
     from twin.io.measured_inputs import scenario_from_measurement, sensors_of
 
     sc = scenario if scenario else scenario_from_measurement(measured)
     sensors = sensors_of(measured) or None
     return simulate(machine, sc, effects, settings, resolution, seed, progress=progress, sensors=sensors,
-                    effects_file=effects_file)
+                    effects_file=effects_file, prepared=prepared)

@@ -102,6 +102,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     """
     from geometries import build_machine
     from twin.model import model_spec
+    from twin.physics.prepared import PreparedTwin
     from twin.effects import EFFECTS
     from twin.scenario import load_scenario
     from validate.compare import compare, model_for
@@ -138,7 +139,8 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     lap("measure")
 
     meas = read_measurement(csv_path)
-    cmp0 = compare(meas, model_for(meas, MACHINE, resolution=mesh, seed=seed)[0])
+    model_twin = PreparedTwin(build_machine(MACHINE), resolution=mesh)   # the model before and after the fix
+    cmp0 = compare(meas, model_for(meas, MACHINE, resolution=mesh, seed=seed, prepared=model_twin)[0])
     say(f"compare (twin compare {csv_path} --mesh {mesh}): the default twin driven by the measured inputs")
     say("  phases: " + "; ".join(f"{p.label} {p.start / 3600:.1f}-{p.end / 3600:.1f} h" for p in cmp0.phases))
     say("  worst channels (RMSE / std of the measurement; NSE 1 = perfect, < 0 = worse than a constant):")
@@ -181,7 +183,8 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
         after_coarse, calibrated, _ = apply_top(d, machine, sc_meas, mm)
         effects = ",".join(f"+{e}" for e in top["values_si"])
         settings = [x.replace(" ", "") for x in _settings(top)]
-        cmp1 = compare(meas, model_for(meas, MACHINE, effects=effects, settings=settings, resolution=mesh, seed=seed)[0])
+        cmp1 = compare(meas, model_for(meas, MACHINE, effects=effects, settings=settings, resolution=mesh, seed=seed,
+                                       prepared=model_twin)[0])
         say(f"apply: twin compare {csv_path} --mesh {mesh} --effects {effects} "
             + " ".join(f"--set {x}" for x in settings))
         worst = [c.name for c in cmp0.ranking()[:6]]
