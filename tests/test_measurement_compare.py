@@ -85,9 +85,15 @@ def test_speed_steps_and_phase_detection_on_synthetic_trace():
     ph = detect_phases(t, n, amb)
     spindle = [(p.label, p.start, p.end) for p in ph if p.kind == "spindle"]
     assert spindle == [("spindle off", 0.0, 3600.0), ("spindle on 8005 rpm", 3600.0, 7200.0),
-                       ("speed change to 4005 rpm", 7200.0, 10800.0), ("spindle off", 10800.0, 8 * 3600 + 60.0)]
+                       ("speed change to 4005 rpm", 7200.0, 10800.0), ("spindle off", 10800.0, 8 * 3600.0)]
     ambient = [p.label for p in ph if p.kind == "ambient"]
     assert ambient == ["ambient rising", "ambient falling"]
+    # the phases of each kind cover the record, every sample in exactly one, the last ending at
+    # the last sample (no phase reaches past the record)
+    for kind in ("spindle", "ambient"):
+        mine = [p for p in ph if p.kind == kind]
+        assert np.array_equal(sum(p.mask(t).astype(int) for p in mine), np.ones(t.size, int))
+        assert mine[-1].end == t[-1] and mine[-1].closed and not any(p.closed for p in mine[:-1])
     turn = next(p for p in ph if p.label == "ambient falling").start
     assert abs(turn - 4 * 3600) <= 1800
 

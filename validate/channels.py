@@ -108,12 +108,19 @@ def stack_runs(ds, group: str = "positioning") -> tuple[np.ndarray, Channels]:
 
 @dataclass
 class Phase:
-    """A stretch of time [start, end) [s] with one behaviour of the inputs."""
+    """A stretch of time [start, end) [s] with one behaviour of the inputs; the record's last
+    phase of its kind ends at the last sample and holds it ([start, end], ``closed``)."""
 
     kind: str     # "spindle" or "ambient"
     label: str    # e.g. "spindle on 9000 rpm", "speed change to 6000 rpm", "ambient rising"
     start: float
     end: float
+    closed: bool = False
+
+    def mask(self, t: np.ndarray) -> np.ndarray:
+        """Which of the instants ``t`` [s] fall in the phase."""
+        t = np.asarray(t, float)
+        return (t >= self.start) & ((t <= self.end) if self.closed else (t < self.end))
 
 
 def _segments(labels: list[str], t: np.ndarray) -> list[tuple[str, float, float]]:
@@ -123,7 +130,7 @@ def _segments(labels: list[str], t: np.ndarray) -> list[tuple[str, float, float]
             out[-1][2] = i
         else:
             out.append([lab, i, i])
-    end = lambda j: float(t[j + 1]) if j + 1 < len(t) else float(t[-1]) + (float(t[-1] - t[-2]) if len(t) > 1 else 0.0)
+    end = lambda j: float(t[j + 1]) if j + 1 < len(t) else float(t[-1])
     return [(lab, float(t[i0]), end(i1)) for lab, i0, i1 in out]
 
 
@@ -161,7 +168,7 @@ def detect_phases(time: np.ndarray, speed: np.ndarray | None = None, ambient: np
             mine.append(Phase(kind, label, t0, t1 if t1 > t0 else t0))
             prev = n
         if mine:
-            mine[-1].end = float(t[-1]) + (float(t[-1] - t[-2]) if len(t) > 1 else 0.0)
+            mine[-1].end, mine[-1].closed = float(t[-1]), True
         phases += mine
     if ambient is not None and len(t) > 2:
         a = np.asarray(ambient, float)
@@ -178,7 +185,7 @@ def detect_phases(time: np.ndarray, speed: np.ndarray | None = None, ambient: np
                 merged[-1][2] = t1
             else:
                 merged.append([lab, t0, t1])
-        phases += [Phase("ambient", lab, t0, t1) for lab, t0, t1 in merged]
+        phases += [Phase("ambient", lab, t0, t1, closed=k == len(merged) - 1) for k, (lab, t0, t1) in enumerate(merged)]
     return phases
 
 

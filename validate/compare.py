@@ -100,7 +100,7 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
         y = np.interp(t_mod, mod_t, mod.values[:, mod.names.index(name)])
         r = m - y
         res.append(r)
-        per = [stats(m[sel], r[sel]) for sel in ((t >= p.start) & (t < p.end) for p in phases)]
+        per = [stats(m[sel], r[sel]) for sel in (p.mask(t) for p in phases)]
         results.append(ChannelResult(name, unit, stats(m, r), float(np.std(m)), per))
     data = np.column_stack(res) if res else np.zeros((len(t), 0))
     residuals = xr.Dataset(

@@ -38,7 +38,7 @@ def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
             chans.append({"channel": names[k], **cell(b[:, j], a[:, j])})
             k += 1
         for p in rec.phases:
-            sel = (rec.times >= p.start) & (rec.times < p.end)
+            sel = p.mask(rec.times)
             if sel.any():
                 label = f"{p.label} [{rec.label}]" if ev.multiple else p.label
                 phases.append({"kind": p.kind, "phase": label, "start_h": p.start / 3600, "end_h": p.end / 3600,

@@ -158,7 +158,7 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
     for rec, res, w in zip(evidence.records, evidence.split(residual_flat), evidence.split(weights_flat)):
         e = ((res * w) ** 2).sum(axis=1)
         for p in (p for p in rec.phases if p.kind in ("spindle", "c_axis")) or ():
-            sel = (rec.times >= p.start) & (rec.times < p.end)
+            sel = p.mask(rec.times)
             share = float(e[sel].sum())
             if share > best:
                 best = share
