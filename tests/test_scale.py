@@ -430,13 +430,22 @@ def test_gpu_reduced_start_equals_cpu_one():
     np.testing.assert_allclose(out[1], out[0], atol=1e-8)
 
 
-def test_a_result_says_the_units_of_its_solver_errors():
-    """The per-output error attributes are in the observers' raw SI units (m, K), not the variables'
-    um: the result says so in ``solver_error_units``."""
-    from twin.io.results import ERROR_UNITS, solver_attrs
-    attrs = solver_attrs({"solver": "rom", "rom_error_estimate": {"drift": [1e-7]}})
-    assert attrs["solver_error_units"] == ERROR_UNITS and "m" in ERROR_UNITS
+def test_a_result_says_the_units_of_its_solver_errors(runs):
+    """The per-output errors are in each observer's raw SI unit (m for displacements, K for
+    temperatures; the heat balance's rows J and K m2), not the variables' um: a run reports the
+    unit of every key it reports an error for, and errors without units are refused."""
+    from twin.io.results import solver_attrs
+    for kind, errors in (("iterative", ("solver_error_bound",)), ("rom", ("rom_error_bound", "rom_error_estimate"))):
+        info = runs[kind][2]
+        units = info["solver_error_units"]
+        for name in errors:
+            assert set(info[name]) == set(units), (kind, name)
+        assert units["drift"] == units["probes"] == "m" and units["temperature"] == "K"
+        assert "J" in units["energy"] and "K m2" in units["energy"]
+        assert json.loads(solver_attrs(info)["solver_error_units"]) == units
     assert "solver_error_units" not in solver_attrs({"solver": "direct"})
+    with pytest.raises(ValueError, match="units"):
+        solver_attrs({"solver": "rom", "rom_error_estimate": {"drift": [1e-7]}})
 
 
 def test_amg_set_up_is_reproducible_and_leaves_numpy_random_alone():

@@ -84,24 +84,22 @@ def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "")
 
 def solver_attrs(info: dict) -> dict:
     """What solved the run, as NetCDF attributes: scalars as they are, per-output errors
-    (``solver_error_bound``, ``rom_error_estimate``: {observer key: [value per output]} in the
-    observer's raw SI units, m or degC) as JSON. Wall times (:data:`WALL_TIMES`) are left out: a
+    (``solver_error_bound``, ``rom_error_estimate``, ``rom_error_bound``: {observer key: [value per
+    output]} in the observer's raw SI unit, which ``solver_error_units`` gives per key: m, m/m, K,
+    and for the heat balance J and K m2) as JSON. Wall times (:data:`WALL_TIMES`) are left out: a
     result is a function of its inputs, the same bytes every time (the benchmark reports them)."""
-    out = {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()
-           if k not in WALL_TIMES}
-    if any(k in info for k in ERROR_KEYS):
-        out["solver_error_units"] = ERROR_UNITS
-    return out
+    if any(k in info for k in ERROR_KEYS) and "solver_error_units" not in info:
+        raise ValueError("per-output solver errors without their units (solver_error_units)")
+    return {k: (json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else v) for k, v in info.items()
+            if k not in WALL_TIMES}
 
 
 # run-information keys that are wall times, never written into a result
 WALL_TIMES = ("rom_offline_s", "heat_start_basis_s")
 
-# the per-output solver errors a result may carry, and the units they are in (the observers' raw SI
-# units, not the variables' um)
+# the per-output solver errors a result may carry (in the observers' raw SI units, not the
+# variables' um: ``solver_error_units`` beside them)
 ERROR_KEYS = ("solver_error_bound", "rom_error_estimate", "rom_error_bound")
-ERROR_UNITS = ("raw SI per observer key: drift, probes, lasers and other displacements in m; temperature in K; "
-               "energy: the heat-balance rows (stored heat in J, convection sums in W)")
 
 
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, field: str = "output") -> Path:

@@ -53,6 +53,7 @@ class Observer:
     """
 
     key: str = ""
+    raw_unit: str = ""       # SI unit of the raw readings R @ T (a solver's per-output errors are in it)
     layout_cached: bool = True
     raw_dtype = np.float64  # dtype of the raw block of a sampled observer (see sample_steps)
 
@@ -89,3 +90,8 @@ class Observer:
 def variable(dims, values, units: str, long_name: str) -> tuple:
     """One Dataset variable with CF ``units`` and ``long_name``."""
     return (dims, np.asarray(values), {"units": units, "long_name": long_name})
+
+
+def error_units(observers) -> dict[str, str]:
+    """{observer key: unit of its raw readings}: the units of a run's per-output solver errors."""
+    return {o.key: o.raw_unit for o in observers}

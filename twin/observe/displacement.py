@@ -32,6 +32,8 @@ class DisplacementObserver(Observer):
     """Base of linear displacement observers: subclasses give :meth:`functionals`, and those whose
     points may ride on a moving body (:mod:`twin.observe.pose`) their :meth:`posed_points`."""
 
+    raw_unit = "m"
+
     def functionals(self, mm) -> sp.csr_matrix:
         raise NotImplementedError
 
@@ -181,6 +183,7 @@ class ExpansionSensitivity(Observer):
     def __init__(self, material: str, of: DisplacementObserver):
         self.material, self.of = material, of
         self.key = f"expansion:{material}:{of.key}"
+        self.raw_unit = of.raw_unit   # per unit change of alpha
 
     def cache_key(self) -> tuple:
         return (type(self).__name__, self.material) + self.of.cache_key()

@@ -24,6 +24,7 @@ class HeatBalance(Observer):
     ``energy_sources_J``, ``energy_convection_J``, ``energy_stored_J``, ``energy_closure``."""
 
     key = "energy"
+    raw_unit = "J (row 0: stored heat), K m2 (the others: int T dA of each convection load)"
     layout_cached = False
 
     def rows(self, twin, loads):

@@ -55,6 +55,7 @@ class StrainGauges(DisplacementObserver):
     """The machine's FBG strain gauges (``Machine.strain_gauges``); see the module docstring."""
 
     key = "strain"
+    raw_unit = "m/m"
 
     def __init__(self, gauges):
         self.gauges = list(gauges)

@@ -40,6 +40,7 @@ class TemperatureSensors(Observer):
     coordinates ``x, y, z`` [m] and ``part``."""
 
     key = "temperature"
+    raw_unit = "K"
 
     def __init__(self, points):
         self.points = list(points)

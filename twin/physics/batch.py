@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from twin.observe.base import error_units
 from twin.physics.heat import integrate
 from twin.physics.loads import LoadSet, collect_loads, pattern_key
 from twin.physics.solvers import mass_weights, output_bounds
@@ -87,6 +88,8 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
         errors = {"solver_error_bound": bound} if stepper.method == "iterative" else {}
     for name, values in errors.items():
         info[name] = {o.key: values[a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
+    if errors:
+        info["solver_error_units"] = error_units(observers)
     info["cases"] = m
     readings = {o.key: out[:, a:b] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
     return loads, readings, info

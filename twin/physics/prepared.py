@@ -33,7 +33,7 @@ from twin.errors import InputError
 from twin.fem.assembly import assemble_heat, assemble_nested_coupling
 from twin.fem.mesh import MachineMesh, mesh_machine
 from twin.fem.nesting import coarsen
-from twin.observe.base import Observer
+from twin.observe.base import Observer, error_units
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
 from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
@@ -367,6 +367,7 @@ class PreparedTwin:
                                       step if needs_field else None, progress)
             for name, key in (("_estimate", "rom_error_estimate"), ("_bound", "rom_error_bound")):
                 info[key] = per_output(info.pop(name))
+            info["solver_error_units"] = error_units(dense)
         else:
             stepper = self.stepper(loads, h, nsteps)
             hook = step if needs_field else ((lambda n, T: progress(n, nsteps)) if progress is not None else None)
@@ -376,6 +377,7 @@ class PreparedTwin:
             if stepper.method == "iterative":
                 info["solver_error_bound"] = per_output(
                     output_bounds(outputs, mass_weights(loads.system.M), float(stepper.rho_sum)))
+                info["solver_error_units"] = error_units(dense)
         self.run_info = {"solver": self.options.solver, "solver_method": self.method, "device": self.options.device,
                          **info, **self.elastic_info()}
         readings = {o.key: out[:, a:b] for o, a, b in zip(dense, bounds[:-1], bounds[1:])}
