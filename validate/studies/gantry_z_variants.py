@@ -28,10 +28,14 @@ HOLD = {"mass": 1100.0, "lead": 0.020, "efficiency": 0.9, "torque_constant": 2.0
 
 def holding_loss(mass: float, lead: float, efficiency: float, torque_constant: float, resistance: float) -> float:
     """Copper losses [W] of a servo motor holding a vertical axis of ``mass`` [kg] through a ball
-    screw of ``lead`` [m] and ``efficiency`` [-] without a counterbalance, at standstill:
-    M = m g l / (2 pi eta) [N m], I = M / k_t [A] (``torque_constant`` [N m/A] per rms phase
-    current), P = I^2 R (``resistance`` [ohm]: three times the phase resistance)."""
-    torque = mass * G * lead / (2.0 * np.pi * efficiency)
+    screw of ``lead`` [m] and forward ``efficiency`` eta [-] without a counterbalance, at standstill.
+
+    At rest the load only has to be kept from back-driving the screw, whose friction holds the
+    rest: M = m g l eta' / (2 pi) [N m] with the back-driving efficiency eta' = 2 - 1/eta (the
+    ball-screw relation for a small friction angle; lifting would need m g l / (2 pi eta), 1/(eta
+    eta') = 1.56 times the torque at eta 0.9). I = M / k_t [A] (``torque_constant`` [N m/A] per rms
+    phase current), P = I^2 R (``resistance`` [ohm]: three times the phase resistance)."""
+    torque = mass * G * lead * (2.0 - 1.0 / efficiency) / (2.0 * np.pi)
     return (torque / torque_constant) ** 2 * resistance
 
 
