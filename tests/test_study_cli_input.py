@@ -189,9 +189,9 @@ def test_study_options_are_checked_names_and_numbers(main, argv, needle, capsys)
 
 def test_hidden_effect_analyse_needs_its_table(tmp_path, capsys):
     with pytest.raises(SystemExit) as e:
-        hidden_effect.main(["--analyse", "--out", str(tmp_path / "none")])
+        hidden_effect.main(["--analyse", "-o", str(tmp_path / "none")])
     assert e.value.code == 2
-    one_error(capsys, "hidden_effect.csv: --out: no such study table")
+    one_error(capsys, "hidden_effect.csv: --output: no such study table")
 
 
 def test_hidden_effect_checks_its_folder_before_any_case(tmp_path, capsys):
@@ -200,7 +200,7 @@ def test_hidden_effect_checks_its_folder_before_any_case(tmp_path, capsys):
     with pytest.raises(SystemExit) as e:
         hidden_effect.main(["--out", str(path), "--classes", "none"])
     assert e.value.code == 2
-    one_error(capsys, f"{path}: --out: exists and is not a folder")
+    one_error(capsys, f"{path}: --output: exists and is not a folder")
 
 
 # 10 --------------------------------------------------------------------------------------------------------------

@@ -186,7 +186,8 @@ def _parser():
     ap.add_argument("--scenarios", help="only the cases on these comma-separated scenarios (a scenario name's "
                                         "text, e.g. 'etve-day-night')")
     ap.add_argument("--quick", action="store_true", help="shortened spindle scenarios")
-    ap.add_argument("--out", help="folder for hidden_effect.md/.csv (default: validate-out/hidden_effect/MACHINE)")
+    ap.add_argument("-o", "--output", "--out", dest="out",
+                    help="folder for hidden_effect.md/.csv (default: validate-out/hidden_effect/MACHINE)")
     ap.add_argument("--jobs", type=whole_number("processes", 1), default=1,
                     help="cases run in parallel processes (default 1)")
     ap.add_argument("--analyse", action="store_true", help="re-render hidden_effect.md from an existing hidden_effect.csv")
@@ -212,15 +213,15 @@ def _analyse(a) -> int:
     from twin.io.paths import input_file, output_file, read_text
 
     out = Path(a.out or f"validate-out/hidden_effect/{a.machine}")
-    table = input_file(out / "hidden_effect.csv", "--out", "study table (hidden_effect.csv)")
-    old = read_text(out / "hidden_effect.md", "--out", "study report (hidden_effect.md)")
-    output_file(out / "hidden_effect.md", "--out")
+    table = input_file(out / "hidden_effect.csv", "--output", "study table (hidden_effect.csv)")
+    old = read_text(out / "hidden_effect.md", "--output", "study report (hidden_effect.md)")
+    output_file(out / "hidden_effect.md", "--output")
     try:
-        rows = [score(_typed(r)) for r in csv.DictReader(io.StringIO(read_text(table, "--out")))]
+        rows = [score(_typed(r)) for r in csv.DictReader(io.StringIO(read_text(table, "--output")))]
     except (KeyError, ValueError, TypeError) as err:
-        raise InputError(str(table), "--out", f"not a table this study wrote ({type(err).__name__}: {err})") from None
+        raise InputError(str(table), "--output", f"not a table this study wrote ({type(err).__name__}: {err})") from None
     if not rows:
-        raise InputError(str(table), "--out", "holds no case")
+        raise InputError(str(table), "--output", "holds no case")
     cmd = old.split("Command: `", 1)[1].split("`", 1)[0] if "Command: `" in old else "?"
     text = markdown(rows, cmd, "(quick)" in old.splitlines()[0]) + "\n" + failure_analysis(rows)
     atomic_write_text(out / "hidden_effect.md", text)
@@ -234,7 +235,7 @@ def _study(a) -> int:
     if a.machine not in MACHINES:
         raise InputError("command line", "--machine", f"unknown machine {a.machine!r} (known: {', '.join(sorted(MACHINES))})")
     default_out = f"validate-out/hidden_effect/{a.machine}"
-    out = check_output_folder(a.out or default_out, ("hidden_effect.csv", "hidden_effect.md"), field="--out",
+    out = check_output_folder(a.out or default_out, ("hidden_effect.csv", "hidden_effect.md"), field="--output",
                               default=default_out)
     machine = build_machine(a.machine)
     classes = [c.strip() for c in a.classes.split(",") if c.strip()]
