@@ -366,3 +366,160 @@ def test_every_numeric_camera_variable_and_coordinate_states_its_unit():
     assert {"part_true", "facet_true"} <= set(names)
     missing = [k for k in names if "units" not in ds[k].attrs]
     assert missing == []
+
+
+def _chain(sensor, shape=(1, 1), times=(0.0,), seed=0):
+    from twin.observe.microbolometer import SensorChain
+
+    return SensorChain(sensor, RadianceTable(BAND), shape, np.asarray(times, float), np.random.default_rng(seed))
+
+
+QUIET = dict(netd=0.0, fixed_pattern=0.0, row_fixed=0.0, column_fixed=0.0, row_temporal=0.0, column_temporal=0.0,
+             frame_temporal=0.0, offset=0.0, drift=0.0)
+
+
+def test_adc_maps_the_range_ends_to_the_end_counts_and_rounds_to_half_a_count():
+    """The ADC c = round(c_0 + G W), G = (2^bits - 1) / (L(T_hi) - L(T_lo)), c_0 = -G L(T_lo):
+    blackbodies at the ends of the range (-40, +120 degC) give 0 and 2^14 - 1 exactly; inside,
+    radiance_of(c) = (c - c_0) / G is within half a count step 1 / (2 G) of W (and the error
+    reaches it: the bound is tight), counts of radiance_of(c) are c again (the inverse on its
+    grid), radiances beyond the range clip to the end counts. noiseless() zeroes every noise and
+    offset term and keeps the ADC, so its counts do not depend on the seed."""
+    table = RadianceTable(BAND)
+    sensor = Microbolometer().noiseless()
+    assert all(getattr(sensor, k) == 0.0 for k in QUIET)
+    assert (sensor.bits, sensor.range, sensor.reference_temperature) == (14, (-40.0, 120.0), 30.0)
+    n = 20000
+    chain = _chain(sensor, (1, n), np.arange(5) * 10.0)   # a chain takes frames in order: five here
+    lo, hi = table.radiance(np.array([-40.0, 120.0]))
+    ends = np.array([lo, hi, lo - 1.0, hi + 1.0]).reshape(4, 1, 1).repeat(n, axis=2)
+    assert np.array_equal(chain.counts(ends)[:, 0], np.array([0, 16383, 0, 16383])[:, None].repeat(n, axis=1))
+    w = np.random.default_rng(1).uniform(lo, hi, n)
+    c = chain.counts(w.reshape(1, 1, n))
+    err = chain.radiance_of(c[0, 0]) - w
+    half = 0.5 / chain.gain
+    assert np.abs(err).max() <= half * (1 + 1e-9) and np.abs(err).max() > 0.99 * half
+    grid = np.arange(0, 16384, dtype=np.uint16)
+    back = _chain(sensor, (1, len(grid))).counts(chain.radiance_of(grid).reshape(1, 1, -1))
+    assert np.array_equal(back[0, 0], grid)
+    assert np.array_equal(_chain(sensor, (1, n), seed=7).counts(w.reshape(1, 1, n)), c)
+
+
+def test_temporal_and_fixed_pattern_noise_have_their_declared_deviations():
+    """A uniform scene at T_ref = 30 degC, one noise term at a time, its deviation sigma [K]
+    entering as sigma dL/dT(T_ref) (module docstring): the counts' variance is (G L'(T_ref) sigma)^2
+    + 1/12 (Sheppard: the rounding adds a uniform error of 1/12 count^2 when sigma spans many
+    counts; 0.15 % of the NETD's 54 count^2). Temporal (NETD 0.08 K): 64 x 64 pixels x 64 frames,
+    N = 262144, the sample variance (N - 1) s^2 / sigma^2 ~ chi2(N - 1) has relative standard error
+    sqrt(2 / N) = 0.28 %; held to 4 standard errors (1.1 %). The mean is c_0 + G L(T_ref) within
+    4 sigma / sqrt(N). Fixed pattern (0.03 K): the same in every frame; 256 x 256 pixels,
+    standard error 0.55 %, held to 2.2 %."""
+    table = RadianceTable(BAND)
+    L30 = table.radiance(30.0)
+    n_fr, side = 64, 64
+    chain = _chain(Microbolometer(**{**QUIET, "netd": 0.08}), (side, side), np.arange(n_fr) * 10.0, seed=11)
+    c = chain.counts(np.full((n_fr, side, side), L30)).astype(float)
+    sigma_c = chain.gain * chain.kelvin * 0.08
+    N = c.size
+    assert c.var(ddof=1) == pytest.approx(sigma_c ** 2 + 1 / 12, rel=4 * np.sqrt(2 / N))
+    assert c.mean() == pytest.approx(chain.zero + chain.gain * L30, abs=4 * sigma_c / np.sqrt(N))
+    side = 256
+    chain = _chain(Microbolometer(**{**QUIET, "fixed_pattern": 0.03}), (side, side), (0.0, 10.0), seed=12)
+    c = chain.counts(np.full((2, side, side), L30)).astype(float)
+    assert np.array_equal(c[0], c[1])
+    sigma_c = chain.gain * chain.kelvin * 0.03
+    assert c[0].var(ddof=1) == pytest.approx(sigma_c ** 2 + 1 / 12, rel=4 * np.sqrt(2 / side ** 2))
+
+
+def test_offset_drift_is_an_ornstein_uhlenbeck_process_common_to_all_pixels():
+    """The drift's exact update x_k+1 = a x_k + sqrt(1 - a^2) sigma_d xi, a = exp(-dt / tau),
+    started from N(0, sigma_d^2): stationary variance sigma_d^2 at every frame and lag-one
+    correlation exp(-dt_k / tau) for each step, whatever its length. Frames alternate dt = 600 s
+    and 3600 s (tau = 1800 s: a = 0.717 and 0.135; explicit Euler, 1 - dt / tau, would give 0.667
+    and -1), 40000 frames: the correlation of each step kind (20000 pairs) has standard error
+    sqrt((1 - a^2) / 20000) <= 0.007, held to 4 of them; the variance's relative standard error is
+    sqrt(2 (1 + 2 sum rho_k^2) / n) = 0.9 % (sum rho_k^2 = 0.28), held to 3.5 %. The offset is read
+    back through counts (every pixel the same; count step 0.011 K against sigma_d = 0.3 K). With a
+    large initial offset the sum is clipped to the accuracy bound +-2 K."""
+    table = RadianceTable(BAND)
+    L30 = table.radiance(30.0)
+    n, tau, sd = 40000, 1800.0, 0.3
+    dt = np.where(np.arange(n - 1) % 2, 3600.0, 600.0)
+    t = np.concatenate([[0.0], np.cumsum(dt)])
+    sensor = Microbolometer(**{**QUIET, "drift": sd, "drift_time": tau, "accuracy": 100.0})
+    chain = _chain(sensor, (2, 3), t, seed=5)
+    c = chain.counts(np.full((n, 2, 3), L30))
+    assert np.all(c == c[:, :1, :1])   # common to all pixels
+    x = (chain.radiance_of(c[:, 0, 0]) - L30) / chain.kelvin   # [K]
+    assert np.mean(x ** 2) == pytest.approx(sd ** 2, rel=0.035)
+    for step in (600.0, 3600.0):
+        k = np.flatnonzero(dt == step)
+        a = np.exp(-step / tau)
+        r = np.sum(x[k] * x[k + 1]) / np.sqrt(np.sum(x[k] ** 2) * np.sum(x[k + 1] ** 2))
+        assert r == pytest.approx(a, abs=4 * np.sqrt((1 - a * a) / len(k)))
+    clipped = _chain(Microbolometer(**{**QUIET, "offset": 50.0, "drift": 0.3}), (1, 1), np.arange(50) * 60.0, seed=2)
+    x = (clipped.radiance_of(clipped.counts(np.full((50, 1, 1), L30))[:, 0, 0]) - L30) / clipped.kelvin
+    assert np.all(np.abs(np.abs(x) - 2.0) <= 0.5 / (clipped.gain * clipped.kelvin) + 1e-6)
+
+
+@pytest.mark.parametrize("n,share", [(2, 0.5), (3, 2.0 / 3.0)])
+def test_a_pixel_straddling_two_surfaces_reads_the_mean_radiance_not_the_mean_temperature(n, share):
+    """Mixed pixels: a pixel averages the radiance of its n x n footprint rays (module
+    docstring, step 2), so with black surfaces, no air path and no noise a pixel whose rays hit
+    part A at T_A on a share f and part B at T_B on the rest reads
+
+        T_app = L^-1(f L(T_A) + (1 - f) L(T_B)),
+
+    above the temperature mean f T_A + (1 - f) T_B (L is convex: 20 and 80 degC half and half read
+    53.7 degC, 3.7 K above their mean), while its true-surface layer holds that temperature mean.
+    The rays' temperatures are set part by part (the pixel's mixing is under test, not the field's
+    interpolation), and the frames come from the camera's own :meth:`ThermalCamera.frames`. Edges are placed
+    0.1 mm right of pixel centres: a 2 x 2 footprint (rays +-0.56 mm apart) splits 1/2 : 1/2, a
+    3 x 3 one (the middle column on the centre) 2/3 : 1/3, exactly. The same at B's outer edge
+    against the room wall at T_r, (1 - f) of the pixel being room: L^-1(f L(T_B) + (1 - f) L(T_r)).
+    Tolerance: the reading is within half a count of the radiance, 0.5 / (G L'(T_app)) [K], plus
+    float32 storage (1e-5 K)."""
+    import types
+
+    from twin.observe.base import RunContext
+
+    T_A, T_B, T_r = 20.0, 80.0, 0.0
+    u_ab, u_br = 20, 26   # pixel columns whose centres the edges A|B and B|room sit beside
+    ray = pixel_directions(POSE, SMALL, np.array([u_ab, u_br]), np.array([12, 12]))
+    x_ab, x_br = 1.5 * ray[:, 0] / ray[:, 1] + 1e-4   # where the centre rays cross the plane y = 0, + 0.1 mm
+    a = Part("a", material("steel"), (Box((-1.0, 0.0, -0.5), (x_ab, 0.02, 1.5)),))
+    b = Part("b", material("steel"), (Box((x_ab, 0.0, -0.5), (x_br, 0.02, 1.5)),))
+    m = _machine([a, b], [Finish(Emissivity("test", 1.0, "test"), ("a", "b"))])
+    cam = ThermalCamera(m, _config(edge_rays=n, room_temperature=T_r))
+    mm = build_mesh(m, 0.25)
+    view = cam.geometry(mm)
+    hit = view.hit
+    ray_part = mm.cell_part[view.surface.owner[view.ray_facet[hit]]]
+    assert set(ray_part) == {mm.part_names.index("a"), mm.part_names.index("b")}
+    raw = np.where(ray_part == mm.part_names.index("a"), T_A, T_B)[None, :].repeat(2, axis=0)
+    sc = Scenario("static", ((10.0, 0.0),), Ambient("constant", mean=T_A), sample_interval=10.0)
+    ctx = RunContext(sc.times(), sc, ModelSpec(()), m, types.SimpleNamespace(mm=mm), np.random.default_rng(0))
+    _, thermo, _, true, _, _ = cam.frames(raw, ctx)
+    table = RadianceTable(BAND)
+    from twin.observe.microbolometer import SensorChain
+    gain = SensorChain(cam.config.sensor, table, (1, 1), np.zeros(1), np.random.default_rng(0)).gain
+
+    def reads(w):
+        t_app = float(table.temperature(w))
+        return t_app, 0.5 / (gain * table.slope(t_app)) + 1e-5
+
+    rows = slice(2, 22)
+    L = table.radiance
+    t_mix, tol = reads(share * L(T_A) + (1 - share) * L(T_B))
+    assert t_mix - (share * T_A + (1 - share) * T_B) > 2.0   # the radiance mean, not the temperature mean
+    assert np.abs(thermo[:, rows, u_ab] - t_mix).max() <= tol
+    assert np.abs(true[:, rows, u_ab] - (share * T_A + (1 - share) * T_B)).max() < 1e-5
+    assert np.allclose(view.coverage[rows, u_ab], 1.0, rtol=0, atol=1e-15)
+    t_room, tol = reads(share * L(T_B) + (1 - share) * L(T_r))
+    assert np.abs(thermo[:, rows, u_br] - t_room).max() <= tol
+    assert np.allclose(view.coverage[rows, u_br], share, rtol=0, atol=1e-15)
+    assert np.abs(true[:, rows, u_br] - T_B).max() < 1e-5   # the truth layer averages the hits only
+    # the neighbours see one surface whole
+    for u, T in ((u_ab - 1, T_A), (u_ab + 1, T_B), (u_br - 1, T_B)):
+        t_one, tol = reads(L(T))
+        assert np.abs(thermo[:, rows, u] - t_one).max() <= tol and abs(t_one - T) < 1e-5

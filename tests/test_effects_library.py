@@ -75,6 +75,53 @@ def test_stratification_flux_integrates_to_h_g_moment(mm, heat):
     assert T[z > 1.85].mean() > T[z < 0.1].mean()
 
 
+@pytest.mark.parametrize("g", [0.5, -0.8])
+def test_stratification_split_above_and_below_z_ref_gives_each_side_its_moment(g):
+    """The split branch of :func:`twin.effects.room.linear_in_height`: on a box 0.2 x 0.3 x 0.4 m
+    (cells 0.1 m; A_top = A_bottom = a b = 0.06 m2, perimeter P = 1 m) with z_ref = 0.21 m the moment
+    sum A (z_f - z_ref) = A_skin (c/2 - z_ref) = -0.0052 m3 nearly cancels (under 10 % of
+    sum A |z_f - z_ref| = 0.088 m3), so the flux q_f = h g (z_f - z_ref) (z_f: facet centroid) comes
+    as two loads. The side facets of the band 0.2-0.3 m have centroids above z_ref, so
+
+        P_above = h g (a b (c - z_ref) + P ((c - z_ref)^2 - (0.2 - z_ref)^2) / 2)  = h g 0.0294 m3,
+        P_below = h g (-a b z_ref + P ((0.2 - z_ref)^2 - z_ref^2) / 2)            = h g (-0.0346 m3),
+
+    their sum h g A_skin (c/2 - z_ref); the two load vectors together are h g int (z_f - z_ref) N dA
+    facet by facet, for either sign of g. Exact sums of areas and centroid heights: round-off
+    (rel 1e-12)."""
+    from geometries.base import Box, Machine, Part
+    from geometries.materials import MATERIALS
+    from geometries.regions import Parts
+    from twin.fem.assembly import assemble_facets
+    from twin.fem.mesh import mesh_machine
+    from twin.physics.loads import source_pattern
+
+    a, b, c, z_ref, h = 0.2, 0.3, 0.4, 0.21, 8.0
+    body = Part("body", MATERIALS["steel"], (Box((0.0, 0.0, 0.0), (a, b, c)),))
+    box = Machine("box", [body], [], [], [], "", "", [], {"test": 0.1}, roles={"structure.skin": Parts(("body",))})
+    mm = mesh_machine(box, "test")
+    p = {**EFFECTS["ambient_stratification"].defaults(), "gradient": g, "reference_height": z_ref, "h": h}
+    loads = EFFECTS["ambient_stratification"].loads(mm, scenario(0.0), p)
+    assert [ld.label for ld in loads] == ["ambient_stratification.above", "ambient_stratification.below"]
+    t = np.array([0.0, 3600.0])
+    perimeter = 2 * (a + b)
+    above = a * b * (c - z_ref) + perimeter * ((c - z_ref) ** 2 - (0.2 - z_ref) ** 2) / 2
+    below = -a * b * z_ref + perimeter * ((0.2 - z_ref) ** 2 - z_ref ** 2) / 2
+    assert above == pytest.approx(0.0294, rel=1e-12) and below == pytest.approx(-0.0346, rel=1e-12)
+    assert loads[0].power(t) == pytest.approx([h * g * above] * 2, rel=1e-12)
+    assert loads[1].power(t) == pytest.approx([h * g * below] * 2, rel=1e-12)
+    skin_area = 2 * a * b + perimeter * c
+    assert sum(ld.power(t)[0] for ld in loads) == pytest.approx(h * g * skin_area * (c / 2 - z_ref), rel=1e-12)
+    skin = np.sort(np.concatenate([ld.facets for ld in loads]))
+    assert np.array_equal(skin, np.sort(mm.mesh.boundary_facets()))   # each skin facet in exactly one load
+    dz = facet_centres(mm, skin)[:, 2] - z_ref
+    b_vec = sum(source_pattern(mm, ld) * ld.power(t)[0] for ld in loads)
+    assert b_vec == pytest.approx(h * g * assemble_facets(mm, skin, dz).r, rel=1e-12, abs=1e-15)
+    # with z_ref at the floor nothing cancels: one load of the whole moment h g A_skin c / 2
+    one = EFFECTS["ambient_stratification"].loads(mm, scenario(0.0), {**p, "reference_height": 0.0})
+    assert len(one) == 1 and one[0].power(t)[0] == pytest.approx(h * g * skin_area * c / 2, rel=1e-12)
+
+
 def test_door_draft_active_only_in_event_window(mm, heat):
     sc = scenario(0.0)
     params = {"door_draft": {"start": 3600.0, "duration": 1200.0, "period": 7200.0}}

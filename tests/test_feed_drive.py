@@ -193,6 +193,33 @@ def test_semi_closed_screw_at_uniform_rise_reads_alpha_dT_x():
     assert e == pytest.approx(alpha * dT * targets, rel=1e-12, abs=1e-18)
 
 
+def test_semi_closed_screw_with_a_linear_temperature_profile_reads_its_integral():
+    """Semi-closed loop, screw at a linear rise T(s) - T_0 = dT_0 + g s along its axis, fixed
+    bearing at y_f: e(y) = alpha int_{y_f}^{y} (dT_0 + g s) ds = alpha (dT_0 (y - y_f) + g (y^2 - y_f^2) / 2),
+    negative below y_f (the screw between nut and bearing shrinks the other way). A linear field
+    is reproduced exactly by the trilinear interpolation and integrated exactly by the trapezoidal
+    rule, so the rows reach round-off (rel 1e-12; the gradient's term alpha g (y^2 - y_f^2) / 2 is
+    up to 10 um here, twice the uniform one's). The fixed bearing sits mid-travel to take
+    targets on both sides of it."""
+    from dataclasses import replace
+
+    from twin.observe.interferometer import screw_line_rows
+    machine = rod_machine()
+    axis = machine.axes[0]
+    y_f = 0.13   # between mesh nodes (spacing 20 mm)
+    axis = replace(axis, drive=replace(axis.drive, fixed_end=y_f))
+    mm = build_mesh(machine, 0.02)
+    targets = np.array([0.0, 0.013, 0.05, 0.129, 0.13, 0.131, 0.2, 0.3333, 0.4])
+    alpha, dT0, g = material("steel").expansion, 1.5, 12.0   # K and K/m: 4.8 K over the rod
+    rise_at_node = dT0 + g * mm.mesh.p[1]
+    rise = np.empty(mm.nheat)
+    rise[mm.heat_t.ravel()] = rise_at_node[mm.mesh.t.ravel()]
+    e = screw_line_rows(mm, axis, targets, alpha) @ rise
+    exact = alpha * (dT0 * (targets - y_f) + g * (targets ** 2 - y_f ** 2) / 2)
+    assert e == pytest.approx(exact, rel=1e-12, abs=1e-20)
+    assert e[targets < y_f].max() < 0 < e[targets > y_f].min() and e[4] == 0.0
+
+
 def test_rigid_translation_of_the_workpiece_reads_as_that_translation():
     """The interferometer's structural functional reads a rigid translation d of the workpiece
     (alone) along the axis as d, and a translation of the whole machine as 0."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from geometries import build_machine
 from twin.fem.mesh import mesh_machine
@@ -66,3 +67,41 @@ def test_five_probe_evaluation_of_a_rigid_motion_of_the_spindle_side():
     np.testing.assert_allclose(drift[0], exact, rtol=1e-12)
     tool = relative_displacement(mm, m.tool_point, m.workpiece_point, np.eye(3)) @ u.ravel() * 1e6
     np.testing.assert_allclose(tool, exact, rtol=1e-12)
+
+
+def test_sensor_lag_of_a_ramp_is_the_closed_form_first_order_response():
+    """First-order lag tau dy/dt = x - y from rest (y(0) = x(0)) of a ramp x = T_0 + a t:
+
+        y(t) = T_0 + a (t - tau (1 - exp(-t / tau))),  lagging a tau behind x in steady state.
+
+    The sensor model's lag (:func:`twin.signals.lag_series`) is an exponential integrator, exact
+    for input linear between samples, so an air sensor in a room ramping at a = 1.5 K/h, sampled
+    every 10 s with the default tau = 5 s (explicit Euler, 1 - dt / tau = -1, would oscillate),
+    reads the formula to round-off (1e-12 K); with a bias b and quantisation q the reading is
+    q round((y + b) / q), within q / 2 of y + b (the instruments' docstring)."""
+    import types
+
+    from geometries.base import Point
+    from twin.model import ModelSpec
+    from twin.observe.base import RunContext
+    from twin.observe.instruments import temperature_reading
+
+    a, T0, tau, dt = 1.5 / 3600.0, 20.0, 5.0, 10.0
+    sc = Scenario("ramp", ((3600.0, 0.0),), Ambient("table", times=(0.0, 3600.0), temperatures=(T0, T0 + 1.5)), dt)
+    t = sc.times()
+    spec = ModelSpec((), {"temperature_sensor": {"noise": 0.0, "quantisation": 0.0, "bias": 0.0}})
+    assert spec.params["temperature_sensor"]["lag"] == tau
+    ctx = RunContext(t, sc, spec, types.SimpleNamespace(), None, np.random.default_rng(0))
+    obs = TemperatureSensors([Point("air1", (0.0, 0.0, 1.0), "air")])
+    data, _ = obs.data(np.zeros((len(t), 1)), ctx)
+    y = data["temperature"][1][:, 0]
+    exact = T0 + a * (t - tau * -np.expm1(-t / tau))
+    np.testing.assert_allclose(data["temperature_true"][1][:, 0], T0 + a * t, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(y, exact, rtol=0, atol=1e-12)
+    assert (T0 + a * t - y)[-1] == pytest.approx(a * tau, rel=1e-12)   # exp(-360) = 0: steady lag a tau
+    # bias and quantisation on the same lag (no noise): within half a step of y + b
+    q, b = 0.0625, 0.3
+    p = {"lag": tau, "bias": b, "noise": 0.0, "quantisation": q}
+    read = temperature_reading((T0 + a * t)[:, None], dt, p, np.random.default_rng(0))[:, 0]
+    assert np.all(np.abs(read - (exact + b)) <= q / 2 + 1e-12)
+    assert np.allclose(read / q, np.round(read / q), rtol=0, atol=1e-9) and len(np.unique(read)) > 20

@@ -73,8 +73,9 @@ class HeatSource:
 
 @dataclass(frozen=True)
 class SurfaceHeatFlux:
-    """Total power P(t) [W] over ``facets``: uniform flux, or with ``weights`` (one per facet, >= 0)
-    a flux proportional to them, q_f = P w_f / sum_g A_g w_g [W/m2]."""
+    """Total power P(t) [W] over ``facets``: uniform flux, or with ``weights`` (one per facet, of
+    either sign, sum_g A_g w_g != 0) a flux proportional to them, q_f = P w_f / sum_g A_g w_g [W/m2]
+    (the room's height-linear fluxes weigh by z_f - z_ref, :func:`twin.effects.room.linear_in_height`)."""
 
     label: str
     facets: np.ndarray
