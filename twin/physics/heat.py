@@ -74,9 +74,11 @@ def integrate(system: HeatSystem, T0: np.ndarray, dt: float, nsteps: int, h: np.
     W = parallel.split_matrix(outputs) if xp is np else stepper._matrix(sp.csr_matrix(outputs))
     out = np.empty((nsteps + 1, outputs.shape[0]) + ((T.shape[1],) if batched else ()))
     out[0] = to_host(xp, W @ T)
-    # a large model's steps: products in row blocks on two threads, BLAS on one (whatever the
-    # threads, so the same numbers; :mod:`twin.physics.parallel`)
-    with parallel.single_blas(xp is np and system.M.nnz >= parallel.SPLIT_FROM):
+    # BLAS on one thread on the CPU, whatever the model's size: the same numbers on any machine,
+    # and SuperLU's back-substitution, a chain of small supernode BLAS calls, runs faster without
+    # OpenBLAS's threads (default mesh: 6 against 11 ms a solve, several right-hand sides 7x faster);
+    # a large model's products run in row blocks on two threads (:mod:`twin.physics.parallel`)
+    with parallel.single_blas(xp is np):
         for n in range(nsteps):
             key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
             op = stepper.operator(key, system, dt, theta, h[n])
@@ -113,15 +115,12 @@ def integrate_responses(system: HeatSystem, dt: float, nsteps: int, h: np.ndarra
     stepper.begin(nsteps, system)
     X = np.zeros(patterns.shape)
     out = np.zeros((nsteps + 1, outputs.shape[0], patterns.shape[1]))
-    with parallel.single_blas(system.M.nnz >= parallel.SPLIT_FROM):     # as in :func:`integrate`
+    with parallel.single_blas():     # as in :func:`integrate`
         for n in range(nsteps):
             key = (operator_key, float(dt), float(theta), tuple(np.round(h[n], 12)))
             op = stepper.operator(key, system, dt, theta, h[n])
             rhs = stepper.rhs_operator(op) @ X + dt * patterns * signals[n]
-            if stepper.method == "direct":   # column by column: SuperLU's multi-right-hand side is ~10x slower here
-                X = np.column_stack([op[0].solve(rhs[:, j]) for j in range(rhs.shape[1])])
-            else:
-                X = stepper.solve(op, rhs, X)
+            X = stepper.solve(op, rhs, X)   # direct: SuperLU's multi-right-hand side, BLAS on one thread
             out[n + 1] = outputs @ X
     return out
 
