@@ -20,10 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from twin.fem.assembly import ElasticMatrices, assemble_coupling, assemble_elastic
 from twin.fem.mesh import MachineMesh
+from twin.physics.lu import SymmetricLU
 from twin.physics.solvers import AmgElastic, rigid_body_modes
 
 
@@ -82,8 +82,7 @@ class ElasticSolver:
         free = np.setdiff1d(np.arange(mats.K.shape[0]), fixed)
         if method == "direct":
             kff = mats.K[free][:, free]
-            solver = spla.splu(kff.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                               options={"SymmetricMode": True})
+            solver = SymmetricLU(kff)
             rtol = 0.0
         elif method == "amg":
             modes = rigid_body_modes(mm.mesh.p.T)

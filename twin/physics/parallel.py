@@ -111,15 +111,20 @@ def _submit(fn, *args):
     return pool.submit(run)
 
 
+_BLAS: list = []   # the process's threadpoolctl controller, made on first use (finding the libraries takes 0.5 ms)
+
+
 @contextlib.contextmanager
 def single_blas(active: bool = True):
-    """BLAS held to one thread inside the block when ``active`` (module docstring)."""
+    """BLAS held to one thread inside the block when ``active`` (module docstring); cheap enough
+    (about 10 us) to wrap a single sparse solve."""
     if not active:
         yield
         return
-    from threadpoolctl import threadpool_limits
-
-    with threadpool_limits(limits=1, user_api="blas"):
+    if not _BLAS:
+        from threadpoolctl import ThreadpoolController
+        _BLAS.append(ThreadpoolController())
+    with _BLAS[0].limit(limits=1, user_api="blas"):
         yield
 
 

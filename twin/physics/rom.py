@@ -50,10 +50,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from twin.errors import InputError
 from twin.physics import kernels
+from twin.physics.lu import SymmetricLU
 from twin.physics.solvers import DIRECT_LIMIT, amg_cycle, mass_weights, output_bounds, pcg, smoothed_aggregation
 
 SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
@@ -190,7 +190,7 @@ def _reference_solver(A: sp.csr_matrix, rtol: float = BASIS_RTOL):
     is all the basis gains from it, is then resolved to ``rtol`` however small it has become (a
     tolerance relative to ||X|| would resolve it ever worse as the moments converge)."""
     if A.shape[0] <= DIRECT_LIMIT:
-        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        lu = SymmetricLU(A)
         return (lambda X, V: lu.solve(X)), 0.0
     cycle = amg_cycle(smoothed_aggregation(A, symmetry="hermitian", max_coarse=500, coarse_solver="splu"))
     ones = np.ones(A.shape[0])

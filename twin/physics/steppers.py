@@ -18,9 +18,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from twin.physics import kernels, parallel
+from twin.physics.lu import SymmetricLU
 from twin.physics.solvers import Projection, array_module, jacobi, mass_weights, pcg, to_host
 
 
@@ -47,8 +47,7 @@ class DirectStepper:
             while len(self.cache) >= MAX_FACTORISATIONS:   # oldest first: a fit that varies h makes many
                 self.cache.pop(next(iter(self.cache)))
             lhs, rhs_op = theta_operators(system, dt, theta, h)
-            self.cache[key] = (spla.splu(lhs.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                         options={"SymmetricMode": True}), rhs_op)
+            self.cache[key] = (SymmetricLU(lhs), rhs_op)
         return self.cache[key]
 
     def begin(self, nsteps: int, system) -> None:
