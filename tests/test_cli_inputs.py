@@ -174,3 +174,18 @@ def test_learn_refuses_the_time_column_as_target_and_segments_without_scores(cap
     assert "--interval" in err and "keeps 1 row(s)" in err
     assert main(common + ["--target", "drift_z", "--segments", "4"]) == 0
     assert "nan" not in capsys.readouterr().out.lower()
+
+
+def test_a_command_builds_only_its_own_parser():
+    """``twin simulate ...`` loads no registered command's module (the learners import
+    scikit-learn); ``twin --help`` and an unknown word build every command, so both list them all."""
+    import subprocess
+    import sys
+    probe = ("import sys; from twin.cli import build_parser; p = build_parser({argv!r}); "
+             "print(sorted(p._subparsers._group_actions[0].choices), 'sklearn' in sys.modules)")
+    run = lambda argv: subprocess.run([sys.executable, "-c", probe.format(argv=argv)], capture_output=True,
+                                      text=True, check=True).stdout.strip()
+    assert run(["simulate", "cframe-vmc"]) == "['simulate'] False"
+    assert run(["learn", "x.csv"]) == "['learn'] True"
+    everything = "['compare', 'dataset', 'demo', 'diagnose', 'frames', 'learn', 'list', 'plot', 'report', 'simulate'] True"
+    assert run(["--help"]) == everything and run(["simulat"]) == everything
