@@ -82,12 +82,15 @@ def table(results: dict[str, dict[str, dict]]) -> str:
 
 def run(resolution: str = "default", seed: int = 0, progress=print) -> dict:
     """Simulate the three tests and score both protocols on Z and Y."""
+    from geometries import build_machine
     from twin.api import simulate
+    from twin.physics.prepared import PreparedTwin
 
+    twin = PreparedTwin(build_machine("cframe-vmc"), resolution=resolution)   # one mesh and elasticity for the three
     runs = {}
     for name in ("training", "winter", "summer"):
         progress(f"simulating etve-{name} ({resolution}) ...")
-        runs[name] = simulate("cframe-vmc", f"etve-{name}", resolution=resolution, seed=seed)[0]
+        runs[name] = simulate("cframe-vmc", f"etve-{name}", seed=seed, prepared=twin)[0]
     out = {}
     for axis in ("Z", "Y"):
         out[("A", axis)] = protocol_a(runs["training"], runs["winter"], axis, seed)

@@ -177,14 +177,20 @@ def main(argv=None) -> int:
 
 
 def _run(args, out: Path) -> int:
+    from geometries import build_machine
     from twin.api import simulate
     from twin.io.results import write_netcdf
+    from twin.motion import machine_for
+    from twin.physics.prepared import PreparedTwin
+    from twin.scenario import load_scenario
 
     resolution = "coarse" if args.quick else "default"
+    # both experiments move Y: one machine with its feed drive, one mesh and elasticity for both
+    twin = PreparedTwin(machine_for(build_machine("cframe-vmc"), load_scenario(RUNS[0])), resolution=resolution)
     runs = []
     for name in RUNS:
         print(f"simulating {name} on the {resolution} mesh ...", flush=True)
-        ds, _ = simulate("cframe-vmc", name, resolution=resolution, seed=args.seed)
+        ds, _ = simulate("cframe-vmc", name, seed=args.seed, prepared=twin)
         out.mkdir(parents=True, exist_ok=True)
         write_netcdf(ds, out / f"{name}.nc")
         runs.append(ds)
