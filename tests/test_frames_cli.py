@@ -128,9 +128,11 @@ def test_the_export_writes_the_declared_files_and_nothing_else(capsys, work):
 
     assert main(["frames", "x.nc", "-o", "fr"]) == 0
     assert _files(work / "fr") == sorted(export_files(11, 1, KINDS, "carrier-front"))
-    assert main(["frames", "x.nc", "-o", "fr", "--every", "4", "--png"]) == 0
+    assert main(["frames", "x.nc", "-o", "fr"]) == 0              # a rerun
+    assert main(["frames", "x.nc", "-o", "fr4", "--every", "4", "--png"]) == 0
     assert "wrote 3 PNG frames" in capsys.readouterr().out
-    assert not [p for p in (work / "fr").rglob(".twin-*")]
+    assert _files(work / "fr4") == sorted(export_files(11, 4, ("png",), "carrier-front"))
+    assert not [p for p in work.rglob(".twin-*")]
 
 
 # ---------------------------------------------------------------------------------- the input
@@ -206,3 +208,19 @@ def test_the_help_says_when_frames_are_taken_and_names_the_companion(capsys):
     assert "every 10 s" not in camera and "every sample" in camera and "frame_interval" in camera
     field = text.split("--field FILE", 2)[-1].split("--camera", 1)[0]
     assert ".h5" in field
+
+
+def test_an_export_never_mixes_with_an_earlier_one(capsys, work):
+    """Frames of an earlier export that this one would not replace (another --every, kind or
+    camera into the same folder: the README's two commands once left 241 PNGs of two cameras,
+    named alike) are refused before anything is written; the same export again is a rerun."""
+    assert main(["frames", "x.nc", "-o", "fr", "--png", "--every", "2"]) == 0
+    capsys.readouterr()
+    before = _tree(work)
+    err = _error(capsys, ["frames", "x.nc", "-o", "fr", "--png", "--every", "3"])
+    assert "frame_00002.png" in err and "would mix" in err
+    err = _error(capsys, ["frames", "x.nc", "-o", "fr", "--gif"])
+    assert "frame_00000.png" in err
+    assert _tree(work) == before
+    assert main(["frames", "x.nc", "-o", "fr", "--png", "--every", "2"]) == 0
+    assert sorted(_tree(work)) == sorted(before)

@@ -9,6 +9,7 @@ written atomically (:mod:`twin.io.atomic`).
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from twin.errors import InputError
@@ -55,6 +56,12 @@ def declare_output(files, output: str, layout: list[str], field: str = "-o") -> 
         path = out / sub
         if (path.is_symlink() or path.exists()) and not path.is_dir():
             raise InputError(str(path), field, "is in the way: the frames go in a folder of that name")
+    stale = earlier_frames(out, layout)
+    if stale:
+        raise InputError(str(out / stale[0]), field, f"the folder holds {len(stale)} frame file(s) of another export "
+                                                     "(another camera, --every or kind) that this one would not "
+                                                     "replace, so the two would mix: export into an empty folder, "
+                                                     "or every camera at once")
     chosen = set(firsts.values())
     for rel in layout:
         if rel in chosen:
@@ -64,6 +71,20 @@ def declare_output(files, output: str, layout: list[str], field: str = "-o") -> 
         if path.is_symlink() or path.exists():
             output_file(path, field)
     return out
+
+
+# what an export writes, relative to its folder: [NAME/]tiff/frame_N.tiff|json, [NAME/]png/frame_N.png, [NAME/]NAME.gif
+_EXPORTED = re.compile(r"^(?:[^/]+/)?(?:tiff/frame_\d{5}\.(?:tiff|json)|png/frame_\d{5}\.png|[^/]+\.gif)$")
+
+
+def earlier_frames(out: Path, layout: list[str]) -> list[str]:
+    """Files under ``out`` (relative, sorted) that look like an export's (:data:`_EXPORTED`) and
+    are not among ``layout``, the files this export writes: an earlier export they would mix with."""
+    if not out.is_dir():
+        return []
+    keep = set(layout)
+    found = (p.relative_to(out).as_posix() for depth in ("*", "*/*", "*/*/*") for p in out.glob(depth))
+    return sorted(rel for rel in found if _EXPORTED.match(rel) and rel not in keep and (out / rel).is_file())
 
 
 def run(args) -> int:
