@@ -137,7 +137,7 @@ def at_pose(machine, axis_name: str, p: float):
     among the axis's moving parts; its :class:`FeedDrive` line data do not)."""
     from dataclasses import replace
 
-    from geometries.base import Box, Machine, Part, Point
+    from geometries.base import Box, Machine, Point
     from geometries.regions import InBox, Parts, Union
 
     axis = machine.axis(axis_name)
@@ -156,8 +156,8 @@ def at_pose(machine, axis_name: str, p: float):
             return Union(tuple(region(x) for x in r.regions))
         return r
 
-    parts = [Part(q.name, q.material, tuple(shift(b) for b in q.boxes), q.chain, q.refine) if q.name in move else q
-             for q in machine.parts]
+    parts = [replace(q, boxes=tuple(shift(b) for b in q.boxes), voids=tuple(shift(b) for b in q.voids))
+             if q.name in move else q for q in machine.parts]
     points = [Point(q.name, tuple(np.add(q.xyz, delta)), q.part) if q.part in move else q for q in machine.points]
     surfaces = [replace(s, within=shift(s.within)) if s.within is not None and set(s.parts) <= move else s
                 for s in machine.surfaces]

@@ -257,11 +257,5 @@ class Machine:
                 return p
         raise KeyError(f"machine {self.name!r} has no camera pose {name!r}")
 
-    def with_materials(self, materials: dict[str, Material]) -> "Machine":
-        """A copy whose parts use ``materials[old.name]`` in place of their material."""
-        parts = [Part(p.name, materials.get(p.material.name, p.material), p.boxes, p.chain, p.refine) for p in self.parts]
-        return Machine(**{**self.__dict__, "parts": parts})
-
-
 def material(name: str) -> Material:
     return MATERIALS[name]

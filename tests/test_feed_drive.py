@@ -313,6 +313,23 @@ def test_at_pose_moves_the_moving_body_only():
     assert moved.axis("Y").p_ref == 0.06
     same = at_pose(base, "Y", base.axis("Y").p_ref)
     assert [p.boxes for p in same.parts] == [p.boxes for p in base.parts]
+    # a moved part keeps everything but its place: its refinement and its hollows (shifted with
+    # it), so the moved machine meshes (it did not: refine landed in voids, a TypeError)
+    from dataclasses import replace
+
+    from twin.fem.mesh import mesh_machine
+    assert all(moved.part(q.name).refine == q.refine and moved.part(q.name).chain == q.chain for q in base.parts)
+    box = base.part("table").boxes[0]
+    core = Box(tuple(np.add(box.lo, (0.1, 0.1, 0.02))), tuple(np.add(box.hi, (-0.1, -0.1, -0.02))))
+    hollow = replace(base, parts=[replace(q, voids=(core,)) if q.name == "table" else q for q in base.parts])
+    shifted = at_pose(hollow, "Y", 0.06).part("table").voids[0]
+    assert shifted.lo[1] == pytest.approx(core.lo[1] + dy) and shifted.hi[1] == pytest.approx(core.hi[1] + dy)
+    def table_extent(m):
+        mm = mesh_machine(m, "coarse")
+        cells = np.flatnonzero(mm.cell_part == mm.part_names.index("table"))
+        y = mm.mesh.p[1, mm.mesh.t[:, cells].ravel()]
+        return y.min(), y.max()
+    assert np.allclose(np.subtract(table_extent(moved), table_extent(base)), dy, rtol=0, atol=1e-12)
 
 
 # the mapping of a log with time, spindle speed, room air and the Y motor's temperature (columns
