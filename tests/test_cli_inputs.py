@@ -189,3 +189,17 @@ def test_a_command_builds_only_its_own_parser():
     assert run(["learn", "x.csv"]) == "['learn'] True"
     everything = "['compare', 'dataset', 'demo', 'diagnose', 'frames', 'learn', 'list', 'plot', 'report', 'simulate'] True"
     assert run(["--help"]) == everything and run(["simulat"]) == everything
+
+
+def test_dataset_takes_a_bundled_spec_by_name(capsys, tmp_path, monkeypatch):
+    """``twin dataset spindle-ambient-100`` works from any folder, as a scenario name does; an
+    unknown name is one error listing the bundled specs; ``twin list scenarios`` names them."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["dataset", "spindle-ambient-100", "-o", "sa", "--dry-run", "--jobs", "1"]) == 0
+    assert "100 case" in capsys.readouterr().out and not (tmp_path / "sa").exists()
+    assert main(["dataset", "spindle-ambient-10", "-o", "sa", "--dry-run"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == ("error: spindle-ambient-10: spec: no such dataset spec; bundled: spindle-ambient-100 "
+                   "(or a path to a .toml file)")
+    assert main(["list", "scenarios"]) == 0
+    assert "spindle-ambient-100 (dataset spec, twin dataset spindle-ambient-100 -o DIR)" in capsys.readouterr().out

@@ -21,7 +21,7 @@ from twin.cli.progress import progress_bar
 def add_parser(sub) -> None:
     p = sub.add_parser("dataset", help="build a benchmark dataset from a spec: one NetCDF per case, an index, a card",
                        description="Build the cases of a dataset spec (TOML) into a folder; rerun to resume.")
-    p.add_argument("spec", help="dataset spec (.toml)")
+    p.add_argument("spec", help="dataset spec: a .toml file, or a bundled spec's name (twin list scenarios lists them)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="dataset folder (created if missing)")
     p.add_argument("--dry-run", action="store_true", help="print the plan and an estimated time; write nothing")
     p.add_argument("--max-cases", type=whole_number("cases"), metavar="N", help="build only the plan's first N cases")
@@ -34,13 +34,14 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     from twin.dataset import CASES, INDEX_FILES, build, executor, is_whole, load_spec, plan, write_index
+    from twin.dataset.spec import spec_path as bundled_or_path
     from twin.dataset.runner import check_scheduler
     from twin.io.atomic import output_folder
     from twin.io.paths import Files
 
     check_scheduler(args.scheduler)
     files = Files()
-    spec_path = files.input(args.spec, "spec", "dataset spec")
+    spec_path = files.input(bundled_or_path(args.spec), "spec", "dataset spec")
     spec = load_spec(spec_path)
     for f in spec.families:
         if f.path:

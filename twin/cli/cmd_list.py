@@ -89,6 +89,10 @@ def run(args) -> int:
         for name in available():
             sc = load_scenario(name)
             print(f"{name}: {sc.duration / 60:g} min, sample interval {sc.sample_interval:g} s\n  {sc.description}")
+        from twin.dataset.spec import bundled_specs, load_spec, spec_path
+        for name in bundled_specs():
+            spec = load_spec(spec_path(name))
+            print(f"{name} (dataset spec, twin dataset {name} -o DIR): {spec.description.strip()}")
     elif args.what == "effects":
         _effects(args.machine)
     else:

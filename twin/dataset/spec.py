@@ -81,6 +81,7 @@ from twin.errors import InputError
 from twin.io.paths import read_toml
 from twin.model import model_spec
 from twin.observe.instruments import INSTRUMENTS
+from twin.scenario import SCENARIO_DIR
 from twin.units import CANONICAL
 
 SOLVERS = ("auto", "direct", "iterative", "rom")
@@ -104,6 +105,25 @@ class DatasetSpec:
     split_by: str
     splits: dict       # case: name -> fraction; family: name -> tuple of families
     text: str = field(default="", repr=False)   # the spec file as written (kept in the card)
+
+
+def bundled_specs() -> list[str]:
+    """Names of the dataset specs that come with the package (``scenarios/datasets/``)."""
+    return sorted(p.stem for p in (SCENARIO_DIR / "datasets").glob("*.toml"))
+
+
+def spec_path(name_or_path: str) -> str:
+    """The file of a bundled dataset spec's name, or ``name_or_path`` itself when it is a path
+    (it ends in .toml, contains a folder or exists), as :func:`twin.scenario.scenario_path` does
+    for scenarios; an unknown name raises :class:`InputError` listing the bundled ones."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists() or len(path.parts) > 1:
+        return name_or_path
+    bundled = SCENARIO_DIR / "datasets" / f"{name_or_path}.toml"
+    if not bundled.is_file():
+        raise InputError(name_or_path, "spec", f"no such dataset spec; bundled: {', '.join(bundled_specs())} "
+                                               "(or a path to a .toml file)")
+    return str(bundled)
 
 
 def load_spec(path: str | Path) -> DatasetSpec:
