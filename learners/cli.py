@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from learners.leaderboard import COLUMNS, as_input_error, leaderboard, write_csv, write_markdown
+from learners.leaderboard import COLUMNS, as_input_error, check_segments, leaderboard, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.runs import check_one_interval, dataset_runs, is_time_ordered, resample, select_runs
 from learners.table import Table, check_problem, load_table, target_unit
@@ -67,9 +67,8 @@ def add_learn_parser(subparsers):
                    help="test table; repeat for several (each file once)")
     p.add_argument("--dataset", metavar="DIR", help="a twin dataset folder: train on its --train-split cases, "
                                                      "score on its --split cases")
-    p.add_argument("--split", default="test", metavar="NAME", help="the dataset split to score on (default test)")
-    p.add_argument("--train-split", default="train", metavar="NAME",
-                   help="the dataset split to train on (default train)")
+    p.add_argument("--split", metavar="NAME", help="with --dataset: the split to score on (default test)")
+    p.add_argument("--train-split", metavar="NAME", help="with --dataset: the split to train on (default train)")
     p.add_argument("--target", required=True, metavar="NAME",
                    help="target column (CSV) or address such as drift:Z (NetCDF)")
     p.add_argument("--learner", required=True, metavar="L1,L2",
@@ -165,9 +164,15 @@ def _declare_files(args) -> Files:
             if paths.count(path) > 1:
                 raise InputError(path, option, "given more than once")
             files.input(path, option, "table")
+    for option, value in (("--split", args.split), ("--train-split", args.train_split)):
+        if value is not None and not args.dataset:
+            raise InputError("command line", option, "names a split of a --dataset: give --dataset, or leave it out")
+    args.split, args.train_split = args.split or "test", args.train_split or "train"
     for path in args.output:
         if args.output.count(path) > 1:
             raise InputError(path, "-o", "given more than once")
+        if args.dataset and Path(args.dataset).resolve() in Path(path).resolve().parents:
+            raise InputError(path, "-o", f"lies in the input dataset {args.dataset}: write the scores elsewhere")
         files.output(path, "-o", (".csv", ".md"))
     return files
 
@@ -210,6 +215,7 @@ def run_learn(args) -> int:
         tests.append((label, tabs))
     check_one_interval(runs + [tab for _, tabs in tests for tab in tabs],
                        [name for name, est in learners.items() if is_time_ordered(est)])
+    check_segments([(label, [(tab.X, tab.y) for tab in tabs]) for label, tabs in tests], args.segments, "--test")
     with as_input_error(train_label, args.select):
         select_runs(selector, [(r.X, r.y) for r in runs])
     cols = list(selector.selected_)

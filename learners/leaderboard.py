@@ -97,6 +97,23 @@ def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: 
 MIN_SEGMENT_ROWS = 3    # rows a scored segment needs (NSE and R compare a segment's spread)
 
 
+def check_segments(test_sets: list, n: int, source: str, option: str = "--segments") -> None:
+    """Before any learner runs: every time segment of every test set ([(label, [(X, y), ...])],
+    :func:`segments_of`) holds at least :data:`MIN_SEGMENT_ROWS` rows; else one
+    :class:`InputError` naming ``source`` (the test data), the segment, and the most segments
+    these runs allow."""
+    if n <= 1:
+        return
+    lengths = [[len(y) for _, y in runs] for _, runs in test_sets]
+    rows = lambda m, ls: min(sum((k + 1) * L // m - k * L // m for L in ls) for k in range(m))   # noqa: E731
+    for (label, _), ls in zip(test_sets, lengths):
+        if rows(n, ls) < MIN_SEGMENT_ROWS:
+            most = max((m for m in range(1, n) if all(rows(m, x) >= MIN_SEGMENT_ROWS for x in lengths)), default=1)
+            raise InputError(source, option, f"{n} segments leave {rows(n, ls)} row(s) in a segment of {label}; a "
+                                             f"scored segment needs at least {MIN_SEGMENT_ROWS}: give {option} {most} "
+                                             "or fewer")
+
+
 def _defined_scores(z: np.ndarray, p: np.ndarray, label: str, learner: str, segment: bool) -> dict:
     """score_all(z, p) as floats; an :class:`InputError` where the test data leave the scores
     undefined (a segment of fewer than :data:`MIN_SEGMENT_ROWS` rows, a constant target: NSE and

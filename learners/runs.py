@@ -98,10 +98,13 @@ def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> li
     order; an unknown split or a split without built cases is an :class:`InputError`."""
     folder = Path(folder)
     index = folder / "index.csv"
-    rows = list(csv.DictReader(read_text(index, field, "dataset index (index.csv)").splitlines()))
+    reader = csv.DictReader(read_text(index, field, "dataset index (index.csv)").splitlines())
+    rows = list(reader)
     for key in ("file", "split", "built"):
-        if rows and key not in rows[0]:
-            raise InputError(str(index), key, "missing column; is this a twin dataset index?")
+        if key not in (reader.fieldnames or ()):
+            raise InputError(str(index), key, "missing column: not the index.csv of a twin dataset")
+    if not rows:
+        raise InputError(str(index), "file", "lists no case: not the index.csv of a built twin dataset")
     splits = sorted({r["split"] for r in rows})
     if split not in splits:
         raise InputError(str(index), "split", f"no split {split!r}; the dataset has {', '.join(splits) or 'none'}")

@@ -424,14 +424,15 @@ def test_learn_writes_the_leaderboard_as_markdown(built, capsys):
 
 
 def test_learn_never_writes_over_the_dataset_index_and_refuses_repeated_inputs(built, capsys):
-    """The dataset's index.csv is an input of `twin learn --dataset`: `-o DIR/index.csv` is refused
-    (exit 2) and the index is unchanged; `--inputs T1,T1` names one input twice and is refused."""
+    """The dataset's index.csv is an input of `twin learn --dataset`: `-o DIR/index.csv` (as any
+    path in the dataset's folder) is refused (exit 2) and the index is unchanged; `--inputs T1,T1`
+    names one input twice and is refused."""
     _, out, _ = built
     index = out / "index.csv"
     before = index.read_bytes()
     common = ["--dataset", str(out), "--split", "test", "--target", "drift:Z", "--learner", "mlr"]
     assert main(["learn", *common, "-o", str(index)]) == 2
-    assert "never replaces an input" in capsys.readouterr().err and index.read_bytes() == before
+    assert "lies in the input dataset" in capsys.readouterr().err and index.read_bytes() == before
     assert main(["learn", *common, "--inputs", "motor,motor"]) == 2
     assert "motor given more than once" in capsys.readouterr().err
 

@@ -231,6 +231,9 @@ def csv_dataset(tmp_path):
     (["--interval", "-60 s"], "command line: --interval: must be positive"),
     (["--split", "bogus"], "no split 'bogus'"),
     (["--target", "bogus"], "a.csv: bogus: missing target column"),
+    (["--select", "gm0n-fcm:1", "--learners", "mlr", "--no-placement"],
+     "--segments: 4 segments leave 2 row(s) in a segment of test: all 1 runs; a scored segment needs at least 3: "
+     "give --segments 3 or fewer"),
 ])
 def test_dataset_study_checks_everything_before_its_folder(csv_dataset, argv, needle, tmp_path, capsys):
     out = tmp_path / "out"
@@ -248,3 +251,36 @@ def test_dataset_study_leaderboard_on_every_sensor(csv_dataset, tmp_path):
                                   "--learners", "mlr", "--segments", "1"]) == 0
     board = pd.read_csv(out / "leaderboard.csv")
     assert set(board["inputs"]) == {"T1;T2"}
+
+
+def test_dataset_study_and_learn_write_nothing_into_their_input_dataset(csv_dataset, capsys):
+    """-o inside the input dataset (its README, index, a subfolder) is refused: the dataset is an
+    input, and an output never replaces one; the folder is unchanged."""
+    from twin.cli import main
+    before = sorted(p.name for p in csv_dataset.rglob("*"))
+    for out in (csv_dataset, csv_dataset / "board"):
+        assert dataset_learners.main([str(csv_dataset), "-o", str(out)]) == 2
+        one_error(capsys, f"{out}: -o: lies in the input dataset")
+    assert main(["learn", "--dataset", str(csv_dataset), "--target", "drift:Z", "--learner", "mlr",
+                 "-o", str(csv_dataset / "README.md")]) == 2
+    one_error(capsys, "README.md: -o: lies in the input dataset")
+    assert sorted(p.name for p in csv_dataset.rglob("*")) == before
+
+
+def test_learn_refuses_split_options_without_a_dataset(csv_dataset, capsys):
+    """--split and --train-split name a dataset's splits: without --dataset they would do nothing."""
+    from twin.cli import main
+    a, b = str(csv_dataset / "a.csv"), str(csv_dataset / "b.csv")
+    for option in ("--split", "--train-split"):
+        assert main(["learn", "--train", a, "--test", b, "--target", "drift:Z", "--learner", "mlr", option, "x"]) == 2
+        one_error(capsys, f"command line: {option}: names a split of a --dataset")
+
+
+def test_a_text_that_is_no_dataset_index_is_named_so(csv_dataset, capsys):
+    """An index.csv without the columns of a dataset index, or without a case: not 'no split'."""
+    from twin.cli import main
+    for text, needle in (("hello\n", "index.csv: file: missing column: not the index.csv of a twin dataset"),
+                         ("file,split,built\n", "index.csv: file: lists no case")):
+        (csv_dataset / "index.csv").write_text(text)
+        assert main(["learn", "--dataset", str(csv_dataset), "--target", "drift:Z", "--learner", "mlr"]) == 2
+        one_error(capsys, needle)

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from learners.leaderboard import leaderboard, unit_heading, write_csv, write_markdown
+from learners.leaderboard import check_segments, leaderboard, unit_heading, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_selector
 from learners.runs import dataset_runs, resample, select_runs
 from learners.table import load_table, target_unit
@@ -221,6 +221,9 @@ def _run(args) -> int:
         raise InputError(args.dataset, "dataset", "not a dataset folder (twin dataset SPEC -o DIR makes one)")
     files = Files()
     files.input(Path(args.dataset) / "index.csv", "dataset", "dataset index (index.csv)")
+    here = Path(args.output).resolve()
+    if here == Path(args.dataset).resolve() or Path(args.dataset).resolve() in here.parents:
+        raise InputError(args.output, "-o", f"lies in the input dataset {args.dataset}: write the study elsewhere")
     out = check_output_folder(args.output, OUTPUTS if not args.no_placement else OUTPUTS[:2], default=DEFAULT_OUTPUT,
                               files=files)
     print(f"reading {args.dataset} ...", flush=True)
@@ -234,6 +237,7 @@ def _run(args) -> int:
                          f"default with {ALL_SENSORS}), the dataset's runs have {len(names)}: add --no-placement")
     if method != ALL_SENSORS and k > len(names):
         raise InputError("command line", "--select", f"asks for {k} inputs, the dataset's runs have {len(names)} sensors")
+    check_segments(_test_sets(tests, args.split), args.segments, f"{args.dataset} (every run thinned to {interval:g} s)")
     out.mkdir(parents=True, exist_ok=True)
     print(f"{len(train)} training runs ({sum(len(t.y) for _, t in train)} rows), {len(tests)} test runs "
           f"({sum(len(t.y) for _, t in tests)} rows), {len(names)} sensors", flush=True)
