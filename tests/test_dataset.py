@@ -331,9 +331,12 @@ def test_max_cases_then_the_rest_and_a_changed_spec(built, tmp_path, capsys):
     assert main(["dataset", str(spec), "-o", str(out), "--jobs", "1"]) == 0
     text = capsys.readouterr().out
     assert "built 1 case(s)" in text and "2 already there" in text and "1 case file(s) from an earlier spec kept" in text
+    mine = out / "cases" / "mine.nc"             # a user's file among the cases: never pruned
+    shutil.copy(next((out / "cases").glob("*.nc")), mine)
     assert main(["dataset", str(spec), "-o", str(out), "--jobs", "1", "--prune"]) == 0
-    assert "removed" in capsys.readouterr().out
-    assert len(list((out / "cases").glob("*.nc"))) == 3
+    text = capsys.readouterr().out
+    assert "1 case file(s) from an earlier spec removed" in text and "1 other file(s)" in text and "mine.nc" in text
+    assert len(list((out / "cases").glob("*.nc"))) == 4 and mine.is_file()
 
 
 def test_the_output_folder_never_replaces_the_spec(tmp_path):

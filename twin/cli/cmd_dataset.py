@@ -54,7 +54,10 @@ def run(args) -> int:
     todo = [c for c in chosen if c.hash not in whole]
     if args.dry_run:
         return _dry_run(spec, cases, chosen, todo, args)
-    stale = sorted(p for p in case_dir.glob("*.nc") if p.stem not in {c.hash for c in cases}) if case_dir.is_dir() else []
+    planned = {c.hash for c in cases}
+    others = sorted(p for p in case_dir.glob("*.nc") if p.stem not in planned) if case_dir.is_dir() else []
+    stale = [p for p in others if is_whole(p, p.stem)]      # case files of an earlier spec: ours to prune
+    foreign = [p for p in others if p not in stale]         # anything else is the user's, never removed
     with output_folder(folder):
         if args.prune:
             for p in stale:
@@ -82,6 +85,9 @@ def run(args) -> int:
     if stale:
         what = "removed" if args.prune else "kept (not in the index; --prune removes them)"
         print(f"{len(stale)} case file(s) from an earlier spec {what}")
+    if foreign:
+        print(f"{len(foreign)} other file(s) in {case_dir} kept, not case files of a twin dataset (--prune leaves "
+              f"them): {', '.join(p.name for p in foreign[:3])}{' ...' if len(foreign) > 3 else ''}")
     return 0
 
 
