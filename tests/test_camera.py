@@ -273,10 +273,11 @@ def test_grid_caster_matches_trimesh_ray_triangle():
     assert isinstance(trimesh.__version__, str)
 
 
-def test_scenario_camera_section_and_cli_errors(tmp_path):
+def test_scenario_camera_section_and_cli_errors(tmp_path, capsys):
     """A [camera] section is read with units; an unknown key, a missing unit, an emissivity out
-    of (0, 1], a frame interval that is not a multiple of the sample interval and an unknown pose
-    each give one error naming file and field, exit code 2 and no output file."""
+    of (0, 1], a frame interval that is not a multiple of the sample interval or is longer than
+    the run (one cold frame at t = 0, nothing recorded) and an unknown pose each give one error
+    naming file and field, exit code 2 and no output file."""
     from twin.cli import main
     from twin.scenario import load_scenario
 
@@ -290,12 +291,14 @@ def test_scenario_camera_section_and_cli_errors(tmp_path):
     cases = {"unknown": ('[camera]\nzoom = 2\n', "camera.zoom"),
              "unit": ('[camera]\nifov = 1.5\n', "camera.ifov"),
              "emissivity": ('[[camera]]\n[camera.settings]\nemissivity = 1.2\n', "camera[0].settings.emissivity"),
-             "interval": ('[camera]\nframe_interval = "90 s"\n', "camera.frame_interval")}
+             "interval": ('[camera]\nframe_interval = "90 s"\n', "camera.frame_interval"),
+             "longer": ('[camera]\nframe_interval = "3 min"\n', "camera.frame_interval: 180 s is longer than the run")}
     for name, (text, field) in cases.items():
         path = tmp_path / f"{name}.toml"
         path.write_text(base + text)
         out = tmp_path / f"{name}.nc"
         assert main(["simulate", "cframe-vmc", str(path), "-o", str(out), "--mesh", "coarse"]) == 2
+        assert f"{path.name}: {field}" in capsys.readouterr().err
         assert not out.exists()
     out = tmp_path / "pose.nc"
     assert main(["simulate", "cframe-vmc", str(good), "-o", str(out), "--mesh", "coarse", "--camera", "nope"]) == 2

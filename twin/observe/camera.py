@@ -37,6 +37,7 @@ from twin.observe.base import Observer, RunContext
 from twin.observe.camera_geometry import Intrinsics, temperature_rows, view_machine
 from twin.observe.microbolometer import Microbolometer, SensorChain
 from twin.observe.radiometry import ObjectSettings, RadianceTable, air_transmission, scene_radiance
+from twin.units import format_quantity
 
 OVERVIEW = "overview-front"
 BLOCK = 32  # frames processed at a time in data()
@@ -87,9 +88,15 @@ class CameraConfig:
 
     def check(self, scenario) -> None:
         """Raise :class:`InputError` unless the frame interval is a whole multiple of the
-        scenario's sample interval."""
+        scenario's sample interval and no longer than the run (a camera with one frame, the cold
+        one at t = 0, would record nothing)."""
         if self.frame_interval is None:
             return
+        if self.frame_interval > scenario.duration * (1 + 1e-9):
+            raise InputError(self.source, self.field("frame_interval"),
+                             f"{format_quantity(self.frame_interval, 'time')} is longer than the run "
+                             f"({format_quantity(scenario.duration, 'time')}): the camera would take only the frame "
+                             "at the start")
         ratio = self.frame_interval / scenario.sample_interval
         if ratio < 1 - 1e-9 or abs(ratio - round(ratio)) > 1e-6:
             raise InputError(self.source, self.field("frame_interval"),
