@@ -51,6 +51,9 @@ def test_daily_ambient_is_coldest_in_the_morning():
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.power=3 K"], "wrong unit"),
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.power=-3 W"], "bounds"),
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--mesh", "huge"], "--mesh"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--solver", "direct", "--heat-start", "reduced"], "--heat-start"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--mesh", "coarse", "--heat-start", "projection"],
+     "--heat-start: starts iterative heat steps; --solver auto factorises"),
 ])
 def test_bad_names_and_values(capsys, tmp_path, argv, needle):
     out = tmp_path / "r.nc"

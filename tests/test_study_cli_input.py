@@ -116,6 +116,16 @@ def test_camera_benchmark_checks_the_scenario_against_the_machine(fast_scenario,
     (["--spacing", "100"], "command line: --spacing: '100' has no unit"),
     (["--spacing", "20mm", "--mesh", "coarse"], "--spacing or --mesh, not both"),
     (["--machine", "bogus"], "unknown machine 'bogus'"),
+    # options that would do nothing in the run asked for (a silent no-op reads as a measurement)
+    (["--solver", "direct", "--rom-order", "10"], "command line: --rom-order: sets a reduced basis"),
+    (["--mesh", "coarse", "--rom-order", "10"], "--rom-order: sets the reduced basis of the reduced model or of "
+                                                "iterative steps; this run factorises"),
+    (["--solver", "rom", "--no-bound"], "command line: --no-bound: skips the batched reduced model's bound"),
+    (["--solver", "direct", "--no-reference"], "command line: --no-reference: skips the full-order reference"),
+    (["--solver", "direct", "--heat-start", "reduced"], "--heat-start: starts iterative heat steps; --solver direct"),
+    (["--solver", "rom", "--heat-start", "projection"], "--heat-start: starts iterative heat steps; --solver rom"),
+    (["--mesh", "coarse", "--heat-start", "reduced"], "--heat-start: starts iterative heat steps; --solver auto "
+                                                      "factorises this mesh"),
 ])
 def test_benchmark_refuses_bad_options(argv, needle, capsys):
     assert benchmark.main(argv) == 2

@@ -52,8 +52,8 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--device", default="cpu", choices=["cpu", "gpu"])
     ap.add_argument("--cases", type=whole_number("cases", 1), default=1,
                     help="number of batched cases (default 1: one plain run)")
-    ap.add_argument("--rom-order", type=whole_number("basis vectors", 2), default=48,
-                    help="the reduced model's order (default 48)")
+    ap.add_argument("--rom-order", type=whole_number("basis vectors", 2), default=None,
+                    help="the reduced model's order, also of the basis iterative steps start from (default 48)")
     # upper: twin.physics.solvers.MAX_ELASTIC_COARSENING, as twin.cli.options (the parser stays light)
     ap.add_argument("--elastic-coarsening", type=whole_number("grid lines", 1, 8), default=1,
                     help="solve the elasticity on every N-th grid line of the temperature mesh, 1 to 8 (default 1: "
@@ -119,17 +119,22 @@ def _run(args) -> int:
 
     if args.spacing is not None and args.mesh is not None:
         raise InputError("command line", "--spacing", "give --spacing or --mesh, not both")
+    _check_combination(args)
     machine = machine_by_name(args.machine)
     scenario = load_scenario(args.scenario)
     limits.check_scenario(scenario, machine)
     tol = {"heat_tol": args.heat_tol} if args.heat_tol is not None else {}
-    options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order,
+    options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order or 48,
                             elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
     t0, c0 = time.perf_counter(), time.process_time()
     mm = build_mesh(machine, args.spacing) if args.spacing is not None else mesh_machine(machine, args.mesh or "default")
     limits.check_run_size(scenario, mm.nheat)
     stages = {"mesh": time.perf_counter() - t0}
     twin = PreparedTwin(machine, mm, solver=options)
+    if args.rom_order is not None and args.solver != "rom" and twin.method == "direct":
+        raise InputError("command line", "--rom-order", f"sets the reduced basis of the reduced model or of iterative "
+                                                        f"steps; this run factorises its {mm.nheat} temperature nodes: "
+                                                        "use --solver rom or iterative")
     stages["heat_assembly"] = time.perf_counter() - t0 - sum(stages.values())
     observers = [TemperatureSensors(sensor_points(machine))] + ([] if args.heat_only else [ToolDrift()])
     if machine.probes and not args.heat_only:
@@ -190,6 +195,21 @@ def _print(result: dict, args) -> int:
     """Print ``result`` as one JSON object (on one line with --json) and return the exit code 0."""
     print(json.dumps(result, sort_keys=True) if args.json else json.dumps(result, indent=2, sort_keys=True))
     return 0
+
+
+def _check_combination(args) -> None:
+    """Refuse options that would do nothing in this run (a silent no-op reads as a measurement)."""
+    from twin.errors import InputError
+
+    if args.no_bound and not (args.solver == "rom" and args.cases > 1):
+        raise InputError("command line", "--no-bound", "skips the batched reduced model's bound: it needs --solver rom "
+                                                       "and --cases N > 1")
+    if args.no_reference and not (args.solver == "rom" or (args.elastic_coarsening > 1 and not args.heat_only)):
+        raise InputError("command line", "--no-reference", "skips the full-order reference of --solver rom or the "
+                                                           "one-mesh elastic reference of --elastic-coarsening N > 1; "
+                                                           "this run has neither")
+    if args.rom_order is not None and args.solver == "direct":
+        raise InputError("command line", "--rom-order", "sets a reduced basis; --solver direct has none")
 
 
 def _elastic_reference(args) -> bool:

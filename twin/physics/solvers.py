@@ -96,6 +96,9 @@ class SolverOptions:
         if self.heat_start not in HEAT_STARTS:
             raise InputError("command line", "--heat-start",
                              f"unknown heat start {self.heat_start!r}; known: {', '.join(HEAT_STARTS)}")
+        if self.heat_start != "auto" and self.solver in ("direct", "rom"):
+            raise InputError("command line", "--heat-start", f"starts iterative heat steps; --solver {self.solver} has "
+                                                             "none: leave --heat-start out, or use --solver iterative")
         if self.device == "gpu" and self.solver in ("direct", "rom"):
             raise InputError("command line", "--device", f"the GPU path is the full-order iterative heat step, not the "
                              f"{'direct solver' if self.solver == 'direct' else 'reduced model (it runs on the CPU)'}: "
@@ -119,7 +122,12 @@ class SolverOptions:
             return self.solver
         if self.device == "gpu":
             return "iterative"
-        return "direct" if nheat <= DIRECT_LIMIT else "iterative"
+        method = "direct" if nheat <= DIRECT_LIMIT else "iterative"
+        if method == "direct" and self.heat_start != "auto" and self.solver == "auto":
+            raise InputError("command line", "--heat-start", f"starts iterative heat steps; --solver auto factorises "
+                                                             f"this mesh ({nheat} temperature nodes, up to "
+                                                             f"{DIRECT_LIMIT} direct): add --solver iterative")
+        return method
 
 
 def _heat_tol(value) -> float:
