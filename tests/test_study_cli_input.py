@@ -294,3 +294,17 @@ def test_a_text_that_is_no_dataset_index_is_named_so(csv_dataset, capsys):
         (csv_dataset / "index.csv").write_text(text)
         assert main(["learn", "--dataset", str(csv_dataset), "--target", "drift:Z", "--learner", "mlr"]) == 2
         one_error(capsys, needle)
+
+
+@pytest.mark.parametrize("module", ["common", "camera_figures", "diagnosis_cases", "learner_data", "machine_b_data",
+                                    "placement_search"])
+def test_a_module_the_studies_share_is_not_run_as_a_study(module):
+    """``python -m validate.studies.<module>`` of a shared module exits 2 with one line saying so
+    (it exited 0 silently, even with --help)."""
+    import subprocess
+    import sys
+    run = subprocess.run([sys.executable, "-m", f"validate.studies.{module}", "--help"], capture_output=True, text=True)
+    assert run.returncode == 2 and run.stdout == ""
+    assert run.stderr.strip().splitlines() == [f"error: python -m validate.studies.{module}: a module the studies use, "
+                                               "not a study; the studies are listed in the README (\"Learner studies "
+                                               "on the twin\" and the sections that name them)"]

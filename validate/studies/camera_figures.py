@@ -53,3 +53,9 @@ def plot_frames(path: Path, data, picked: list[str] | None = None, hours=(0.0, 1
     save_figure(fig, path, dpi=100)
     plt.close(fig)
     return path
+
+
+if __name__ == "__main__":
+    from validate.studies.common import not_a_command
+
+    not_a_command("validate.studies.camera_figures")

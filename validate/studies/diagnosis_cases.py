@@ -369,3 +369,9 @@ def score(row: dict) -> dict:
     else:
         r["pass"] = r["verdict"] == "nothing_missing"
     return r
+
+
+if __name__ == "__main__":
+    from validate.studies.common import not_a_command
+
+    not_a_command("validate.studies.diagnosis_cases")

@@ -169,3 +169,9 @@ def build_camera_data(outdir, resolution: str = "default", machine: str = "cfram
               "pose": pose, "subject": subject, "spot_size_px": size, "lines": lines, "per_line": per_line,
               "spots": spots},
     )
+
+
+if __name__ == "__main__":
+    from validate.studies.common import not_a_command
+
+    not_a_command("validate.studies.learner_data")

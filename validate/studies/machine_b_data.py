@@ -62,3 +62,9 @@ def load_tests(outdir, resolution: str = "default", seed: int = 0, tests=tuple(T
 def column(name: str) -> int:
     """Column of sensor ``name`` ("T5" or 5) in the 77-point matrices."""
     return TEMPERATURE_POINTS.index(name if isinstance(name, str) else f"T{name}")
+
+
+if __name__ == "__main__":
+    from validate.studies.common import not_a_command
+
+    not_a_command("validate.studies.machine_b_data")

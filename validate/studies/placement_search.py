@@ -104,3 +104,9 @@ def exhaustive_best(Xtr, ytr, Xte, yte, candidates, k: int = 4, *, chunk: int = 
               for s in best_sets]
     rmse, cols = min(scored, key=lambda t: t[0])
     return sorted(cols), rmse, done
+
+
+if __name__ == "__main__":
+    from validate.studies.common import not_a_command
+
+    not_a_command("validate.studies.placement_search")
