@@ -7,11 +7,12 @@ a Cholesky factor. Factorisation and back-substitution are chains of small dense
 supernode, and both run with BLAS held to one thread (:func:`twin.physics.parallel.single_blas`):
 
 * OpenBLAS's threads slow these small kernels down. Measured on the default C-frame mesh (15.6 k
-  heat nodes, 49 k elastic dofs), 2 cores: eight heat right-hand sides at once 42 ms on one thread
-  against 240-280 ms with OpenBLAS's threads, eight elastic ones 0.33-0.48 s against 2.1-2.7 s
-  (a run's adjoints, some hundred columns, 34 s before); one right-hand side and the
-  factorisation are within the machine's noise either way. On one thread several right-hand
-  sides at once cost less than column by column (heat: 29 against 71 ms for eight).
+  heat nodes, 49 k elastic dofs), 2 cores at load 2: eight heat right-hand sides at once 20-22 ms
+  on one thread against 164-170 ms with OpenBLAS's threads, eight elastic ones 0.16 s against
+  0.9-1.6 s (a run's adjoints, some hundred columns, took 34 s before); one right-hand side
+  (heat 5.4-6.2 ms) and the factorisation (elastic 4.2-4.4 s) are alike either way. On one thread
+  several right-hand sides at once cost less than column by column (heat: 29 against 71 ms for
+  eight, at load 5).
 * OpenBLAS's sums depend on its thread count: on one thread the factors and the solutions are the
   same bits on any machine.
 """
