@@ -297,7 +297,7 @@ def test_a_text_that_is_no_dataset_index_is_named_so(csv_dataset, capsys):
 
 
 @pytest.mark.parametrize("module", ["common", "camera_figures", "diagnosis_cases", "learner_data", "machine_b_data",
-                                    "placement_search"])
+                                    "placement_search", "not_a_study"])
 def test_a_module_the_studies_share_is_not_run_as_a_study(module):
     """``python -m validate.studies.<module>`` of a shared module exits 2 with one line saying so
     (it exited 0 silently, even with --help)."""

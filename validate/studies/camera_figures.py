@@ -56,6 +56,6 @@ def plot_frames(path: Path, data, picked: list[str] | None = None, hours=(0.0, 1
 
 
 if __name__ == "__main__":
-    from validate.studies.common import not_a_command
+    from validate.studies.not_a_study import not_a_command
 
     not_a_command("validate.studies.camera_figures")

@@ -257,15 +257,7 @@ def markdown_table(rows: list[dict], columns: list[str], headers: list[str] | No
     return "\n".join(lines)
 
 
-def not_a_command(module: str) -> None:
-    """``python -m`` on a module the studies share (not a study): one error line, exit code 2,
-    instead of a silent exit 0."""
-    import sys
-
-    print(f"error: python -m {module}: a module the studies use, not a study; the studies are listed in the "
-          "README (\"Learner studies on the twin\" and the sections that name them)", file=sys.stderr)
-    raise SystemExit(2)
-
-
 if __name__ == "__main__":
+    from validate.studies.not_a_study import not_a_command
+
     not_a_command("validate.studies.common")

@@ -372,6 +372,6 @@ def score(row: dict) -> dict:
 
 
 if __name__ == "__main__":
-    from validate.studies.common import not_a_command
+    from validate.studies.not_a_study import not_a_command
 
     not_a_command("validate.studies.diagnosis_cases")

@@ -172,6 +172,6 @@ def build_camera_data(outdir, resolution: str = "default", machine: str = "cfram
 
 
 if __name__ == "__main__":
-    from validate.studies.common import not_a_command
+    from validate.studies.not_a_study import not_a_command
 
     not_a_command("validate.studies.learner_data")

@@ -65,6 +65,6 @@ def column(name: str) -> int:
 
 
 if __name__ == "__main__":
-    from validate.studies.common import not_a_command
+    from validate.studies.not_a_study import not_a_command
 
     not_a_command("validate.studies.machine_b_data")

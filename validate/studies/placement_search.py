@@ -107,6 +107,6 @@ def exhaustive_best(Xtr, ytr, Xte, yte, candidates, k: int = 4, *, chunk: int = 
 
 
 if __name__ == "__main__":
-    from validate.studies.common import not_a_command
+    from validate.studies.not_a_study import not_a_command
 
     not_a_command("validate.studies.placement_search")
