@@ -252,6 +252,11 @@ OPTION_CASES = [
     ("learn:interval-not-a-multiple", LEARN + ["--interval", "25 s"], "{d}/train.csv", "--interval"),
     ("diagnose:effects-file-twice", DIAGNOSE + ["--effects-file", "{d}/fx.toml", "--effects-file", "{d}/fx.toml"], CLI,
      "--effects-file"),
+    # an effects file's effects are always on where the twin runs them: removing one is refused saying so
+    ("simulate:effects-file-removed", SIM + ["--effects-file", "{d}/fx.toml", "--effects=-pump"], CLI,
+     "--effects -pump"),
+    ("compare:effects-file-removed", COMPARE + ["--effects-file", "{d}/fx.toml", "--effects=-pump"], CLI,
+     "--effects -pump"),
     ("diagnose:measurement-twice", DIAGNOSE[:2] + ["{d}/m.csv"] + DIAGNOSE[2:], CLI, "measurements"),
     ("diagnose:mapping-with-two", DIAGNOSE[:2] + ["{d}/r.nc"] + DIAGNOSE[2:] + ["--mapping", "{d}/m.toml"], CLI,
      "--mapping"),
@@ -300,7 +305,7 @@ EFFECTS_EDITS = [   # (id, text, field)
     ("unknown-direction", _fx('"saddle"', '"column.+w"'), "effects.pump.region"),
     ("library-name", _fx("pump", "spindle_motor"), "effects.spindle_motor"),
     ("bad-name", _fx("pump", '"2pump"'), "effects"),
-    ("no-tables", 'kind = "heat_source"\n', "effects"),
+    ("no-tables", 'kind = "heat_source"\n', "kind"),   # an effect's key without [effects.NAME] above it
     ("malformed", EFFECTS_FILE + "[[[\n", "toml"),
     ("unknown-schedule", EFFECTS_FILE + 'schedule = "sometimes"\n', "effects.pump.schedule"),
     ("window-backwards", EFFECTS_FILE + 'schedule = "windows"\nwindows = [["2 h", "1 h"]]\n', "effects.pump.windows"),

@@ -35,6 +35,22 @@ def test_units_parse_and_reject():
             parse_quantity(bad, "time")
 
 
+@pytest.mark.parametrize("text,dimension,message", [
+    ("nanW", "power", "'nanW' is not a finite number"),
+    ("-Infinity s", "time", "'-Infinity s': '-Infinity' is not a finite number"),
+    (float("inf"), "time", "inf is not a finite number"),
+    ("info", "time", "'info' is not a decimal number"),
+    ("1_000 rpm", "speed", "'1_000 rpm': '1_000' is not a decimal number"),
+    (80, "velocity", "80 has no unit; write it like '80 mm/s'"),
+    ([1, 2], "length", "got a list of 2 values; expected a quantity with a unit such as '150 mm'"),
+])
+def test_unit_errors_name_the_number_when_the_number_is_wrong(text, dimension, message):
+    with pytest.raises(UnitError) as err:
+        parse_quantity(text, dimension)
+    assert str(err.value).startswith(message), str(err.value)
+    assert parse_quantity("5%", "dimensionless") == 0.05 and parse_quantity("20degC", "temperature") == 20.0
+
+
 def test_daily_ambient_is_coldest_in_the_morning():
     sc = load_scenario("etve-day-night")
     t = np.arange(0, 86400, 60.0)
@@ -51,6 +67,8 @@ def test_daily_ambient_is_coldest_in_the_morning():
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.power=3 K"], "wrong unit"),
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--set", "spindle_motor.power=-3 W"], "bounds"),
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--mesh", "huge"], "--mesh"),
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--effects", ""], "--effects: is empty"),   # not the defaults
+    (["simulate", "cframe-vmc", "spindle-duty-cycle", "--effects", " , "], "--effects: ' , ' names no effect"),
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--solver", "direct", "--heat-start", "reduced"], "--heat-start"),
     (["simulate", "cframe-vmc", "spindle-duty-cycle", "--mesh", "coarse", "--heat-start", "projection"],
      "--heat-start: starts iterative heat steps; --solver auto factorises"),
@@ -77,6 +95,75 @@ def test_bad_scenario_files(capsys, tmp_path, text, field):
     err = _error(capsys, ["simulate", "cframe-vmc", str(path), "-o", str(out)])
     assert str(path) in err and field in err
     assert not out.exists()
+
+
+AXIS = ('\n[[axis]]\nname = "Y"\n[[axis.move]]\nkind = "reciprocate"\nbetween = ["0 mm", "280 mm"]\n'
+        'feed = "20 mm/s"\nacceleration = "10 mm/s2"\nduration = "10 min"\n')
+PROBING = '\n[probing]\ntimes = ["0 min", "10 min"]\ndatums = [["150 mm", "100 mm", "100 mm"]]\n'
+
+
+@pytest.mark.parametrize("text,message", [
+    # a misspelled key is named (with the known ones), not reported as its correct sibling missing
+    (SHORT.replace('speed = "6000 rpm"', 'sped = "6000 rpm"'), "spindle[0].sped: unknown key (known: duration, speed)"),
+    (SHORT.replace("temperature =", "temprature ="), "ambient.temprature: unknown key (known: "),
+    (SHORT.replace("[ambient]", "[ambiant]"), "ambiant: unknown key (known: "),
+    (SHORT + AXIS.replace("duration =", "duraton ="), "axis[0].move[0].duraton: unknown key (known: acceleration, "
+                                                      "between, count, duration, dwell, feed, kind)"),
+    (SHORT + AXIS.replace('kind = "reciprocate"', 'knd = "reciprocate"'), "axis[0].move[0].knd: unknown key"),
+    (SHORT + PROBING.replace("datums", "datum"), "probing.datum: unknown key (known: datums, times)"),
+    (SHORT + '\n[[c_axis]]\nsped = "10 rpm"\nduration = "10 min"\n', "c_axis[0].sped: unknown key"),
+    # without a misspelling, the missing key is reported as before
+    (SHORT.replace('speed = "6000 rpm"\n', ""), "spindle[0].speed: missing"),
+    (SHORT + AXIS.replace('duration = "10 min"\n', ""), "axis[0].move[0].duration: give exactly one of duration "
+                                                         "and count"),
+    # values described in the user's terms, the number's problem named, a plausible unit hinted
+    (SHORT.replace('"60 s"', "1979-05-27"), "sample_interval: got a TOML date (1979-05-27); expected a quantity "
+                                            "with a unit such as '10 s'"),
+    (SHORT.replace('"60 s"', "true"), "sample_interval: got the boolean true; expected a quantity"),
+    (SHORT.replace('"60 s"', '"0x3c s"'), "sample_interval: '0x3c s': '0x3c' is not a decimal number"),
+    (SHORT.replace('"60 s"', '"6_0 s"'), "sample_interval: '6_0 s': '6_0' is not a decimal number"),
+    (SHORT.replace('"20 degC"', "nan"), "ambient.temperature: nan is not a finite number"),
+    (SHORT.replace('"20 degC"', '"nan degC"'), "ambient.temperature: 'nan degC': 'nan' is not a finite number"),
+    (SHORT + PROBING.replace('["150 mm", "100 mm", "100 mm"]', "[150, 100, 100]"),
+     "probing.datums: 150 has no unit; write it like '150 mm'"),
+])
+def test_scenario_errors_name_the_misspelled_key_and_speak_of_the_value(text, message):
+    import tomllib
+
+    from twin.errors import InputError
+    from twin.scenario import scenario_from_dict
+
+    with pytest.raises(InputError) as err:
+        scenario_from_dict(tomllib.loads(text), "s.toml")
+    assert str(err.value).startswith(f"s.toml: {message}"), str(err.value)
+    assert "datetime" not in str(err.value) and "True" not in str(err.value)
+
+
+def test_every_key_a_reader_reads_is_declared_known(monkeypatch):
+    """The keys a table reader declares (``known=``, checked before a key is reported missing)
+    hold every key it reads, over the bundled scenarios and dataset specs and the moves above: a
+    key added to a reader but not to its ``known`` would be called unknown in that message."""
+    import tomllib
+
+    from twin.dataset import fields
+    from twin.dataset.spec import bundled_specs, load_spec, spec_path
+    from twin.scenario import _Reader, available, scenario_from_dict
+
+    seen = []
+    for cls in (_Reader, fields.TableReader):
+        def finish(self, *args, _finish=cls.finish, **kw):
+            assert self.known is None or self.used <= self.known, (self.prefix, self.used - self.known)
+            seen.append(self.prefix)
+            return _finish(self, *args, **kw)
+        monkeypatch.setattr(cls, "finish", finish)
+    for name in available():
+        load_scenario(name)
+    for name in bundled_specs():
+        load_spec(spec_path(name))
+    for text in (AXIS, AXIS.replace('kind = "reciprocate"', 'kind = "hold"\nposition = "0 mm"').split("between")[0]
+                 + 'duration = "10 min"\n'):
+        scenario_from_dict(tomllib.loads(SHORT + text + PROBING), "s.toml")
+    assert {"", "ambient.", "spindle[0].", "axis[0].", "axis[0].move[0].", "probing.", "c_axis[0]."} <= set(seen)
 
 
 def test_an_output_never_replaces_the_room_record_a_scenario_reads(capsys, tmp_path):

@@ -99,6 +99,46 @@ def test_bad_custom_effect_is_one_clear_error(machine, spec, field):
     assert err.value.source == "f.toml" and err.value.field == field
 
 
+@pytest.mark.parametrize("data,message", [
+    # a misspelled key is named (with the known ones), not reported as its correct sibling missing
+    ({"effect": {"x": {"kind": "heat_source", "region": "saddle", "power": "80 W"}}},
+     "f.toml: effect: unknown key (known: effects)"),
+    ({"effects": {"x": {"kind": "heat_source", "region": "saddle", "flux": "40 W/m2"}}},
+     "f.toml: effects.x.flux: unknown key (known: doc, exponent, kind, power, range, reference_speed, region, "
+     "schedule, table, windows)"),
+    ({"effects": {"x": {"kind": "heat_source", "region": "saddle", "powr": "80 W"}}}, "f.toml: effects.x.powr: "),
+    ({"effects": {"x": {"kind": "heat_source", "regoin": "saddle", "power": "80 W"}}}, "f.toml: effects.x.regoin: "),
+    ({"effects": {"x": {"kind": "heat_source", "region": "saddle", "power": "80 W", "schedule": "windows",
+                        "windws": [["0 h", "1 h"]]}}}, "f.toml: effects.x.windws: unknown key"),
+    ({"effects": {"x": {"kind": "heat_source", "region": "saddle", "power": "80 W", "schedule": "table",
+                        "table": {"fil": "t.csv", "time_unit": "min"}}}}, "f.toml: effects.x.table.fil: unknown key"),
+    # nothing misspelled: the missing key, in words
+    ({"effects": {"x": {"kind": "heat_source", "region": "saddle"}}}, "f.toml: effects.x.power: a heat_source needs "
+                                                                        "power"),
+    ({"effects": {"x": {"kind": True, "region": "saddle", "power": "80 W"}}}, "f.toml: effects.x.kind: unknown kind "
+                                                                               "the boolean true"),
+])
+def test_a_misspelled_key_is_named_before_a_missing_one(machine, data, message):
+    with pytest.raises(InputError) as err:
+        effects_from_dict(data, "f.toml", machine)
+    assert str(err.value).startswith(message), str(err.value)
+
+
+def test_an_effects_file_effect_is_always_on_in_simulate(tmp_path, capsys):
+    """``--effects +pump`` names an effect the file switches on anyway; ``--effects=-pump`` is
+    refused saying why (the file's effects are always on), not that pump is not in the model."""
+    (tmp_path / "e.toml").write_text('[effects.pump]\nkind = "heat_source"\nregion = "saddle"\npower = "60 W"\n')
+    (tmp_path / "s.toml").write_text('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n'
+                                     '[[spindle]]\nspeed = "6000 rpm"\nduration = "10 min"\n')
+    out = tmp_path / "o.nc"
+    assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(out), "--mesh", "coarse",
+                 "--effects-file", str(tmp_path / "e.toml"), "--effects=-pump"]) == 2
+    err = capsys.readouterr().err
+    assert err == ("error: command line: --effects -pump: pump comes from --effects-file, whose effects are always "
+                   "on; leave the file out to run without pump\n"), err
+    assert not out.exists()
+
+
 def test_library_names_and_empty_regions_are_refused(machine, mm):
     with pytest.raises(InputError, match="library effect"):
         effects_from_dict({"effects": {"floor": {"kind": "heat_source", "region": "bed", "power": "1 W"}}}, "f", machine)

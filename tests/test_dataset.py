@@ -195,6 +195,21 @@ BAD = [
     ('family = "duty"', 'family = "reference"', "scenarios[1].family", "named twice"),
     ("test = 0.5", "test = 0.4", "splits", "add up to"),
     ("seed = 3", "seed = -3", "seed", "outside"),
+    # a misspelled key is named, not its correct sibling reported missing
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["carrier"], spacng = "100 mm" }',
+     "observers.surface_grid.spacng", "unknown key (known: parts, spacing)"),
+    ('step = ["2 min", "5 min"]', 'stp = ["2 min", "5 min"]', "scenarios[0].spindle.stp", "unknown key (known: "),
+    ('family = "duty"', 'famly = "duty"', "scenarios[0].famly", "unknown key (known: "),
+    ('machines = ["cframe-vmc"]', 'machine = ["cframe-vmc"]', "machine", "unknown key (known: "),
+    # values in the user's terms: a table where an array of tables belongs
+    ('[scenarios.ambient]', '[scenarios.axis]\nname = "Y"\n[scenarios.ambient]', "scenarios[0].axis",
+     "expected a list of tables ([[scenarios.axis]]), got a table ([scenarios.axis])"),
+    ('mesh = "coarse"', 'mesh = true', "mesh", "expected a string, got the boolean true"),
+    # a parameter of an effect that is off: the fix is the spec's effects key, not --effects
+    ('"ambient_convection.h" = "7 W/m2K"', '"door_draft.h" = "7 W/m2K"', "parameters.door_draft.h",
+     'is not switched on for machine cframe-vmc; switch it on with the spec\'s effects key: effects = "+door_draft"'),
+    ('"ambient_convection.h" = "7 W/m2K"', '"belt_drive.power" = "50 W"', "parameters.belt_drive.power",
+     "effect 'belt_drive' does not apply to machine cframe-vmc"),
 ]
 
 
@@ -339,10 +354,17 @@ def test_max_cases_then_the_rest_and_a_changed_spec(built, tmp_path, capsys):
     assert len(list((out / "cases").glob("*.nc"))) == 4 and mine.is_file()
 
 
-def test_the_output_folder_never_replaces_the_spec(tmp_path):
+def test_the_output_folder_never_replaces_the_spec(tmp_path, capsys):
     spec = write_spec(tmp_path)
     shutil.copy(spec, tmp_path / "index.csv")
     assert main(["dataset", str(tmp_path / "index.csv"), "-o", str(tmp_path), "--dry-run"]) == 2
+    # nor a scenario file a family reads, named by its family's place in the spec
+    (tmp_path / "out").mkdir()
+    shutil.copy(tmp_path / "ref.toml", tmp_path / "out" / "index.csv")
+    text = SPEC.replace('file = "ref.toml"', 'file = "out/index.csv"')
+    capsys.readouterr()
+    assert main(["dataset", str(write_spec(tmp_path, text)), "-o", str(tmp_path / "out")]) == 2
+    assert "scenarios[1].file" in capsys.readouterr().err
 
 
 def test_reduced_model_cases_are_identical_and_carry_no_wall_times(tmp_path):

@@ -174,6 +174,40 @@ def test_mapping_errors(tmp_path, sim):
         read_measurement(csv)
 
 
+SMALL_CSV = "min,rpm,T\n0,9000,20.0\n1,9000,20.1\n2,9000,20.2\n3,0,20.3\n"
+SMALL_MAP = ('machine = "cframe-vmc"\n[columns.min]\nrole = "time"\nunit = "min"\n[columns.rpm]\n'
+             'role = "spindle_speed"\nunit = "rpm"\n[columns.T]\nrole = "temperature"\nsite = "motor"\nunit = "degC"\n')
+GANTRY_CSV = "min,c_rpm,F1\n0,2500,0.0\n1,2500,1.0\n2,0,2.0\n3,0,2.5\n"
+GANTRY_MAP = ('machine = "gantry-ram"\n[columns.min]\nrole = "time"\nunit = "min"\n[columns.c_rpm]\n'
+              'role = "c_axis_speed"\nunit = "rpm"\n[columns.F1]\nrole = "strain"\ngauge = "FBG-1"\nunit = "ppm"\n')
+
+
+@pytest.mark.parametrize("csv,mapping,source,message", [
+    # a misspelled key is named, not its correct sibling reported missing (or "unknown role None")
+    (SMALL_CSV, SMALL_MAP.replace('role = "time"', 'rol = "time"'), "m.toml",
+     "columns.min.rol: unknown key (known: axis, duty, gauge, laser, name, part, probe, reading, role, site, start, "
+     "unit, x, y, z)"),
+    (SMALL_CSV, SMALL_MAP.replace('unit = "min"', 'unit = "min"\nsight = "motor"'), "m.toml",
+     "columns.min.sight: unknown key for role time (known: role, unit)"),
+    (SMALL_CSV, SMALL_MAP.replace('role = "time"', 'role = true'), "m.toml",
+     "columns.min.role: unknown role the boolean true; known: time"),
+    (SMALL_CSV, SMALL_MAP.replace('machine', 'machin'), "m.toml",
+     "machin: unknown key (known: columns, machine)"),
+    # a missing key in words, not "got None"
+    (GANTRY_CSV, GANTRY_MAP, "m.toml", 'columns.F1.reading: missing; expected "compensated"'),
+    # an infinite cell is not finite, not "missing/NaN"
+    (SMALL_CSV.replace("20.1", "inf"), SMALL_MAP, "m.csv", "T: data row 2: not finite (inf)"),
+    (SMALL_CSV.replace("20.1", "nan"), SMALL_MAP, "m.csv", "T: 1 missing/NaN value(s), first at data row 2"),
+])
+def test_mapping_and_cell_errors_name_the_key_in_words(tmp_path, csv, mapping, source, message):
+    (tmp_path / "m.csv").write_text(csv)
+    (tmp_path / "m.toml").write_text(mapping)
+    with pytest.raises(InputError) as err:
+        read_measurement(tmp_path / "m.csv")
+    assert str(err.value).startswith(f"{tmp_path / source}: {message}"), str(err.value)
+    assert "None" not in str(err.value) and "True" not in str(err.value)
+
+
 def test_compare_command_on_csv(tmp_path, sim, capsys):
     """The ``twin compare`` subcommand as the CLI wires it (add_compare_parser -> run_compare)."""
     import argparse

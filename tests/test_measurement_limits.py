@@ -87,6 +87,24 @@ def test_same_file_name_in_two_folders_keeps_every_channel(tmp_path, csv_text, m
     assert "probe:Z@a/m.csv" in names and "probe:Z@b/m.csv" in names
 
 
+@pytest.mark.parametrize("option,message", [
+    ("--mapping", "applies to a single measurement; give each CSV its own mapping next to it"),
+    ("--scenario", "applies to a single measurement; leave it out (each measurement drives the twin by its own "
+                   "logged inputs) or diagnose one measurement at a time"),
+])
+def test_mapping_or_scenario_with_two_measurements_names_its_own_option(tmp_path, csv_text, capsys, option,
+                                                                         message):
+    """``twin diagnose a.csv b.csv --scenario s.toml`` speaks of the scenario, not of mappings."""
+    _write(tmp_path / "a", csv_text)
+    _write(tmp_path / "b", csv_text)
+    (tmp_path / "s.toml").write_text('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n'
+                                     '[[spindle]]\nspeed = "6000 rpm"\nduration = "60 min"\n')
+    given = tmp_path / ("a/m.toml" if option == "--mapping" else "s.toml")
+    assert main(["diagnose", str(tmp_path / "a/m.csv"), str(tmp_path / "b/m.csv"), option, str(given),
+                 "--error-mesh", "none", "--no-parameters"]) == 2
+    assert capsys.readouterr().err == f"error: command line: {option}: {message}\n"
+
+
 def test_a_result_with_sensors_on_the_feed_drive_reads_as_a_measurement(tmp_path):
     """A twin result of a feed-drive scenario places sensors on the drive's parts (the Y screw's
     bearings), which the bare machine lacks: read back as a measurement it is placed on the machine

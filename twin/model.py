@@ -47,9 +47,11 @@ class ModelSpec:
         return EFFECTS[group].parameters if group in EFFECTS else INSTRUMENTS[group]
 
 
-def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
+def parse_effects(text: str | None, base: tuple[str, ...], always: tuple[str, ...] = ()) -> tuple[str, ...]:
     """``"+a,-b"`` edits ``base``; ``"a,b"`` replaces it; None keeps it. Each effect is named once,
-    and the two forms are not mixed (``"a,+b"``): either would leave the result to the order."""
+    and the two forms are not mixed (``"a,+b"``): either would leave the result to the order.
+    ``always``: effects switched on whatever the text says (an effects file's, in ``twin
+    simulate``): naming one is allowed (``+hyd``, ``a,hyd``), removing one (``-hyd``) is refused."""
     if text is None:
         return tuple(base)
     if not isinstance(text, str):
@@ -57,10 +59,11 @@ def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
                                            f"(an exact set), got {text!r}" + (f": write {','.join(text)!r}" if
                                            isinstance(text, (list, tuple)) and all(isinstance(t, str) for t in text)
                                            else ""))
-    if not text:
-        return tuple(base)
     items = [s.strip() for s in text.split(",") if s.strip()]
-    if not items or any(i in "+-" for i in items):
+    if not items:
+        raise InputError(CLI, "--effects", f"{'is empty' if not text.strip() else f'{text!r} names no effect'}: write "
+                                           "+name,-name or a,b,c, or leave --effects out for the machine's defaults")
+    if any(i in "+-" for i in items):
         raise InputError(CLI, f"--effects {text}", "names no effect; write +name,-name or a,b,c")
     names = [i.lstrip("+-") for i in items]
     repeated = sorted({n for n in names if names.count(n) > 1})
@@ -79,6 +82,9 @@ def parse_effects(text: str | None, base: tuple[str, ...]) -> tuple[str, ...]:
             if sign == "+" and name not in chosen:
                 chosen.append(name)
             elif sign == "-":
+                if name in always:
+                    raise InputError(CLI, f"--effects -{name}", f"{name} comes from --effects-file, whose effects are "
+                                                                f"always on; leave the file out to run without {name}")
                 if name not in chosen:
                     raise InputError(CLI, f"--effects {name}", "cannot remove an effect that is not in the model")
                 chosen.remove(name)
@@ -149,7 +155,7 @@ def model_spec(machine, effects: str | None = None, settings: list[str] | None =
     """The model of ``machine`` from CLI-style strings: ``effects="+a,-b"`` edits the machine's
     default set, ``settings=["a.p=3 W"]``; every effect must apply to the machine. ``extra``
     effects (e.g. a user's custom effects) are switched on in addition."""
-    chosen = tuple(dict.fromkeys(parse_effects(effects, tuple(machine.default_effects)) + tuple(extra)))
+    chosen = tuple(dict.fromkeys(parse_effects(effects, tuple(machine.default_effects), tuple(extra)) + tuple(extra)))
     check_applicable(chosen, machine)
     return ModelSpec(chosen, with_machine_defaults(machine, chosen, parse_settings(settings, chosen)))
 

@@ -39,7 +39,7 @@ from __future__ import annotations
 import numpy as np
 
 from twin import limits
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.units import UnitError, parse_quantity
 
 KINDS = ("hold", "move", "reciprocate", "table")
@@ -222,7 +222,7 @@ def motions_from_toml(raw, source: str, reader) -> tuple[Motion, ...]:
         raise InputError(source, "axis", "expected one or more [[axis]] tables")
     out, names = [], set()
     for i, table in enumerate(raw):
-        r = reader(table, source, f"axis[{i}].")
+        r = reader(table, source, f"axis[{i}].", known=("name", "start", "move"))
         name = r.get("name", required=True)
         if not isinstance(name, str) or not name:
             raise InputError(source, f"axis[{i}].name", "expected an axis name such as \"Y\"")
@@ -244,10 +244,11 @@ def _motion(name: str, start, moves: list, source: str, prefix: str, reader) -> 
     x = t = None
     runs, pieces = [], 0
     for j, raw in enumerate(moves):
-        r = reader(raw, source, f"{prefix}[{j}].")
+        r = reader(raw, source, f"{prefix}[{j}].", known=("kind",) + tuple(k for ks in MOVE_KEYS.values() for k in ks))
         kind = r.get("kind", required=True)
-        if kind not in KINDS:
-            raise InputError(source, f"{prefix}[{j}].kind", f"unknown kind {kind!r}; known: {', '.join(KINDS)}")
+        if not isinstance(kind, str) or kind not in KINDS:
+            raise InputError(source, f"{prefix}[{j}].kind", f"unknown kind {describe(kind)}; known: {', '.join(KINDS)}")
+        r.expect("kind", *MOVE_KEYS[kind])
         begin, run, plan = _MOVES[kind](r, source)
         r.finish()
         if x is None:
@@ -324,11 +325,12 @@ def _reciprocate(r, source):
         raise InputError(source, r.prefix + "dwell", "must not be negative")
     dur, count = r.positive("duration", "time"), r.get("count")
     if (dur is None) == (count is None):
-        raise InputError(source, r.prefix + "duration", "give exactly one of duration and count")
+        r.missing("duration", "give exactly one of duration and count")
     period = stroke_time(c - a, feed, accel) + dwell
     if count is not None:
         if isinstance(count, bool) or not isinstance(count, int) or count <= 0:
-            raise InputError(source, r.prefix + "count", f"expected a positive whole number of strokes, got {count!r}")
+            raise InputError(source, r.prefix + "count", f"expected a positive whole number of strokes, got "
+                                                         f"{describe(count)}")
         n, rest = count, 0.0
     else:
         n = int(np.floor(dur / period + 1e-9))
@@ -372,6 +374,9 @@ def _quantities(r, key: str, dimension: str, source: str) -> np.ndarray:
 
 
 _MOVES = {"hold": _hold, "move": _move, "reciprocate": _reciprocate, "table": _table}
+MOVE_KEYS = {"hold": ("position", "duration"), "move": ("to", "feed", "acceleration", "duration"),
+             "reciprocate": ("between", "feed", "acceleration", "dwell", "duration", "count"),
+             "table": ("times", "positions")}    # the keys of each kind of [[axis.move]] (besides kind)
 
 
 def check_durations(motions, duration: float, source: str) -> None:

@@ -65,7 +65,7 @@ def c_axis_from_toml(raw, source: str, reader, dt: float) -> RotarySchedule | No
         raise InputError(source, "c_axis", "expected one or more [[c_axis]] steps")
     steps = []
     for i, table in enumerate(raw):
-        r = reader(table, source, f"c_axis[{i}].")
+        r = reader(table, source, f"c_axis[{i}].", known=("speed", "duration", "on", "dwell"))
         speed, duration = r.speed_step(dt)
         on = r.positive("on", "time")
         dwell = r.get("dwell", "time")

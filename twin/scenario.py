@@ -54,7 +54,7 @@ import numpy as np
 
 from twin import limits
 from twin.camera_config import cameras_from_toml
-from twin.errors import InputError
+from twin.errors import InputError, describe, refuse_unknown_keys
 from twin.io.paths import read_toml
 from twin.io.room_csv import read_room_csv
 from twin.motion import check_durations, motions_from_toml
@@ -64,6 +64,14 @@ from twin.rotary import c_axis_from_toml, check_duration
 from twin.units import UnitError, parse_quantity
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
+# the keys a scenario's tables may hold (the readers read them; a misspelled key is named as
+# unknown before its correct sibling is reported missing)
+SCENARIO_KEYS = ("name", "description", "sample_interval", "initial_temperature", "ambient", "spindle", "camera",
+                 "axis", "interferometer", "probing", "c_axis")
+AMBIENT_KEYS = ("kind", "temperature", "mean", "amplitude", "coldest_at", "start_time_of_day", "times",
+                "temperatures", "file", "events")
+EVENT_KEYS = ("start", "change", "fall", "hold", "recovery", "door")
+STEP_KEYS = ("speed", "duration")
 
 
 @dataclass(frozen=True)
@@ -203,18 +211,35 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
 
 
 class _Reader:
-    """Reads keys from one TOML table, converting units, remembering which keys were used."""
+    """Reads keys from one TOML table, converting units, remembering which keys were used.
 
-    def __init__(self, table: dict, source: str, prefix: str):
+    ``known``: every key the table may hold (for a table whose keys depend on its ``kind``, the
+    keys of all kinds, or :meth:`expect` once the kind is read). Before a required key is
+    reported missing (:meth:`missing`), a key outside ``known`` is reported as unknown: a
+    misspelled ``duraton`` is named, not its correct sibling ``duration``."""
+
+    def __init__(self, table: dict, source: str, prefix: str, known=None):
         if not isinstance(table, dict):
-            raise InputError(source, prefix.rstrip("."), "expected a table")
+            raise InputError(source, prefix.rstrip("."), f"expected a table, got {describe(table)}")
         self.table, self.source, self.prefix, self.used = table, source, prefix, set()
+        self.known = None if known is None else set(known)
+
+    def expect(self, *keys: str) -> None:
+        """The keys this table may hold (replacing those given before)."""
+        self.known = set(keys)
+
+    def missing(self, key: str, message: str = "missing"):
+        """Raise the error that ``key`` is missing (``message``), or, first, that the table holds
+        a key it does not know (the likely misspelling of ``key``)."""
+        if self.known is not None:
+            refuse_unknown_keys(self.table, self.known | self.used, self.source, self.prefix)
+        raise InputError(self.source, self.prefix + key, message)
 
     def get(self, key: str, dimension: str | None = None, default=None, required=False):
         self.used.add(key)
         if key not in self.table:
             if required:
-                raise InputError(self.source, self.prefix + key, "missing")
+                self.missing(key)
             return default
         value = self.table[key]
         if dimension is None:
@@ -227,7 +252,7 @@ class _Reader:
     def positive(self, key: str, dimension: str, **kw) -> float:
         value = self.get(key, dimension, **kw)
         if value is not None and value <= 0:
-            raise InputError(self.source, self.prefix + key, f"must be positive, got {self.table[key]!r}")
+            raise InputError(self.source, self.prefix + key, f"must be positive, got {describe(self.table[key])}")
         return value
 
     def speed_step(self, dt: float) -> tuple[float, float]:
@@ -242,17 +267,15 @@ class _Reader:
         return speed, duration
 
     def finish(self):
-        unknown = sorted(set(self.table) - self.used)
-        if unknown:
-            raise InputError(self.source, self.prefix + unknown[0], f"unknown key (known: {', '.join(sorted(self.used))})")
+        refuse_unknown_keys(self.table, self.used, self.source, self.prefix)
 
 
 def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") -> Scenario:
     """Build a :class:`Scenario` from parsed TOML ``data`` (errors name ``source``)."""
-    top = _Reader(data, source, "")
+    top = _Reader(data, source, "", known=SCENARIO_KEYS)
     name = top.get("name", default=default_name)
     if not isinstance(name, str) or not name.strip():
-        raise InputError(source, "name", f"expected a non-empty text, got {name!r}")
+        raise InputError(source, "name", f"expected a non-empty text, got {describe(name)}")
     description = str(top.get("description", default=""))
     dt = top.positive("sample_interval", "time", default=10.0)
     t0 = top.get("initial_temperature", "temperature")
@@ -270,7 +293,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
         raise InputError(source, "spindle", "expected one or more [[spindle]] steps")
     steps = []
     for i, raw in enumerate(raw_steps):
-        r = _Reader(raw, source, f"spindle[{i}].")
+        r = _Reader(raw, source, f"spindle[{i}].", known=STEP_KEYS)
         speed, duration = r.speed_step(dt)
         r.finish()
         steps.append((duration, speed))
@@ -289,7 +312,7 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
 
 
 def _ambient(table, source: str) -> Ambient:
-    r = _Reader(table, source, "ambient.")
+    r = _Reader(table, source, "ambient.", known=AMBIENT_KEYS)
     kind = r.get("kind", default="constant")
     if kind == "constant":
         a = Ambient("constant", mean=r.get("temperature", "temperature", required=True))
@@ -364,7 +387,7 @@ def check_ambient(a: Ambient, source: str) -> None:
             if _number(getattr(e, k), source, f"{where}.{k}") < 0:
                 raise InputError(source, f"{where}.{k}", f"must not be negative, got {getattr(e, k):g} s")
         if not isinstance(e.door, bool):
-            raise InputError(source, f"{where}.door", f"expected true or false, got {e.door!r}")
+            raise InputError(source, f"{where}.door", f"expected true or false, got {describe(e.door)}")
     if a.events:
         # the extremes of base + events: every event at its full change on the base's extremes
         base = a.base(np.linspace(0.0, max(e.end for e in a.events) + 86400.0, 4001))
@@ -455,7 +478,7 @@ def _events(r: _Reader, source: str) -> list:
 
 def _event(raw, source: str, i: int) -> AirEvent:
     """One [[ambient.events]] table: start, change, fall, hold, recovery (times >= 0), door."""
-    e = _Reader(raw, source, f"ambient.events[{i}].")
+    e = _Reader(raw, source, f"ambient.events[{i}].", known=EVENT_KEYS)
     change = e.get("change", "temperature_difference", required=True)
     times = {k: e.get(k, "time", default=0.0, required=k in ("start", "fall")) for k in ("start", "fall", "hold", "recovery")}
     door = e.get("door", default=False)

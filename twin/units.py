@@ -15,6 +15,8 @@ from __future__ import annotations
 import math
 import re
 
+from twin.errors import describe
+
 # dimension -> {unit spelling -> factor to the SI unit}; the first spelling is canonical.
 _UNITS: dict[str, dict[str, float]] = {
     "time": {"s": 1.0, "sec": 1.0, "min": 60.0, "h": 3600.0, "hr": 3600.0, "d": 86400.0, "ms": 1e-3},
@@ -38,6 +40,13 @@ _UNITS: dict[str, dict[str, float]] = {
 }
 
 CANONICAL = {dim: next(iter(units)) for dim, units in _UNITS.items()}
+# the unit a hint suggests where users do not write the SI one (positions on a machine in mm)
+HINT_UNIT = {"length": "mm", "velocity": "mm/s", "acceleration": "mm/s2", "strain": "um/m",
+             "thermal_strain": "um/m/K"}
+_EXAMPLES = {"time": "10 s", "speed": "6000 rpm", "temperature": "20 degC", "temperature_difference": "2 K",
+             "power": "50 W", "heat_transfer_coefficient": "8 W/m2K", "conductance": "1 W/K",
+             "heat_flux": "100 W/m2", "length": "150 mm", "velocity": "20 mm/s", "acceleration": "100 mm/s2",
+             "strain": "50 um/m", "thermal_strain": "11.5 um/m/K", "angle": "10 deg", "dimensionless": "0.5"}
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _PATTERN = re.compile(rf"^\s*({_NUMBER})\s*(.*?)\s*$")
@@ -59,16 +68,32 @@ def parse_quantity(text: str | int | float, dimension: str) -> float:
 
         parse_quantity("2 h", "time") == 7200.0
         parse_quantity("8 W/m2K", "heat_transfer_coefficient") == 8.0
-    """
+
+    Errors describe the value in the user's terms (a TOML date, the boolean true), say when the
+    number is the problem (not finite, not a decimal number such as ``0x3c`` or ``6_0``) rather
+    than the unit, and hint a unit that is plausible for the dimension (``'150 mm'``)."""
     if dimension not in _UNITS:
         raise KeyError(f"unknown dimension {dimension!r}")
     table = _UNITS[dimension]
-    if isinstance(text, bool):
-        raise UnitError(f"expected a quantity in {CANONICAL[dimension]}, got {text!r}")
+    if isinstance(text, bool) or not isinstance(text, (str, int, float)):
+        raise UnitError(f"got {describe(text)}; expected a quantity with a unit such as {example(dimension)!r}")
     if isinstance(text, (int, float)):
+        if not math.isfinite(text):
+            raise UnitError(f"{text} is not a finite number")
         if dimension == "dimensionless":
-            return _finite(float(text), text)
-        raise UnitError(f"{text!r} has no unit; write it like '{text} {CANONICAL[dimension]}'")
+            return float(text)
+        raise UnitError(f"{text} has no unit; write it like '{text} {HINT_UNIT.get(dimension, CANONICAL[dimension])}'"
+                        f" (units: {_spellings(dimension)})")
+    if not str(text).strip():
+        raise UnitError(f"is empty; write it like {example(dimension)!r}")
+    number, _, rest = str(text).strip().partition(" ")
+    if (rest.strip() and rest.strip() in table) or not _PATTERN.match(str(text)):   # "0x3c s", "nan degC", "x s"
+        if not re.fullmatch(_NUMBER, number):
+            nan = re.match(r"[-+]?(nan|infinity|inf)", number, re.IGNORECASE)    # "nan", "inf s", "nanW"
+            finite = not (nan and (nan.end() == len(number) or number[nan.end():] in table))
+            what = f"{text!r}: {number!r}" if rest.strip() else repr(text)
+            what += " is not a finite number" if not finite else " is not a decimal number"
+            raise UnitError(f"{what}; write it like {example(dimension)!r}")
     match = _PATTERN.match(str(text))
     if not match:
         raise UnitError(f"cannot read {text!r} as '<number> <unit>' (unit {CANONICAL[dimension]})")
@@ -80,6 +105,11 @@ def parse_quantity(text: str | int | float, dimension: str) -> float:
             raise UnitError(f"{text!r} has no unit; expected {_spellings(dimension)}")
         raise UnitError(f"{text!r} has the wrong unit{hint}; expected {_spellings(dimension)}")
     return _finite(value * table[unit], text)
+
+
+def example(dimension: str) -> str:
+    """A quantity of ``dimension`` as a user would write it (``'10 s'``, ``'150 mm'``)."""
+    return _EXAMPLES.get(dimension, f"1 {HINT_UNIT.get(dimension, CANONICAL[dimension])}").strip()
 
 
 def format_quantity(value: float, dimension: str) -> str:

@@ -84,7 +84,9 @@ def measured_scenario(meas, args, machine):
 def load_inputs(args):
     """(measurement Dataset, machine, Scenario, ModelSpec) from the parsed arguments of a command
     with the measurement and model options (:mod:`twin.cli.options`); the custom effects of
-    ``--effects-file`` are registered (and switched on only where ``--effects`` names them)."""
+    ``--effects-file`` are registered and switched on, as the twin the command runs has them
+    (:func:`twin.api.simulate`): ``--effects=-NAME`` of one is refused, not taken for an effect
+    that is not in the model."""
     from twin.io.measurement import read_measurement
     from twin.model import model_spec
     from twin.motion import machine_for
@@ -95,8 +97,7 @@ def load_inputs(args):
         raise InputError("command line", "--mesh", f"unknown resolution {args.mesh!r}")
     sc = measured_scenario(meas, args, machine)
     machine = machine_for(machine, sc)   # with its feed drives' parts when an axis moves
-    custom_effects(args, machine)
-    spec = model_spec(machine, args.effects, args.set)
+    spec = model_spec(machine, args.effects, args.set, custom_effects(args, machine))
     return meas, machine, sc, spec
 
 
@@ -124,9 +125,13 @@ def load_measurements(args):
     from twin.motion import machine_for
 
     paths = measurement_paths(args)
-    if len(paths) > 1 and (args.mapping or args.scenario):
-        raise InputError("command line", "--mapping" if args.mapping else "--scenario",
-                         "applies to a single measurement; give each CSV its own mapping next to it")
+    if len(paths) > 1 and args.mapping:
+        raise InputError("command line", "--mapping", "applies to a single measurement; give each CSV its own "
+                                                      "mapping next to it")
+    if len(paths) > 1 and args.scenario:
+        raise InputError("command line", "--scenario", "applies to a single measurement; leave it out (each "
+                                                       "measurement drives the twin by its own logged inputs) or "
+                                                       "diagnose one measurement at a time")
     if len({os.path.realpath(p) for p in paths}) != len(paths):
         raise InputError("command line", "measurements", "a measurement is given twice")
     runs, machine = [], None

@@ -43,9 +43,9 @@ def run(args) -> int:
     files = Files()
     spec_path = files.input(bundled_or_path(args.spec), "spec", "dataset spec")
     spec = load_spec(spec_path)
-    for f in spec.families:
+    for i, f in enumerate(spec.families):      # the families keep the order of [[scenarios]]
         if f.path:
-            files.input(f.path, "spec", "scenario file")
+            files.input(f.path, f"scenarios[{i}].file", "scenario file")
     folder = files.folder(args.output, "-o", INDEX_FILES)
     cases = plan(spec)
     chosen = cases if args.max_cases is None else cases[:args.max_cases]

@@ -18,6 +18,9 @@ from twin.io.paths import read_toml
 from twin.motion import check_motions
 from twin.scenario import SCENARIO_DIR, scenario_from_dict
 
+# the keys of a [[scenarios]] family: a scenario file, or a duty-cycle generator
+FAMILY_KEYS = ("family", "cases", "file", "duration", "sample_interval", "spindle", "ambient", "axis")
+
 
 @dataclass(frozen=True)
 class AxisDuty:
@@ -64,7 +67,7 @@ def read_families(items: list, source: str, folder: Path, machines: dict) -> lis
         raise InputError(source, "scenarios", "expected one or more [[scenarios]] families")
     out, names = [], set()
     for i, raw in enumerate(items):
-        r = TableReader(raw, source, f"scenarios[{i}].")
+        r = TableReader(raw, source, f"scenarios[{i}].", known=FAMILY_KEYS)
         name = r.get("family", required=True, kind=str)
         if not name or not all(c.isalnum() or c in "-_." for c in name):
             raise InputError(source, r.field("family"), f"use letters, digits, '-', '_' or '.', got {name!r}")
@@ -109,7 +112,8 @@ def _duty_cycle(r: TableReader, source: str, machines: dict) -> DutyCycle:
     if abs(duration / dt - round(duration / dt)) > 1e-6:
         raise InputError(source, r.field("duration"), f"must be a multiple of the sample interval ({dt:g} s)")
     limits.check_steps(duration, dt, source, r.field("duration"))
-    s = TableReader(r.get("spindle", required=True, kind=dict), source, r.field("spindle."))
+    s = TableReader(r.get("spindle", required=True, kind=dict), source, r.field("spindle."),
+                    known=("step", "speed", "speed_step", "idle_probability"))
     step = distribution(s.get("step", required=True), "time", source, s.field("step"), dt, duration,
                         what=f"[sample interval {dt:g} s .. duration {duration:g} s]")
     top = min(limits.max_speed(m) for m in machines.values())
@@ -127,7 +131,8 @@ def _duty_cycle(r: TableReader, source: str, machines: dict) -> DutyCycle:
     if not 0 <= idle <= 1:
         raise InputError(source, s.field("idle_probability"), f"must be from 0 to 1, got {idle}")
     s.finish()
-    a = TableReader(r.get("ambient", required=True, kind=dict), source, r.field("ambient."))
+    a = TableReader(r.get("ambient", required=True, kind=dict), source, r.field("ambient."),
+                    known=("kind", "temperature", "mean", "amplitude", "coldest_at", "start_time_of_day"))
     kind = a.get("kind", default="constant", kind=str)
     lo_air, hi_air = limits.AIR_RANGE
     if kind == "constant":
@@ -157,7 +162,7 @@ def _axis_duties(items: list, source: str, prefix: str, machines: dict) -> tuple
     for i, raw in enumerate(items):
         if not isinstance(raw, dict):
             raise InputError(source, f"{prefix}[{i}]", "expected a table with name, range and feed")
-        t = TableReader(raw, source, f"{prefix}[{i}].")
+        t = TableReader(raw, source, f"{prefix}[{i}].", known=("name", "range", "feed", "acceleration"))
         name = t.get("name", required=True, kind=str)
         if name in (a.name for a in out):
             raise InputError(source, t.field("name"), f"axis {name!r} is given twice")

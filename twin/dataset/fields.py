@@ -6,9 +6,10 @@ file and the field."""
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
-from twin.errors import InputError
+from twin.errors import InputError, describe, refuse_unknown_keys
 from twin.units import UnitError, format_quantity, parse_quantity
 
 DISTRIBUTIONS = ("fixed", "grid", "uniform", "log_uniform", "normal")
@@ -54,33 +55,45 @@ class Dist:
 
 
 class TableReader:
-    """Keys of one TOML table, read once each; :meth:`finish` refuses the unknown ones."""
+    """Keys of one TOML table, read once each; :meth:`finish` refuses the unknown ones.
 
-    def __init__(self, table, source: str, prefix: str):
+    ``known``: every key the table may hold; before a required key is reported missing, a key
+    outside ``known`` is reported as unknown (a misspelled ``spacng`` is named, not ``spacing``)."""
+
+    def __init__(self, table, source: str, prefix: str, known=None):
         if not isinstance(table, dict):
-            raise InputError(source, prefix.rstrip(".") or "toml", "expected a table")
+            raise InputError(source, prefix.rstrip(".") or "toml", f"expected a table, got {describe(table)}")
         self.table, self.source, self.prefix, self.used = table, source, prefix, set()
+        self.known = None if known is None else set(known)
 
     def field(self, key: str) -> str:
         return self.prefix + key
+
+    def missing(self, key: str, message: str = "missing"):
+        """Raise the error that ``key`` is missing, or, first, that the table holds an unknown key."""
+        if self.known is not None:
+            refuse_unknown_keys(self.table, self.known | self.used, self.source, self.prefix)
+        raise InputError(self.source, self.field(key), message)
 
     def get(self, key: str, default=None, required: bool = False, kind: type | tuple | None = None):
         self.used.add(key)
         if key not in self.table:
             if required:
-                raise InputError(self.source, self.field(key), "missing")
+                self.missing(key)
             return default
         value = self.table[key]
         if kind is not None and (not isinstance(value, kind) or isinstance(value, bool) and kind is not bool):
             names = kind.__name__ if isinstance(kind, type) else " or ".join(k.__name__ for k in kind)
-            raise InputError(self.source, self.field(key), f"expected {_WORDS.get(names, names)}, got {value!r}")
+            if names == "list" and isinstance(value, dict):   # [x.key] written for [[x.key]]
+                header = re.sub(r"\[\d+\]", "", self.field(key))
+                raise InputError(self.source, self.field(key), f"expected a list of tables ([[{header}]]), got a "
+                                                               f"table ([{header}])")
+            raise InputError(self.source, self.field(key), f"expected {_WORDS.get(names, names)}, got "
+                                                           f"{describe(value)}")
         return value
 
     def finish(self, known: tuple[str, ...] = ()) -> None:
-        unknown = sorted(set(self.table) - self.used)
-        if unknown:
-            names = sorted(set(self.used) | set(known))
-            raise InputError(self.source, self.field(unknown[0]), f"unknown key (known: {', '.join(names)})")
+        refuse_unknown_keys(self.table, self.used, self.source, self.prefix, shown=set(self.used) | set(known))
 
 
 _WORDS = {"str": "a string", "int": "an integer", "list": "a list", "dict": "a table", "float": "a number",
@@ -115,7 +128,7 @@ def distribution(value, dimension: str, source: str, field: str, lower: float = 
     if kind == "fixed" and not isinstance(raw, list):
         raw = [raw]
     if not isinstance(raw, list):
-        raise InputError(source, field, f"expected a list of quantities, got {raw!r}")
+        raise InputError(source, field, f"expected a list of quantities, got {describe(raw)}")
     need = {"fixed": 1, "uniform": 2, "log_uniform": 2, "normal": 2}.get(kind)
     if need is not None and len(raw) != need:
         raise InputError(source, field, f"a {kind} takes {need} value(s) ([lo, hi] or [mean, sd]), got {len(raw)}")

@@ -77,15 +77,17 @@ from twin import limits
 from twin.dataset.families import Family, read_families
 from twin.dataset.fields import MAX_CASES, Dist, TableReader, distribution, quantity
 from twin.effects import EFFECTS
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.io.paths import read_toml
-from twin.model import model_spec
+from twin.model import model_spec, parse_effects
 from twin.observe.instruments import INSTRUMENTS
 from twin.scenario import SCENARIO_DIR
 from twin.units import CANONICAL
 
 SOLVERS = ("auto", "direct", "iterative", "rom")
 SPLIT_NAMES = ("train", "validation", "test")
+SPEC_KEYS = ("name", "description", "machines", "mesh", "solver", "effects", "seed", "parameters", "observers",
+             "scenarios", "splits")   # a spec's top-level keys
 
 
 @dataclass(frozen=True)
@@ -136,7 +138,7 @@ def load_spec(path: str | Path) -> DatasetSpec:
 
 def spec_from_dict(data: dict, source: str, folder: Path = Path("."), text: str = "") -> DatasetSpec:
     """A :class:`DatasetSpec` from parsed TOML ``data`` (errors name ``source``)."""
-    top = TableReader(data, source, "")
+    top = TableReader(data, source, "", known=SPEC_KEYS)
     name = top.get("name", default=Path(source).stem, kind=str)
     description = top.get("description", default="", kind=str)
     machines = top.get("machines", required=True, kind=list)
@@ -191,6 +193,7 @@ def _parameters(table: dict, source: str, machines: dict, effects: str | None) -
                                 what=p.describe().split(": ")[0].split(" = ")[1].split(" ", 2)[-1])
     for mname, machine in machines.items():   # the effect must be switched on for every machine
         for key, d in out.items():
+            _switched_on(key, effects, machine, source)
             try:
                 model_spec(machine, effects, [f"{key}={d.values[0]!r} {_unit(d)}"])
             except InputError as err:
@@ -201,15 +204,38 @@ def _parameters(table: dict, source: str, machines: dict, effects: str | None) -
     return out
 
 
+def _switched_on(key: str, effects: str | None, machine, source: str) -> None:
+    """The effect of parameter ``key`` is switched on for ``machine`` by the spec's ``effects``
+    key (a bad ``effects`` text is left to :func:`twin.model.model_spec` to report)."""
+    group = key.partition(".")[0]
+    if group not in EFFECTS:
+        return
+    try:
+        on = parse_effects(effects, tuple(machine.default_effects))
+    except InputError:
+        return
+    if group not in on and not EFFECTS[group].applies_to(machine):
+        raise InputError(source, f"parameters.{key}", f"effect {group!r} does not apply to machine {machine.name} "
+                                                      f"(twin list effects --machine {machine.name} lists those "
+                                                      "that do)")
+    if group not in on:
+        items = [] if not effects else [effects]
+        edits = not effects or effects.strip()[0] in "+-"
+        fix = ",".join(items + [("+" if edits else "") + group])
+        raise InputError(source, f"parameters.{key}", f"effect {group!r} is not switched on for machine "
+                                                      f"{machine.name}; switch it on with the spec's effects key: "
+                                                      f"effects = \"{fix}\"")
+
+
 def _unit(d: Dist) -> str:
     return CANONICAL[d.dimension]
 
 
 def _observers(table: dict, source: str, machines: dict):
-    r = TableReader(table, source, "observers.")
+    r = TableReader(table, source, "observers.", known=("surface_grid", "cameras"))
     grid = r.get("surface_grid", kind=dict)
     if grid is not None:
-        g = TableReader(grid, source, "observers.surface_grid.")
+        g = TableReader(grid, source, "observers.surface_grid.", known=("parts", "spacing"))
         parts = g.get("parts", required=True, kind=list)
         spacing = quantity(g.get("spacing", required=True), "length", source, g.field("spacing"))
         g.finish()
@@ -218,7 +244,7 @@ def _observers(table: dict, source: str, machines: dict):
                                                        "for no grid")
         for i, part in enumerate(parts):
             if not isinstance(part, str):
-                raise InputError(source, f"{g.field('parts')}[{i}]", f"expected a part name, got {part!r}")
+                raise InputError(source, f"{g.field('parts')}[{i}]", f"expected a part name, got {describe(part)}")
         twice = sorted({p for p in parts if parts.count(p) > 1})
         if twice:
             raise InputError(source, g.field("parts"), f"part {twice[0]!r} is named more than once")
@@ -259,11 +285,11 @@ def _splits(table, source: str, families: list[str]):
             continue
         if by == "case":
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 <= value <= 1:
-                raise InputError(source, r.field(name), f"expected a fraction from 0 to 1, got {value!r}")
+                raise InputError(source, r.field(name), f"expected a fraction from 0 to 1, got {describe(value)}")
             out[name] = float(value)
         else:
             if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-                raise InputError(source, r.field(name), f"expected a list of families, got {value!r}")
+                raise InputError(source, r.field(name), f"expected a list of families, got {describe(value)}")
             for v in value:
                 if v not in families:
                     raise InputError(source, r.field(name), f"unknown family {v!r}; known: {', '.join(families)}")

@@ -58,7 +58,7 @@ from geometries.regions import Union, region_by_name
 from twin import limits
 from twin.effects.base import (EFFECTS, Convection, Effect, HeatSource, Parameter, SurfaceHeatFlux, Uncertain,
                                check_declarations)
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.fem.regions import region_cells, region_facets
 from twin.scenario import TableReader
 from twin.units import UnitError, format_quantity, parse_quantity
@@ -75,6 +75,10 @@ _LIMITS = {"power": (MAX_POWER, "100 kW", "the largest machine-tool spindle driv
            "flux": (MAX_FLUX, "10 kW/m2", "ten times full sunlight"),
            "h": (MAX_H, "10000 W/m2K", "a coolant jet; still air is about 5, forced air about 100 W/m2K")}
 SCHEDULES = ("constant", "spindle_on", "speed", "windows", "table")
+# the keys of an [effects.NAME] table: its strength (one of) and the other keys of its kind, and those of every kind
+_STRENGTHS = {"heat_source": ("power",), "heat_flux": ("power", "flux"), "convection": ("h",)}
+_KIND_KEYS = {"heat_source": ("power",), "heat_flux": ("power", "flux"), "convection": ("h", "air_offset")}
+_COMMON_KEYS = ("kind", "region", "schedule", "reference_speed", "exponent", "windows", "table", "range", "doc")
 CUSTOM: dict[str, "CustomEffect"] = {}   # the custom effects registered in EFFECTS, by name
 
 
@@ -205,7 +209,11 @@ def table_files(path) -> list[tuple[Path, str]]:
 
 def effects_from_dict(data: dict, source: str, machine, folder: Path = Path(".")) -> list[CustomEffect]:
     """The custom effects of parsed TOML ``data`` (errors name ``source``; tables relative to ``folder``)."""
-    top = TableReader(data, source, "")
+    stray = sorted(set(data) & set(_COMMON_KEYS + tuple(k for ks in _KIND_KEYS.values() for k in ks)))
+    if stray and "effects" not in data:   # an effect's keys without its [effects.NAME] header
+        raise InputError(source, stray[0], "an effect's key outside an effect: write [effects.NAME] above the "
+                                           "effect's keys")
+    top = TableReader(data, source, "", known=("effects",))
     table = top.get("effects", required=True)
     top.finish()
     if not isinstance(table, dict) or not table:
@@ -219,15 +227,17 @@ def _effect(name: str, spec, src: str, folder: Path, machine) -> CustomEffect:
         raise InputError(src, where, "a name is letters, digits and '_', starting with a letter")
     if name in EFFECTS and name not in CUSTOM:
         raise InputError(src, where, "is the name of a library effect; choose another name")
-    r = TableReader(spec, src, where + ".")
+    r = TableReader(spec, src, where + ".", known=_COMMON_KEYS + tuple(k for ks in _KIND_KEYS.values() for k in ks))
     kind = r.get("kind", required=True)
     if not isinstance(kind, str) or kind not in KINDS:
-        raise InputError(src, where + ".kind", f"unknown kind {kind!r}; known: {', '.join(KINDS)}")
+        raise InputError(src, where + ".kind", f"unknown kind {describe(kind)}; known: {', '.join(KINDS)}")
+    r.expect(*_COMMON_KEYS, *_KIND_KEYS[kind])
     region, text = _region(r.get("region", required=True), machine, KINDS[kind] == "surface", src, where)
-    keys = {"heat_source": ("power",), "heat_flux": ("power", "flux"), "convection": ("h",)}[kind]
+    keys = _STRENGTHS[kind]
     given = [k for k in keys if k in spec]
     if len(given) != 1:
-        raise InputError(src, f"{where}.{keys[0]}", f"a {kind} needs exactly one of {', '.join(keys)}")
+        r.missing(keys[0], f"a {kind} needs exactly one of {' and '.join(keys)}" if len(keys) > 1 else
+                  f"a {kind} needs {keys[0]}")
     pname = given[0]
     dim = {"power": "power", "flux": "heat_flux", "h": "heat_transfer_coefficient"}[pname]
     value = r.get(pname, dim)
@@ -247,7 +257,7 @@ def _effect(name: str, spec, src: str, folder: Path, machine) -> CustomEffect:
     lo, hi = _range(r, dim, value, kind, src, where, pname, peak, why)
     doc = r.get("doc", default="")
     if not isinstance(doc, str):
-        raise InputError(src, where + ".doc", f"expected text, got {doc!r}")
+        raise InputError(src, where + ".doc", f"expected text, got {describe(doc)}")
     r.finish()
     param = Parameter(pname, dim, value, lo, hi, doc or f"{kind.replace('_', ' ')} strength from {src}")
     return CustomEffect(name, kind, region, text, param, schedule, air_offset, src, doc)
@@ -312,7 +322,7 @@ def _range(r: TableReader, dim: str, value: float, kind: str, src: str, where: s
 def _schedule(r: TableReader, src: str, where: str, folder: Path) -> Schedule:
     kind = r.get("schedule", default="constant")
     if kind not in SCHEDULES:
-        raise InputError(src, where + ".schedule", f"unknown schedule {kind!r}; known: {', '.join(SCHEDULES)}")
+        raise InputError(src, where + ".schedule", f"unknown schedule {describe(kind)}; known: {', '.join(SCHEDULES)}")
     if kind == "speed":
         n_ref = r.positive("reference_speed", "speed", required=True)
         if not SPEED_RANGE[0] <= n_ref <= SPEED_RANGE[1]:
@@ -353,14 +363,14 @@ def _schedule(r: TableReader, src: str, where: str, folder: Path) -> Schedule:
 def _table(spec, src: str, where: str, folder: Path) -> tuple[Path, tuple[np.ndarray, np.ndarray]]:
     """(path, (times [s], factors)) of a schedule table: a header row, then at least two rows of
     time (in ``time_unit``, from 0, the run's start, increasing) and factor (0 to :data:`MAX_FACTOR`)."""
-    r = TableReader(spec, src, where + ".")
+    r = TableReader(spec, src, where + ".", known=("file", "time_unit"))
     name = r.get("file", required=True)
     unit = r.get("time_unit", required=True)
     r.finish()
     if not isinstance(name, str) or not name.strip():
-        raise InputError(src, where + ".file", f"expected the path of a CSV file, got {name!r}")
+        raise InputError(src, where + ".file", f"expected the path of a CSV file, got {describe(name)}")
     if not isinstance(unit, str):
-        raise InputError(src, where + ".time_unit", f"expected a time unit such as \"min\", got {unit!r}")
+        raise InputError(src, where + ".time_unit", f"expected a time unit such as \"min\", got {describe(unit)}")
     try:
         scale = parse_quantity(f"1 {unit}", "time")
     except UnitError as err:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from twin import limits
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.units import UnitError, parse_quantity
 
 
@@ -19,8 +19,9 @@ def instrument(entry: dict, kind: str, known: list[str] | None, seen: dict, msrc
     if known is None:
         raise InputError(msrc, f"{key}.{kind}", f"a {kind} column needs the machine (top-level machine = \"...\")")
     name = entry.get(kind)
-    if name not in known:
-        raise InputError(msrc, f"{key}.{kind}", f"unknown {kind} {name!r}; known: {', '.join(known) or 'none'}")
+    if not isinstance(name, str) or name not in known:
+        raise InputError(msrc, f"{key}.{kind}", ("missing" if name is None else f"unknown {kind} {describe(name)}")
+                         + f"; known: {', '.join(known) or 'none'}")
     if name in seen:
         raise InputError(msrc, f"{key}.{kind}", f"{kind} {name} mapped twice")
     return name
@@ -29,7 +30,7 @@ def instrument(entry: dict, kind: str, known: list[str] | None, seen: dict, msrc
 def duty_fraction(value, msrc: str, key: str) -> float:
     """The C axis's duty (fraction of the time turning, 0 < d <= 1)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= 1:
-        raise InputError(msrc, key, f"expected a fraction of the time turning, 0 < duty <= 1, got {value!r}")
+        raise InputError(msrc, key, f"expected a fraction of the time turning, 0 < duty <= 1, got {describe(value)}")
     return float(value)
 
 
@@ -74,7 +75,7 @@ def check_sensor_name(name, src: str, field: str, forbidden: str = BAD_NAME_CHAR
     grid names its points ``part:face:u:v``, which a channel name ``temperature:<name>`` keeps
     whole)."""
     if not isinstance(name, str):
-        raise InputError(src, field, f"expected a sensor name (a string), got {name!r}")
+        raise InputError(src, field, f"expected a sensor name (a string), got {describe(name)}")
     if not name.strip():
         raise InputError(src, field, "the sensor name is empty")
     bad = [c for c in forbidden if c in name]

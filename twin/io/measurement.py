@@ -74,7 +74,7 @@ import numpy as np
 import xarray as xr
 
 from twin import limits
-from twin.errors import InputError
+from twin.errors import InputError, describe, refuse_unknown_keys
 from twin.io.atomic import atomic_write_text
 from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
@@ -194,7 +194,7 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
 def _machine(machine, spec: dict, src: str, named_by: str = "the mapping names"):
     named = spec.get("machine")
     if named is not None and not isinstance(named, str):
-        raise InputError(src, "machine", f"expected a machine name, got {named!r}")
+        raise InputError(src, "machine", f"expected a machine name, got {describe(named)}")
     given = machine if isinstance(machine, str) or machine is None else machine.name
     if given is not None and named is not None and given != named:
         raise InputError(src, "machine", f"{named_by} machine {named!r}, the command line {given!r}")
@@ -237,7 +237,12 @@ def _column(path: Path, rows, j: int, name: str) -> np.ndarray:
             out[i] = float(text) if text else np.nan
         except ValueError:
             raise InputError(str(path), name, f"row {i + 1}: {text!r} is not a number") from None
-    bad = np.flatnonzero(~np.isfinite(out))
+    infinite = np.flatnonzero(np.isinf(out))
+    if len(infinite):   # "inf", "-Infinity", "1e999": a value, but not a finite one
+        i = int(infinite[0])
+        raise InputError(str(path), name, f"data row {i + 1}: not finite ({rows[i][j].strip()})"
+                                          + (f"; {len(infinite)} such value(s)" if len(infinite) > 1 else ""))
+    bad = np.flatnonzero(np.isnan(out))
     if len(bad):
         raise InputError(str(path), name, f"{len(bad)} missing/NaN value(s), first at data row {bad[0] + 1}")
     return out
@@ -267,9 +272,7 @@ def _check_time(t: np.ndarray, src: str, col: str) -> None:
 
 def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     src, msrc = str(path), str(mapping)
-    unknown = sorted(set(spec) - {"machine", "columns"})
-    if unknown:
-        raise InputError(msrc, unknown[0], "unknown key (known: machine, columns)")
+    refuse_unknown_keys(spec, ("machine", "columns"), msrc, "")
     cols = spec.get("columns")
     if not isinstance(cols, dict) or not cols:
         raise InputError(msrc, "columns", "expected [columns.NAME] tables naming each CSV column's role and unit")
@@ -294,13 +297,17 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     for name, entry in cols.items():
         key = f"columns.{name}"
         if not isinstance(entry, dict):
-            raise InputError(msrc, key, "expected a table with role and unit")
-        role = entry.get("role")
-        if role not in ROLES:
-            raise InputError(msrc, key + ".role", f"unknown role {role!r}; known: {', '.join(ROLES)}")
+            raise InputError(msrc, key, f"expected a table with role and unit, got {describe(entry)}")
+        if "role" not in entry:   # a misspelled key first (rol = "time"), then the missing role
+            refuse_unknown_keys(entry, {"role", "unit"}.union(*_ROLE_KEYS.values()), msrc, key + ".")
+            raise InputError(msrc, key + ".role", f"missing; give one of {', '.join(ROLES)}")
+        role = entry["role"]
+        if not isinstance(role, str) or role not in ROLES:
+            raise InputError(msrc, key + ".role", f"unknown role {describe(role)}; known: {', '.join(ROLES)}")
         extra = sorted(set(entry) - {"role", "unit"} - _ROLE_KEYS[role])
         if extra:
-            raise InputError(msrc, f"{key}.{extra[0]}", f"unknown key for role {role}")
+            raise InputError(msrc, f"{key}.{extra[0]}", f"unknown key for role {role} (known: "
+                                                        f"{', '.join(sorted({'role', 'unit'} | _ROLE_KEYS[role]))})")
         if "unit" not in entry:
             raise InputError(msrc, key + ".unit", "missing")
         factor = _factor(entry["unit"], ROLES[role], msrc, key + ".unit")
@@ -321,9 +328,9 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             lasers[lid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
         elif role == "strain":
             if entry.get("reading") not in READINGS:
-                raise InputError(msrc, key + ".reading", f"expected \"compensated\" (with the nearest temperature "
-                                                         f"sensor) or \"raw\" (the grating's reading), got "
-                                                         f"{entry.get('reading')!r}")
+                got = f"got {describe(entry['reading'])}" if "reading" in entry else "missing"
+                raise InputError(msrc, key + ".reading", f"{got}; expected \"compensated\" (with the nearest "
+                                                         f"temperature sensor) or \"raw\" (the grating's reading)")
             var = READINGS[entry["reading"]]
             gid = instrument(entry, "gauge", [g.name for g in mach.strain_gauges] if mach is not None else None,
                               strains[var], msrc, key)
@@ -332,7 +339,8 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             pid = entry.get("probe")
             known = probe_names(mach)
             if pid not in known:
-                raise InputError(msrc, key + ".probe", f"unknown probe {pid!r}; known: {', '.join(known)}")
+                raise InputError(msrc, key + ".probe", ("missing" if pid is None else f"unknown probe {describe(pid)}")
+                                 + f"; known: {', '.join(known)}")
             if pid in probes:
                 raise InputError(msrc, key + ".probe", f"probe {pid} mapped twice")
             probes[pid] = (values - values[0]) * 1e6  # m -> um, nulled at the start

@@ -89,7 +89,7 @@ def interferometer_from_toml(raw, source: str, reader) -> InterferometerConfig |
     """The scenario's ``[interferometer]`` table (None when absent)."""
     if raw is None:
         return None
-    r = reader(raw, source, "interferometer.")
+    r = reader(raw, source, "interferometer.", known=("axis", "runs", "targets", "spacing"))
     axis = r.get("axis", required=True)
     runs = r.get("runs", required=True)
     targets = r.get("targets")

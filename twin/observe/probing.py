@@ -58,7 +58,7 @@ def probing_from_toml(raw, source: str, reader) -> ProbingConfig | None:
     """The scenario's ``[probing]`` table (None when absent)."""
     if raw is None:
         return None
-    r = reader(raw, source, "probing.")
+    r = reader(raw, source, "probing.", known=("times", "datums"))
     times = r.get("times", required=True)
     datums = r.get("datums", required=True)
     r.finish()
