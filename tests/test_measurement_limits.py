@@ -175,3 +175,22 @@ def test_simulate_records_the_axes_its_scenario_moved():
     assert "moved_axes" not in simulate("cframe-vmc", scenario_from_dict(
         {"name": "s", "sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
          "spindle": [{"speed": "0 rpm", "duration": "4 min"}]}, "s.toml"), resolution="coarse")[0].attrs
+
+
+def test_a_log_from_its_own_clock_is_reported_on_that_clock(tmp_path, capsys):
+    """A log whose time starts at 08:00 (28800 s): the twin runs from its first sample, and compare
+    and diagnose both report the phases on the log's clock (diagnose counted them from 0)."""
+    import json
+
+    def at_eight(cols):
+        cols["t_s"] = cols["t_s"] + 28800.0
+
+    path = _write(tmp_path, measurement_csv(at_eight))
+    assert main(["compare", str(path), "--mesh", "coarse"]) == 0
+    assert "8.00 h .." in capsys.readouterr().out
+    report = tmp_path / "d.json"
+    assert main(["diagnose", str(path), "--mesh", "coarse", "--error-mesh", "none", "--no-parameters",
+                 "--json", str(report)]) == 0
+    phases = json.loads(report.read_text())["phases"]
+    spindle = [p for p in phases if p["kind"] == "spindle"]
+    assert spindle[0]["start_s"] == 28800.0 and spindle[0]["end_s"] == 28800.0 + 600.0

@@ -41,7 +41,8 @@ def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
             sel = p.mask(rec.times)
             if sel.any():
                 label = f"{p.label} [{rec.label}]" if ev.multiple else p.label
-                phases.append({"kind": p.kind, "phase": label, "start_h": p.start / 3600, "end_h": p.end / 3600,
+                phases.append({"kind": p.kind, "phase": label, "start_h": (p.start + rec.t0) / 3600,
+                               "end_h": (p.end + rec.t0) / 3600,
                                **cell(b[sel], a[sel])})
     chans.sort(key=lambda x: -x["share"] * x["explained"])
     return {"channels": chans[:top_channels], "phases": phases}
@@ -193,8 +194,8 @@ def diagnosis_json(d) -> dict:
                             {"resolution": d.error_resolution, "rmse": {c: float(v) for c, v in zip(names, err)},
                              "units": units}),
         "missing_channels": d.missing_channels,
-        "phases": [{"measurement": r.label, "kind": p.kind, "phase": p.label, "start_s": p.start, "end_s": p.end}
-                   for r in d.evidence.records for p in r.phases],
+        "phases": [{"measurement": r.label, "kind": p.kind, "phase": p.label, "start_s": p.start + r.t0,
+                    "end_s": p.end + r.t0} for r in d.evidence.records for p in r.phases],
         "candidates": [_candidate_json(c, units) for c in d.candidates],
         "regions": d.regions,
         "twin_runs": d.runs,

@@ -123,7 +123,8 @@ def effective_samples(res: np.ndarray) -> float:
 @dataclass
 class Record:
     """One measurement held against the model: channels (n_ch) on its time grid (n_t) [s from its
-    start], the engine observing the twin there, and (after :meth:`Evidence.baseline`) the
+    start; ``t0`` the log's own time of its first sample, which what a user reads (phases, worst
+    times, plots) adds back], the engine observing the twin there, and (after :meth:`Evidence.baseline`) the
     baseline model, weights, noise levels and the model-error estimate per channel (its RMS, and
     the signed series when it came from another mesh)."""
 
@@ -137,6 +138,7 @@ class Record:
     measured: np.ndarray
     columns: np.ndarray          # the engine's output columns of the channels
     phases: list = field(default_factory=list)
+    t0: float = 0.0
     model: np.ndarray | None = None
     weights: np.ndarray | None = None
     noise: dict = field(default_factory=dict)
@@ -193,6 +195,7 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
         except ValueError as err:
             raise InputError(label, "run_time" if chans is runs else "time", str(err)) from None
         rec.phases = input_phases(ds, t - t0, scenario) if chans is stacked else []
+        rec.t0 = float(t0)
         out.append(rec)
     if len(out) > 1:
         out[1].counts_as = len(out[0].times)

@@ -29,7 +29,7 @@ _SPINDLE_COLOURS = {"spindle on": "orange", "speed change": "gold", "spindle off
 _AMBIENT_COLOURS = {"ambient rising": "C3", "ambient falling": "C0", "ambient steady": None}
 
 
-def _shade_phases(ax, phases, label: bool = False) -> list:
+def _shade_phases(ax, phases, label: bool = False, offset: float = 0.0) -> list:
     """Shade spindle phases (on: orange, speed change: gold, off: clear) over the whole height and
     ambient rising (red) / falling (blue) as a strip along the bottom; with ``label``, write each
     spindle phase's name at the top. Returns legend handles."""
@@ -37,7 +37,7 @@ def _shade_phases(ax, phases, label: bool = False) -> list:
 
     seen = {}
     for p in phases:
-        th = (p.start / 3600, p.end / 3600)
+        th = ((p.start + offset) / 3600, (p.end + offset) / 3600)
         if p.kind in ("spindle", "c_axis"):
             key = next(k for k in _SPINDLE_COLOURS if p.label.startswith(k))
             colour = _SPINDLE_COLOURS[key]
@@ -99,14 +99,14 @@ def _worst_channels(d, rec, after) -> str:
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
-    th = rec.times / 3600
+    th = (rec.times + rec.t0) / 3600      # on the log's own clock
     top = _candidate_text(d.candidates[0]) if d.candidates else ""
     base_rmse = rms(rec.measured - rec.model, axis=0)
     order = np.argsort(-base_rmse * rec.weights)[:6]
     fig, axes = plt.subplots(len(order), 1, figsize=(8, 1.9 * len(order) + 0.6), sharex=True, squeeze=False)
     handles = []
     for i, (ax, k) in enumerate(zip(axes[:, 0], order)):
-        handles = _shade_phases(ax, rec.phases, label=i == 0) or handles
+        handles = _shade_phases(ax, rec.phases, label=i == 0, offset=rec.t0) or handles
         ax.plot(th, rec.measured[:, k], "k.", ms=2)
         ax.plot(th, rec.model[:, k], "C0-")
         if after is not None:

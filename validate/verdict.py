@@ -163,7 +163,7 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
             if share > best:
                 best = share
                 where = (f"{rec.label + ': ' if evidence.multiple else ''}{p.label} "
-                         f"({p.start / 3600:.1f}-{p.end / 3600:.1f} h)")
+                         f"({(p.start + rec.t0) / 3600:.1f}-{(p.end + rec.t0) / 3600:.1f} h)")
     return where
 
 
