@@ -19,8 +19,8 @@ def pytest_addoption(parser):
 def pytest_configure(config):
     forced = config.getoption("--solver")
     if forced:
-        from twin.physics import solvers
-        solvers.DEFAULT["solver"] = forced
+        from twin.physics import options
+        options.DEFAULT["solver"] = forced
 
 
 def box_body(size, spacing, material="steel", surfaces=(), refine=1.0):

@@ -1,5 +1,5 @@
 """Bad input to the Python API: :func:`twin.api.simulate`, :class:`twin.physics.prepared.PreparedTwin`,
-:class:`twin.physics.solvers.SolverOptions`, a Scenario changed in Python and
+:class:`twin.physics.options.SolverOptions`, a Scenario changed in Python and
 :func:`twin.fem.mesh.build_mesh`. Each gets one :class:`twin.errors.InputError` naming the argument
 or field, before any mesh is built or any step is run (the ``no_work`` fixture makes both fail the
 test), never a bare TypeError, a silent wrong result or an error from deep in the solver."""
@@ -18,7 +18,7 @@ from twin import api, limits
 from twin.errors import InputError
 from twin.fem.mesh import build_mesh, check_spacing, estimated_nodes
 from twin.physics.prepared import PreparedTwin
-from twin.physics.solvers import MAX_ROM_ORDER, SolverOptions
+from twin.physics.options import MAX_ROM_ORDER, SolverOptions
 from twin.scenario import Ambient, Scenario, available, load_scenario
 
 # 10 min at 8000 rpm, sampled every minute: ten steps

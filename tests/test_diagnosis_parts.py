@@ -207,7 +207,7 @@ def test_added_heat_responses_on_the_iterative_solver(machine, mm):
     from twin.fem.regions import region_cells
     from twin.observe import TemperatureSensors, sensor_points
     from twin.physics.prepared import PreparedTwin
-    from twin.physics.solvers import SolverOptions
+    from twin.physics.options import SolverOptions
 
     sc = Scenario("sup", ((1200.0, 9000.0), (900.0, 0.0)), Ambient("constant", mean=20.0), 300.0)
     sources = [HeatSource("s", region_cells(mm, Parts(("saddle",))), lambda t: 25.0 * np.ones(np.shape(t)))]

@@ -13,7 +13,7 @@ from twin.errors import InputError
 from twin.fem.assembly import assemble_coupling, assemble_nested_coupling
 from twin.fem.nesting import coarsen, coarser_lines, split_interval
 from twin.physics.elastic import ElasticSolver
-from twin.physics.solvers import SolverOptions
+from twin.physics.options import SolverOptions
 
 IRON = MATERIALS["grey_cast_iron"]
 

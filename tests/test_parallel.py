@@ -130,7 +130,7 @@ def test_a_large_run_gives_the_same_bits_whatever_the_threads(monkeypatch):
     from twin.model import model_spec
     from twin.observe import HeatBalance, TemperatureSensors, ToolDrift, sensor_points
     from twin.physics.prepared import PreparedTwin
-    from twin.physics.solvers import SolverOptions
+    from twin.physics.options import SolverOptions
     from twin.scenario import Ambient, Scenario
 
     machine = build_machine("cframe-vmc")

@@ -19,7 +19,8 @@ from twin.model import model_spec
 from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
 from twin.physics.heat import HeatSystem, integrate
 from twin.physics.prepared import PreparedTwin
-from twin.physics.solvers import Projection, SolverOptions, mass_weights, output_bounds
+from twin.physics.options import SolverOptions
+from twin.physics.solvers import Projection, mass_weights, output_bounds
 from twin.physics.steppers import DirectStepper, IterativeStepper
 from twin.scenario import Ambient, Scenario
 
@@ -136,7 +137,7 @@ def test_heat_start_option_and_its_auto_rule():
     """auto starts from the reduced basis from REDUCED_START_STEPS steps on; the named starts
     always or never; an unknown name is refused naming the option."""
     from twin.errors import InputError
-    from twin.physics.solvers import REDUCED_START_STEPS
+    from twin.physics.options import REDUCED_START_STEPS
     auto = SolverOptions("iterative")
     assert not auto.reduced_start(REDUCED_START_STEPS - 1) and auto.reduced_start(REDUCED_START_STEPS)
     assert SolverOptions("iterative", heat_start="reduced").reduced_start(1)

@@ -21,7 +21,7 @@ from twin.observe.interferometer import LaserInterferometer, check_interferomete
 from twin.observe.probing import DatumProbing, check_probing
 from twin.observe.camera import cameras as camera_observers
 from twin.physics.prepared import PreparedTwin, check_resolution, part_materials
-from twin.physics.solvers import as_options
+from twin.physics.options import as_options
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
 
@@ -48,7 +48,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     to 2**32 - 1; ``theta`` the time scheme's, from 0.5 (Crank-Nicolson) to 1 (implicit Euler);
     ``sensors`` :class:`geometries.base.Point` s with distinct names, each on its part (or in the
     air); ``materials`` material name -> :class:`geometries.materials.Material` for materials the
-    machine is made of; ``solver``: a :class:`twin.physics.solvers.SolverOptions` or a solver name
+    machine is made of; ``solver``: a :class:`twin.physics.options.SolverOptions` or a solver name
     (default: chosen by size); ``cameras`` (pose names or :class:`twin.observe.camera.CameraConfig`)
     add thermal cameras to those of the scenario; ``prepared``: a
     :class:`twin.physics.prepared.PreparedTwin` of this machine to reuse: its mesh, materials and

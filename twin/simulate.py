@@ -107,7 +107,7 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "def
     ``progress(done, total)`` is called after every step; ``sensors`` (a list of
     :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites; ``observers``
     replaces the whole standard set; ``prepared`` reuses a :class:`PreparedTwin` of the machine;
-    ``solver`` (:class:`twin.physics.solvers.SolverOptions` or a name) chooses the solvers of a
+    ``solver`` (:class:`twin.physics.options.SolverOptions` or a name) chooses the solvers of a
     new one (default: by size).
     """
     spec = spec or default_spec(machine)

@@ -54,7 +54,7 @@ def _parser() -> argparse.ArgumentParser:
                     help="number of batched cases (default 1: one plain run)")
     ap.add_argument("--rom-order", type=whole_number("basis vectors", 2), default=None,
                     help="the reduced model's order, also of the basis iterative steps start from (default 48)")
-    # upper: twin.physics.solvers.MAX_ELASTIC_COARSENING, as twin.cli.options (the parser stays light)
+    # upper: twin.physics.options.MAX_ELASTIC_COARSENING, as twin.cli.options (the parser stays light)
     ap.add_argument("--elastic-coarsening", type=whole_number("grid lines", 1, 8), default=1,
                     help="solve the elasticity on every N-th grid line of the temperature mesh, 1 to 8 (default 1: "
                          "the same)")
@@ -114,7 +114,7 @@ def _run(args) -> int:
     from twin.model import model_spec
     from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
     from twin.physics.prepared import PreparedTwin
-    from twin.physics.solvers import SolverOptions
+    from twin.physics.options import SolverOptions
     from twin.scenario import load_scenario
 
     if args.spacing is not None and args.mesh is not None:

@@ -90,7 +90,7 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
                        help="how each iterative heat step starts: from the projection on the last solutions, or "
                             "from the reduced model's basis (built once: pays back on long runs); default auto "
                             "(the reduced basis from 300 steps)")
-        # upper: twin.physics.solvers.MAX_ELASTIC_COARSENING (not imported here: the parser stays light)
+        # upper: twin.physics.options.MAX_ELASTIC_COARSENING (not imported here: the parser stays light)
         p.add_argument("--elastic-coarsening", type=whole_number("grid lines", lower=1, upper=8), default=1, metavar="N",
                        help="solve the elasticity on every N-th grid line of the temperature mesh, the thermal load "
                             "still integrated on the temperature mesh (for large meshes: the drift is smooth); "
@@ -98,9 +98,9 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
 
 
 def solver_options(args):
-    """The :class:`twin.physics.solvers.SolverOptions` of parsed --solver/--device/--heat-start/
+    """The :class:`twin.physics.options.SolverOptions` of parsed --solver/--device/--heat-start/
     --elastic-coarsening (auto on the CPU, one mesh, for a command that does not offer them)."""
-    from twin.physics.solvers import SolverOptions
+    from twin.physics.options import SolverOptions
 
     return SolverOptions(getattr(args, "solver", "auto"), getattr(args, "device", "cpu"),
                          elastic_coarsening=getattr(args, "elastic_coarsening", 1),

@@ -111,21 +111,37 @@ def _submit(fn, *args):
     return pool.submit(run)
 
 
-_BLAS: list = []   # the process's threadpoolctl controller, made on first use (finding the libraries takes 0.5 ms)
+_BLAS: dict = {"controller": None, "depth": 0, "limit": None}   # one process-wide hold (see single_blas)
+_BLAS_LOCK = threading.Lock()
 
 
 @contextlib.contextmanager
 def single_blas(active: bool = True):
     """BLAS held to one thread inside the block when ``active`` (module docstring); cheap enough
-    (about 10 us) to wrap a single sparse solve."""
+    (about 10 us) to wrap a single sparse solve.
+
+    BLAS's thread count is one setting of the process, so the hold is counted, not stacked: the
+    first block entered (in any thread) sets one thread, the last one left restores the count.
+    Stacked holds restore out of order when two threads overlap (a helper's sparse solve ending
+    inside the main thread's block gave its BLAS two threads back, and the run other bits)."""
     if not active:
         yield
         return
-    if not _BLAS:
-        from threadpoolctl import ThreadpoolController
-        _BLAS.append(ThreadpoolController())
-    with _BLAS[0].limit(limits=1, user_api="blas"):
+    with _BLAS_LOCK:
+        if _BLAS["controller"] is None:
+            from threadpoolctl import ThreadpoolController
+            _BLAS["controller"] = ThreadpoolController()   # finding the libraries takes 0.5 ms: once
+        if _BLAS["depth"] == 0:
+            _BLAS["limit"] = _BLAS["controller"].limit(limits=1, user_api="blas")
+        _BLAS["depth"] += 1
+    try:
         yield
+    finally:
+        with _BLAS_LOCK:
+            _BLAS["depth"] -= 1
+            if _BLAS["depth"] == 0:
+                _BLAS["limit"].restore_original_limits()
+                _BLAS["limit"] = None
 
 
 def concurrently(*tasks) -> list:
@@ -133,8 +149,8 @@ def concurrently(*tasks) -> list:
     this thread, the others on an idle helper when there is one (else here, after it). An
     exception of any task is raised here once all have finished; an interrupt (Ctrl-C, or the
     CLI's SIGTERM) at once, the helper finishing its task alone (the process exits when it has)."""
-    futures = [None] + [_submit(t) for t in tasks[1:]]
-    with single_blas():
+    with single_blas():     # held before a helper starts: its own holds nest inside this one
+        futures = [None] + [_submit(t) for t in tasks[1:]]
         results, errors = [], []
         for task, future in zip(tasks, futures):
             try:

@@ -13,7 +13,7 @@ runs need them:
   same operators only back-substitutes or iterates;
 * per load set, the reduced model (``solver="rom"``, :mod:`twin.physics.rom`).
 
-The solvers are chosen by size or by ``solver`` (:class:`twin.physics.solvers.SolverOptions`):
+The solvers are chosen by size or by ``solver`` (:class:`twin.physics.options.SolverOptions`):
 direct factorisations for small meshes, warm-started PCG for the heat steps and AMG-CG for the
 elastic adjoints on large ones, or the reduced model. :attr:`PreparedTwin.run_info` holds what
 solved the last run, its tolerances and the bound (iterative) or estimate (reduced) of every
@@ -37,7 +37,8 @@ from twin.observe.base import Observer, error_units
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
 from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
-from twin.physics.solvers import as_options, mass_weights, output_bounds
+from twin.physics.options import as_options
+from twin.physics.solvers import mass_weights, output_bounds
 
 SOURCE = "PreparedTwin"     # the source named in errors about a PreparedTwin's arguments
 MATERIAL_PROPERTIES = ("conductivity", "density", "specific_heat", "youngs_modulus")   # positive [SI]
@@ -99,7 +100,7 @@ def mesh_label(machine, mm) -> str:
 class PreparedTwin:
     """``machine`` meshed (``mm``, or ``resolution``) and assembled with ``materials`` (a map from
     material name to a replacement Material) once; :meth:`run` any scenario and effect set.
-    ``solver``: a :class:`twin.physics.solvers.SolverOptions` or a solver name (default auto).
+    ``solver``: a :class:`twin.physics.options.SolverOptions` or a solver name (default auto).
     The arguments are checked before the mesh is built (:class:`twin.errors.InputError`): a
     Machine (not its name), a resolution it has, materials it is made of (:func:`part_materials`).
     ``resolution`` records the mesh's name (:func:`mesh_label`)."""

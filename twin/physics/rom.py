@@ -54,7 +54,8 @@ import scipy.sparse as sp
 from twin.errors import InputError
 from twin.physics import kernels
 from twin.physics.lu import SymmetricLU
-from twin.physics.solvers import DIRECT_LIMIT, amg_cycle, mass_weights, output_bounds, pcg, smoothed_aggregation
+from twin.physics.options import DIRECT_LIMIT
+from twin.physics.solvers import amg_cycle, mass_weights, output_bounds, pcg, smoothed_aggregation
 
 SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
 DROP = 1e-10        # directions new to the basis by less than this share of their block's largest are dropped
