@@ -186,6 +186,8 @@ CHANGED = [
     ("ambient-table-backwards", {"ambient": Ambient("table", times=(600.0, 0.0), temperatures=(20.0, 21.0))},
      "ambient.times"),
     ("ambient-kind", {"ambient": Ambient("weekly")}, "ambient.kind"),
+    # a step that is no whole number of samples: the run's grid would end early or hold it past the end
+    ("step-off-grid", {"steps": ((900.0, 8000.0),), "sample_interval": 420.0}, "spindle[0].duration"),
 ]
 
 
@@ -230,3 +232,19 @@ def test_the_node_estimate_bounds_the_mesh_and_allows_the_million_node_mesh(cfra
     # 12 mm: 1 045 574 nodes (README's 1 M-node runs), not built here
     assert check_spacing(cframe, 0.012) == 0.012
     assert 1.0e6 < estimated_nodes(cframe, 0.012) < limits.MAX_NODES
+
+
+def test_a_prepared_twin_checks_its_runs_as_simulate_does(cframe):
+    """PreparedTwin.run and run_batch, a Python user's way past twin.api.simulate, meet the same
+    rules: theta in [1/2, 1] (the reduced model integrated theta 0 to a drift of 1e25 m), the
+    scenario's values (a step off the sample grid) and the machine's speeds (1e6 rpm ran)."""
+    from twin.model import model_spec
+    from twin.observe import ToolDrift
+
+    rom = PreparedTwin(cframe, resolution="coarse", solver="rom")
+    spec = model_spec(cframe)
+    refused("theta", rom.run, SHORT, spec, [ToolDrift()], theta=0.0)
+    refused("theta", rom.run_batch, [(SHORT, spec)], [ToolDrift()], theta=1.5)
+    refused("spindle[0].speed", rom.run, replace(SHORT, steps=((600.0, 1e6),)), spec, [ToolDrift()])
+    refused("spindle[0].duration", rom.run_batch, [(replace(SHORT, steps=((630.0, 8000.0),)), spec)], [ToolDrift()])
+    refused("scenario", rom.run, "spindle-duty-cycle", spec, [ToolDrift()])

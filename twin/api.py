@@ -58,7 +58,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     argument): names, types, units, the scenario's values and speeds against the machine's
     maximum, the sensors' positions and the run's size (:mod:`twin.limits`)."""
     seed = limits.seed_value(seed, CLI, "seed")
-    theta = _theta(theta)
+    theta = limits.theta_value(theta, CLI)
     m = machine_by_name(machine)
     if prepared is not None:
         _check_prepared(prepared, m)
@@ -117,15 +117,6 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
                             mm=None if prepared is not None else mm, prepared=prepared, solver=options,
                             observers=observers)
     return to_dataset(result, seed, resolution), result
-
-
-def _theta(theta) -> float:
-    """The time scheme's theta: a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the
-    unconditionally stable range (:func:`twin.physics.heat.integrate`)."""
-    if not limits.is_number(theta) or not 0.5 <= theta <= 1.0:
-        raise InputError(CLI, "theta", f"a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the "
-                                       f"unconditionally stable range, got {theta!r}")
-    return float(theta)
 
 
 def _check_prepared(prepared, machine) -> None:

@@ -302,3 +302,15 @@ def seed_value(seed, source: str, field: str = "seed") -> int:
         return check_seed(int(seed))
     except ValueError as err:
         raise InputError(source, field, str(err)) from None
+
+
+def theta_value(theta, source: str, field: str = "theta") -> float:
+    """The time scheme's theta: a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the
+    unconditionally stable range (:func:`twin.physics.heat.integrate`); else one
+    :class:`InputError` naming ``source`` and ``field`` (the reduced model, which integrates its own
+    steps, would otherwise diverge silently: theta 0 gave a drift of 1e25 m)."""
+    if not is_number(theta) or not 0.5 <= theta <= 1.0:
+        raise InputError(source, field, f"a number from 0.5 (Crank-Nicolson) to 1 (implicit Euler), the "
+                                        f"unconditionally stable range, got {theta!r}")
+    return float(theta)
+

@@ -402,10 +402,12 @@ def check_values(sc: Scenario) -> None:
     initial temperature above absolute zero and plausible for a structure, one or more spindle
     steps of a finite positive duration [s] and a number for the speed (the speed's limits are
     the machine's, :func:`twin.limits.check_scenario`), an affordable number of time steps, the
-    room air (:func:`check_ambient`), and a table or room record covering the run (to half a
-    sample interval: a log's last step is snapped to the sample grid). Not re-checked, because
-    nothing breaks when they are not met: steps that are not multiples of the sample interval
-    (the outputs sample the steps), events, axis moves or C-axis steps beyond the end of a run
+    room air (:func:`check_ambient`), a table or room record covering the run (to half a sample
+    interval: a log's last step is snapped to the sample grid), and each spindle step a whole
+    number of sample intervals, as the loader asks (otherwise the run's grid ends before the
+    scenario or holds the last step past it, and the speeds change between samples: 900 s at 420 s
+    steps ran 840 s with the spindle on 420 s instead of 600). Not re-checked, because nothing
+    breaks when they are not met: events, axis moves or C-axis steps beyond the end of a run
     shortened in Python (they are never reached)."""
     source = sc.source or sc.name
     dt = _number(sc.sample_interval, source, "sample_interval")
@@ -421,6 +423,9 @@ def check_values(sc: Scenario) -> None:
         if _number(step[0], source, f"spindle[{i}].duration") <= 0:
             raise InputError(source, f"spindle[{i}].duration", f"must be positive, got {step[0]:g} s")
         _number(step[1], source, f"spindle[{i}].speed")
+        if abs(step[0] / dt - round(step[0] / dt)) > 1e-6 * max(1.0, step[0] / dt):
+            raise InputError(source, f"spindle[{i}].duration", f"{step[0]:g} s must be a multiple of the sample "
+                                                               f"interval ({dt:g} s)")
     total = sc.duration
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     check_ambient(sc.ambient, source)

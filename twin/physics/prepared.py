@@ -331,8 +331,13 @@ class PreparedTwin:
         (n_t, k) at every output instant (see :class:`twin.observe.base.Observer`).
         ``on_step(n, T)`` is called after each step with the field, ``progress(n, total)``
         without it (the reduced model then never forms the field unless an observer needs it).
-        :attr:`run_info` then describes the solvers and the error of every output.
+        :attr:`run_info` then describes the solvers and the error of every output. Readings are
+        in each observer's raw SI unit (``raw_unit``: m, m/m, K ...), not the Dataset's um.
+        The scenario is checked against this twin's machine and theta against the stable range
+        first (:func:`twin.limits.check_scenario`, :func:`twin.limits.theta_value`), as
+        :func:`twin.api.simulate` does: a Python caller meets the same rules.
         """
+        self.check_run(scenario, theta)
         loads = self.loads(scenario, spec)
         times = scenario.times()
         nsteps = len(times) - 1
@@ -390,9 +395,23 @@ class PreparedTwin:
     def run_batch(self, cases, observers, theta: float = 0.5, progress=None, bound: bool = True) -> tuple[LoadSet, dict, dict]:
         """Many (scenario, spec) cases at once, vectorised in the reduced model and as multiple
         right-hand sides in the full one (:func:`twin.physics.batch.run_batch`): (loads, readings
-        {key: (n_t, k, cases)}, info). Observers must be linear (rows only)."""
+        {key: (n_t, k, cases)}, info), in the observers' raw SI units. Observers must be linear
+        (rows only); every case's scenario is checked as :meth:`run` checks one."""
         from twin.physics.batch import run_batch
+        for scenario, _ in cases:
+            self.check_run(scenario, theta)
         return run_batch(self, cases, observers, theta, progress, bound)
+
+    def check_run(self, scenario, theta: float) -> None:
+        """:class:`InputError` unless ``scenario`` may run on this twin's machine (its values, the
+        machine's speeds) and ``theta`` lies in [1/2, 1]."""
+        from twin.scenario import Scenario
+
+        if not isinstance(scenario, Scenario):
+            raise InputError("command line", "scenario", f"expected a twin.scenario.Scenario, got "
+                                                         f"{type(scenario).__name__}")
+        limits.theta_value(theta, scenario.source or scenario.name)
+        limits.check_scenario(scenario, self.machine)
 
 
 def check_finite(readings: dict, times: np.ndarray, source: str) -> None:
