@@ -229,3 +229,23 @@ def test_an_output_never_replaces_a_schedule_table_the_effects_file_reads(tmp_pa
     err = capsys.readouterr().err
     assert "never replaces an input" in err and "effects.lamp.table.file" in err
     assert table.read_text() == "t,factor\n0,1\n60,1\n"
+
+
+def test_a_custom_effect_applies_only_to_the_machine_it_was_read_for():
+    """A file's region names one machine's parts: read for cframe-vmc ("saddle"), the effect is no
+    candidate on gantry-ram, even left registered by an earlier call in the process (the gantry's
+    diagnosis then failed with KeyError: no parts ['saddle'])."""
+    from geometries import build_machine
+    from twin.effects.custom import effects_from_dict, register_custom, unregister_custom
+    from twin.model import default_spec
+    from validate.candidates import candidate_pool
+
+    cframe, gantry = build_machine("cframe-vmc"), build_machine("gantry-ram")
+    names = register_custom(effects_from_dict(
+        {"effects": {"left_over": {"kind": "heat_source", "region": "saddle", "power": "50 W"}}}, "t.toml", cframe))
+    try:
+        assert EFFECTS["left_over"].applies_to(cframe) and not EFFECTS["left_over"].applies_to(gantry)
+        assert "left_over" in [c.name for c in candidate_pool(cframe, default_spec(cframe), None, False)]
+        assert "left_over" not in [c.name for c in candidate_pool(gantry, default_spec(gantry), None, False)]
+    finally:
+        unregister_custom(names)

@@ -194,3 +194,28 @@ def test_a_log_from_its_own_clock_is_reported_on_that_clock(tmp_path, capsys):
     phases = json.loads(report.read_text())["phases"]
     spindle = [p for p in phases if p["kind"] == "spindle"]
     assert spindle[0]["start_s"] == 28800.0 and spindle[0]["end_s"] == 28800.0 + 600.0
+
+
+def test_a_measurement_of_another_machine_or_unit_or_span_is_refused(tmp_path):
+    """API audit: a NetCDF measurement is read as a twin result, so a variable in another unit
+    (probes in mm were read as um) is refused; compare refuses a model of another machine or
+    one shorter than the measurement (it held the model flat past its end); diagnose refuses a
+    measurement of another machine (it gave a verdict)."""
+    from tests.fuzz_files import result_dataset
+    from geometries import build_machine
+    from validate.compare import compare
+    from validate.diagnose import diagnose
+
+    ds = result_dataset()
+    ds["probe"].attrs["units"] = "mm"
+    ds.to_netcdf(tmp_path / "mm.nc")
+    with pytest.raises(InputError, match="probe: in 'mm'"):
+        read_measurement(tmp_path / "mm.nc")
+    ds["probe"].attrs["units"] = "um"
+    other = ds.assign_attrs(machine="belt-vmc")
+    with pytest.raises(InputError, match="the measurement is of machine 'belt-vmc', the model of 'cframe-vmc'"):
+        compare(other, ds)
+    with pytest.raises(InputError, match="time: the measurement spans"):
+        compare(ds, ds.isel(time=slice(0, len(ds.time) // 2)))
+    with pytest.raises(InputError, match="machine: the measurement is of machine 'belt-vmc'"):
+        diagnose(other, build_machine("cframe-vmc"), None)

@@ -22,6 +22,7 @@ import numpy as np
 import xarray as xr
 
 from learners.metrics import max_abs_residual, nse, rmse
+from twin.errors import InputError
 from validate.channels import Phase, input_phases, stack
 
 
@@ -89,6 +90,13 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
     t = np.asarray(measured.time.values, float)
     mod_t = np.asarray(model.time.values, float)
     t_mod = t - t[0] + mod_t[0]
+    source = str(measured.attrs.get("source", "measurement"))
+    named, modelled = measured.attrs.get("machine"), model.attrs.get("machine")
+    if named is not None and modelled is not None and str(named) != str(modelled):
+        raise InputError(source, "machine", f"the measurement is of machine {named!r}, the model of {modelled!r}")
+    if t_mod[-1] > mod_t[-1] + 1e-6 * max(1.0, abs(mod_t[-1])):
+        raise InputError(source, "time", f"the measurement spans {(t[-1] - t[0]) / 3600:g} h, the model "
+                                         f"{(mod_t[-1] - mod_t[0]) / 3600:g} h: it must cover the whole measurement")
     meas, mod = stack(measured), stack(model, prefer_true=model_true)
     names = [c for c in meas.names if c in mod.names]
     if phases is None:

@@ -169,6 +169,10 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
     and, when ``ds`` has laser-interferometer runs, the record of their positioning error (same
     label, same engine; module docstring); InputError when it has no channel to diagnose, when it
     outlasts the scenario, or when its interferometer runs are not the scenario's."""
+    named = ds.attrs.get("machine")
+    if named is not None and str(named) != machine.name:
+        raise InputError(label, "machine", f"the measurement is of machine {named!r}, the diagnosing model of "
+                                           f"{machine.name!r}")
     stacked = stack(ds, diagnosed_groups(ds))
     run_times, runs = stack_runs(ds)
     if not stacked.names and runs is None:

@@ -88,8 +88,10 @@ class CustomEffect(Effect):
 
     custom = True
 
-    def __init__(self, name, kind, region, regions_text, parameter, schedule, air_offset, source, doc):
+    def __init__(self, name, kind, region, regions_text, parameter, schedule, air_offset, source, doc,
+                 machine: str = ""):
         self.name, self.kind, self.region, self.regions_text = name, kind, region, regions_text
+        self.machine = machine   # the machine whose parts the region names (read for it)
         self.schedule, self.air_offset, self.source = schedule, air_offset, source
         self.parameters = (parameter,)
         self.strength = parameter.name
@@ -100,6 +102,12 @@ class CustomEffect(Effect):
         self.reference = f"user file {source}"
         self.roles = ()
         check_declarations(self)
+
+    def applies_to(self, machine) -> bool:
+        """Only to the machine the file was read for: its region names that machine's parts (a
+        cframe-vmc file's "saddle" is no place on the gantry, where an effect left registered by
+        an earlier call in the same process was offered as a candidate and failed)."""
+        return not self.machine or machine.name == self.machine
 
     def loads(self, mm, scenario, p):
         value = p[self.strength]
@@ -260,7 +268,7 @@ def _effect(name: str, spec, src: str, folder: Path, machine) -> CustomEffect:
         raise InputError(src, where + ".doc", f"expected text, got {describe(doc)}")
     r.finish()
     param = Parameter(pname, dim, value, lo, hi, doc or f"{kind.replace('_', ' ')} strength from {src}")
-    return CustomEffect(name, kind, region, text, param, schedule, air_offset, src, doc)
+    return CustomEffect(name, kind, region, text, param, schedule, air_offset, src, doc, machine.name)
 
 
 def _region(value, machine, surface: bool, src: str, where: str):

@@ -150,9 +150,30 @@ def _with_channels(ds: xr.Dataset, src: str) -> xr.Dataset:
     return ds
 
 
+# the units of a twin result's variables, which a NetCDF measurement must use (it is read as is;
+# a CSV with its mapping converts any unit)
+NETCDF_UNITS = {"time": "s", "temperature": "degC", "ambient_temperature": "degC", "probe": "um", "laser": "um",
+                "strain": "um/m", "strain_raw": "um/m", "spindle_speed": "rpm", "c_axis_speed": "rpm",
+                "axis_position": "mm", "positioning_error": "um"}
+
+
+def _check_netcdf_units(ds: xr.Dataset, src: str) -> None:
+    """Each variable of :data:`NETCDF_UNITS` that states a unit states the twin's (probes in mm
+    were read as um, 1000 times too small)."""
+    for var, unit in NETCDF_UNITS.items():
+        if var not in ds.variables:
+            continue
+        stated = ds[var].attrs.get("units", ds[var].encoding.get("units"))
+        if stated is not None and str(stated).strip() != unit:
+            raise InputError(src, var, f"in {str(stated)!r}; a NetCDF measurement is read as a twin result, which holds "
+                                       f"{var} in {unit!r}: convert it, or give a CSV with a column mapping "
+                                       "(which takes any unit)")
+
+
 def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
-    """Physical limits of a NetCDF measurement's inputs and sensors (the CSV reader checks its
-    columns as it reads them)."""
+    """Units and physical limits of a NetCDF measurement's inputs and sensors (the CSV reader
+    checks its columns as it reads them)."""
+    _check_netcdf_units(ds, src)
     if "spindle_speed" in ds:
         limits.check_speeds(ds.spindle_speed.values, mach, src, "spindle_speed", logged=True)
     if "ambient_temperature" in ds:
