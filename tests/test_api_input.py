@@ -135,6 +135,13 @@ BAD_ARGUMENTS = [
     ("materials-a-number", {"materials": {"steel": 1}}, "materials"),
     ("materials-not-a-dict", {"materials": [MATERIALS["steel"]]}, "materials"),
     ("materials-negative", {"materials": {"steel": MATERIALS["steel"].scaled(density=-1.0)}}, "materials"),
+    # possible but no machine structure (an expansion of 1 /K drifted 584 m)
+    ("materials-expansion", {"materials": {"steel": replace(MATERIALS["steel"], expansion=1.0)}},
+     "materials['steel'].expansion"),
+    ("materials-stiffness", {"materials": {"steel": replace(MATERIALS["steel"], youngs_modulus=1.0)}},
+     "materials['steel'].youngs_modulus"),
+    ("materials-band", {"materials": {"steel": replace(MATERIALS["steel"], expansion_band=-1.0)}},
+     "materials['steel'].expansion_band"),
     ("sensor-on-another-part", {"sensors": [Point("s1", MOTOR, "table")]}, "sensors[0] s1"),
     ("sensor-unknown-part", {"sensors": [Point("s1", MOTOR, "nopart")]}, "sensors[0] s1"),
     ("sensor-outside", {"sensors": [Point("s1", (10.0, 10.0, 10.0), "carrier")]}, "sensors[0] s1"),

@@ -88,7 +88,21 @@ def part_materials(machine, materials, source: str = SOURCE, field: str = "mater
         if bad:
             raise InputError(source, f"{field}[{name!r}].{bad[0]}", f"{values[bad[0]]!r} is not a possible value "
                                                                     "(finite; positive; Poisson's ratio from -1 to 0.5)")
+        values["expansion_band"] = material.expansion_band
+        for key, (lo, hi, unit) in PLAUSIBLE_MATERIAL.items():
+            v = values[key]
+            if not limits.is_number(v) or not lo <= v <= hi:
+                raise InputError(source, f"{field}[{name!r}].{key}", f"{v!r} {unit} is outside what a machine "
+                                                                     f"structure is made of, {lo:g} to {hi:g} {unit}")
     return {p.name: materials[p.material.name] for p in machine.parts if p.material.name in materials}
+
+
+# what a machine tool's structure may be made of (cast iron, steels, granite, polymer concrete,
+# aluminium, Invar, bronze; fibre composites' slightly negative expansion): property -> (lower,
+# upper, unit); an expansion of 1 /K gave a drift of 584 m
+PLAUSIBLE_MATERIAL = {"conductivity": (0.1, 500.0, "W/(m K)"), "density": (500.0, 25000.0, "kg/m3"),
+                      "specific_heat": (100.0, 5000.0, "J/(kg K)"), "youngs_modulus": (1e9, 1.2e12, "Pa"),
+                      "expansion": (-2e-5, 1e-4, "1/K"), "expansion_band": (0.0, 0.99, "(fraction of alpha)")}
 
 
 def mesh_label(machine, mm) -> str:
