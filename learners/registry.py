@@ -41,6 +41,8 @@ def _make(table: dict[str, type], kind: str, name: str, params: dict):
     for key in params:
         if key not in known:
             raise InputError(name, key, f"unknown parameter of {kind} {name!r}; known: {', '.join(known) or 'none'}")
+    if "random_state" in known and "random_state" not in params:
+        params = {**params, "random_state": DEFAULT_RANDOM_STATE}
     est = cls(**params)
     check = getattr(est, "_check_params", None)
     if check is not None:   # hyper-parameters checked now, before any fit (again at fit: set_params)
@@ -48,11 +50,17 @@ def _make(table: dict[str, type], kind: str, name: str, params: dict):
     return est
 
 
+DEFAULT_RANDOM_STATE = 0   # what make_learner/make_selector seed a random start with unless told
+
+
 def make_learner(name: str, **params):
     """Build the learner registered as ``name`` with hyper-parameters ``params``.
 
     An unknown name, an unknown parameter or a bad value (checked by the learner's
-    ``_check_params``) is an :class:`InputError` naming it."""
+    ``_check_params``) is an :class:`InputError` naming it. A learner with a random start
+    (ANFIS-FCM, the networks, PSO) gets ``random_state`` :data:`DEFAULT_RANDOM_STATE` unless one is
+    given, so the same call gives the same model; scikit-learn's None (a fresh draw every fit)
+    must be asked for."""
     return _make(LEARNERS, "learner", name, params)
 
 

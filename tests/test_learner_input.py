@@ -148,3 +148,18 @@ def test_dataset_api_refuses_bad_jobs_steps_and_folders(tmp_path):
     a_file = tmp_path / "file.txt"
     a_file.write_text("x")
     _refused(lambda: build([], a_file), "folder", "not a folder")
+
+
+def test_a_learner_built_by_name_is_seeded_unless_told():
+    """make_learner gives a random-start learner random_state 0 (the API audit found anfis-fcm,
+    ann, pso-bpnn, gnnmci and gmc1n-pso differing between identical fits): two builds fit alike;
+    an explicit random_state, None included, is kept."""
+    import numpy as np
+    from learners import make_learner
+
+    X = np.random.default_rng(0).standard_normal((60, 3))
+    y = X @ np.array([1.0, 2.0, 3.0]) + 0.1
+    for name in ("anfis-fcm", "ann"):
+        assert make_learner(name).get_params()["random_state"] == 0
+        np.testing.assert_array_equal(make_learner(name).fit(X, y).predict(X), make_learner(name).fit(X, y).predict(X))
+    assert make_learner("ann", random_state=None).get_params()["random_state"] is None

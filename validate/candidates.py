@@ -114,10 +114,16 @@ def wrong_parameters(spec: ModelSpec) -> list[Candidate]:
     return out
 
 
-def candidate_pool(machine, spec: ModelSpec, effects: list[str] | None = None, parameters: bool = True) -> list[Candidate]:
-    """The candidates of a diagnosis: every applicable registered effect missing from ``spec``
-    (or ``effects``), custom effects included, then (``parameters``) every uncertain parameter of
+def candidate_pool(machine, spec: ModelSpec, effects: list[str] | None = None, parameters: bool = True,
+                   custom: tuple[str, ...] = ()) -> list[Candidate]:
+    """The candidates of a diagnosis: every applicable library effect missing from ``spec`` and the
+    ``custom`` effects this diagnosis was given (an effects file's; a custom effect left
+    registered by an earlier call in the process is no candidate: it once "explained" a test's
+    outside source), or exactly ``effects``; then (``parameters``) every uncertain parameter of
     the model's effects."""
-    names = effects if effects is not None else [e for e in applicable_effects(machine) if e not in spec.effects]
+    from twin.effects.custom import CUSTOM
+
+    names = effects if effects is not None else [e for e in applicable_effects(machine)
+                                                 if e not in spec.effects and (e not in CUSTOM or e in custom)]
     out = [c for c in (missing_effect(n) for n in names) if c is not None]
     return out + (wrong_parameters(spec) if parameters else [])

@@ -239,14 +239,15 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
                   bic_margin: float = 10.0, pair_threshold: float = 0.8, pair_pool: int = 4,
                   error_resolution: str | None = None, model_error: list | None = None,
                   calibrate_expansion: bool = True, localise_regions: bool = True, localise_steps: int = 100,
-                  twin: PreparedTwin | None = None, progress=None) -> Diagnosis:
+                  twin: PreparedTwin | None = None, progress=None, custom: tuple[str, ...] = ()) -> Diagnosis:
     """Rank the effects and parameters that explain the residual of ``measurements``.
 
     ``measurements``: [(label, Dataset, Scenario)] (twin schema: any of ``temperature`` [degC],
     ``probe`` and ``laser`` [um], ``strain`` or ``strain_raw`` [um/m]); each scenario's grid must cover its measurement. ``machine``: a built
     machine; ``spec``: the diagnosing model (default: the machine's); ``mm``/``resolution``: its
-    mesh. ``candidates``: the missing effects to try (default: every applicable registered effect
-    not in ``spec``, custom effects included); ``parameters``: also try the declared uncertain
+    mesh. ``candidates``: the missing effects to try (default: every applicable library effect not
+    in ``spec`` and the ``custom`` effects named, those of an effects file this diagnosis reads,
+    :func:`twin.effects.custom.load_effects_file`); ``parameters``: also try the declared uncertain
     parameters of the model's effects. ``error_resolution``/``model_error`` (a per-channel RMS
     array per record): the model's discretisation error estimate. ``calibrate_expansion``: fit
     each material's expansion within its band. ``localise_regions``: when the verdict is not
@@ -256,7 +257,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     or the regions mapped.
     """
     spec = spec or default_spec(machine)
-    pool = candidate_pool(machine, spec, candidates, parameters)
+    pool = candidate_pool(machine, spec, candidates, parameters, custom)
     stage = Stages(progress, 1 + len(measurements) + len(pool))
     twin = twin or PreparedTwin(machine, mm, resolution)
     evidence = Evidence([rec for lab, ds, sc in measurements for rec in make_records(lab, ds, sc, machine, twin)])

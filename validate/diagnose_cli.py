@@ -73,7 +73,7 @@ def run_diagnose(args) -> int:
         files.output(args.json, "--json", (".json",))
     if args.report:
         files.folder(args.report, "--report", ("index.html",))
-    runs, machine, spec, _ = load_measurements(args)
+    runs, machine, spec, custom = load_measurements(args)
     err_mesh = error_resolution(args, machine)
     mm = mesh_machine(machine, args.mesh)
     sizes = [mm.nheat] + ([mesh_machine(machine, err_mesh).nheat] if err_mesh else [])
@@ -82,7 +82,7 @@ def run_diagnose(args) -> int:
             limits.check_run_size(sc, n)
     try:
         d = diagnose_many(runs, machine, spec, mm=mm, error_resolution=err_mesh, parameters=not args.no_parameters,
-                          progress=progress_bar(f"diagnose {machine.name}", "fit"))
+                          progress=progress_bar(f"diagnose {machine.name}", "fit"), custom=custom)
     except ValueError as err:
         if isinstance(err, InputError):
             raise
