@@ -414,6 +414,11 @@ class PreparedTwin:
         from twin.physics.batch import run_batch
         for scenario, _ in cases:
             self.check_run(scenario, theta)
+        for o in observers:   # a step hook or a sampled observer would come back empty, silently
+            if type(o).on_step is not Observer.on_step or o.sample_steps(cases[0][0].times()) is not None:
+                raise InputError("command line", "observers", f"{type(o).__name__} ({o.key}) is read at a step or "
+                                                              "sampled: a batch takes linear observers read every "
+                                                              "step (rows only); run it with run()")
         return run_batch(self, cases, observers, theta, progress, bound)
 
     def check_run(self, scenario, theta: float) -> None:
