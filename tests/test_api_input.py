@@ -255,6 +255,10 @@ def test_a_prepared_twin_checks_its_runs_as_simulate_does(cframe):
     refused("spindle[0].speed", rom.run, replace(SHORT, steps=((600.0, 1e6),)), spec, [ToolDrift()])
     refused("spindle[0].duration", rom.run_batch, [(replace(SHORT, steps=((630.0, 8000.0),)), spec)], [ToolDrift()])
     refused("scenario", rom.run, "spindle-duty-cycle", spec, [ToolDrift()])
+    # a mesh of another machine (it failed later, "outside the machine") or without the feed drives
+    from geometries.axes import with_feed_drives
+    refused("mm", PreparedTwin, build_machine("belt-vmc"), rom.mm)
+    refused("mm", PreparedTwin, with_feed_drives(cframe), rom.mm)
     refused("sample_interval", rom.run, replace(SHORT, sample_interval=0.0), spec, [ToolDrift()])
     from twin.observe.snapshot import HottestField
     refused("observers", rom.run_batch, [(SHORT, spec)], [ToolDrift(), HottestField()])

@@ -126,6 +126,11 @@ class PreparedTwin:
             check_resolution(machine, resolution)
         elif not isinstance(mm, MachineMesh):
             raise InputError(SOURCE, "mm", f"expected a twin.fem.mesh.MachineMesh of the machine, got {mm!r}")
+        elif mm.machine.name != machine.name or [p.name for p in mm.machine.parts] != [p.name for p in machine.parts]:
+            raise InputError(SOURCE, "mm", f"is a mesh of {mm.machine.name} with the parts "
+                                           f"{', '.join(p.name for p in mm.machine.parts)}, not of {machine.name} with "
+                                           f"{', '.join(p.name for p in machine.parts)} (mesh the machine the twin is "
+                                           "of: twin.fem.mesh.mesh_machine(machine, resolution))")
         materials = part_materials(machine, materials)
         self.machine = machine
         self.options = as_options(solver)
