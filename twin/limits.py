@@ -154,6 +154,13 @@ def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool =
     return v
 
 
+def check_whole_samples(duration: float, sample_interval: float, source: str, field: str) -> None:
+    """A step of ``duration`` [s] spans a whole number of ``sample_interval`` [s] (to 1e-6 of a
+    sample): else the run's grid ends before it or holds it past its end."""
+    if abs(duration / sample_interval - round(duration / sample_interval)) > 1e-6:
+        raise InputError(source, field, f"must be a multiple of the sample interval ({sample_interval:g} s)")
+
+
 def check_steps(duration: float, sample_interval: float, source: str, field: str) -> int:
     """The number of time steps duration / sample interval [s], refused beyond :data:`MAX_STEPS`."""
     steps = duration / sample_interval

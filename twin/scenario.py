@@ -262,8 +262,7 @@ class _Reader:
         if speed < 0:
             raise InputError(self.source, self.prefix + "speed", "must not be negative")
         duration = self.positive("duration", "time", required=True)
-        if abs(duration / dt - round(duration / dt)) > 1e-6:
-            raise InputError(self.source, self.prefix + "duration", f"must be a multiple of the sample interval ({dt:g} s)")
+        limits.check_whole_samples(duration, dt, self.source, self.prefix + "duration")
         return speed, duration
 
     def finish(self):
@@ -423,9 +422,7 @@ def check_values(sc: Scenario) -> None:
         if _number(step[0], source, f"spindle[{i}].duration") <= 0:
             raise InputError(source, f"spindle[{i}].duration", f"must be positive, got {step[0]:g} s")
         _number(step[1], source, f"spindle[{i}].speed")
-        if abs(step[0] / dt - round(step[0] / dt)) > 1e-6 * max(1.0, step[0] / dt):
-            raise InputError(source, f"spindle[{i}].duration", f"{step[0]:g} s must be a multiple of the sample "
-                                                               f"interval ({dt:g} s)")
+        limits.check_whole_samples(step[0], dt, source, f"spindle[{i}].duration")
     total = sc.duration
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     check_ambient(sc.ambient, source)

@@ -109,8 +109,7 @@ def _duty_cycle(r: TableReader, source: str, machines: dict) -> DutyCycle:
     dt = quantity(r.get("sample_interval", default="10 s"), "time", source, r.field("sample_interval"))
     if dt <= 0 or duration <= 0:
         raise InputError(source, r.field("duration" if duration <= 0 else "sample_interval"), "must be positive")
-    if abs(duration / dt - round(duration / dt)) > 1e-6:
-        raise InputError(source, r.field("duration"), f"must be a multiple of the sample interval ({dt:g} s)")
+    limits.check_whole_samples(duration, dt, source, r.field("duration"))
     limits.check_steps(duration, dt, source, r.field("duration"))
     s = TableReader(r.get("spindle", required=True, kind=dict), source, r.field("spindle."),
                     known=("step", "speed", "speed_step", "idle_probability"))
