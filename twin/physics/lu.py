@@ -34,12 +34,6 @@ class SymmetricLU:
         with single_blas():
             self._lu = spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                                  options={"SymmetricMode": True})
-        self.shape = A.shape
-
-    @property
-    def nnz(self) -> int:
-        """Stored entries of both factors."""
-        return int(self._lu.L.nnz + self._lu.U.nnz)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """A^-1 b."""

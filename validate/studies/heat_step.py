@@ -36,9 +36,9 @@ import sys
 import time
 
 import numpy as np
-import scipy.sparse.linalg as spla
 
 from twin.cli.options import positive_quantity
+from twin.physics.lu import SymmetricLU
 from twin.physics.steppers import IterativeStepper
 from validate.studies.common import (check_output_folder, cli_parser, markdown_table, run_cli,
                                      whole_numbers, write_csv)
@@ -67,8 +67,7 @@ class TwoGridStepper(IterativeStepper):
     def _cycle(self, lhs, dinv):
         """The cycle for A = ``lhs`` with inverse diagonal ``dinv``: the coarse operator P^T A P
         factorised and the damping 1 / lambda_max(D^-1 A) found once."""
-        factor = spla.splu((self.PT @ lhs @ self.P).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                           options={"SymmetricMode": True})
+        factor = SymmetricLU(self.PT @ lhs @ self.P)
         omega = 1.0 / largest_eigenvalue(lambda v: dinv * (lhs @ v), len(dinv))
 
         def cycle(R):
