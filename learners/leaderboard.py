@@ -105,7 +105,10 @@ def check_segments(test_sets: list, n: int, source: str, option: str = "--segmen
     if n <= 1:
         return
     lengths = [[len(y) for _, y in runs] for _, runs in test_sets]
-    rows = lambda m, ls: min(sum((k + 1) * L // m - k * L // m for L in ls) for k in range(m))   # noqa: E731
+
+    def rows(m: int, ls: list[int]) -> int:   # the fewest rows of the m segments segments_of cuts
+        cuts = list(segments_of("", ls, m))[1:] or [("", [slice(None)] * len(ls))]
+        return min(sum(len(range(L)[s]) for L, s in zip(ls, slices)) for _, slices in cuts)
     for (label, _), ls in zip(test_sets, lengths):
         if rows(n, ls) < MIN_SEGMENT_ROWS:
             most = max((m for m in range(1, n) if all(rows(m, x) >= MIN_SEGMENT_ROWS for x in lengths)), default=1)
