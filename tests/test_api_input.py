@@ -150,6 +150,12 @@ BAD_ARGUMENTS = [
     ("sensor-two-coordinates", {"sensors": [Point("s1", (0.0, 1.0), "motor")]}, "sensors[0] s1"),
     ("sensor-twice", {"sensors": [Point("s1", MOTOR, "motor"), Point("s1", MOTOR, "motor")]}, "sensors[1] s1"),
     ("sensor-a-text", {"sensors": ["x"]}, "sensors[0]"),
+    # names a measurement file cannot hold: write_measurement's file would not read back
+    ("sensor-name-comma", {"sensors": [Point("a,b", MOTOR, "motor")]}, "sensors[0]"),
+    ("sensor-name-at", {"sensors": [Point("a@b", MOTOR, "motor")]}, "sensors[0]"),
+    ("sensor-name-newline", {"sensors": [Point("a\nb", MOTOR, "motor")]}, "sensors[0]"),
+    ("sensor-name-padded", {"sensors": [Point(" a", MOTOR, "motor")]}, "sensors[0]"),
+    ("sensor-name-number", {"sensors": [Point(1, MOTOR, "motor")]}, "sensors[0]"),
     ("sensors-a-text", {"sensors": "motor"}, "sensors"),
     ("theta-0", {"theta": 0.0}, "theta"),
     ("theta-2", {"theta": 2.0}, "theta"),
@@ -195,6 +201,18 @@ CHANGED = [
     ("ambient-kind", {"ambient": Ambient("weekly")}, "ambient.kind"),
     # a step that is no whole number of samples: the run's grid would end early or hold it past the end
     ("step-off-grid", {"steps": ((900.0, 8000.0),), "sample_interval": 420.0}, "spindle[0].duration"),
+    # fields of the wrong type: named, not an AttributeError deep in the run
+    ("name-a-number", {"name": 5}, "name"),
+    ("name-empty", {"name": " "}, "name"),
+    ("description-a-number", {"description": 3}, "description"),
+    ("extra-none", {"extra": None}, "extra"),
+    ("cameras-a-text", {"cameras": "carrier-front"}, "cameras"),
+    ("cameras-of-texts", {"cameras": ("carrier-front",)}, "cameras[0]"),
+    ("axes-a-text", {"axes": "Y"}, "axes"),
+    ("axes-of-numbers", {"axes": (1,)}, "axes[0]"),
+    ("c-axis-a-number", {"c_axis": 3}, "c_axis"),
+    ("interferometer-a-text", {"interferometer": "X"}, "interferometer"),
+    ("probing-a-number", {"probing": 1}, "probing"),
 ]
 
 

@@ -12,6 +12,7 @@ from geometries.base import Point
 from twin import limits
 from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
+from twin.io.mapping_columns import NETCDF_BAD_NAME_CHARACTERS, check_sensor_name
 from twin.io.results import to_dataset
 from twin.model import ModelSpec, model_spec
 from twin.motion import machine_for
@@ -130,7 +131,7 @@ def _check_prepared(prepared, machine) -> None:
 
 def _check_sensors(sensors, machine) -> None:
     """``sensors``: None (the machine's sites) or a list of :class:`geometries.base.Point` s with
-    distinct non-empty names, each on its part of ``machine`` (anywhere on it when the part is
+    distinct non-empty names (printable, without '@' or ','), each on its part of ``machine`` (anywhere on it when the part is
     empty) or in the air near it (:func:`twin.limits.check_position`)."""
     if sensors is None:
         return
@@ -141,8 +142,8 @@ def _check_sensors(sensors, machine) -> None:
         if not isinstance(p, Point):
             raise InputError(CLI, f"sensors[{i}]", f"expected a geometries.base.Point(name, (x, y, z) [m], part), "
                                                    f"got {p!r}")
-        if not isinstance(p.name, str) or not p.name.strip():
-            raise InputError(CLI, f"sensors[{i}]", f"a sensor's name is a non-empty text, got {p.name!r}")
+        # the name a measurement file can hold (write_measurement, read back by read_measurement)
+        check_sensor_name(p.name, CLI, f"sensors[{i}]", NETCDF_BAD_NAME_CHARACTERS)
         field = f"sensors[{i}] {p.name}"
         if p.name in seen:
             raise InputError(CLI, field, "named twice: sensors need distinct names")

@@ -57,10 +57,11 @@ from twin.camera_config import cameras_from_toml
 from twin.errors import InputError, describe, refuse_unknown_keys
 from twin.io.paths import read_toml
 from twin.io.room_csv import read_room_csv
-from twin.motion import check_durations, motions_from_toml
-from twin.observe.interferometer import interferometer_from_toml
-from twin.observe.probing import probing_from_toml
-from twin.rotary import c_axis_from_toml, check_duration
+from twin.motion import Motion, check_durations, motions_from_toml
+from twin.observe.camera import CameraConfig
+from twin.observe.interferometer import InterferometerConfig, interferometer_from_toml
+from twin.observe.probing import ProbingConfig, probing_from_toml
+from twin.rotary import RotarySchedule, c_axis_from_toml, check_duration
 from twin.units import UnitError, parse_quantity
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
@@ -408,7 +409,8 @@ def check_values(sc: Scenario) -> None:
     steps ran 840 s with the spindle on 420 s instead of 600). Not re-checked, because nothing
     breaks when they are not met: events, axis moves or C-axis steps beyond the end of a run
     shortened in Python (they are never reached)."""
-    source = sc.source or sc.name
+    source = sc.source if isinstance(sc.source, str) and sc.source else sc.name
+    _check_types(sc, source)
     dt = _number(sc.sample_interval, source, "sample_interval")
     if dt <= 0:
         raise InputError(source, "sample_interval", f"must be positive, got {dt:g} s")
@@ -427,6 +429,33 @@ def check_values(sc: Scenario) -> None:
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     check_ambient(sc.ambient, source)
     _check_air_covers(sc.ambient, total, source, slack=0.5 * dt * (1 + 1e-9))
+
+
+def _check_types(sc: Scenario, source: str) -> None:
+    """The types of a built scenario's fields that the loader would have made: a non-empty name,
+    texts for the description and source, a dict of extras, tuples of
+    :class:`twin.observe.camera.CameraConfig` and :class:`twin.motion.Motion`, and ``None`` or the
+    interferometer's, probing's and C axis's configuration."""
+    if not isinstance(sc.name, str) or not sc.name.strip():
+        raise InputError(str(source), "name", f"a scenario's name is a non-empty text, got {describe(sc.name)}")
+    for key, kind, what in (("description", str, "a text"), ("source", str, "a text"), ("extra", dict, "a dict")):
+        if not isinstance(getattr(sc, key), kind):
+            raise InputError(source, key, f"expected {what}, got {describe(getattr(sc, key))}")
+    for key, kind in (("cameras", CameraConfig), ("axes", Motion)):
+        items = getattr(sc, key)
+        if not isinstance(items, (tuple, list)):
+            raise InputError(source, key, f"expected a tuple of {_qualified(kind)}, got {describe(items)}")
+        for i, item in enumerate(items):
+            if not isinstance(item, kind):
+                raise InputError(source, f"{key}[{i}]", f"expected a {_qualified(kind)}, got {describe(item)}")
+    for key, kind in (("interferometer", InterferometerConfig), ("probing", ProbingConfig), ("c_axis", RotarySchedule)):
+        value = getattr(sc, key)
+        if value is not None and not isinstance(value, kind):
+            raise InputError(source, key, f"expected None or a {_qualified(kind)}, got {describe(value)}")
+
+
+def _qualified(kind: type) -> str:
+    return f"{kind.__module__}.{kind.__qualname__}"
 
 
 def _check_initial(t0: float, source: str) -> None:
