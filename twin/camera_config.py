@@ -50,6 +50,7 @@ import numpy as np
 
 from twin import limits
 from twin.errors import InputError
+from twin.io.table_reader import TableReader
 from twin.observe.camera import CameraConfig
 from twin.observe.camera_geometry import Intrinsics
 from twin.observe.microbolometer import Microbolometer
@@ -71,20 +72,19 @@ def cameras_from_option(text: str | None) -> list[CameraConfig]:
     return [CameraConfig(pose=n, source="command line", where="--camera") for n in names]
 
 
-def cameras_from_toml(value, source: str, reader) -> tuple[CameraConfig, ...]:
-    """The cameras of a scenario's ``camera`` key (a table or a list of tables); ``reader`` is the
-    scenario's unit-checking table reader class."""
+def cameras_from_toml(value, source: str) -> tuple[CameraConfig, ...]:
+    """The cameras of a scenario's ``camera`` key (a table or a list of tables)."""
     if value is None:
         return ()
     tables = value if isinstance(value, list) else [value]
     if not tables:
         raise InputError(source, "camera", "expected a [camera] table or [[camera]] tables")
     many = isinstance(value, list)
-    return tuple(_camera(t, source, f"camera[{i}]." if many else "camera.", reader) for i, t in enumerate(tables))
+    return tuple(_camera(t, source, f"camera[{i}]." if many else "camera.") for i, t in enumerate(tables))
 
 
-def _camera(table, source: str, prefix: str, reader) -> CameraConfig:
-    r = reader(table, source, prefix)
+def _camera(table, source: str, prefix: str) -> CameraConfig:
+    r = TableReader(table, source, prefix)
     kw = {"source": source, "where": prefix}
     pose = r.get("pose")
     position, target = _vector(r, "position"), _vector(r, "target")
@@ -129,11 +129,11 @@ def _camera(table, source: str, prefix: str, reader) -> CameraConfig:
         if not isinstance(counts, bool):
             raise InputError(source, prefix + "store_counts", "expected true or false")
         kw["store_counts"] = counts
-    kw.update(_settings(r.get("settings"), source, prefix + "settings.", reader))
-    kw.update(_scene(r.get("scene"), source, prefix + "scene.", reader))
+    kw.update(_settings(r.get("settings"), source, prefix + "settings."))
+    kw.update(_scene(r.get("scene"), source, prefix + "scene."))
     sensor = r.get("sensor")
     if sensor is not None:
-        kw["sensor"] = _sensor(sensor, source, prefix + "sensor.", reader)
+        kw["sensor"] = _sensor(sensor, source, prefix + "sensor.")
     r.finish()
     return CameraConfig(**kw)
 
@@ -168,10 +168,10 @@ def _intrinsics(r, source: str, prefix: str) -> Intrinsics:
     return Intrinsics(**kw)
 
 
-def _settings(table, source: str, prefix: str, reader) -> dict:
+def _settings(table, source: str, prefix: str) -> dict:
     if table is None:
         return {}
-    r = reader(table, source, prefix)
+    r = TableReader(table, source, prefix)
     kw = {"emissivity": _fraction(r, "emissivity", positive=True),
           "reflected_temperature": _temperature(r, "reflected_temperature", limits.STRUCTURE_RANGE,
                                                 "what a machine-tool surface reflects"),
@@ -182,10 +182,10 @@ def _settings(table, source: str, prefix: str, reader) -> dict:
     return {k: v for k, v in kw.items() if v is not None}
 
 
-def _scene(table, source: str, prefix: str, reader) -> dict:
+def _scene(table, source: str, prefix: str) -> dict:
     if table is None:
         return {}
-    r = reader(table, source, prefix)
+    r = TableReader(table, source, prefix)
     kw = {"room_temperature": _temperature(r, "room_temperature", limits.STRUCTURE_RANGE,
                                            "the surroundings of a machine tool"),
           "room_humidity": _fraction(r, "relative_humidity"),
@@ -194,8 +194,8 @@ def _scene(table, source: str, prefix: str, reader) -> dict:
     return {k: v for k, v in kw.items() if v is not None}
 
 
-def _sensor(table, source: str, prefix: str, reader) -> Microbolometer:
-    r = reader(table, source, prefix)
+def _sensor(table, source: str, prefix: str) -> Microbolometer:
+    r = TableReader(table, source, prefix)
     kw = {k: _non_negative(r, k, "temperature_difference") for k in _NOISE}
     kw["drift_time"] = r.positive("drift_time", "time")
     kw["reference_temperature"] = _temperature(r, "reference_temperature", RADIANCE_SPAN, "the twin's radiance table")

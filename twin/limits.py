@@ -321,3 +321,27 @@ def theta_value(theta, source: str, field: str = "theta") -> float:
                                         f"unconditionally stable range, got {theta!r}")
     return float(theta)
 
+
+def finite_number(value, source: str, field: str) -> float:
+    """``value`` as a float when it is a finite number (not a bool, a text or None)."""
+    if not is_number(value) or not np.isfinite(value):
+        raise InputError(source, field, f"expected a finite number, got {value!r}")
+    return float(value)
+
+
+def finite_numbers(values, source: str, field: str) -> np.ndarray:
+    """``values`` as a 1-D float array when every entry is a finite number."""
+    if isinstance(values, np.ndarray):
+        if values.ndim != 1 or values.dtype.kind not in "fiu":
+            raise InputError(source, field, f"expected a list of numbers, got an array of {values.dtype} {values.shape}")
+    elif isinstance(values, (tuple, list)):
+        for i, v in enumerate(values):
+            if not is_number(v):
+                raise InputError(source, f"{field}[{i}]", f"expected a finite number, got {v!r}")
+    else:
+        raise InputError(source, field, f"expected a list of numbers, got {values!r}")
+    out = np.asarray(values, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(out))
+    if bad.size:
+        raise InputError(source, f"{field}[{bad[0]}]", f"expected a finite number, got {out[bad[0]]!r}")
+    return out

@@ -40,6 +40,7 @@ import numpy as np
 
 from twin import limits
 from twin.errors import InputError, describe
+from twin.io.table_reader import TableReader
 from twin.units import UnitError, parse_quantity
 
 KINDS = ("hold", "move", "reciprocate", "table")
@@ -213,16 +214,15 @@ def stroke_time(distance: float, feed: float, accel: float) -> float:
     return d / feed + feed / accel if d >= feed ** 2 / accel else 2.0 * np.sqrt(d / accel)
 
 
-def motions_from_toml(raw, source: str, reader) -> tuple[Motion, ...]:
-    """The ``[[axis]]`` tables of a scenario (``raw``: None or a list of tables) as motions;
-    ``reader`` is the scenario's table reader (:class:`twin.scenario.TableReader`)."""
+def motions_from_toml(raw, source: str) -> tuple[Motion, ...]:
+    """The ``[[axis]]`` tables of a scenario (``raw``: None or a list of tables) as motions."""
     if raw is None:
         return ()
     if not isinstance(raw, list) or not raw:
         raise InputError(source, "axis", "expected one or more [[axis]] tables")
     out, names = [], set()
     for i, table in enumerate(raw):
-        r = reader(table, source, f"axis[{i}].", known=("name", "start", "move"))
+        r = TableReader(table, source, f"axis[{i}].", known=("name", "start", "move"))
         name = r.get("name", required=True)
         if not isinstance(name, str) or not name:
             raise InputError(source, f"axis[{i}].name", "expected an axis name such as \"Y\"")
@@ -234,17 +234,17 @@ def motions_from_toml(raw, source: str, reader) -> tuple[Motion, ...]:
         r.finish()
         if not isinstance(moves, list) or not moves:
             raise InputError(source, f"axis[{i}].move", "expected one or more [[axis.move]] tables")
-        out.append(_motion(name, start, moves, source, f"axis[{i}].move", reader))
+        out.append(_motion(name, start, moves, source, f"axis[{i}].move"))
     return tuple(out)
 
 
-def _motion(name: str, start, moves: list, source: str, prefix: str, reader) -> Motion:
+def _motion(name: str, start, moves: list, source: str, prefix: str) -> Motion:
     """One axis's moves, checked and planned in closed form (duration, end, pieces: no time or
     memory in proportion to a count of strokes); the pieces are built on first use."""
     x = t = None
     runs, pieces = [], 0
     for j, raw in enumerate(moves):
-        r = reader(raw, source, f"{prefix}[{j}].", known=("kind",) + tuple(k for ks in MOVE_KEYS.values() for k in ks))
+        r = TableReader(raw, source, f"{prefix}[{j}].", known=("kind",) + tuple(k for ks in MOVE_KEYS.values() for k in ks))
         kind = r.get("kind", required=True)
         if not isinstance(kind, str) or kind not in KINDS:
             raise InputError(source, f"{prefix}[{j}].kind", f"unknown kind {describe(kind)}; known: {', '.join(KINDS)}")

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from twin.errors import InputError
+from twin.io.table_reader import TableReader
 
 
 @dataclass(frozen=True)
@@ -56,16 +57,16 @@ class RotarySchedule:
         return self._at(t, 2)
 
 
-def c_axis_from_toml(raw, source: str, reader, dt: float) -> RotarySchedule | None:
-    """The ``[[c_axis]]`` steps of a scenario (None when absent); ``reader`` is the scenario's
-    table reader, ``dt`` [s] its sample interval. :class:`InputError` naming ``c_axis[i].key``."""
+def c_axis_from_toml(raw, source: str, dt: float) -> RotarySchedule | None:
+    """The ``[[c_axis]]`` steps of a scenario (None when absent); ``dt`` [s] is its sample
+    interval. :class:`InputError` naming ``c_axis[i].key``."""
     if raw is None:
         return None
     if not isinstance(raw, list) or not raw:
         raise InputError(source, "c_axis", "expected one or more [[c_axis]] steps")
     steps = []
     for i, table in enumerate(raw):
-        r = reader(table, source, f"c_axis[{i}].", known=("speed", "duration", "on", "dwell"))
+        r = TableReader(table, source, f"c_axis[{i}].", known=("speed", "duration", "on", "dwell"))
         speed, duration = r.speed_step(dt)
         on = r.positive("on", "time")
         dwell = r.get("dwell", "time")

@@ -12,7 +12,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from twin import limits
-from twin.dataset.fields import MAX_CASES, Dist, TableReader, distribution, quantity
+from twin.dataset.fields import MAX_CASES, Dist, distribution, quantity
+from twin.io.table_reader import TableReader
 from twin.errors import InputError
 from twin.io.paths import read_toml
 from twin.motion import check_motions

@@ -1,15 +1,14 @@
-"""The readers of a dataset spec's fields: a TOML table whose unknown keys are refused
-(:class:`TableReader`), a quantity with its unit (:func:`quantity`) and a quantity's distribution
+"""The readers of a dataset spec's fields (its tables through
+:class:`twin.io.table_reader.TableReader`): a quantity with its unit (:func:`quantity`) and a quantity's distribution
 (:class:`Dist`, :func:`distribution`). Errors are :class:`twin.errors.InputError` naming the spec
 file and the field."""
 
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
-from twin.errors import InputError, describe, refuse_unknown_keys
+from twin.errors import InputError, describe
 from twin.units import UnitError, format_quantity, parse_quantity
 
 DISTRIBUTIONS = ("fixed", "grid", "uniform", "log_uniform", "normal")
@@ -52,52 +51,6 @@ class Dist:
     @property
     def high(self) -> float:
         return max(self.values) if self.kind != "normal" else self.upper
-
-
-class TableReader:
-    """Keys of one TOML table, read once each; :meth:`finish` refuses the unknown ones.
-
-    ``known``: every key the table may hold; before a required key is reported missing, a key
-    outside ``known`` is reported as unknown (a misspelled ``spacng`` is named, not ``spacing``)."""
-
-    def __init__(self, table, source: str, prefix: str, known=None):
-        if not isinstance(table, dict):
-            raise InputError(source, prefix.rstrip(".") or "toml", f"expected a table, got {describe(table)}")
-        self.table, self.source, self.prefix, self.used = table, source, prefix, set()
-        self.known = None if known is None else set(known)
-
-    def field(self, key: str) -> str:
-        return self.prefix + key
-
-    def missing(self, key: str, message: str = "missing"):
-        """Raise the error that ``key`` is missing, or, first, that the table holds an unknown key."""
-        if self.known is not None:
-            refuse_unknown_keys(self.table, self.known | self.used, self.source, self.prefix)
-        raise InputError(self.source, self.field(key), message)
-
-    def get(self, key: str, default=None, required: bool = False, kind: type | tuple | None = None):
-        self.used.add(key)
-        if key not in self.table:
-            if required:
-                self.missing(key)
-            return default
-        value = self.table[key]
-        if kind is not None and (not isinstance(value, kind) or isinstance(value, bool) and kind is not bool):
-            names = kind.__name__ if isinstance(kind, type) else " or ".join(k.__name__ for k in kind)
-            if names == "list" and isinstance(value, dict):   # [x.key] written for [[x.key]]
-                header = re.sub(r"\[\d+\]", "", self.field(key))
-                raise InputError(self.source, self.field(key), f"expected a list of tables ([[{header}]]), got a "
-                                                               f"table ([{header}])")
-            raise InputError(self.source, self.field(key), f"expected {_WORDS.get(names, names)}, got "
-                                                           f"{describe(value)}")
-        return value
-
-    def finish(self, known: tuple[str, ...] = ()) -> None:
-        refuse_unknown_keys(self.table, self.used, self.source, self.prefix, shown=set(self.used) | set(known))
-
-
-_WORDS = {"str": "a string", "int": "an integer", "list": "a list", "dict": "a table", "float": "a number",
-          "int or float": "a number", "str or list": "a string or a list"}
 
 
 def quantity(value, dimension: str, source: str, field: str) -> float:

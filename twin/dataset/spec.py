@@ -75,7 +75,8 @@ from pathlib import Path
 from geometries import MACHINES, build_machine
 from twin import limits
 from twin.dataset.families import Family, read_families
-from twin.dataset.fields import MAX_CASES, Dist, TableReader, distribution, quantity
+from twin.dataset.fields import MAX_CASES, Dist, distribution, quantity
+from twin.io.table_reader import TableReader
 from twin.effects import EFFECTS
 from twin.errors import InputError, describe
 from twin.io.paths import read_toml

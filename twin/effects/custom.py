@@ -60,7 +60,7 @@ from twin.effects.base import (EFFECTS, Convection, Effect, HeatSource, Paramete
                                check_declarations)
 from twin.errors import InputError, describe
 from twin.fem.regions import region_cells, region_facets
-from twin.scenario import TableReader
+from twin.io.table_reader import TableReader
 from twin.units import UnitError, format_quantity, parse_quantity
 
 KINDS = {"heat_source": "volume", "heat_flux": "surface", "convection": "surface"}

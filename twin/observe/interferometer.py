@@ -54,6 +54,7 @@ from geometries.axes import carried_sign
 from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
+from twin.io.table_reader import TableReader
 from twin.observe.base import variable
 from twin.observe.displacement import DisplacementObserver
 from twin.observe.instants import baseline_instants, check_on_grid
@@ -85,11 +86,11 @@ class InterferometerConfig:
 MIN_SPACING = 1e-3      # [m] the closest targets a run may have
 
 
-def interferometer_from_toml(raw, source: str, reader) -> InterferometerConfig | None:
+def interferometer_from_toml(raw, source: str) -> InterferometerConfig | None:
     """The scenario's ``[interferometer]`` table (None when absent)."""
     if raw is None:
         return None
-    r = reader(raw, source, "interferometer.", known=("axis", "runs", "targets", "spacing"))
+    r = TableReader(raw, source, "interferometer.", known=("axis", "runs", "targets", "spacing"))
     axis = r.get("axis", required=True)
     runs = r.get("runs", required=True)
     targets = r.get("targets")

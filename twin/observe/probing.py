@@ -37,6 +37,7 @@ import scipy.sparse as sp
 from geometries.axes import carried_sign
 from geometries.regions import feed_drive_role
 from twin.errors import InputError
+from twin.io.table_reader import TableReader
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, DisplacementObserver, relative_displacement
 from twin.observe.instants import baseline_instants, check_on_grid
@@ -54,11 +55,11 @@ class ProbingConfig:
     source: str = ""
 
 
-def probing_from_toml(raw, source: str, reader) -> ProbingConfig | None:
+def probing_from_toml(raw, source: str) -> ProbingConfig | None:
     """The scenario's ``[probing]`` table (None when absent)."""
     if raw is None:
         return None
-    r = reader(raw, source, "probing.", known=("times", "datums"))
+    r = TableReader(raw, source, "probing.", known=("times", "datums"))
     times = r.get("times", required=True)
     datums = r.get("datums", required=True)
     r.finish()
