@@ -92,6 +92,7 @@ SCENARIO_EDITS = [
     ("event-negative-fall", edited(AMBIENT, AMBIENT + EVENT.replace('"30 min"', '"-30 min"')), "ambient.events[0].fall"),
     ("event-after-the-run", edited(AMBIENT, AMBIENT + EVENT.replace('"5 min"', '"5 h"')), "ambient.events[0].start"),
     ("name-not-text", edited('name = "short"', 'name = 3'), "name"),
+    ("description-not-text", edited('name = "short"', 'name = "short"\ndescription = 5'), "description"),
     ("event-change-in-degC", edited(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-9 degC"')), "ambient.events[0].change"),
     ("event-door-not-bool", edited(AMBIENT, AMBIENT + EVENT + 'door = "yes"\n'), "ambient.events[0].door"),
     ("event-unknown-key", edited(AMBIENT, AMBIENT + EVENT + 'colour = "red"\n'), "ambient.events[0].colour"),
