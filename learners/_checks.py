@@ -16,14 +16,34 @@ from twin.limits import is_number, is_whole
 def check_fit_data(estimator, X, y, *, min_samples: int = 2):
     """Validate training data: return ``(X, y)`` as float arrays (2-D, 1-D), never views to mutate.
 
-    Sets ``estimator.n_features_in_``. Raises ``ValueError`` for NaN/inf, ragged shapes, fewer
-    than ``min_samples`` rows or a constant target.
+    Sets ``estimator.n_features_in_``. Raises :class:`twin.errors.InputError` (a ``ValueError``,
+    as scikit-learn's contract asks) naming the learner and ``X`` or ``y`` for NaN/inf, ragged
+    shapes, fewer than ``min_samples`` rows or a constant target.
     """
-    X, y = check_X_y(X, y, dtype=float, y_numeric=True, ensure_min_samples=min_samples)
+    X = _checked(check_array, estimator, "X", X, dtype=float, ensure_min_samples=min_samples)
+    try:
+        X, y = check_X_y(X, y, dtype=float, y_numeric=True, ensure_min_samples=min_samples)
+    except ValueError as err:     # X passed on its own: what is wrong is y, or y against X
+        raise InputError(model_name(estimator), "y", str(err)) from None
     estimator.n_features_in_ = X.shape[1]
     y = np.asarray(y, dtype=float).ravel()
-    refuse_constant_target(y, type(estimator).__name__)
+    refuse_constant_target(y, estimator)
     return X, y
+
+
+def check_table(estimator, X):
+    """``X`` as a finite 2-D float array (scikit-learn's ``check_array``), or an
+    :class:`InputError` naming the learner and ``X``."""
+    return _checked(check_array, estimator, "X", X, dtype=float)
+
+
+def _checked(check, estimator, name: str, values, **kw):
+    """``check(values, **kw)`` (a scikit-learn validation), its ``ValueError`` raised again as an
+    :class:`InputError` naming the learner and the argument ``name``."""
+    try:
+        return check(values, **kw)
+    except ValueError as err:
+        raise InputError(model_name(estimator), name, str(err)) from None
 
 
 def is_constant(values) -> bool:
@@ -32,21 +52,22 @@ def is_constant(values) -> bool:
     return bool(v.size == 0 or np.ptp(v) <= 1e-12 * max(1.0, float(np.max(np.abs(v)))))
 
 
-def refuse_constant_target(y, model: str) -> None:
-    """Raise ``ValueError`` for a constant target: there is nothing to learn, and every score
-    relative to the target's spread (NSE, R) would be undefined."""
+def refuse_constant_target(y, model) -> None:
+    """Raise :class:`InputError` (naming ``model`` and ``y``) for a constant target: there is
+    nothing to learn, and every score relative to the target's spread (NSE, R) would be undefined."""
     if is_constant(y):
-        raise ValueError(f"{model}: the target is constant ({float(np.asarray(y).ravel()[0]):g}); there is nothing "
-                         "to learn")
+        raise InputError(model_name(model), "y", f"the target is constant ({float(np.asarray(y).ravel()[0]):g}); "
+                                                 "there is nothing to learn")
 
 
 def check_predict_data(estimator, X, fitted_attribute: str):
-    """Validate prediction inputs against a fitted estimator; return a float 2-D array."""
+    """Validate prediction inputs against a fitted estimator; return a float 2-D array (an
+    :class:`InputError` naming the learner and ``X`` when it is not one of the fitted width)."""
     check_is_fitted(estimator, fitted_attribute)
-    X = check_array(X, dtype=float)
+    X = check_table(estimator, X)
     if X.shape[1] != estimator.n_features_in_:
-        raise ValueError(f"X has {X.shape[1]} features, but {type(estimator).__name__} "
-                         f"is expecting {estimator.n_features_in_} features as input")
+        raise InputError(model_name(estimator), "X", f"X has {X.shape[1]} features, but {type(estimator).__name__} "
+                                                     f"is expecting {estimator.n_features_in_} features as input")
     return X
 
 

@@ -44,9 +44,10 @@ import scipy.stats
 from scipy.cluster.hierarchy import fcluster, linkage
 from scipy.spatial.distance import squareform
 from sklearn.base import BaseEstimator, TransformerMixin
-from sklearn.utils.validation import check_array, check_is_fitted
+from sklearn.utils.validation import check_is_fitted
 
-from learners._checks import check_choice, check_count_fits, check_fit_data, check_float, check_int, column_names
+from learners._checks import check_choice, check_count_fits, check_fit_data, check_float, check_int, check_predict_data, \
+    check_table, column_names
 from learners.registry import register_selector
 
 __all__ = [
@@ -174,7 +175,7 @@ class _Selector(TransformerMixin, BaseEstimator):
         self._check_params()
         names_source = X
         if y is None:
-            X = check_array(X, dtype=float)
+            X = check_table(self, X)
             self.n_features_in_ = X.shape[1]
         else:
             X, y = check_fit_data(self, X, y)
@@ -191,12 +192,8 @@ class _Selector(TransformerMixin, BaseEstimator):
         return check_count_fits(self, "n_select", k, n_features)
 
     def transform(self, X):
-        check_is_fitted(self, "selected_")
         frame = X if hasattr(X, "iloc") else None
-        X = check_array(X, dtype=float)
-        if X.shape[1] != self.n_features_in_:
-            raise ValueError(f"X has {X.shape[1]} features, but {type(self).__name__} "
-                             f"is expecting {self.n_features_in_} features as input")
+        X = check_predict_data(self, X, "selected_")
         return frame.iloc[:, self.selected_] if frame is not None else X[:, self.selected_]
 
     def get_support(self, indices=False):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from sklearn.base import clone
 
-from learners import make_learner, make_selector
+from learners import LEARNERS, make_learner, make_selector
 from learners.grey import gm11_forecast
 from learners.metrics import score_all
 from twin.errors import InputError
@@ -113,6 +113,23 @@ def test_learner_hyper_parameters_are_checked_when_built_and_at_fit(name, params
         assert kept is params[field] or kept == params[field]
         X, y = _data()
         _refused(lambda: est.fit(X, y), field)               # ... and refused at fit, before any work
+
+
+@pytest.mark.parametrize("name", sorted(LEARNERS))
+def test_bad_training_and_prediction_tables_name_x_or_y(name):
+    """NaN in X, a y of another length, a constant y and a prediction table of another width are
+    each one InputError (a ValueError, as scikit-learn's contract asks) naming X or y, never
+    scikit-learn's or numpy's own error from inside the fit."""
+    X, y = _data(30, 3)
+    nan_x = X.copy()
+    nan_x[3, 1] = np.nan
+    _refused(lambda: make_learner(name).fit(nan_x, y), "X")
+    _refused(lambda: make_learner(name).fit(X, y[:-2]), "y")
+    _refused(lambda: make_learner(name).fit(X, np.r_[np.nan, y[1:]]), "y")
+    _refused(lambda: make_learner(name).fit(X, np.full(30, 1.5)), "y", "constant")
+    if name != "gm11":                      # GM(1,1) forecasts its one series from the time axis alone
+        fitted = make_learner(name).fit(X, y)
+        _refused(lambda: fitted.predict(X[:, :2]), "X")
 
 
 def test_unknown_parameter_lists_the_known_ones():
