@@ -1,0 +1,124 @@
+"""``twin dataset``'s spec checks and plan: counts, hashes and draws deterministic, a changed
+spec changing only the cases it touches, grids and splits, and every bad spec one clear error with
+nothing written (issue 14)."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.dataset_files import SPEC, write_spec
+from twin.cli import main
+from twin.dataset import load_spec, plan
+from twin.dataset.spec import spec_from_dict
+
+
+# --- the plan -----------------------------------------------------------------------------------
+
+def test_plan_counts_hashes_and_draws_are_deterministic(tmp_path):
+    spec_path = write_spec(tmp_path)
+    a, b = plan(load_spec(spec_path)), plan(load_spec(spec_path))
+    assert len(a) == 3 and [c.hash for c in a] == [c.hash for c in b]
+    assert len({c.hash for c in a}) == 3
+    assert [c.info["family"] for c in a] == ["duty", "duty", "reference"]
+    assert sorted(c.split for c in a if c.info["family"] == "duty") == ["test", "train"]
+    duty = a[0].record["scenario"]
+    total = sum(float(s["duration"].split()[0]) for s in duty["spindle"])
+    assert total == 600.0 and all(float(s["speed"].split()[0]) % 500 == 0 for s in duty["spindle"])
+    assert 40 <= a[0].info["spindle_motor.power [W]"] <= 80 and a[0].info["ambient_convection.h [W/m2K]"] == 7
+
+
+def test_a_changed_spec_changes_only_the_cases_it_touches(tmp_path):
+    base = {c.info["family"] + str(c.info["draw"]): c.hash for c in plan(load_spec(write_spec(tmp_path)))}
+    more = plan(load_spec(write_spec(tmp_path, SPEC.replace("cases = 2", "cases = 3"))))
+    assert {c.info["family"] + str(c.info["draw"]): c.hash for c in more if c.info["draw"] < 2} == base
+    assert len(more) == 4
+    # a new range for the duty family's room changes the duty cases only
+    other = plan(load_spec(write_spec(tmp_path, SPEC.replace('mean = ["18 degC", "22 degC"]', 'mean = "21 degC"'))))
+    changed = {c.info["family"] for c in other if c.hash != base[c.info["family"] + str(c.info["draw"])]}
+    assert changed == {"duty"}
+    # splits are metadata: never part of a hash
+    split = plan(load_spec(write_spec(tmp_path, SPEC.replace("train = 0.5\ntest = 0.5", "train = 1.0"))))
+    assert {c.hash for c in split} == set(base.values()) and {c.split for c in split} == {"train"}
+
+
+def test_a_grid_crosses_every_draw_with_the_same_scenarios(tmp_path):
+    text = SPEC.replace('"7 W/m2K"', '{ grid = ["6 W/m2K", "10 W/m2K"] }')
+    cases = plan(load_spec(write_spec(tmp_path, text)))
+    assert len(cases) == 6
+    duty = [c for c in cases if c.info["family"] == "duty"]
+    assert duty[0].record["scenario"] == duty[2].record["scenario"]
+    assert {c.info["ambient_convection.h [W/m2K]"] for c in duty} == {6.0, 10.0}
+
+
+def test_splits_by_family(tmp_path):
+    text = SPEC.replace('by = "case"\ntrain = 0.5\ntest = 0.5', 'by = "family"\ntrain = ["duty"]\ntest = ["reference"]')
+    cases = plan(load_spec(write_spec(tmp_path, text)))
+    assert {(c.info["family"], c.split) for c in cases} == {("duty", "train"), ("reference", "test")}
+
+
+BAD = [
+    ('mesh = "coarse"', 'mesh = "coarse"\ncolour = "red"', "colour", "unknown key"),
+    ('machines = ["cframe-vmc"]', 'machines = ["lathe"]', "machines[0]", "unknown machine"),
+    ('mesh = "coarse"', 'mesh = "huge"', "mesh", "unknown resolution"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ uniform = ["40 W", "80 K"] }', "parameters.spindle_motor.power.uniform[1]",
+     "wrong unit"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ uniform = ["80 W", "40 W"] }', "parameters.spindle_motor.power.uniform",
+     "reversed range"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ uniform = ["40 W", "8000 W"] }', "parameters.spindle_motor.power.uniform",
+     "outside the bounds"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W", "-1 W"] }', "parameters.spindle_motor.power.normal",
+     "standard deviation"),
+    ('{ uniform = ["40 W", "80 W"] }', '{ gauss = ["60 W", "1 W"] }', "parameters.spindle_motor.power", "expected one of"),
+    ('"spindle_motor.power"', '"spindle_motor.volume"', "parameters.spindle_motor.volume", "unknown parameter"),
+    ('speed = ["2000 rpm", "9000 rpm"]', 'speed = ["2000 rpm", "12000 rpm"]', "scenarios[0].spindle.speed", "maximum"),
+    ('duration = "10 min"', 'duration = "10 kg"', "scenarios[0].duration", "wrong unit"),
+    ('duration = "10 min"', 'duration = "90 s"', "scenarios[0].duration", "multiple of the sample interval"),
+    ('amplitude = ["0 K", "3 K"]', 'amplitude = ["0 K", "-3 K"]', "scenarios[0].ambient.amplitude", "reversed"),
+    ('idle_probability = 0.3', 'idle_probability = 1.3', "scenarios[0].spindle.idle_probability", "from 0 to 1"),
+    ('coldest_at = ["0 h", "24 h"]', 'coldest_at = ["-30 h", "24 h"]', "scenarios[0].ambient.coldest_at",
+     "outside the bounds [0 h .. 24 h]"),
+    ('[parameters]', 'effects = "+warp"\n[parameters]', "effects", "warp: unknown effect"),
+    ('speed_step = "500 rpm"', 'speed_step = "50000 rpm"', "scenarios[0].spindle.speed_step", "no multiple"),
+    ('file = "ref.toml"', 'file = "missing.toml"', "scenarios[1].file", "no scenario"),
+    ('file = "ref.toml"', 'file = "no-such-scenario"', "scenarios[1].file", "no scenario"),
+    ('cases = 2', 'cases = 0', "scenarios[0].cases", "from 1"),
+    ('seed = 3', 'seed = 3\n[observers]\ncameras = ["nowhere"]', "observers.cameras[0]", "no camera pose"),
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["roof"], spacing = "100 mm" }',
+     "observers.surface_grid.parts[0]", "no part"),
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["carrier"], spacing = "1 mm" }',
+     "observers.surface_grid.spacing", "from 5 mm"),
+    ('family = "duty"', 'family = "reference"', "scenarios[1].family", "named twice"),
+    ("test = 0.5", "test = 0.4", "splits", "add up to"),
+    ("seed = 3", "seed = -3", "seed", "outside"),
+    # a misspelled key is named, not its correct sibling reported missing
+    ('seed = 3', 'seed = 3\n[observers]\nsurface_grid = { parts = ["carrier"], spacng = "100 mm" }',
+     "observers.surface_grid.spacng", "unknown key (known: parts, spacing)"),
+    ('step = ["2 min", "5 min"]', 'stp = ["2 min", "5 min"]', "scenarios[0].spindle.stp", "unknown key (known: "),
+    ('family = "duty"', 'famly = "duty"', "scenarios[0].famly", "unknown key (known: "),
+    ('machines = ["cframe-vmc"]', 'machine = ["cframe-vmc"]', "machine", "unknown key (known: "),
+    # values in the user's terms: a table where an array of tables belongs
+    ('[scenarios.ambient]', '[scenarios.axis]\nname = "Y"\n[scenarios.ambient]', "scenarios[0].axis",
+     "expected a list of tables ([[scenarios.axis]]), got a table ([scenarios.axis])"),
+    ('mesh = "coarse"', 'mesh = true', "mesh", "expected a string, got the boolean true"),
+    # a parameter of an effect that is off: the fix is the spec's effects key, not --effects
+    ('"ambient_convection.h" = "7 W/m2K"', '"door_draft.h" = "7 W/m2K"', "parameters.door_draft.h",
+     'is not switched on for machine cframe-vmc; switch it on with the spec\'s effects key: effects = "+door_draft"'),
+    ('"ambient_convection.h" = "7 W/m2K"', '"belt_drive.power" = "50 W"', "parameters.belt_drive.power",
+     "effect 'belt_drive' does not apply to machine cframe-vmc"),
+]
+
+
+@pytest.mark.parametrize("old,new,field,message", BAD, ids=[b[2] + ":" + b[3] for b in BAD])
+def test_a_bad_spec_is_one_clear_error_and_nothing_is_written(tmp_path, capsys, old, new, field, message):
+    assert old in SPEC
+    spec = write_spec(tmp_path, SPEC.replace(old, new, 1))
+    out = tmp_path / "out"
+    assert main(["dataset", str(spec), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {spec}: {field}: ") and message in err, err
+    assert not out.exists()
+
+
+def test_spec_errors_name_the_file_in_library_use():
+    with pytest.raises(Exception, match=r"^x\.toml: machines: missing$"):
+        spec_from_dict({"scenarios": []}, "x.toml")
