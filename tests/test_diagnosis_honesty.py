@@ -235,7 +235,7 @@ def test_json_numbers_carry_their_units(cabinet_at_95, machine, mm):
     assert {"residual_factor", "candidates[].explained", "candidates[].confidence"} <= set(doc["dimensionless"])
     # with an estimate: model_error_rms carries its units (a cheap diagnosis: no candidate, one run)
     e = d.evidence
-    err = [np.full(len(r.channels), 0.01) for r in e.records]
+    err = np.full(len(e.records[0].channels), 0.01)
     plain = diagnose(e.records[0].ds, machine, e.records[0].scenario, d.spec, mm=mm, candidates=[],
                      parameters=False, model_error=err, localise_regions=False)
     doc = json.loads(json.dumps(diagnosis_json(plain)))

@@ -21,7 +21,7 @@ from twin.observe.camera import CameraConfig
 from twin.observe.interferometer import LaserInterferometer, check_interferometer
 from twin.observe.probing import DatumProbing, check_probing
 from twin.observe.camera import cameras as camera_observers
-from twin.physics.prepared import PreparedTwin, check_resolution, part_materials
+from twin.physics.prepared import PreparedTwin, check_prepared, check_resolution, part_materials  # noqa: F401 (PreparedTwin re-exported)
 from twin.physics.options import as_options
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
@@ -62,7 +62,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     theta = limits.theta_value(theta, CLI)
     m = machine_by_name(machine)
     if prepared is not None:
-        _check_prepared(prepared, m)
+        check_prepared(prepared, m, CLI)
         if resolution is not None and resolution != prepared.resolution:
             check_resolution(m, resolution, CLI, "--mesh")
             raise InputError(CLI, "--mesh", f"the prepared twin's mesh is {prepared.resolution!r} "
@@ -118,15 +118,6 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
                             mm=None if prepared is not None else mm, prepared=prepared, solver=options,
                             observers=observers)
     return to_dataset(result, seed, resolution), result
-
-
-def _check_prepared(prepared, machine) -> None:
-    """``prepared`` is a :class:`PreparedTwin` of ``machine``."""
-    if not isinstance(prepared, PreparedTwin):
-        raise InputError(CLI, "prepared", f"expected a twin.physics.prepared.PreparedTwin, got {prepared!r}")
-    if prepared.machine.name != machine.name:
-        raise InputError(CLI, "prepared", f"the prepared twin is of machine {prepared.machine.name}, not "
-                                          f"{machine.name}")
 
 
 def _check_sensors(sensors, machine) -> None:

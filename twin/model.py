@@ -10,13 +10,15 @@ error, not the last value.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from geometries.regions import ROLES
 from twin.effects import EFFECTS
 from twin.errors import InputError
+from twin.limits import is_number
 from twin.observe.instruments import INSTRUMENTS
-from twin.units import UnitError, parse_quantity
+from twin.units import UnitError, format_quantity, parse_quantity
 
 CLI = "command line"   # the source named in errors about --effects and --set
 
@@ -40,8 +42,29 @@ class ModelSpec:
             for key, value in values.items():
                 if key not in full[group]:
                     raise InputError(CLI, f"--set {group}.{key}", f"unknown parameter; known: {', '.join(full[group])}")
-                full[group][key] = float(value)
+                full[group][key] = self._checked(group, key, value)
         self.params = full
+
+    def _checked(self, group: str, key: str, value) -> float:
+        """A parameter's value [SI] given in Python: a finite number (NaN would run and mislead).
+        Its bounds are checked where a user's model enters (:meth:`check_bounds`): the library
+        itself runs effects at other strengths (zero, unit responses) to build its signatures."""
+        if not is_number(value) or not math.isfinite(value):
+            param = next(p for p in self.parameter_table(group) if p.name == key)
+            raise InputError(CLI, f"--set {group}.{key}", f"expected a finite number [{param.unit}], got {value!r}")
+        return float(value)
+
+    def check_bounds(self, source: str = CLI) -> None:
+        """Every parameter within its declared bounds, as ``--set`` asks: for a model built in
+        Python and given to a diagnosis (a negative power or noise would be diagnosed as if
+        possible)."""
+        for group, values in self.params.items():
+            for param in self.parameter_table(group):
+                value = values[param.name]
+                if not param.lower <= value <= param.upper:
+                    raise InputError(source, f"spec {group}.{param.name}",
+                                     f"{format_quantity(value, param.dimension)} is outside the bounds "
+                                     f"{param.describe()}")
 
     def parameter_table(self, group: str):
         return EFFECTS[group].parameters if group in EFFECTS else INSTRUMENTS[group]

@@ -59,9 +59,10 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.model import ModelSpec, default_spec
-from twin.physics.prepared import PreparedTwin
+from twin.physics.prepared import PreparedTwin, check_prepared
 from validate import verdict as V
 from validate.candidates import candidate_pool
+from validate.diagnose_args import SOURCE, check_arguments, check_model_error
 from validate.diagnosis_text import diagnosis_json, format_diagnosis, reasoning  # noqa: F401  (re-exported)
 from validate.evidence import Evidence, channel_weights, make_records, noise_levels
 from validate.fit import BoundedFitter
@@ -227,9 +228,10 @@ def expansion_bands(machine) -> dict[str, tuple[float, str]]:
 
 
 def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, **kw) -> Diagnosis:
-    """:func:`diagnose_many` of one measurement ``ds`` driven by ``scenario``."""
-    label = str(ds.attrs.get("source", "measurement")).rsplit("/", 1)[-1]
-    if "model_error" in kw and kw["model_error"] is not None and not isinstance(kw["model_error"], list):
+    """:func:`diagnose_many` of one measurement ``ds`` driven by ``scenario``; its
+    ``model_error``, when given, is this measurement's (one value per channel)."""
+    label = str(getattr(ds, "attrs", {}).get("source", "measurement")).rsplit("/", 1)[-1]
+    if kw.get("model_error") is not None:
         kw["model_error"] = [kw["model_error"]]
     return diagnose_many([(label, ds, scenario)], machine, spec, **kw)
 
@@ -248,14 +250,21 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     mesh. ``candidates``: the missing effects to try (default: every applicable library effect not
     in ``spec`` and the ``custom`` effects named, those of an effects file this diagnosis reads,
     :func:`twin.effects.custom.load_effects_file`); ``parameters``: also try the declared uncertain
-    parameters of the model's effects. ``error_resolution``/``model_error`` (a per-channel RMS
-    array per record): the model's discretisation error estimate. ``calibrate_expansion``: fit
+    parameters of the model's effects. ``error_resolution``/``model_error`` (one per-channel RMS
+    array per measurement): the model's discretisation error estimate. ``calibrate_expansion``: fit
     each material's expansion within its band. ``localise_regions``: when the verdict is not
     ``explained``, rank the machine's regions (``localise_steps``: time steps of that map).
     ``progress(done, total)`` is called after each stage (the baseline, each model-error
     estimate, each candidate, each pair, the region map); ``total`` grows when pairs are tried
     or the regions mapped.
     """
+    measurements = check_arguments(measurements, machine, spec, candidates, custom,
+                                   {"min_explained": min_explained, "pair_threshold": pair_threshold}, bic_margin,
+                                   {"pair_pool": pair_pool, "localise_steps": localise_steps},
+                                   {"resolution": None if mm is not None or twin is not None else resolution,
+                                    "error_resolution": error_resolution}, model_error)
+    if twin is not None:
+        check_prepared(twin, machine, SOURCE, "twin")
     spec = spec or default_spec(machine)
     pool = candidate_pool(machine, spec, candidates, parameters, custom)
     stage = Stages(progress, 1 + len(measurements) + len(pool))
@@ -278,7 +287,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
         rec.noise = noise_levels(rec.measured, rec.groups, spec)
         rec.model_error_series = None
         if model_error is not None:
-            rec.model_error = np.asarray(model_error[k], float) if rec.counts_as is None else None
+            rec.model_error = check_model_error(model_error[k], rec.channels, rec.label) if rec.counts_as is None else None
         elif error_resolution:
             if id(rec.engine) not in others:   # one run on the other mesh serves the records of an engine
                 error_twin = error_twin or PreparedTwin(machine, resolution=error_resolution)

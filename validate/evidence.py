@@ -59,17 +59,30 @@ def diagnosed_groups(ds) -> tuple[str, ...]:
     return tuple(g for g in GROUPS if not (g == "strain_raw" and "strain" in ds) and g not in RUN_GROUPS)
 
 
-def sensor_points(ds, machine) -> list:
-    """Sensor sites of a measurement: the machine's named points, or the Dataset's x, y, z."""
+def check_machine(ds, machine, label: str) -> None:
+    """The measurement ``ds`` names no machine (its ``machine`` attribute) or ``machine``."""
+    named = ds.attrs.get("machine")
+    if named is not None and str(named) != machine.name:
+        raise InputError(label, "machine", f"the measurement is of machine {named!r}, the diagnosing model of "
+                                           f"{machine.name!r}")
+
+
+def sensor_points(ds, machine, label: str = "measurement") -> list:
+    """Sensor sites of a measurement: the machine's named points, or the Dataset's x, y, z [m]
+    (an :class:`InputError` for a sensor that is neither)."""
     from geometries.base import Point
     if "temperature" not in ds:
         return []
     names = {p.name for p in machine.points}
+    placed = {"x", "y", "z"} <= set(ds.coords)
     out = []
     for i, s in enumerate(ds["sensor"].values):
         s = str(s)
         if s in names and "x" not in ds.coords:
             out.append(machine.point(s))
+        elif not placed:
+            raise InputError(label, f"sensor {s}", f"is no site of machine {machine.name} and the measurement gives no "
+                                                   "position (coordinates x, y, z [m] along sensor)")
         else:
             part = str(ds["part"].values[i]) if "part" in ds.coords else ""
             out.append(Point(s, (float(ds["x"].values[i]), float(ds["y"].values[i]), float(ds["z"].values[i])), part))
@@ -169,10 +182,7 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
     and, when ``ds`` has laser-interferometer runs, the record of their positioning error (same
     label, same engine; module docstring); InputError when it has no channel to diagnose, when it
     outlasts the scenario, or when its interferometer runs are not the scenario's."""
-    named = ds.attrs.get("machine")
-    if named is not None and str(named) != machine.name:
-        raise InputError(label, "machine", f"the measurement is of machine {named!r}, the diagnosing model of "
-                                           f"{machine.name!r}")
+    check_machine(ds, machine, label)
     stacked = stack(ds, diagnosed_groups(ds))
     run_times, runs = stack_runs(ds)
     if not stacked.names and runs is None:
@@ -180,7 +190,7 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
                                             "gauge or interferometer run to diagnose")
     t = np.asarray(ds["time"].values, float)
     t0 = t[0]
-    engine = Engine(machine, scenario, mm=twin.mm, sensors=sensor_points(ds, machine), prepared=twin)
+    engine = Engine(machine, scenario, mm=twin.mm, sensors=sensor_points(ds, machine, label), prepared=twin)
     if runs is not None and engine.positioning is None:
         raise InputError(label, "positioning_error", "the measurement has laser-interferometer runs but the scenario "
                                                      "driving the twin has no [interferometer]: give --scenario with it")

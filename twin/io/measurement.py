@@ -128,10 +128,8 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
             raise InputError(str(mapping), "--mapping", "a NetCDF measurement has no column mapping")
         ds = read_result(path, "measurement")
         src = str(path)
-        _check_time(np.asarray(ds["time"].values, dtype=float), src, "time")
         mach = _machine(machine, {"machine": ds.attrs.get("machine")}, src, "the measurement is of")
-        _check_netcdf_values(ds, mach, src)
-        return _with_channels(ds, src)
+        return check_measurement(ds, mach, src)
     given, mapping = mapping, mapping_path(path, mapping)
     if not given and not os.path.lexists(mapping):
         raise InputError(str(mapping), "--mapping", f"no column mapping for {path.name} (a TOML file naming each "
@@ -280,7 +278,28 @@ def _factor(value, dimension: str, src: str, key: str) -> float:
                                    f"expected e.g. {CANONICAL[dimension]!r}") from None
 
 
+def check_measurement(ds, machine, src: str = "measurement") -> xr.Dataset:
+    """A measurement given as a Dataset in Python (to :func:`validate.compare.compare` or a
+    diagnosis) checked as :func:`read_measurement` checks a NetCDF file: a Dataset with two or
+    more samples at finite, increasing times, the twin's units, finite and plausible values,
+    sensors with distinct names on ``machine`` (a :class:`geometries.base.Machine`), and at
+    least one channel to compare."""
+    if not isinstance(ds, xr.Dataset):
+        raise InputError(src, "measurement", f"expected an xarray.Dataset (read_measurement), got {describe(ds)}")
+    if "time" not in ds.variables:
+        raise InputError(src, "time", "missing: a measurement has a time coordinate [s]")
+    _check_time(np.asarray(ds["time"].values, dtype=float), src, "time")
+    _check_netcdf_values(ds, machine, src)
+    return _with_channels(ds, src)
+
+
 def _check_time(t: np.ndarray, src: str, col: str) -> None:
+    """Times [s]: two or more, finite, increasing, without a gap of more than three median steps."""
+    if t.ndim != 1 or t.size < 2:
+        raise InputError(src, col, f"needs two samples or more, got {t.size}")
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise InputError(src, col, f"data row {bad[0] + 1}: not a finite number")
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.flatnonzero(dt <= 0)[0])

@@ -54,6 +54,15 @@ def check_machine(machine, source: str = SOURCE) -> None:
         raise InputError(source, "machine", f"expected a Machine (twin.api.machine_by_name builds one), got {machine!r}")
 
 
+def check_prepared(prepared, machine, source: str, field: str = "prepared") -> None:
+    """``prepared`` is a :class:`PreparedTwin` of ``machine`` (its name), or
+    :class:`InputError` naming ``field``."""
+    if not isinstance(prepared, PreparedTwin):
+        raise InputError(source, field, f"expected a twin.physics.prepared.PreparedTwin, got {prepared!r}")
+    if prepared.machine.name != machine.name:
+        raise InputError(source, field, f"the prepared twin is of machine {prepared.machine.name}, not {machine.name}")
+
+
 def check_resolution(machine, resolution, source: str = SOURCE, field: str = "resolution") -> str:
     """``resolution`` is the name of one of ``machine``'s meshes."""
     if not isinstance(resolution, str) or resolution not in machine.resolutions:
