@@ -22,7 +22,9 @@ import numpy as np
 import xarray as xr
 
 from learners.metrics import max_abs_residual, nse, rmse
-from twin.errors import InputError
+from twin.errors import InputError, describe
+from twin.io.measurement import check_measurement, check_times
+from twin.limits import is_whole
 from validate.channels import Phase, input_phases, stack
 
 
@@ -54,7 +56,12 @@ class CompareResult:
     residuals: xr.Dataset   # residual(time, channel) = measured - model, with a unit per channel
 
     def channel(self, name: str) -> ChannelResult:
-        return next(c for c in self.channels if c.name == name)
+        """The result of channel ``name`` (``temperature:<sensor>``, ``probe:<id>``, ...)."""
+        found = next((c for c in self.channels if c.name == name), None)
+        if found is None:
+            raise InputError("compare", "channel", f"no channel {name!r}; compared: "
+                                                   f"{', '.join(c.name for c in self.channels)}")
+        return found
 
     def ranking(self) -> list[ChannelResult]:
         """Channels, worst (largest normalised RMSE) first."""
@@ -86,11 +93,23 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
 
     Both time axes count from their first sample (a measurement logged from t0 is compared with a
     model run from 0). ``model_true``: use the model's noise-free variables where it has them.
+    ``measured`` is checked as :func:`twin.io.measurement.read_measurement` checks a file (finite
+    values, two or more increasing times), ``model`` is a twin result (a Dataset with increasing
+    times) whose compared channels are finite; at least one channel must be in both.
     """
+    source = str(getattr(measured, "attrs", {}).get("source", "measurement"))
+    measured = check_measurement(measured, None, source)
+    if not isinstance(model, xr.Dataset) or "time" not in model.variables:
+        raise InputError("compare", "model", f"expected a twin result (an xarray.Dataset with a time axis), got "
+                                             f"{describe(model)}")
+    check_times(np.asarray(model.time.values, float), "model", "time")
+    if phases is not None and (not isinstance(phases, (list, tuple)) or not all(isinstance(p, Phase) for p in phases)):
+        raise InputError("compare", "phases", f"expected a list of validate.channels.Phase, got {describe(phases)}")
+    if not isinstance(model_true, bool):
+        raise InputError("compare", "model_true", f"expected true or false, got {describe(model_true)}")
     t = np.asarray(measured.time.values, float)
     mod_t = np.asarray(model.time.values, float)
     t_mod = t - t[0] + mod_t[0]
-    source = str(measured.attrs.get("source", "measurement"))
     named, modelled = measured.attrs.get("machine"), model.attrs.get("machine")
     if named is not None and modelled is not None and str(named) != str(modelled):
         raise InputError(source, "machine", f"the measurement is of machine {named!r}, the model of {modelled!r}")
@@ -99,6 +118,13 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
                                          f"{(mod_t[-1] - mod_t[0]) / 3600:g} h: it must cover the whole measurement")
     meas, mod = stack(measured), stack(model, prefer_true=model_true)
     names = [c for c in meas.names if c in mod.names]
+    if not names:
+        raise InputError(source, "channels", f"no channel in common with the model: measured "
+                                             f"{', '.join(meas.names[:6]) or 'none'}; modelled {', '.join(mod.names[:6])}"
+                                             f"{' ...' if len(mod.names) > 6 else ''}")
+    bad = [n for n in names if not np.all(np.isfinite(mod.values[:, mod.names.index(n)]))]
+    if bad:
+        raise InputError("model", bad[0], "is not finite (NaN or inf) in the model")
     if phases is None:
         phases = input_phases(measured, t)
     results, res = [], []
@@ -120,7 +146,10 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
 
 def format_compare(result: CompareResult, top: int = 8) -> str:
     """A terminal table: per-channel stats, then the worst channels and phase cells; the name
-    columns as wide as their longest entry, so long sensor names keep the columns aligned."""
+    columns as wide as their longest entry, so long sensor names keep the columns aligned;
+    ``top``: how many worst channels and phase cells to list (an integer >= 1)."""
+    if not is_whole(top) or top < 1:
+        raise InputError("format_compare", "top", f"expected an integer >= 1, got {describe(top)}")
     w = max([26] + [len(c.name) for c in result.channels])
     pw = max([28] + [len(p.label) for p in result.phases])
     lines = [f"{'channel':<{w}} {'unit':>5} {'RMSE':>9} {'max|r|':>9} {'NSE':>7}"]

@@ -288,13 +288,13 @@ def check_measurement(ds, machine, src: str = "measurement") -> xr.Dataset:
         raise InputError(src, "measurement", f"expected an xarray.Dataset (read_measurement), got {describe(ds)}")
     if "time" not in ds.variables:
         raise InputError(src, "time", "missing: a measurement has a time coordinate [s]")
-    _check_time(np.asarray(ds["time"].values, dtype=float), src, "time")
+    check_times(np.asarray(ds["time"].values, dtype=float), src, "time")
     _check_netcdf_values(ds, machine, src)
     return _with_channels(ds, src)
 
 
-def _check_time(t: np.ndarray, src: str, col: str) -> None:
-    """Times [s]: two or more, finite, increasing, without a gap of more than three median steps."""
+def check_times(t: np.ndarray, src: str, col: str) -> None:
+    """Times [s] of a measurement or a model: two or more, finite, increasing, without a gap of more than three median steps."""
     if t.ndim != 1 or t.size < 2:
         raise InputError(src, col, f"needs two samples or more, got {t.size}")
     bad = np.flatnonzero(~np.isfinite(t))
@@ -394,7 +394,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     if "time" not in single:
         raise InputError(msrc, "columns", "no column has role = \"time\"")
     t = single["time"]
-    _check_time(t, src, next(c for c, e in cols.items() if e.get("role") == "time"))
+    check_times(t, src, next(c for c, e in cols.items() if e.get("role") == "time"))
     for axis, x in positions.items():
         check_log(axis, t, x, mach, src, position_columns[axis])
     for axis, (feed, entry, key, column) in feeds.items():
