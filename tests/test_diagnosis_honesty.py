@@ -31,7 +31,8 @@ NOISE_ONLY = {"temperature": (0.054, None), "probe": (0.11, None)}
 def cabinet_at_95(machine, mm, tmp_path_factory):
     """The audit's case 3: model cabinet 95 W, truth 120 W, ``--error-mesh none``."""
     from twin.io.measured_inputs import scenario_from_measurement
-    from twin.io.measurement import read_measurement, write_measurement
+    from twin.io.measurement import read_measurement
+    from twin.io.measurement_writer import write_measurement
     from twin.model import model_spec
     from twin.scenario import load_scenario
     from validate.diagnose import diagnose

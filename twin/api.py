@@ -133,7 +133,7 @@ def _check_sensors(sensors, machine) -> None:
         if not isinstance(p, Point):
             raise InputError(CLI, f"sensors[{i}]", f"expected a geometries.base.Point(name, (x, y, z) [m], part), "
                                                    f"got {p!r}")
-        # the name a measurement file can hold (write_measurement, read back by read_measurement)
+        # the name a measurement file can hold (twin.io.measurement_writer, read back by read_measurement)
         check_sensor_name(p.name, CLI, f"sensors[{i}]", NETCDF_BAD_NAME_CHARACTERS)
         field = f"sensors[{i}] {p.name}"
         if p.name in seen:

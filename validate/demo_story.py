@@ -110,7 +110,8 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     from twin.io.atomic import atomic_write_text
     from validate.apply import apply_top, format_before_after
     from twin.io.measured_inputs import scenario_from_measurement
-    from twin.io.measurement import read_measurement, write_measurement
+    from twin.io.measurement import read_measurement
+    from twin.io.measurement_writer import write_measurement
     from validate.report import write_report
     from validate.synthetic import truth_measurement
 

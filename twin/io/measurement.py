@@ -75,7 +75,6 @@ import xarray as xr
 
 from twin import limits
 from twin.errors import InputError, describe, refuse_unknown_keys
-from twin.io.atomic import atomic_write_text
 from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
@@ -461,33 +460,3 @@ def _dataset(t, single, sensors, probes, mach, src, positions=None, lasers=None,
     if mach is not None:
         attrs["machine"] = mach.name
     return xr.Dataset(data, coords, attrs)
-
-
-def write_measurement(ds, folder: Path, stem: str, machine: str) -> tuple[Path, Path]:
-    """Write a result/measurement Dataset as ``stem.csv`` + ``stem.toml`` in ``folder``.
-
-    Columns: ``t_s`` [s], ``spindle_rpm`` [rpm], ``room_degC`` [degC], one ``T_<site>`` [degC] per
-    temperature sensor (placed at the machine's named site), one ``probe_<id>_um`` [um] per
-    ISO 230-3 probe. Both files are written atomically. Returns (csv path, toml path).
-    """
-    folder.mkdir(parents=True, exist_ok=True)
-    cols: list[tuple[str, np.ndarray, str]] = [
-        ("t_s", ds.time.values, "%.0f"), ("spindle_rpm", ds.spindle_speed.values, "%.0f"),
-        ("room_degC", ds.ambient_temperature.values, "%.4f")]
-    toml = [f'# column mapping of {stem}.csv (see twin/io/measurement.py)', f'machine = "{machine}"', "",
-            "[columns.t_s]", 'role = "time"', 'unit = "s"', "",
-            "[columns.spindle_rpm]", 'role = "spindle_speed"', 'unit = "rpm"', "",
-            "[columns.room_degC]", 'role = "ambient_temperature"', 'unit = "degC"']
-    temp = ds.temperature.transpose("time", "sensor")
-    for i, s in enumerate(ds.sensor.values):
-        cols.append((f"T_{s}", temp.values[:, i], "%.4f"))
-        toml += ["", f"[columns.T_{s}]", 'role = "temperature"', f'site = "{s}"', 'unit = "degC"']
-    probe = ds.probe.transpose("time", "probe_id")
-    for i, p in enumerate(ds.probe_id.values):
-        cols.append((f"probe_{p}_um", probe.values[:, i], "%.2f"))
-        toml += ["", f"[columns.probe_{p}_um]", 'role = "probe"', f'probe = "{p}"', 'unit = "um"']
-    lines = [",".join(c[0] for c in cols)]
-    lines += [",".join(fmt % float(v[k]) for _, v, fmt in cols) for k in range(len(ds.time))]
-    csv_path = atomic_write_text(folder / f"{stem}.csv", "\n".join(lines) + "\n")
-    toml_path = atomic_write_text(folder / f"{stem}.toml", "\n".join(toml) + "\n")
-    return csv_path, toml_path

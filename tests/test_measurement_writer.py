@@ -1,0 +1,78 @@
+"""``twin.io.measurement_writer.write_measurement``: a Dataset written as a CSV with its column
+mapping reads back as the same measurement (sensors at named sites and at their own positions,
+times to the microsecond), and a Dataset or argument that could not read back is refused before
+anything is written (API audit: dotted sensor names wrote malformed TOML, a custom sensor lost its
+position, NaN and an unknown machine were written, 0.5 s times collapsed to whole seconds)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.fuzz_files import result_dataset
+from twin.errors import InputError
+from twin.io.measurement import read_measurement
+from twin.io.measurement_writer import write_measurement
+
+
+def test_a_result_reads_back_as_the_same_measurement(tmp_path):
+    ds = result_dataset()
+    csv_path, toml_path = write_measurement(ds, tmp_path / "m", "run", "cframe-vmc")
+    back = read_measurement(csv_path)
+    assert list(back.sensor.values) == list(ds.sensor.values)
+    np.testing.assert_allclose(back.temperature.values, ds.temperature.values, atol=5e-5)
+    np.testing.assert_allclose(back.probe.values, ds.probe.values, atol=5e-3)
+    np.testing.assert_allclose(back.time.values, ds.time.values, atol=0.0)
+    assert 'site = "' in toml_path.read_text()
+
+
+def test_a_sensor_off_the_sites_keeps_its_name_and_position_and_half_seconds_stay(tmp_path):
+    ds = result_dataset()
+    names = list(ds.sensor.values)
+    names[0] = "my.sensor 1"           # a dot and a space: a quoted TOML key
+    ds = ds.assign_coords(sensor=names, time=0.5 * np.arange(ds.sizes["time"]))
+    csv_path, _ = write_measurement(ds, tmp_path, "run", "cframe-vmc")
+    back = read_measurement(csv_path)
+    assert back.sensor.values[0] == "my.sensor 1"
+    for c in "xyz":
+        assert float(back[c].values[0]) == pytest.approx(float(ds[c].values[0]), abs=1e-12)
+    np.testing.assert_array_equal(back.time.values, ds.time.values)
+
+
+def nan_temperature():
+    ds = result_dataset()
+    ds.temperature[2, 1] = np.nan
+    return ds
+
+
+BAD = [
+    ("machine-unknown", {"machine": "lathe"}, "machine"),
+    ("machine-another", {"machine": "belt-vmc"}, "machine"),
+    ("stem-empty", {"stem": ""}, "stem"),
+    ("stem-a-path", {"stem": "a/b"}, "stem"),
+    ("stem-hidden", {"stem": ".run"}, "stem"),
+    ("dataset-none", {"ds": None}, "measurement"),
+    ("temperature-nan", {"ds": nan_temperature()}, "temperature:"),
+    ("sensor-name-colon", {"ds": result_dataset().assign_coords(sensor=["a:b"] + list(result_dataset().sensor.values[1:]))},
+     "sensor[0]"),
+    ("no-room-air", {"ds": result_dataset().drop_vars("ambient_temperature")}, "ambient_temperature"),
+]
+
+
+@pytest.mark.parametrize("case, change, field", BAD, ids=[c for c, _, _ in BAD])
+def test_what_could_not_read_back_is_refused_and_nothing_is_written(tmp_path, case, change, field):
+    args = {"ds": result_dataset(), "folder": tmp_path / "out", "stem": "run", "machine": "cframe-vmc", **change}
+    with pytest.raises(InputError) as err:
+        write_measurement(**args)
+    assert err.value.field.startswith(field), str(err.value)
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_folder_that_is_a_file_or_a_mapping_path_that_is_a_folder_writes_nothing(tmp_path):
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(InputError, match="is not a folder"):
+        write_measurement(result_dataset(), tmp_path / "file", "run", "cframe-vmc")
+    (tmp_path / "out" / "run.toml").mkdir(parents=True)
+    with pytest.raises(InputError):
+        write_measurement(result_dataset(), tmp_path / "out", "run", "cframe-vmc")
+    assert not (tmp_path / "out" / "run.csv").exists()       # never half a pair

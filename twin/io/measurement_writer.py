@@ -1,0 +1,118 @@
+"""A twin result (or a measurement Dataset) written as a measurement: ``stem.csv`` with its column
+mapping ``stem.toml``, the pair :func:`twin.io.measurement.read_measurement` reads back.
+
+Columns: ``t_s`` [s], ``spindle_rpm`` [rpm], ``room_degC`` [degC], one ``T_<sensor>`` [degC] per
+temperature sensor (at its named site of the machine when it is one, else at its position
+``x, y, z`` [m] on its ``part`` with its ``name``) and one ``probe_<id>_um`` [um] per ISO 230-3
+probe. The Dataset is checked first as a measurement (:func:`twin.io.measurement.check_measurement`:
+finite, plausible values at two or more increasing times) and every sensor name must be one a
+mapping can hold; nothing is written when a check fails, and each file appears whole
+(:mod:`twin.io.atomic`).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from geometries import MACHINES, build_machine
+from twin.errors import InputError, describe
+from twin.io.atomic import atomic_write_text, check_writable
+from twin.io.mapping_columns import check_sensor_name
+from twin.io.measurement import check_measurement
+
+SOURCE = "write_measurement"
+REQUIRED = ("spindle_speed", "ambient_temperature")
+
+
+def write_measurement(ds, folder, stem: str, machine: str) -> tuple[Path, Path]:
+    """Write ``ds`` as ``stem.csv`` + ``stem.toml`` in ``folder`` (created if missing, its parent
+    must exist) for ``machine`` (a registered name, the Dataset's own when it names one); returns
+    (csv path, toml path). Times are written to 1e-6 s, temperatures to 1e-4 K, probes to 0.01 um."""
+    if not isinstance(machine, str) or machine not in MACHINES:
+        raise InputError(SOURCE, "machine", f"unknown machine {machine!r}; known: {', '.join(sorted(MACHINES))}")
+    mach = build_machine(machine)
+    named = getattr(ds, "attrs", {}).get("machine") if isinstance(ds, xr.Dataset) else None
+    if named is not None and str(named) != mach.name:
+        raise InputError(SOURCE, "machine", f"the Dataset is of machine {named!r}, not {mach.name!r}")
+    if not isinstance(stem, str) or not stem.strip() or stem != Path(stem).name or stem.startswith("."):
+        raise InputError(SOURCE, "stem", f"expected a file name without folders or a leading dot, got {describe(stem)}")
+    check_measurement(ds, mach, SOURCE)
+    missing = [v for v in REQUIRED if v not in ds]
+    if missing:
+        raise InputError(SOURCE, missing[0], "missing: a measurement file holds the spindle speed and the room air")
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(str(folder), "folder", "is not a folder")
+    if not folder.parent.is_dir():
+        raise InputError(str(folder), "folder", f"its parent {folder.parent} is not a folder")
+    columns, mapping = _columns(ds, mach, stem)
+    csv_path, toml_path = folder / f"{stem}.csv", folder / f"{stem}.toml"
+    folder.mkdir(exist_ok=True)
+    for path in (csv_path, toml_path):      # both checked before either is written: never half a pair
+        check_writable(path)
+    atomic_write_text(csv_path, _csv_text(columns, len(ds.time)))
+    atomic_write_text(toml_path, "\n".join(mapping) + "\n")
+    return csv_path, toml_path
+
+
+def _columns(ds: xr.Dataset, mach, stem: str) -> tuple[list, list[str]]:
+    """The CSV's columns [(name, values, format)] and the mapping's lines."""
+    columns = [("t_s", ds.time.values, "%.6f"), ("spindle_rpm", ds.spindle_speed.values, "%.0f"),
+               ("room_degC", ds.ambient_temperature.values, "%.4f")]
+    mapping = [f"# column mapping of {stem}.csv (see twin/io/measurement.py)", f"machine = {_text(mach.name)}", "",
+               "[columns.t_s]", 'role = "time"', 'unit = "s"', "",
+               "[columns.spindle_rpm]", 'role = "spindle_speed"', 'unit = "rpm"', "",
+               "[columns.room_degC]", 'role = "ambient_temperature"', 'unit = "degC"']
+    if "temperature" in ds:
+        from geometries.axes import with_feed_drives
+        sites = {p.name: p for p in with_feed_drives(mach).points}
+        temp = ds.temperature.transpose("time", "sensor")
+        placed = {"x", "y", "z"} <= set(ds.coords)
+        for i, s in enumerate(str(n) for n in ds.sensor.values):
+            check_sensor_name(s, SOURCE, f"sensor[{i}]")      # a mapping's names: no '@', ':' or ','
+            name = f"T_{s}"
+            columns.append((name, temp.values[:, i], "%.4f"))
+            mapping += ["", f"[columns.{_key(name)}]", 'role = "temperature"', 'unit = "degC"']
+            xyz = np.array([float(ds[c].values[i]) for c in "xyz"]) if placed else None
+            if s in sites and (xyz is None or np.allclose(xyz, sites[s].xyz, atol=1e-9)):
+                mapping.append(f"site = {_text(s)}")
+            elif xyz is None:
+                raise InputError(SOURCE, f"sensor {s}", f"is no site of machine {mach.name} and the Dataset gives no "
+                                                        "position (coordinates x, y, z [m])")
+            else:
+                part = str(ds.part.values[i]) if "part" in ds.coords else ""
+                mapping += [f"name = {_text(s)}", *(f'{c} = "{v!r} m"' for c, v in zip("xyz", xyz.tolist())),
+                            f"part = {_text(part)}"]
+    if "probe" in ds:
+        probe = ds.probe.transpose("time", "probe_id")
+        for i, p in enumerate(str(n) for n in ds.probe_id.values):
+            name = f"probe_{p}_um"
+            columns.append((name, probe.values[:, i], "%.2f"))
+            mapping += ["", f"[columns.{_key(name)}]", 'role = "probe"', f"probe = {_text(p)}", 'unit = "um"']
+    return columns, mapping
+
+
+def _csv_text(columns: list, rows: int) -> str:
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow([c[0] for c in columns])
+    for k in range(rows):
+        writer.writerow([fmt % float(values[k]) for _, values, fmt in columns])
+    return out.getvalue()
+
+
+def _text(value: str) -> str:
+    """``value`` as a TOML basic string (JSON's escapes are TOML's)."""
+    return json.dumps(value, ensure_ascii=False)
+
+
+def _key(name: str) -> str:
+    """``name`` as a TOML key: bare when it can be, else quoted (a sensor named ``a.b``)."""
+    return name if re.fullmatch(r"[A-Za-z0-9_-]+", name) else _text(name)
