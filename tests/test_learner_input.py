@@ -165,6 +165,23 @@ def test_dataset_api_refuses_bad_jobs_steps_and_folders(tmp_path):
     a_file = tmp_path / "file.txt"
     a_file.write_text("x")
     _refused(lambda: build([], a_file), "folder", "not a folder")
+    for bad, field in (({"cases": None}, "cases"), ({"cases": [{"machine": "cframe-vmc"}]}, "cases"),
+                       ({"pool": "x"}, "pool"), ({"progress": 5}, "progress")):
+        args = {"cases": [], "folder": tmp_path / "not-made", **bad}
+        _refused(lambda: build(**args), field)
+        assert not (tmp_path / "not-made").exists()      # checked before the folder is made
+
+
+def test_a_case_file_is_named_by_its_records_hash_only(tmp_path):
+    """build_case writes ``<hash>.nc``: a hash that is not the record's (``../evil`` wrote outside
+    the folder) is refused before the case runs."""
+    from twin.dataset.plan import case_hash
+    from twin.dataset.runner import build_case
+
+    record = {"machine": "cframe-vmc"}
+    for bad in ("../evil", case_hash({"machine": "belt-vmc"}), 5):
+        _refused(lambda: build_case(record, bad, str(tmp_path)), "case_hash")
+    assert not any(tmp_path.parent.glob("evil*")) and not any(tmp_path.iterdir())
 
 
 def test_a_learner_built_by_name_is_seeded_unless_told():

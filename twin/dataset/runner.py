@@ -24,7 +24,8 @@ from pathlib import Path
 
 from twin import limits
 from twin.dataset.plan import Case
-from twin.errors import InputError
+from twin.dataset.plan import case_hash as hash_of
+from twin.errors import InputError, describe
 from twin.io.paths import output_folder
 
 CASES = "cases"   # the folder of the case files inside a dataset folder
@@ -135,6 +136,9 @@ def build_case(record: dict, case_hash: str, folder: str) -> dict:
     seconds, steps} (``seconds``: wall time of this case on its worker)."""
     from twin.io.results import write_netcdf
 
+    if not isinstance(record, dict) or not isinstance(case_hash, str) or case_hash != hash_of(record):
+        raise InputError("build_case", "case_hash", f"{describe(case_hash)} is not the hash of the record "
+                                                    "(twin.dataset.plan.case_hash): a case's file is named by it")
     t0 = time.perf_counter()
     ds, result = simulate_case(record, case_hash)
     path = write_netcdf(ds, Path(folder) / f"{case_hash}.nc", "case")
@@ -268,7 +272,15 @@ def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
     :func:`build_case`} of the cases built now. A failing case stops the build (cancelling the
     cases not started) and its error is raised; finished files stay. ``folder`` is a folder or
     can be made in an existing one (:func:`twin.io.paths.output_folder`: an
-    :class:`InputError` otherwise, before anything is built)."""
+    :class:`InputError` otherwise, before anything is built); the other arguments are checked
+    before the folder is made."""
+    if not isinstance(cases, (list, tuple)) or not all(isinstance(c, Case) for c in cases):
+        raise InputError("build", "cases", f"expected a list of twin.dataset.plan.Case (twin.dataset.plan), got "
+                                           f"{describe(cases)}")
+    if pool is not None and not callable(getattr(pool, "submit", None)):
+        raise InputError("build", "pool", f"expected an executor (twin.dataset.executor), got {describe(pool)}")
+    if progress is not None and not callable(progress):
+        raise InputError("build", "progress", f"expected a function progress(done, total), got {describe(progress)}")
     folder = output_folder(folder, "folder")
     out_dir = folder / CASES
     if folder.is_dir():
