@@ -242,3 +242,34 @@ def test_json_numbers_carry_their_units(cabinet_at_95, machine, mm):
     doc = json.loads(json.dumps(diagnosis_json(plain)))
     assert doc["model_error_rms"]["units"] == units
     assert all(v["model_error"] == pytest.approx(0.01) for v in doc["levels"].values())
+
+
+# --- the helpers that apply and report a diagnosis refuse what is not this diagnosis's (API audit) ---
+
+def test_apply_and_report_refuse_what_is_not_this_diagnosis(cabinet_at_95, tmp_path):
+    """A wrong-shaped or NaN model vector, an unknown group, another machine, sections that are
+    no (title, text) pairs, a diagnosis without fits: one InputError naming the argument, and
+    ``write_report`` leaves no folder behind (it made one before it failed)."""
+    from geometries import build_machine
+    from twin.errors import InputError
+    from validate.apply import apply_top, format_before_after, group_rms
+    from validate.report import write_report
+
+    d = cabinet_at_95
+    base = d.base
+    for call, field in ((lambda: format_before_after(d, base[:5]), "after"),
+                        (lambda: format_before_after(d, np.full_like(base, np.nan)), "after"),
+                        (lambda: format_before_after(d, base, base[:3]), "calibrated"),
+                        (lambda: group_rms(d, base, "nope"), "group"),
+                        (lambda: apply_top(None), "d"),
+                        (lambda: apply_top(replace(d, fits=[])), "d"),
+                        (lambda: write_report(d, build_machine("gantry-ram"), tmp_path / "r"), "machine"),
+                        (lambda: write_report(d, "cframe-vmc", tmp_path / "r"), "machine"),
+                        (lambda: write_report(d, d.twin.machine, tmp_path / "r", sections="hello"), "sections"),
+                        (lambda: write_report(d, d.twin.machine, tmp_path / "r", after=base[:7]), "after"),
+                        (lambda: write_report(d, d.twin.machine, tmp_path / "no" / "r"), "folder")):
+        with pytest.raises(InputError) as err:
+            call()
+        assert err.value.field == field, str(err.value)
+        assert not (tmp_path / "r").exists() and not (tmp_path / "no").exists()
+    assert group_rms(d, base, "temperature") > 0

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from learners.metrics import rms
+from twin.errors import InputError, describe
 from validate.channels import residual_unit
 
 
@@ -18,7 +19,33 @@ def top_spec(d):
     return spec
 
 
-def apply_top(d, machine=None, scenario=None, mm=None):
+def check_diagnosis(d, source: str, fitted: bool = False) -> None:
+    """``d`` is a :class:`validate.diagnose.Diagnosis` (with a fitted candidate when ``fitted``)."""
+    from validate.diagnose import Diagnosis
+
+    if not isinstance(d, Diagnosis):
+        raise InputError(source, "d", f"expected a diagnosis (validate.diagnose.diagnose), got {describe(d)}")
+    if fitted and not d.fits:
+        raise InputError(source, "d", "the diagnosis fitted no candidate: there is nothing to apply")
+
+
+def check_flat(d, values, source: str, field: str) -> np.ndarray:
+    """``values``: a flat model vector of the diagnosis (every channel of every record, as
+    :func:`apply_top` returns), finite."""
+    try:
+        v = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        v = None
+    n = d.evidence.measured.shape
+    if v is None or v.shape != n:
+        raise InputError(source, field, f"expected the flat model of the diagnosis ({n[0]} values, apply_top's), got "
+                                        + (describe(values) if v is None else f"shape {v.shape}"))
+    if not np.all(np.isfinite(v)):
+        raise InputError(source, field, "is not finite (NaN or inf)")
+    return v
+
+
+def apply_top(d):
     """Rerun the twin with the top candidate(s) at the fitted values, on the diagnosing mesh.
 
     Returns (model after, model after with the material expansion fitted, the equivalent
@@ -26,8 +53,8 @@ def apply_top(d, machine=None, scenario=None, mm=None):
     with ``d.evidence.split``). The second is the same rerun with each material's expansion
     coefficient scaled by the nuisance the diagnosis fitted together with the candidate (None
     when it fitted none), from the same run's exact expansion sensitivities; the first is what
-    the printed arguments reproduce. (``machine``, ``scenario``, ``mm`` are accepted for the
-    older signature; the diagnosis's own records and prepared twin are used.)"""
+    the printed arguments reproduce; the diagnosis's own records and prepared twin are used."""
+    check_diagnosis(d, "apply_top", fitted=True)
     f = d.fits[0]
     spec = top_spec(d)
     coef = d.expansion_fit(f.response) if d.materials else {}
@@ -48,6 +75,10 @@ def format_before_after(d, after: np.ndarray, calibrated: np.ndarray | None = No
     """Per-channel RMSE before and after applying the top candidate (``after`` flat); with
     ``calibrated`` (the rerun with the fitted material expansion) two more columns: the baseline
     and the rerun, each with the expansion the diagnosis fitted."""
+    check_diagnosis(d, "format_before_after")
+    after = check_flat(d, after, "format_before_after", "after")
+    if calibrated is not None:
+        calibrated = check_flat(d, calibrated, "format_before_after", "calibrated")
     ev = d.evidence
     meas = ev.measured
     rms_after = ev.per_channel(meas - after)
@@ -73,4 +104,8 @@ def format_before_after(d, after: np.ndarray, calibrated: np.ndarray | None = No
 
 def group_rms(d, flat: np.ndarray, group: str) -> float:
     """RMS over every sample of one channel group of a flat vector."""
+    if group not in d.groups:
+        raise InputError("group_rms", "group", f"no group {group!r} in the diagnosis; known: "
+                                               f"{', '.join(dict.fromkeys(d.groups))}")
+    flat = check_flat(d, flat, "group_rms", "flat")
     return float(rms(flat[d.evidence.group_mask(group)]))

@@ -181,7 +181,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
     after_coarse = calibrated = cmp1 = None
     top = d.candidates[0] if d.candidates else None
     if d.named and top:
-        after_coarse, calibrated, _ = apply_top(d, machine, sc_meas, mm)
+        after_coarse, calibrated, _ = apply_top(d)
         effects = ",".join(f"+{e}" for e in top["values_si"])
         settings = [x.replace(" ", "") for x in _settings(top)]
         cmp1 = compare(meas, model_for(meas, MACHINE, effects=effects, settings=settings, resolution=mesh, seed=seed,

@@ -12,7 +12,9 @@ from pathlib import Path
 import numpy as np
 
 from learners.metrics import rms
+from twin.errors import InputError, describe
 from twin.io.atomic import atomic_write_text
+from twin.io.paths import output_folder
 from validate.channels import residual_unit
 from validate.report_map import machine_outline as _machine_outline
 
@@ -216,15 +218,25 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
     Order: the verdict; ``sections`` (title, preformatted text), e.g. the comparison table of
     :func:`validate.compare.format_compare`; the candidate ranking; RMSE before/after on the
     diagnosing model (with ``after``; with ``calibrated``, the rerun with the fitted material
-    expansion, too); ``closing`` sections; the figures with captions."""
+    expansion, too); ``closing`` sections; the figures with captions. ``machine`` is the
+    diagnosis's; ``folder`` an existing folder or one that can be made in an existing one. The
+    page is made before the folder: a bad argument leaves nothing behind."""
     from validate.diagnose import format_diagnosis
-    from validate.apply import format_before_after
+    from validate.apply import check_diagnosis, format_before_after
 
     def block(title: str, text: str) -> str:
         return f"<h2>{html.escape(title)}</h2><pre>{html.escape(text)}</pre>"
 
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
+    check_diagnosis(d, "write_report")
+    own = d.twin.machine.name if d.twin is not None else None
+    if getattr(machine, "name", None) is None or not hasattr(machine, "parts") or (own and machine.name != own):
+        raise InputError("write_report", "machine", f"expected the diagnosis's machine{f' ({own})' if own else ''}, "
+                                                    f"got {describe(getattr(machine, 'name', machine))}")
+    for name, items in (("sections", sections), ("closing", closing)):
+        if items is not None and (not isinstance(items, (list, tuple)) or not all(
+                isinstance(i, (list, tuple)) and len(i) == 2 and all(isinstance(x, str) for x in i) for i in items)):
+            raise InputError("write_report", name, f"expected a list of (title, text) pairs, got {describe(items)}")
+    folder = output_folder(folder, "folder")
     parts = [f"<html><head><meta charset='utf-8'><title>twin diagnose</title><style>{_CSS}</style></head><body>",
              "<h1>Diagnosis: what the model lacks</h1>", f"<p><b>{html.escape(d.message)}</b></p>"]
     parts += [block(t, x) for t, x in sections or []]
@@ -238,5 +250,5 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
         parts.append(f"<h2>{html.escape(title)}</h2><p class='caption'>{html.escape(caption)}</p>"
                      f"<img src='data:image/png;base64,{png}'/>")
     parts.append("</body></html>")
-    path = folder / "index.html"
-    return atomic_write_text(path, "\n".join(parts))
+    folder.mkdir(exist_ok=True)
+    return atomic_write_text(folder / "index.html", "\n".join(parts))
