@@ -137,3 +137,24 @@ def test_cli_writes_both_reports_with_the_ranges_and_the_warning(tmp_path, capsy
     html = (tmp_path / "rep" / "index.html").read_text()
     assert html.count("data:image/png;base64,") == 2 and "<table>" in html
     assert "ISO 230-3 etve: X 1.0 um, Y 6.0 um, Z 12.0 um" in capsys.readouterr().out
+
+
+def test_evaluate_from_python_names_a_bad_record_or_segment():
+    """API audit: a path for the Dataset, a NaN or text segment, backwards or NaN time, room air
+    below absolute zero and a NaN drift are each one InputError naming it, never a numpy error
+    or a report of NaN ranges."""
+    ds = result_dataset()
+    nan_drift = ds.copy(deep=True)
+    nan_drift.probe_drift[4, 2] = np.nan
+    cold = ds.copy(deep=True)
+    cold.ambient_temperature[3] = -380.0
+    for args, field in ((("r.nc", "etve"), "ds"), ((ds, "spindle", float("nan")), "--segment"),
+                        ((ds, "spindle", "1 h"), "--segment"), ((ds, "spindle", -60.0), "--segment"),
+                        ((ds.isel(time=slice(None, None, -1)), "spindle"), "time"),
+                        ((ds.assign_coords(time=np.r_[np.nan, ds.time.values[1:]]), "spindle"), "time"),
+                        ((cold, "etve"), "ambient_temperature"), ((nan_drift, "spindle"), "Z"),
+                        ((ds, None), "--test")):
+        with pytest.raises(InputError) as err:
+            evaluate(*args)
+        assert err.value.field == field, str(err.value)
+    assert evaluate(ds, "spindle").channels

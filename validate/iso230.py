@@ -24,7 +24,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from twin.errors import InputError
+from twin.errors import InputError, describe
+from twin.io.measurement import check_times
+from twin.limits import check_temperatures, is_number
 
 TESTS = ("etve", "spindle", "axis")
 WARNING = ("ISO 230-3 on the environmental temperature variation error: the result describes this machine "
@@ -174,13 +176,19 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
     sampling intervals)."""
     from twin.io.measured_inputs import speed_steps
 
+    if not isinstance(ds, xr.Dataset) or "time" not in ds.variables:
+        raise InputError(source or "evaluate", "ds", f"expected a result or measurement (an xarray.Dataset with a time "
+                                                     f"axis), got {describe(ds)}")
     source = source or ds.attrs.get("source", "result")
-    if test not in TESTS:
+    if not isinstance(test, str) or test not in TESTS:
         raise InputError(source, "--test", f"unknown test {test!r}; known: {', '.join(TESTS)}")
+    if segment is not None and (not is_number(segment) or not np.isfinite(segment) or segment <= 0):
+        raise InputError("command line", "--segment", f"expected a positive time [s], got {describe(segment)}")
     t = np.asarray(ds.time.values, float)
-    if t.size < 2:
-        raise InputError(source, "time", "needs at least two samples")
+    check_times(t, source, "time")
     air = np.asarray(ds.ambient_temperature.values, float) if "ambient_temperature" in ds else None
+    if air is not None:
+        check_temperatures(air, source, "ambient_temperature")
     if test == "axis" and "positioning_error" not in ds and moved_axes(ds):
         channels = drift_channels(ds, source)    # the drift while the axes move (no interferometer)
     elif test == "axis":   # read at the interferometer's runs; the air at those instants
@@ -206,6 +214,10 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
                                            "whose heat comes from the room)")
     if test == "spindle" and turning is not None:
         steps = speed_steps(t, turning[1])
+    for c in channels:
+        if not np.all(np.isfinite(c.values)):
+            raise InputError(source, c.name, f"is not finite (NaN or inf) at {int(np.sum(~np.isfinite(c.values)))} of "
+                                             f"its {c.values.size} samples: an ISO 230-3 range of it would be NaN")
     ev = Evaluation(test, source, t, channels, air, segments_of(t, length), steps)
     ev.conditions = conditions(ds, ev)
     return ev
