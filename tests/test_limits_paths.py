@@ -139,3 +139,28 @@ def test_an_output_error_is_said_once(tmp_path):
     with pytest.raises(InputError) as err:
         checked_folder(tmp_path / "f", "--report")
     assert err.value.message == "exists and is not a folder"
+
+
+def test_the_io_functions_called_from_python_name_a_bad_path_or_argument(tmp_path):
+    """API audit: a number or None for a path is an InputError, not pathlib's TypeError; a
+    measurement given as its own mapping says so; write_netcdf refuses a non-NetCDF name and a
+    non-Dataset; read_result's ``required`` is a tuple of names, not a text read letter by letter."""
+    from tests.fuzz_files import result_dataset
+    from twin.errors import InputError
+    from twin.io.measurement import read_measurement
+    from twin.io.measurement_writer import write_measurement
+    from twin.io.results import read_result, write_netcdf
+
+    csv, toml = write_measurement(result_dataset(), tmp_path, "m", "cframe-vmc")
+    nc = write_netcdf(result_dataset(), tmp_path / "r.nc")
+    for call, field in ((lambda: read_measurement(5), "measurement"), (lambda: read_measurement(None), "measurement"),
+                        (lambda: read_measurement(toml), "measurement"), (lambda: read_measurement(csv, machine=5), "machine"),
+                        (lambda: write_netcdf(result_dataset(), tmp_path / "r.csv"), "output"),
+                        (lambda: write_netcdf(None, tmp_path / "n.nc"), "output"),
+                        (lambda: read_result(nc, required="temperature"), "required"),
+                        (lambda: read_result(nc, min_samples=-3), "min_samples")):
+        with pytest.raises(InputError) as err:
+            call()
+        assert err.value.field == field, str(err.value)
+    assert not (tmp_path / "r.csv").exists() and not (tmp_path / "n.nc").exists()
+    assert read_result(nc, required=("temperature",)).sizes["time"] > 1

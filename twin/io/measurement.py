@@ -78,7 +78,7 @@ from twin.errors import InputError, describe, refuse_unknown_keys
 from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
-from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml
+from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml, same_file
 from twin.io.results import read_result
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
@@ -130,6 +130,9 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
         mach = _machine(machine, {"machine": ds.attrs.get("machine")}, src, "the measurement is of")
         return check_measurement(ds, mach, src)
     given, mapping = mapping, mapping_path(path, mapping)
+    if same_file(path, mapping):
+        raise InputError(str(path), "measurement", "is its own column mapping: give the CSV file (its mapping is the "
+                                                   ".toml beside it, or --mapping)")
     if not given and not os.path.lexists(mapping):
         raise InputError(str(mapping), "--mapping", f"no column mapping for {path.name} (a TOML file naming each "
                                                     "column's role and unit)")
@@ -213,6 +216,8 @@ def _machine(machine, spec: dict, src: str, named_by: str = "the mapping names")
     named = spec.get("machine")
     if named is not None and not isinstance(named, str):
         raise InputError(src, "machine", f"expected a machine name, got {describe(named)}")
+    if machine is not None and not isinstance(machine, str) and not isinstance(getattr(machine, "name", None), str):
+        raise InputError("command line", "machine", f"expected a machine name or a built machine, got {describe(machine)}")
     given = machine if isinstance(machine, str) or machine is None else machine.name
     if given is not None and named is not None and given != named:
         raise InputError(src, "machine", f"{named_by} machine {named!r}, the command line {given!r}")

@@ -23,7 +23,7 @@ import stat
 import tempfile
 from pathlib import Path
 
-from twin.errors import InputError
+from twin.errors import InputError, describe
 
 NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
 
@@ -41,9 +41,19 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
+def as_path(path, field: str = "file") -> Path:
+    """``path`` (a text or an ``os.PathLike``, not empty) as a Path; anything else (a number,
+    None) is an :class:`InputError` naming ``field``, not pathlib's TypeError."""
+    if isinstance(path, os.PathLike):
+        path = os.fspath(path)
+    if not isinstance(path, str) or not path.strip():
+        raise InputError("command line", field, f"expected a file path, got {describe(path)}")
+    return Path(path)
+
+
 def input_file(path: str | os.PathLike, field: str = "file", what: str = "file") -> Path:
     """``path`` as a Path after checking it exists, is a regular file and is readable."""
-    path = Path(path)
+    path = as_path(path, field)
     try:
         st = path.stat()
     except (FileNotFoundError, NotADirectoryError):
@@ -113,7 +123,7 @@ def output_file(path: str | os.PathLike, field: str = "output", suffixes: tuple[
     """``path`` as a Path after checking it can be written as a new regular file (see the module
     doc). ``suffixes``: the ones the writer supports (None: any). ``folder_may_be_created``: the
     folder need not exist yet (it is checked by :func:`output_folder`)."""
-    path = Path(path)
+    path = as_path(path, field)
     try:
         return _output_file(path, field, suffixes, folder_may_be_created)
     except InputError:
@@ -142,7 +152,7 @@ def _output_file(path: Path, field: str, suffixes, folder_may_be_created: bool) 
 def output_folder(path: str | os.PathLike, field: str = "output") -> Path:
     """``path`` as a Path after checking it is an existing writable folder, or can be created in
     an existing writable folder."""
-    path = Path(path)
+    path = as_path(path, field)
     try:
         return _output_folder(path, field)
     except InputError:

@@ -25,9 +25,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.io.atomic import atomic_write
-from twin.io.paths import input_file
+from twin.io.paths import NETCDF_SUFFIXES, as_path, input_file
 from twin.observe.base import variable
 
 
@@ -104,7 +104,13 @@ ERROR_KEYS = ("solver_error_bound", "rom_error_estimate", "rom_error_bound")
 
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, field: str = "output") -> Path:
     """Write ``ds`` to ``path`` atomically (see :mod:`twin.io.atomic`); a Dataset with NaN or inf
-    in a numeric variable is refused (:class:`twin.errors.InputError`), never written."""
+    in a numeric variable is refused (:class:`twin.errors.InputError`), never written, and so
+    is a path without a NetCDF suffix (``.nc``, ``.nc4``, ``.netcdf``)."""
+    if not isinstance(ds, xr.Dataset):
+        raise InputError(str(path), field, f"expected an xarray.Dataset to write, got {describe(ds)}")
+    if as_path(path, field).suffix.lower() not in NETCDF_SUFFIXES:
+        raise InputError(str(path), field, f"a NetCDF file is named {', '.join(NETCDF_SUFFIXES)}, not "
+                                           f"{as_path(path, field).suffix or 'without a suffix'}")
     check_finite(ds, str(path))
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"), field)
 
@@ -134,6 +140,10 @@ def read_result(path: str | os.PathLike, field: str = "file", required: tuple[st
     (:func:`twin.io.paths.input_file`), a strictly increasing ``time`` coordinate with at least
     ``min_samples`` samples, every ``required`` variable present, no NaN or inf anywhere
     (:class:`twin.errors.InputError` naming file and variable)."""
+    if isinstance(required, str) or not all(isinstance(v, str) for v in required):
+        raise InputError("command line", "required", f"expected a tuple of variable names, got {required!r}")
+    if not isinstance(min_samples, int) or min_samples < 1:
+        raise InputError("command line", "min_samples", f"expected an integer >= 1, got {min_samples!r}")
     path = input_file(path, field, "NetCDF file")
     try:
         with xr.open_dataset(path, engine="h5netcdf") as ds:
