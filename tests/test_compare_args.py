@@ -55,3 +55,17 @@ def test_the_options_are_checked():
     ds = result_dataset()
     refused("phases", compare, ds, ds, phases="spindle")
     refused("model_true", compare, ds, ds, model_true="no")
+
+
+def test_model_for_checks_the_measurement_and_its_machine_before_simulating():
+    """The machine must be the measurement's (another was simulated and failed, if at all, only
+    on a speed or a sensor position) and a name (a built machine's message held its whole repr)."""
+    from geometries import build_machine
+    from validate.compare import model_for
+
+    ds = result_dataset()
+    refused("measurement", model_for, None, "cframe-vmc")
+    refused("machine", model_for, ds, "belt-vmc")
+    err = refused("machine", model_for, ds, build_machine("cframe-vmc"))
+    assert "pass its name, 'cframe-vmc'" in err.message and "parts=" not in err.message
+    refused("temperature:", model_for, with_nan("temperature"), "cframe-vmc")

@@ -10,7 +10,7 @@ import numpy as np
 from geometries import MACHINES, build_machine
 from geometries.base import Point
 from twin import limits
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.fem.mesh import mesh_machine
 from twin.io.mapping_columns import NETCDF_BAD_NAME_CHARACTERS, check_sensor_name
 from twin.io.results import to_dataset
@@ -32,7 +32,10 @@ CLI = "command line"   # the source named in errors about the arguments (the CLI
 
 def machine_by_name(name: str):
     """Build a registered machine; unknown names raise InputError."""
-    if not isinstance(name, str) or name not in MACHINES:
+    if not isinstance(name, str):
+        hint = f" (pass its name, {name.name!r})" if isinstance(getattr(name, "name", None), str) else ""
+        raise InputError("command line", "machine", f"expected a machine's name, got {describe(name)}{hint}")
+    if name not in MACHINES:
         raise InputError("command line", "machine", f"unknown machine {name!r}; known: {', '.join(sorted(MACHINES))}")
     return build_machine(name)
 

@@ -176,10 +176,16 @@ def model_for(measured: xr.Dataset, machine: str, scenario=None, effects: str | 
     (a name, a path or a Scenario) is given; the custom effects of ``effects_file`` are switched
     on; ``prepared``: a :class:`twin.physics.prepared.PreparedTwin` of the machine on
     ``resolution`` to reuse (:func:`twin.api.simulate`). Returns (model Dataset, RunResult)."""
-    from twin.api import simulate
+    from twin.api import machine_by_name, simulate
     from twin.io.measured_inputs import scenario_from_measurement, sensors_of
 
-    sc = scenario if scenario else scenario_from_measurement(measured)
+    source = str(getattr(measured, "attrs", {}).get("source", "measurement"))
+    mach = machine_by_name(machine)
+    named = measured.attrs.get("machine") if isinstance(measured, xr.Dataset) else None
+    if named is not None and str(named) != mach.name:
+        raise InputError(source, "machine", f"the measurement is of machine {named!r}, not {mach.name!r}")
+    check_measurement(measured, mach, source)
+    sc = scenario if scenario is not None else scenario_from_measurement(measured)
     sensors = sensors_of(measured) or None
     return simulate(machine, sc, effects, settings, resolution, seed, progress=progress, sensors=sensors,
                     effects_file=effects_file, prepared=prepared)
