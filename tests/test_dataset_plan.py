@@ -122,3 +122,30 @@ def test_a_bad_spec_is_one_clear_error_and_nothing_is_written(tmp_path, capsys, 
 def test_spec_errors_name_the_file_in_library_use():
     with pytest.raises(Exception, match=r"^x\.toml: machines: missing$"):
         spec_from_dict({"scenarios": []}, "x.toml")
+
+
+def test_the_python_api_names_a_wrong_argument_before_any_work(tmp_path):
+    """API audit: plan, estimate, write_index, executor, load_spec and spec_path given the wrong
+    kind of thing raise one InputError naming it (they raised AttributeError or TypeError), and
+    write_index refuses the cases of another spec and writes nothing when one of its four files
+    cannot be written (index.csv was left alone before)."""
+    from twin.dataset import estimate, executor, write_index
+    from twin.dataset.spec import spec_path
+    from twin.errors import InputError
+
+    spec = load_spec(write_spec(tmp_path))
+    other = load_spec(write_spec(tmp_path, SPEC.replace("seed = 3", "seed = 4")))
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "index.parquet").mkdir()
+    for call, field in ((lambda: plan(None), "spec"), (lambda: plan(str(tmp_path / "tiny.toml")), "spec"),
+                        (lambda: estimate(None), "cases"), (lambda: estimate(spec), "cases"),
+                        (lambda: write_index(None, [], out), "spec"),
+                        (lambda: write_index(spec, plan(other), out), "cases"),
+                        (lambda: write_index(spec, plan(spec), out), "index"),
+                        (lambda: executor(5), "--scheduler"), (lambda: load_spec(None), "spec"),
+                        (lambda: spec_path(5), "spec")):
+        with pytest.raises(InputError) as err:
+            call()
+        assert err.value.field == field, str(err.value)
+    assert sorted(p.name for p in out.iterdir()) == ["index.parquet"]

@@ -15,9 +15,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from twin.dataset.plan import FORMAT, Case
+from twin.dataset.plan import FORMAT, Case, check_cases, plan
+from twin.dataset.spec import DatasetSpec
 from twin.dataset.runner import CASES, is_whole
-from twin.io.atomic import atomic_write, atomic_write_text
+from twin.errors import InputError, describe
+from twin.io.atomic import atomic_write, atomic_write_text, check_writable
+from twin.io.paths import output_folder
 from twin.io.results import package_version
 
 INDEX_FILES = ("index.csv", "index.parquet", "card.json", "README.md")
@@ -164,10 +167,20 @@ def markdown(c: dict) -> str:
 
 def write_index(spec, cases: list[Case], folder: Path, last_build: dict | None = None) -> list[dict]:
     """Write index.csv, index.parquet, card.json and README.md into ``folder`` (atomically, each);
-    returns the index rows."""
+    returns the index rows. ``cases`` are of ``spec``'s plan (:func:`twin.dataset.plan.plan`,
+    all or some: a card never mixes a spec with another's cases); the four files are checked before any is
+    written, so a failure leaves the set as it was."""
     import pandas as pd
 
-    folder = Path(folder)
+    cases = check_cases(cases, "write_index")
+    if not isinstance(spec, DatasetSpec):
+        raise InputError("write_index", "spec", f"expected a dataset spec (twin.dataset.load_spec), got {describe(spec)}")
+    if not {c.hash for c in cases} <= {c.hash for c in plan(spec)}:
+        raise InputError("write_index", "cases", f"are not of the plan of spec {spec.name!r} (twin.dataset.plan.plan(spec))")
+    folder = output_folder(folder, "folder")
+    names = ("index.csv", "index.parquet", "card.json", "README.md")
+    for name in names:
+        check_writable(folder / name, "index")
     rows = index_rows(cases, folder)
     c = card(spec, rows, folder, last_build)
     frame = pd.DataFrame(rows)

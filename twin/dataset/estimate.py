@@ -14,7 +14,7 @@ import time
 
 from threadpoolctl import threadpool_limits
 
-from twin.dataset.plan import Case
+from twin.dataset.plan import Case, check_cases
 from twin.dataset.runner import _prepared, check_jobs, simulate_case
 from twin.errors import InputError
 from twin.limits import is_whole
@@ -30,6 +30,7 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30) -> d
     the steps share the workers evenly. ``jobs`` is a whole number from 1 to
     :data:`twin.dataset.runner.MAX_JOBS`, ``calibration_steps`` one >= 1 (an
     :class:`InputError` otherwise, before anything runs)."""
+    cases = check_cases(cases, "estimate")
     jobs = check_jobs(jobs, "estimate")
     if not is_whole(calibration_steps) or calibration_steps < 1:
         raise InputError("estimate", "calibration_steps", f"must be a whole number of time steps >= 1, "

@@ -29,6 +29,7 @@ import numpy as np
 
 from twin.dataset.families import AxisDuty, DutyCycle
 from twin.dataset.spec import DatasetSpec
+from twin.errors import InputError, describe
 from twin.io.results import package_version
 from twin.scenario import scenario_from_dict
 from twin.motion import stroke_time
@@ -130,8 +131,18 @@ def _scenario_info(data: dict) -> dict:
             "ambient_amplitude [K]": a.amplitude, "ambient_coldest_at [s]": a.coldest_at if a.kind == "daily" else 0.0}
 
 
+def check_cases(cases, source: str) -> list[Case]:
+    """``cases``: a list of :class:`Case` (a plan's, :func:`plan`), or an :class:`InputError`."""
+    if not isinstance(cases, (list, tuple)) or not all(isinstance(c, Case) for c in cases):
+        raise InputError(source, "cases", f"expected a list of twin.dataset.plan.Case (twin.dataset.plan.plan), got "
+                                          f"{describe(cases)}")
+    return list(cases)
+
+
 def plan(spec: DatasetSpec) -> list[Case]:
     """Every case of ``spec`` in plan order (module doc)."""
+    if not isinstance(spec, DatasetSpec):
+        raise InputError("plan", "spec", f"expected a dataset spec (twin.dataset.load_spec), got {describe(spec)}")
     grid_keys = [k for k, d in spec.parameters.items() if d.kind == "grid"]
     grid = list(itertools.product(*(spec.parameters[k].values for k in grid_keys)))
     observers = {"sensors": "machine", "surface_grid": spec.surface_grid, "cameras": list(spec.cameras)}

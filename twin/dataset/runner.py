@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 from twin import limits
-from twin.dataset.plan import Case
+from twin.dataset.plan import Case, check_cases
 from twin.dataset.plan import case_hash as hash_of
 from twin.errors import InputError, describe
 from twin.io.paths import output_folder
@@ -189,7 +189,7 @@ def check_scheduler(scheduler: str | None) -> None:
     address ``[protocol://]host:port`` before anything runs (:class:`twin.errors.InputError`)."""
     if scheduler is None or scheduler in ("local", "local-threads"):
         return
-    if not _ADDRESS.match(scheduler):
+    if not isinstance(scheduler, str) or not _ADDRESS.match(scheduler):
         raise InputError("command line", "--scheduler", f"{scheduler!r} is not 'local', 'local-threads' or a Dask "
                                                         "scheduler address such as tcp://host:8786")
 
@@ -274,9 +274,7 @@ def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
     can be made in an existing one (:func:`twin.io.paths.output_folder`: an
     :class:`InputError` otherwise, before anything is built); the other arguments are checked
     before the folder is made."""
-    if not isinstance(cases, (list, tuple)) or not all(isinstance(c, Case) for c in cases):
-        raise InputError("build", "cases", f"expected a list of twin.dataset.plan.Case (twin.dataset.plan), got "
-                                           f"{describe(cases)}")
+    check_cases(cases, "build")
     if pool is not None and not callable(getattr(pool, "submit", None)):
         raise InputError("build", "pool", f"expected an executor (twin.dataset.executor), got {describe(pool)}")
     if progress is not None and not callable(progress):

@@ -79,7 +79,7 @@ from twin.dataset.fields import MAX_CASES, Dist, distribution, quantity
 from twin.io.table_reader import TableReader
 from twin.effects import EFFECTS
 from twin.errors import InputError, describe
-from twin.io.paths import read_toml
+from twin.io.paths import as_path, read_toml
 from twin.model import model_spec, parse_effects
 from twin.observe.instruments import INSTRUMENTS
 from twin.scenario import SCENARIO_DIR
@@ -119,7 +119,7 @@ def spec_path(name_or_path: str) -> str:
     """The file of a bundled dataset spec's name, or ``name_or_path`` itself when it is a path
     (it ends in .toml, contains a folder or exists), as :func:`twin.scenario.scenario_path` does
     for scenarios; an unknown name raises :class:`InputError` listing the bundled ones."""
-    path = Path(name_or_path)
+    path = as_path(name_or_path, "spec")
     if path.suffix == ".toml" or path.exists() or len(path.parts) > 1:
         return name_or_path
     bundled = SCENARIO_DIR / "datasets" / f"{name_or_path}.toml"
@@ -132,7 +132,7 @@ def spec_path(name_or_path: str) -> str:
 def load_spec(path: str | Path) -> DatasetSpec:
     """Read and check the spec file ``path`` (see the module doc); scenario files it names are
     read now, relative to the spec's folder."""
-    path = Path(path)
+    path = as_path(path, "spec")
     data, text = read_toml(path, "spec", "dataset spec")
     return spec_from_dict(data, str(path), path.parent, text)
 
