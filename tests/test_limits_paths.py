@@ -164,3 +164,28 @@ def test_the_io_functions_called_from_python_name_a_bad_path_or_argument(tmp_pat
         assert err.value.field == field, str(err.value)
     assert not (tmp_path / "r.csv").exists() and not (tmp_path / "n.nc").exists()
     assert read_result(nc, required=("temperature",)).sizes["time"] > 1
+
+
+def test_a_full_disk_is_one_error_and_leaves_no_file(tmp_path, monkeypatch):
+    """Helper audit: HDF5 crashed the process (exit 139) when the disk filled under a NetCDF write,
+    and Pillow's TIFF writer left a short file under its final name without an error. A NetCDF
+    file needs its size and the reserve free before it is written; any file must leave the
+    reserve free after it is written (else it may be short); either way nothing is kept, not
+    even the temporary file."""
+    from tests.fuzz_files import result_dataset
+    from twin.errors import InputError
+    from twin.io import atomic
+    from twin.io.atomic import atomic_write_text
+    from twin.io.results import write_netcdf
+
+    monkeypatch.setattr(atomic, "free_space", lambda folder: atomic.RESERVE + 1000)
+    with pytest.raises(InputError, match="not enough free space on its disk"):
+        write_netcdf(result_dataset(), tmp_path / "r.nc")
+    free = iter([10 ** 12, 10])                     # enough before, the disk full after
+    monkeypatch.setattr(atomic, "free_space", lambda folder: next(free))
+    with pytest.raises(InputError, match="the disk is full"):
+        write_netcdf(result_dataset(), tmp_path / "r.nc")
+    monkeypatch.setattr(atomic, "free_space", lambda folder: 10)
+    with pytest.raises(InputError, match="the disk is full"):
+        atomic_write_text(tmp_path / "a.txt", "x")
+    assert list(tmp_path.iterdir()) == []

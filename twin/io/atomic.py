@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from typing import Callable
@@ -31,14 +32,41 @@ def check_writable(path: str | os.PathLike, field: str = "output") -> Path:
     return output_file(path, field)
 
 
-def atomic_write(path: str | os.PathLike, write: Callable[[str], object], field: str = "output") -> Path:
-    """Call ``write(tmp)`` on a temporary path in the target's folder, then rename it to ``path``."""
+# free space [bytes] a write must leave on its disk: less after writing means a writer may have
+# stopped short without an error (Pillow's TIFF writer truncates silently on a full disk)
+RESERVE = 1 << 20
+
+
+def free_space(folder: Path) -> int:
+    """Bytes free for this process on the disk holding ``folder``."""
+    return shutil.disk_usage(folder).free
+
+
+def atomic_write(path: str | os.PathLike, write: Callable[[str], object], field: str = "output",
+                 size_hint: int | None = None) -> Path:
+    """Call ``write(tmp)`` on a temporary path in the target's folder, then rename it to ``path``.
+
+    A full disk is an :class:`InputError`, never a short file: with ``size_hint`` [bytes] (about
+    the file's size) the disk must have that much and :data:`RESERVE` free before anything is
+    written (HDF5 crashes the process when the disk fills under it), and after writing at least
+    :data:`RESERVE` must be left (some writers stop short without an error); the file is synced
+    to the disk before it is renamed."""
     path = output_file(path, field)
+    if size_hint is not None:
+        free = free_space(path.parent)
+        if free < size_hint + RESERVE:
+            raise InputError(str(path), field, f"not enough free space on its disk: about {_mb(size_hint + RESERVE)} "
+                                               f"needed, {_mb(free)} free")
     tmp = None
     try:
         fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent)
         os.close(fd)
         write(tmp)
+        with open(tmp, "rb+") as handle:
+            os.fsync(handle.fileno())
+        if free_space(path.parent) < RESERVE:
+            raise InputError(str(path), field, f"the disk is full (less than {_mb(RESERVE)} left after writing it): "
+                                               "the file may be incomplete and was not kept; free some space")
         os.chmod(tmp, 0o644)
         output_file(path, field)   # still a regular file (or nothing) right before the rename
         os.replace(tmp, path)
@@ -50,6 +78,10 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], object], field:
             Path(tmp).unlink(missing_ok=True)
     _completed.append(path)
     return path
+
+
+def _mb(n: int) -> str:
+    return f"{n / 1e6:.1f} MB"
 
 
 def atomic_write_text(path: str | os.PathLike, text: str, field: str = "output") -> Path:

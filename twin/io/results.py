@@ -112,7 +112,9 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, field: str = "output")
         raise InputError(str(path), field, f"a NetCDF file is named {', '.join(NETCDF_SUFFIXES)}, not "
                                            f"{as_path(path, field).suffix or 'without a suffix'}")
     check_finite(ds, str(path))
-    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"), field)
+    # about the file's size: the values uncompressed, the attributes and HDF5's own structures
+    size = int(ds.nbytes + sum(len(str(v)) for v in ds.attrs.values()) + 64 * 1024 * (1 + len(ds.variables)) // 8)
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"), field, size_hint=size)
 
 
 def check_finite(ds: xr.Dataset, source: str) -> None:
