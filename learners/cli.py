@@ -161,19 +161,19 @@ def _declare_files(args) -> Files:
         raise InputError("command line", "--test", "give one or more --test tables or a --dataset")
     for option, paths in (("--train", args.train), ("--test", args.test)):
         for path in paths:
-            if paths.count(path) > 1:
-                raise InputError(path, option, "given more than once")
-            files.input(path, option, "table")
+            files.input(path, option, "table", once=True)       # by any spelling, a link included
     for option, value in (("--split", args.split), ("--train-split", args.train_split)):
         if value is not None and not args.dataset:
             raise InputError("command line", option, "names a split of a --dataset: give --dataset, or leave it out")
     args.split, args.train_split = args.split or "test", args.train_split or "train"
     for path in args.output:
-        if args.output.count(path) > 1:
-            raise InputError(path, "-o", "given more than once")
         if args.dataset and Path(args.dataset).resolve() in Path(path).resolve().parents:
             raise InputError(path, "-o", f"lies in the input dataset {args.dataset}: write the scores elsewhere")
         files.output(path, "-o", (".csv", ".md"))
+    formats = [Path(path).suffix.lower() for path in args.output]
+    for path, suffix in zip(args.output, formats):
+        if formats.count(suffix) > 1:
+            raise InputError(path, "-o", f"a second {suffix} output: give one file per format (.csv, .md)")
     return files
 
 
@@ -195,8 +195,9 @@ def run_learn(args) -> int:
     test_sets = [(str(path), [path]) for path in args.test]
     if args.dataset:
         files.input(Path(args.dataset) / "index.csv", "--dataset", "dataset index (index.csv)")
-        train_paths += [files.input(p, "--dataset", "table") for p in dataset_runs(args.dataset, args.train_split)]
-        runs = [files.input(p, "--dataset", "table") for p in dataset_runs(args.dataset, args.split)]
+        # the splits' cases as --train and --test runs: a case also given by hand is one run, not two
+        train_paths += [files.input(p, "--train", "table", once=True) for p in dataset_runs(args.dataset, args.train_split)]
+        runs = [files.input(p, "--test", "table", once=True) for p in dataset_runs(args.dataset, args.split)]
         test_sets.append((f"{args.dataset} [{args.split}: {len(runs)} runs]", runs))
     first = load_table(train_paths[0], args.target, inputs=inputs, time_column=args.time_column, field="--train")
     runs = [first] + [load_table(path, args.target, inputs=first.input_names, time_column=args.time_column,

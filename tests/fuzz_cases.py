@@ -257,7 +257,7 @@ OPTION_CASES = [
      "--effects -pump"),
     ("compare:effects-file-removed", COMPARE + ["--effects-file", "{d}/fx.toml", "--effects=-pump"], CLI,
      "--effects -pump"),
-    ("diagnose:measurement-twice", DIAGNOSE[:2] + ["{d}/m.csv"] + DIAGNOSE[2:], CLI, "measurements"),
+    ("diagnose:measurement-twice", DIAGNOSE[:2] + ["{d}/m.csv"] + DIAGNOSE[2:], "{d}/m.csv", "measurement"),
     ("diagnose:mapping-with-two", DIAGNOSE[:2] + ["{d}/r.nc"] + DIAGNOSE[2:] + ["--mapping", "{d}/m.toml"], CLI,
      "--mapping"),
     # report
@@ -368,4 +368,12 @@ def all_cases() -> list[Case]:
                           "{d}/fx.toml", fld, files={"fx.toml": text}))
     for cid, argv, source, fld in OPTION_CASES:
         cases.append(Case(cid, argv, source, fld, files=OPTION_FILES.get(cid, {})))
+    # the same measurement by a hard link (with its own mapping beside it): the same file, given twice
+    cases.append(Case("diagnose:measurement-by-a-hard-link", DIAGNOSE[:2] + ["{d}/m-link.csv"] + DIAGNOSE[2:],
+                      "{d}/m-link.csv", "measurement", setup=_hard_link_measurement))
     return cases
+
+
+def _hard_link_measurement(folder: str) -> None:
+    for suffix in (".csv", ".toml"):
+        os.link(os.path.join(folder, "m" + suffix), os.path.join(folder, "m-link" + suffix))

@@ -43,7 +43,7 @@ def declare_inputs(files, args) -> None:
 
     given = getattr(args, "mapping", None)
     for path in measurement_paths(args):
-        files.input(path, "measurement", "measurement file")
+        files.input(path, "measurement", "measurement file", once=True)
         mapping = mapping_path(path, given)
         if given or (mapping is not None and os.path.lexists(mapping)):   # a missing default: the reader says so
             files.input(mapping, "--mapping", "column mapping")
@@ -105,7 +105,7 @@ def measurement_labels(paths) -> list[str]:
     """A label per measurement path, unique among them: its file name, or where two share a file
     name the shortest tail of its path that tells it from the others (``a/m.csv``, ``b/m.csv``);
     a diagnosis suffixes every channel with ``@label``, so equal labels would merge channels. The
-    paths are distinct (:func:`load_measurements` refuses one given twice), so the longest tail,
+    paths are distinct files (:func:`declare_inputs` refuses one given twice), so the longest tail,
     the whole absolute path, always tells them apart."""
     parts = [Path(os.path.abspath(p)).parts for p in paths]
     labels = []
@@ -118,8 +118,9 @@ def measurement_labels(paths) -> list[str]:
 
 def load_measurements(args):
     """([(label, Dataset, Scenario)], machine, ModelSpec, custom effect names) for ``twin
-    diagnose MEAS [MEAS ...]``: every measurement must be of the same machine; ``--mapping`` and
-    ``--scenario`` need a single measurement."""
+    diagnose MEAS [MEAS ...]``, declared first (:func:`declare_inputs`: each file once): every
+    measurement must be of the same machine; ``--mapping`` and ``--scenario`` need a single
+    measurement."""
     from twin.io.measurement import read_measurement
     from twin.model import model_spec
     from twin.motion import machine_for
@@ -132,8 +133,6 @@ def load_measurements(args):
         raise InputError("command line", "--scenario", "applies to a single measurement; leave it out (each "
                                                        "measurement drives the twin by its own logged inputs) or "
                                                        "diagnose one measurement at a time")
-    if len({os.path.realpath(p) for p in paths}) != len(paths):
-        raise InputError("command line", "measurements", "a measurement is given twice")
     runs, machine = [], None
     for path, label in zip(paths, measurement_labels(paths)):
         meas = read_measurement(path, args.mapping, args.machine)

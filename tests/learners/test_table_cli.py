@@ -203,3 +203,28 @@ def test_a_grid_sensor_the_test_file_lacks_is_named_as_a_missing_sensor(tmp_path
     assert err.value.field == "carrier:-x:0.015:1.175" and "missing input sensor" in err.value.message
     assert np.allclose(load_table(train, "drift:Z", inputs=["S1", "probe:Y2"]).X[:, 1],
                        load_table(train, "probe:Y2").y)     # an address still reads its variable
+
+
+def test_a_file_given_twice_by_another_spelling_or_a_link_and_two_outputs_of_one_format_are_refused(tmp_path,
+                                                                                                       monkeypatch):
+    """Helper audit: ``--train a.csv --train ./a.csv`` (or an absolute path, a symlink, a hard
+    link) trained on the same run twice, and ``-o s1.csv -o s2.csv`` wrote the same table twice."""
+    import os
+
+    monkeypatch.chdir(tmp_path)
+    train = _write_csv(tmp_path / "a.csv", seed=0)
+    test = _write_csv(tmp_path / "b.csv", seed=1)
+    os.link(train, tmp_path / "hard.csv")
+    os.symlink(train, tmp_path / "soft.csv")
+    common = ("--target", "drift_z", "--learner", "mlr")
+    for again in ("./a.csv", str(tmp_path / "a.csv"), "hard.csv", "soft.csv"):
+        with pytest.raises(InputError, match="is the same file as") as err:
+            run_learn(_args("--train", "a.csv", "--train", again, "--test", test, *common))
+        assert err.value.field == "--train"
+    with pytest.raises(InputError, match="is the same file as"):
+        run_learn(_args("--train", train, "--test", "b.csv", "--test", "./b.csv", *common))
+    for outputs in (("s1.csv", "s2.csv"), ("s1.md", "s2.MD")):
+        with pytest.raises(InputError, match="one file per format") as err:
+            run_learn(_args("--train", train, "--test", test, *common, "-o", outputs[0], "-o", outputs[1]))
+        assert err.value.field == "-o"
+    assert not any(tmp_path.glob("s[12].*"))

@@ -209,9 +209,16 @@ class Files:
             if same_file(path, other):
                 raise InputError(str(path), field, f"is also the output of {other_field}")
 
-    def input(self, path: str | os.PathLike, field: str, what: str = "file") -> Path:
-        """Declare a file the command reads; returns it checked (:func:`input_file`)."""
+    def input(self, path: str | os.PathLike, field: str, what: str = "file", once: bool = False) -> Path:
+        """Declare a file the command reads; returns it checked (:func:`input_file`). ``once``:
+        no other input of ``field`` is the same file (by any spelling, a link included: a run
+        given twice would weigh twice)."""
         path = input_file(path, field, what)
+        if once:
+            for other, other_field in self.inputs:
+                if other_field == field and same_file(path, other):
+                    raise InputError(str(path), field, f"is the same file as {str(other)!r}, given before: give each "
+                                                       "file once")
         self._clash(path, field, output=False)
         self.inputs.append((path, field))
         return path
