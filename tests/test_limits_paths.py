@@ -189,3 +189,20 @@ def test_a_full_disk_is_one_error_and_leaves_no_file(tmp_path, monkeypatch):
     with pytest.raises(InputError, match="the disk is full"):
         atomic_write_text(tmp_path / "a.txt", "x")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_late_failure_says_which_outputs_were_written_whole(tmp_path, monkeypatch, capsys):
+    """Helper audit: a report whose second file fails (a full disk) left the first without a word;
+    the one error line now lists the outputs written before the error, each whole."""
+    from tests.fuzz_files import result_dataset
+    from twin.cli import main
+    from twin.io import atomic
+    from twin.io.results import write_netcdf
+
+    nc = write_netcdf(result_dataset(), tmp_path / "r.nc")
+    free = iter([10 ** 12, 10])                        # report.md written, then the disk is full
+    monkeypatch.setattr(atomic, "free_space", lambda folder: next(free, 10))
+    assert main(["report", "iso230-3", str(nc), "-o", str(tmp_path / "rep")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "the disk is full" in err[0]
+    assert err[0].endswith(f"(written before the error, each whole: {tmp_path / 'rep' / 'report.md'})")

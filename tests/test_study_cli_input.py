@@ -237,6 +237,7 @@ def csv_dataset(tmp_path):
     (["--select", "gm0n-fcm:"], "K must be a whole number >= 1, got ''"),
     (["--learners", "mlr,mlr"], "command line: --learners: mlr given more than once"),
     (["--seed", "1", "--seed", "2"], "command line: --seed: given more than once"),
+    (["--n-random", "0"], "--n-random"),      # it failed after the leaderboard was written
     (["--interval", "0 s"], "command line: --interval: must be positive"),
     (["--interval", "-60 s"], "command line: --interval: must be positive"),
     (["--split", "bogus"], "no split 'bogus'"),

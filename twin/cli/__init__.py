@@ -122,7 +122,9 @@ def _main(argv: list[str] | None) -> int:
     try:
         return int(args.func(args) or 0)
     except InputError as err:
-        print(f"error: {err}", file=sys.stderr)
+        done = atomic.completed()   # a late failure (a full disk): say which outputs were made, whole
+        also = f" (written before the error, each whole: {', '.join(map(str, done))})" if done else ""
+        print(f"error: {err}{also}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # the reader (e.g. `| head`) went away: stop writing, quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

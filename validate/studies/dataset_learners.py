@@ -179,7 +179,7 @@ def _parser():
     p.add_argument("--interval", type=positive_quantity("time"), default="60 s",
                    help="thin every run to this sample interval, with its unit (default '60 s')")
     p.add_argument("--segments", type=whole_number("segments", 1), default=4, help="time segments per run in the leaderboard (default 4)")
-    p.add_argument("--n-random", type=whole_number("random sets"), default=20, help="random sensor sets (default 20)")
+    p.add_argument("--n-random", type=whole_number("random sets", 1), default=20, help="random sensor sets (default 20)")
     p.add_argument("--no-exhaustive", action="store_true", help="skip the exhaustive search of the placement")
     p.add_argument("--no-placement", action="store_true", help="the leaderboard only")
     add_seed_option(p, "random_state of learners, selectors and draws")
