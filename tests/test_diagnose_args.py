@@ -111,3 +111,31 @@ def test_a_spec_built_in_python_takes_only_finite_numbers():
     with pytest.raises(InputError, match="finite number"):
         ModelSpec(default_spec(MACHINE).effects, {"spindle_bearings": {"front_power": True}})
     default_spec(MACHINE).check_bounds()
+
+
+def test_the_synthetic_truth_names_a_bad_factor_or_settings_and_lets_the_user_set_the_instruments(monkeypatch):
+    """API audit: ``short_scenario(sc, -1)`` gave 10 s steps silently, a settings text was read
+    letter by letter, and a user's own sensor noise clashed with the truth's built-in one."""
+    import validate.synthetic as synthetic
+
+    for factor in (-1, 0, float("nan"), "2"):
+        with pytest.raises(InputError) as err:
+            synthetic.short_scenario(SCENARIO, factor)
+        assert err.value.field == "factor"
+    assert synthetic.short_scenario(SCENARIO, 0.5).duration == 300.0
+    with pytest.raises(InputError) as err:
+        synthetic.truth_measurement("cframe-vmc", SCENARIO, settings="probe.noise=0.1 um")
+    assert err.value.field == "--set"
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def simulate(*args, **kwargs):
+        seen.update(kwargs)
+        raise Stop
+    monkeypatch.setattr(synthetic, "simulate", simulate)
+    with pytest.raises(Stop):
+        synthetic.truth_measurement("cframe-vmc", SCENARIO, settings=["temperature_sensor.noise=0.2 K"])
+    assert "temperature_sensor.noise=0.2 K" in seen["settings"]
+    assert sum(s.startswith("temperature_sensor.noise") for s in seen["settings"]) == 1

@@ -19,6 +19,8 @@ import numpy as np
 
 from twin.api import simulate
 from geometries.materials import MATERIALS
+from twin.errors import InputError, describe
+from twin.limits import is_number
 from twin.scenario import Scenario
 
 PERTURBED = {
@@ -31,7 +33,11 @@ INSTRUMENT_SETTINGS = ["temperature_sensor.bias=0.03 K", "temperature_sensor.noi
 
 def short_scenario(sc: Scenario, factor: float) -> Scenario:
     """A copy of ``sc`` with every step ``factor`` times as long (rounded to the sample interval),
-    the C axis's steps too."""
+    the C axis's steps too; ``factor`` is a finite number > 0."""
+    if not isinstance(sc, Scenario):
+        raise InputError("short_scenario", "sc", f"expected a twin.scenario.Scenario, got {describe(sc)}")
+    if not is_number(factor) or not np.isfinite(factor) or factor <= 0:
+        raise InputError("short_scenario", "factor", f"expected a finite number > 0, got {describe(factor)}")
     scale = lambda d: max(round(d * factor / sc.sample_interval), 1) * sc.sample_interval
     steps = tuple((scale(d), s) for d, s in sc.steps)
     c_axis = sc.c_axis
@@ -51,9 +57,16 @@ def truth_twin(machine, resolution: str = "default", perturb: bool = True):
 def truth_measurement(machine: str, scenario: Scenario, effects: str | None = None, settings: list[str] | None = None,
                       resolution: str = "default", seed: int = 1, perturb: bool = True, prepared=None):
     """Simulate the truth and return the measurement Dataset on ``scenario``'s time grid
-    (``prepared``: a :func:`truth_twin` to reuse)."""
+    (``prepared``: a :func:`truth_twin` to reuse). ``settings`` (a list of ``--set`` texts) may
+    set the instruments' bias and noise, which the truth otherwise takes from
+    :data:`INSTRUMENT_SETTINGS`."""
+    if isinstance(settings, str):
+        raise InputError("command line", "--set", f"expected a list of 'effect.param=VALUE UNIT' texts, got the text "
+                                                  f"{settings!r}: write [{settings!r}]")
+    given = {str(t).split("=", 1)[0].strip() for t in settings or []}
+    instruments = [t for t in INSTRUMENT_SETTINGS if t.split("=", 1)[0] not in given]   # the user's value wins
     fine = replace(scenario, sample_interval=scenario.sample_interval / 2)
-    ds, _ = simulate(machine, fine, effects=effects, settings=list(settings or []) + INSTRUMENT_SETTINGS,
+    ds, _ = simulate(machine, fine, effects=effects, settings=list(settings or []) + instruments,
                      resolution=resolution, seed=seed, materials=PERTURBED if perturb else None, prepared=prepared)
     ds = ds.isel(time=slice(None, None, 2))
     if "positioning_error" in ds:
