@@ -149,3 +149,24 @@ def test_the_python_api_names_a_wrong_argument_before_any_work(tmp_path):
             call()
         assert err.value.field == field, str(err.value)
     assert sorted(p.name for p in out.iterdir()) == ["index.parquet"]
+
+
+def test_a_changed_case_record_is_named_not_a_key_error(tmp_path):
+    """API audit: a record whose machine is unknown raised KeyError from the machine registry, and
+    ``max_steps=0`` blamed the scenario's spindle steps."""
+    from twin.dataset.runner import simulate_case
+    from twin.errors import InputError
+
+    record = plan(load_spec(write_spec(tmp_path)))[0].record
+    for bad, field in (({**record, "machine": "nope"}, "machine"), ({k: v for k, v in record.items() if k != "mesh"},
+                                                                     "mesh"), ("x", "record")):
+        with pytest.raises(InputError) as err:
+            simulate_case(bad)
+        assert err.value.field == field, str(err.value)
+    for steps in (0, -1, 2.5):
+        with pytest.raises(InputError) as err:
+            simulate_case(record, max_steps=steps)
+        assert err.value.field == "max_steps"
+    with pytest.raises(InputError) as err:
+        spec_from_dict({"machines": [["cframe-vmc"]], "scenarios": []}, "x.toml")
+    assert err.value.field == "machines[0]"

@@ -82,6 +82,9 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
     from twin.scenario import scenario_from_dict
     from twin.simulate import run
 
+    check_record(record)
+    if max_steps is not None and (not limits.is_whole(max_steps) or max_steps < 1):
+        raise InputError("simulate_case", "max_steps", f"expected a whole number of time steps >= 1, got {max_steps!r}")
     family = record["family"]
     data = json.loads(json.dumps(record["scenario"]))
     cams = [{"pose": p} for p in record["observers"]["cameras"]]
@@ -116,6 +119,24 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
         if var.dtype.kind in "fiu" and var.ndim >= 1:
             var.encoding.update(COMPRESSION)
     return ds, result
+
+
+RECORD_KEYS = ("family", "draw", "scenario", "observers", "machine", "mesh", "solver", "effects", "settings", "theta", "seed")
+
+
+def check_record(record) -> None:
+    """A case record as a plan makes it (:func:`twin.dataset.plan.plan`): a dict with at least
+    :data:`RECORD_KEYS`, of a registered machine; an :class:`InputError` naming the key otherwise."""
+    from geometries import MACHINES
+
+    if not isinstance(record, dict):
+        raise InputError("case record", "record", f"expected a plan's case record (a dict), got {describe(record)}")
+    missing = [k for k in RECORD_KEYS if k not in record]
+    if missing:
+        raise InputError("case record", missing[0], "missing: not a record of twin.dataset.plan.plan")
+    if not isinstance(record["machine"], str) or record["machine"] not in MACHINES:
+        raise InputError("case record", "machine", f"unknown machine {record['machine']!r}; known: "
+                                                   f"{', '.join(sorted(MACHINES))}")
 
 
 def _truncated(sc, max_steps: int):

@@ -146,7 +146,7 @@ def spec_from_dict(data: dict, source: str, folder: Path = Path("."), text: str 
     if not machines:
         raise InputError(source, "machines", "names no machine")
     for i, m in enumerate(machines):
-        if m not in MACHINES:
+        if not isinstance(m, str) or m not in MACHINES:
             raise InputError(source, f"machines[{i}]", f"unknown machine {m!r}; known: {', '.join(sorted(MACHINES))}")
     if len(set(machines)) != len(machines):
         raise InputError(source, "machines", "a machine is named twice")
