@@ -136,10 +136,11 @@ def check_strains(values, source: str, field: str) -> np.ndarray:
 
 def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool = False) -> np.ndarray:
     """C-axis speeds [rpm] checked: finite, not negative, within the machine's C-axis maximum
-    (``parameters["c_axis_max_speed"]``; plus :data:`LOGGED_SPEED_MARGIN` for a log)."""
+    (``parameters["c_axis_max_speed"]``; plus :data:`LOGGED_SPEED_MARGIN` for a log); without a
+    machine (None) finite and not negative only."""
     v = np.asarray(values, dtype=float)
     flat = v.ravel()
-    top = (getattr(machine, "parameters", None) or {}).get("c_axis_max_speed")
+    top = (getattr(machine, "parameters", None) or {}).get("c_axis_max_speed") if machine is not None else np.inf
     if top is None:
         raise InputError(source, field, f"machine {getattr(machine, 'name', '?')} has no C axis")
     bad = np.flatnonzero(~np.isfinite(flat) | (flat < 0))

@@ -98,7 +98,10 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
     times) whose compared channels are finite; at least one channel must be in both.
     """
     source = str(getattr(measured, "attrs", {}).get("source", "measurement"))
-    measured = check_measurement(measured, None, source)
+    named, modelled = (getattr(ds, "attrs", {}).get("machine") for ds in (measured, model))
+    if named is not None and modelled is not None and str(named) != str(modelled):
+        raise InputError(source, "machine", f"the measurement is of machine {named!r}, the model of {modelled!r}")
+    measured = check_measurement(measured, _named_machine(measured, model), source)
     if not isinstance(model, xr.Dataset) or "time" not in model.variables:
         raise InputError("compare", "model", f"expected a twin result (an xarray.Dataset with a time axis), got "
                                              f"{describe(model)}")
@@ -110,9 +113,6 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
     t = np.asarray(measured.time.values, float)
     mod_t = np.asarray(model.time.values, float)
     t_mod = t - t[0] + mod_t[0]
-    named, modelled = measured.attrs.get("machine"), model.attrs.get("machine")
-    if named is not None and modelled is not None and str(named) != str(modelled):
-        raise InputError(source, "machine", f"the measurement is of machine {named!r}, the model of {modelled!r}")
     if t_mod[-1] > mod_t[-1] + 1e-6 * max(1.0, abs(mod_t[-1])):
         raise InputError(source, "time", f"the measurement spans {(t[-1] - t[0]) / 3600:g} h, the model "
                                          f"{(mod_t[-1] - mod_t[0]) / 3600:g} h: it must cover the whole measurement")
@@ -142,6 +142,16 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
         coords={"time": ("time", t, {"units": "s"}), "channel": ("channel", names),
                 "unit": ("channel", [meas.units[meas.names.index(n)] for n in names])})
     return CompareResult(results, phases, residuals)
+
+
+def _named_machine(measured, model):
+    """The registered machine the measurement (else the model) names, for its limits; None when
+    neither names one (the values are then checked against the limits of any machine)."""
+    from geometries import MACHINES, build_machine
+
+    names = [getattr(ds, "attrs", {}).get("machine") for ds in (measured, model)]
+    name = next((str(n) for n in names if n is not None), None)
+    return build_machine(name) if name in MACHINES else None
 
 
 def format_compare(result: CompareResult, top: int = 8) -> str:
