@@ -23,10 +23,12 @@ of accumulated size and the fit drives ``a`` towards 0, where its sign is set by
 seeds fit grey models on a handful of samples (the thesis's GNNMCI: the first 5 readings; its
 LS-based GMC(1,N) has b_1 = 1.75 per sample, Table 6-3), where this does not arise. The default
 ``fit_method="response"`` therefore fits what ``predict`` computes: least squares of the simulated
-response against the data (the fitness (3.17) that the thesis's PSO minimises), solved exactly by
-variable projection: for a fixed development coefficient the response is linear in the driving
-coefficients (and ``u``), so those come from linear least squares, and a bounded 1-D search over
-``a >= 0`` (a stable, dissipative response) picks the development coefficient. The equation fit is
+response against the data (the fitness (3.17) that the thesis's PSO minimises) by variable
+projection: for a fixed development coefficient the response is linear in the driving
+coefficients (and ``u``), so those are exact linear least squares, and a 1-D search over ``a > 0``
+(a stable, dissipative response: a log grid of 49 values refined by bounded Brent between the best
+one's neighbours) picks the development coefficient: the global minimum to the grid's resolution,
+not proven beyond it (a minimum narrower than a grid step could be missed). The equation fit is
 still available; it refuses (``InputError``) a fitted model whose response would grow by more than
 a factor ``1e3`` over the record, instead of returning numbers of order 1e26.
 """

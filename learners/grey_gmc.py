@@ -27,8 +27,10 @@ Least squares, two ways (``fit_method`` of :class:`GMC1N`; see :mod:`learners.gr
   negative one makes the response grow as ``e^{-b_1 k}`` (1e14 to 1e16 on the seed-001 twin
   run), so a fitted response that would grow more than 1e3-fold over the record is refused.
 - ``"response"`` (default): least squares of the simulated response itself, the fitness (3.17),
-  solved exactly by variable projection: for fixed ``b_1`` the response is linear in ``(b_j, u)``;
-  ``b_1`` in ``(0, 20]`` by a bounded 1-D search. This is the optimum the PSO variant approximates.
+  by variable projection: for fixed ``b_1`` the response is linear in ``(b_j, u)`` (exact linear
+  least squares); ``b_1`` in ``(0, 20]`` by a log grid refined by bounded Brent
+  (:func:`learners.grey.response_ls_fit`: the global minimum to the grid's resolution). The PSO
+  variant searches the same fitness stochastically.
 
 PSO (thesis §3.6 steps 1-6, §6.3.2: 90 particles, c1 = c2 = 2, inertia 0.9 -> 0.4, 100 epochs)
 minimises the fitness (3.17) ``sum_k (x_hat_1^(0)(k) - x_1^(0)(k))^2`` over (b_1, b_j, u).

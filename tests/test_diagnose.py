@@ -242,7 +242,7 @@ def test_nothing_hidden_is_nothing_missing(nothing):
     d = nothing
     assert d.verdict == "nothing_missing" and not d.significant, format_diagnosis(d)
     assert all(f <= 3 for f in d.residual_factor.values())
-    assert d.model_error_rms is not None and "mesh error estimate" in format_diagnosis(d)
+    assert d.model_error_rms is not None and "model error (given)" in format_diagnosis(d)   # passed in, not a mesh run
     assert d.message.startswith("nothing_missing")
 
 

@@ -95,7 +95,7 @@ def test_without_a_model_error_estimate_nothing_says_model_error_0(cabinet_at_95
     text = format_diagnosis(d)
     for out in (text, d.message):
         assert "model error 0 " not in out and "model error not estimated" in out
-    assert d.message.startswith("nothing_missing: the residual is within noise alone, the model error not estimated")
+    assert d.message.startswith("nothing_missing: the residual is within 3x noise alone, the model error not estimated")
     assert "compare with noise only" in text
     doc = json.loads(json.dumps(diagnosis_json(d)))
     assert doc["model_error_rms"] is None
@@ -128,7 +128,7 @@ def test_group_levels_none_without_an_estimate_and_the_factor_against_noise_alon
     assert "noise alone for probe whose model error was not estimated" in text and "model error 0 " not in text
 
 
-# --- 6: only the groups above the limit are "far above"; each percentage names its base ------------
+# --- 6: only the groups above the limit are "above"; each percentage names its base ------------
 
 def test_unexplained_names_only_the_groups_above_the_limit_and_the_bases():
     """The audit's case: temperature 2.4x, probe 4.9x; the best candidate explains 37 % of the
@@ -138,7 +138,7 @@ def test_unexplained_names_only_the_groups_above_the_limit_and_the_bases():
     regions = [{"region": "saddle", "power_W": 81.1, "schedule": "constant", "explained": 0.89}]
     text = message("unexplained", top, {"temperature": 2.4, "probe": 4.9}, None, LEVELS,
                    [("probe:Y2", 8.4)], "spindle off (1.0-1.7 h)", regions)
-    assert text.startswith("unexplained: the residual is far above noise and model error: probe 4.9x (noise 0.098 um, "
+    assert text.startswith("unexplained: the residual is above noise and model error: probe 4.9x (noise 0.098 um, "
                            "model error 0.12 um); temperature 2.4x (noise 0.057 K, model error 0.028 K) is within the "
                            "limit of 3x")
     assert "explains only 37% of the weighted residual (of the groups above noise: probe), 17% of all groups" in text

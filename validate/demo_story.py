@@ -197,7 +197,7 @@ def run_story(out_dir: Path, mesh: str = "default", seed: int = 0, say: Callable
             fit = top["values_si"][HIDDEN][HIDDEN_PARAMETER]
             say(f"  the hidden truth was {HIDDEN}.{HIDDEN_PARAMETER} = {true_text}; fitted {_short(fit, par.dimension)} "
                 f"({fit / hidden_value - 1:+.0%}; the model differs from the 'real' machine in materials, time step "
-                f"and mesh, and absorbs some of that)")
+                f"and mesh, which the fitted value may absorb in part)")
     else:
         say(f"apply: nothing to add (the verdict is {d.verdict})")
     lap("apply")

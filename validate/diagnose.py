@@ -489,8 +489,9 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
                           V.worst_channels(ev, left, d.levels), V.worst_time(ev, left, d.weights_flat), d.regions,
                           d.beyond_model_error, d.test)
     bound = bound_text(top_fit) if top_fit is not None else ""
-    if bound:   # the fit would go past the bound if the range allowed it
-        d.message += f"; the {'named' if kept else 'best'} candidate's {bound}: the fit would go past it"
+    if bound:   # a member within 0.1 % of its range's end: reported, not read as an interior optimum
+        d.message += (f"; the {'named' if kept else 'best'} candidate's {bound}: it sits at the end of its "
+                      "plausible range (the range may be too narrow, or something else is wrong)")
     at_bound = [m for m, v in d.nuisance.items() if v["at_bound"]]
     if at_bound:
         d.message += ("; " + ", ".join(f"{m} expansion at its bound {d.nuisance[m]['change']:+.0%}" for m in at_bound)

@@ -30,7 +30,7 @@ def add_diagnose_parser(subparsers) -> None:
                       effects_help="the diagnosing model's effects: '+a,-b' edits the default set, 'a,b' replaces it")
     p.add_argument("--error-mesh", default="auto", choices=["auto", "none", "coarse", "default", "fine"],
                    help="mesh on which the baseline is rerun once to estimate the diagnosing model's discretisation "
-                        "error per channel: a finer one estimates it, a coarser one bounds it (default auto: the next "
+                        "error per channel: a finer one estimates it, a coarser one usually overestimates it (default auto: the next "
                         "finer than --mesh, else the next coarser; none: no estimate)")
     p.add_argument("--no-parameters", action="store_true",
                    help="do not try the uncertain parameters of the model's own effects, only missing effects")

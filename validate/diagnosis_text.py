@@ -79,7 +79,9 @@ def format_diagnosis(d, top: int = 8) -> str:
         if idx:
             lines.append(f"  {g} [{_unit(g)}]: " + ", ".join(f"{names[i].split(':', 1)[1]} {base[i]:.3g}" for i in idx))
             if err is not None:
-                lines.append(f"    mesh error estimate ({d.error_resolution} vs the diagnosing mesh): "
+                what = (f"mesh error estimate ({d.error_resolution} vs the diagnosing mesh)" if d.error_resolution
+                        else "model error (given)")
+                lines.append(f"    {what}: "
                              + ", ".join(f"{names[i].split(':', 1)[1]} {err[i]:.3g}" for i in idx))
     if err is None:
         lines.append("  model error: not estimated (no --error-mesh run): the factors below compare with noise only")

@@ -16,6 +16,7 @@ from twin.errors import InputError, describe
 from twin.io.atomic import atomic_write_text
 from twin.io.paths import output_folder
 from validate.channels import residual_unit
+from validate.verdict import WITHIN, against
 from validate.report_map import machine_outline as _machine_outline
 
 def _png(fig) -> str:
@@ -200,9 +201,9 @@ _CAPTIONS = {
                  "when a member sits at a bound of its range) and its BIC weight (the Schwarz weight of the "
                  "candidate among these candidates and 'nothing missing': relative, so the best of a poor set "
                  "holds about 1.00; not the probability that it is the cause). Green: the candidate the verdict "
-                 "names; orange: it passes the significance test (>= 10 BIC units, >= 50 % explained) but the "
-                 "verdict does not name it (the residual is within noise and model error); grey: it fails the "
-                 "test.",
+                 "names; orange: it passes the significance test (>= {margin:g} BIC units, >= {share:.0%} explained) "
+                 "but the verdict does not name it (it is not the top candidate, or the residual is within "
+                 "{within:g}x {envelope}); grey: it fails the test.",
     "Where": "A generic heat input (constant, or while the spindle turns) fitted alone on each region of the "
              "machine's partition (each part, each part's outer faces by direction); the best regions are "
              "coloured by their fitted power [W] (volumes filled, faces as thick edges or hatched when they face "
@@ -246,7 +247,8 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
                            format_before_after(d, after, calibrated)))
     parts += [block(t, x) for t, x in closing or []]
     for title, png in figures(d, machine, after).items():
-        caption = next((c for k, c in _CAPTIONS.items() if title.startswith(k)), "")
+        caption = next((c for k, c in _CAPTIONS.items() if title.startswith(k)), "").format(
+            margin=d.test[0], share=d.test[1], within=WITHIN, envelope=against(d.levels))   # this diagnosis's test
         parts.append(f"<h2>{html.escape(title)}</h2><p class='caption'>{html.escape(caption)}</p>"
                      f"<img src='data:image/png;base64,{png}'/>")
     parts.append("</body></html>")

@@ -187,7 +187,8 @@ def _factor_text(g: str, f: float, level: tuple) -> str:
     unit = residual_unit(g)
     noise, err = level
     e = f"model error {err:.2g} {unit}" if err is not None else "model error not estimated"
-    return f"{g} {f:.1f}x (noise {noise:.2g} {unit}, {e})"
+    digits = 2 if abs(f - WITHIN) < 0.05 else 1      # 3.04x is not printed as the limit's 3.0x
+    return f"{g} {f:.{digits}f}x (noise {noise:.2g} {unit}, {e})"
 
 
 def _factors_text(factors: dict[str, float], levels: dict) -> str:
@@ -200,8 +201,8 @@ def _inside(levels: dict) -> str:
 
 
 def _above_text(factors: dict[str, float], levels: dict, what: str) -> str:
-    """'far above noise and model error: probe 4.9x (...); temperature 2.4x (...) is within the limit
-    of 3x': only the groups above ``WITHIN`` are called above (``what``: 'far above', 'still
+    """'above noise and model error: probe 4.9x (...); temperature 2.4x (...) is within the limit
+    of 3x': only the groups above ``WITHIN`` are called above (``what``: 'above', 'still
     above')."""
     above = {g: f for g, f in factors.items() if f > WITHIN}
     within = {g: f for g, f in factors.items() if f <= WITHIN}
@@ -248,7 +249,7 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
              if beyond is not None else "")
     share = share_text(factors)
     if verdict == "nothing_missing":
-        head = f"nothing_missing: the residual is within {env} ({fac})"
+        head = f"nothing_missing: the residual is within {WITHIN:g}x {env} ({fac})"
         if not top:
             return head
         if top.get("significant"):
@@ -286,5 +287,6 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
     reg = (f"; a generic heat input fits best on {regions[0]['region']} ({regions[0]['power_W']:.3g} W "
            f"{regions[0]['schedule'].replace('_', ' ')}, explains {regions[0]['explained']:.0%} of the weighted "
            f"residual of all groups)" if regions else "")
-    return (f"unexplained: the residual is {_above_text(factors, levels, 'far above')}; {best}; the cause is "
-            f"probably outside the library; worst at {left}, mostly during {when}{reg}")
+    return (f"unexplained: the residual is {_above_text(factors, levels, 'above')}; {best}; no library candidate, "
+            f"as fitted, explains it: the cause may lie outside the library (or a candidate's fit failed: see "
+            f"its bounds); worst at {left}, mostly during {when}{reg}")

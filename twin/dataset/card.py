@@ -38,10 +38,10 @@ ERROR_ATTRS = {"rom_error_bound": "verified bound of the reduced model (guarante
                "solver_error_bound": "verified bound of the iterative solver (guaranteed, pessimistic)"}
 ERROR_UNITS = {"drift": ("um", 1e6), "probes": ("um", 1e6), "temperature": ("K", 1.0)}
 ERROR_NOTE = ("Largest over the built cases and the group's outputs. The reduced model's bound holds for any "
-              "input but is pessimistic by about 1e4 on temperatures (hundreds of K against a true error of "
-              "hundredths); its estimate is within a factor 1-15 of the true error on the drift outputs but has "
-              "underestimated single temperature sensors by up to 1.6x (README, 'Scale'). The direct solver "
-              "reports nothing: it is exact to round-off.")
+              "input; measured once on the C-frame's test cases (README, 'Scale', not on this dataset) it was "
+              "pessimistic by about 1e4 on temperatures, and the estimate was within a factor 1-15 of the true "
+              "error on the drift outputs but underestimated single temperature sensors by up to 1.6x. The "
+              "direct solver reports nothing: it is exact to round-off.")
 
 
 def solver_error(folder: Path, rows: list[dict]) -> dict:

@@ -134,7 +134,8 @@ def placement_sets(train, tests, names, k: int, seed: int, n_random: int, exhaus
     if exhaustive:
         best, rmse, n = exhaustive_best(Xtr, ytr, Xte, yte, cand, k, progress=progress)
         sets["truth-exhaustive"] = [best]
-        notes["truth-exhaustive"] = f"optimum for least squares over all {n} sets, test RMSE {rmse:.4g}"
+        notes["truth-exhaustive"] = (f"best for least squares over all {n} sets (to the normal equations' screen, "
+                                     f"its best rechecked by lstsq), test RMSE {rmse:.4g}")
     return sets, notes
 
 
@@ -271,7 +272,8 @@ def _run(args) -> int:
              f"p95 \\|res\\| {unit}", "inputs", "how"]
     text = (f"# Sensor placement on `{args.dataset}`, {k} sensors, {args.target}\n\n{note}\n\nCandidates: all "
             f"{len(names)} sensors. The truth-greedy and truth-exhaustive sets use the test runs' truth; the "
-            "exhaustive one is the optimum for least squares (the `mlr` rows) over every set, not for `gm1n`.\n\n"
+            "exhaustive one is the best set for least squares (the `mlr` rows) over every set, to the accuracy of "
+            "its normal-equations screen, not for `gm1n`.\n\n"
             + markdown_table(prow, cols, heads) + "\n")
     atomic_write_text(out / "placement.md", text, field="-o")
     print(markdown_table(prow, cols, heads))

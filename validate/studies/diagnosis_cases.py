@@ -71,8 +71,9 @@ HIDDEN = {
     "feed_motor_y": (AXIS, None, "the Y motor's losses enter the bed's front while the axis moves; 50 W at 20 mm/s "
                                "plus 5 W holding is the default."),
     "feed_guideways_y": (AXIS, "30 W", "guideway friction heats the rails under the carriages as they pass; 30 W at "
-                                     "20 mm/s is the top of its plausible range (the 10 W default, spread along "
-                                     "the rails, leaves a residual within the probes' noise)."),
+                                     "20 mm/s is the top of its plausible range, chosen (not the 10 W default, "
+                                     "spread along the rails) so that the hidden heat leaves a residual for the "
+                                     "case to test."),
     "feed_bearings_y": (AXIS, "6 W", "the screw's support bearings heat with the screw speed; 6 W at 20 mm/s is a "
                                    "strongly preloaded pair."),
     "c_axis_drive": (DUTY, None, "the C axis's motor and bearing heat the ram's end while it turns: the C-axis test "

@@ -60,7 +60,7 @@ def variants() -> list[dict]:
         {"name": "film coefficient at its plausible low end",
          "why": "ambient_convection.h 4 W/m2K (8 as built; range 4-16): the ram keeps the most heat",
          "build": {}, "settings": ["ambient_convection.h=4W/m2K"]},
-        {"name": "all at once", "why": "every change above together: the most this drive can do",
+        {"name": "all at once", "why": "every change above together (not a search over their combinations)",
          "build": {**low, "screw_x": (0.16, 0.20)},
          "settings": blocks_low + ["feed_nut_z.screw_share=0.9", f"feed_motor_z.holding_power={hold:.1f}W",
                                    "ambient_convection.h=4W/m2K"]},

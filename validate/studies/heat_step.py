@@ -145,7 +145,7 @@ def rows_for(spacing: float | None, steps: int, heat_tol: float, coarsenings: li
         if first is None:
             first = (y, bound)
         its = np.asarray(stepper.iterations)
-        row = {"variant": name, "nodes": int(loads.mm.nheat), "steps": steps, "iterations_mean": float(its.mean()),
+        row = {"variant": name, "nodes": int(loads.mm.nheat), "steps": steps, "run_steps": total, "iterations_mean": float(its.mean()),
                "iterations_max": int(its.max()), "step_ms": 1e3 * wall / steps,
                "difference_K": float(np.abs(y - first[0]).max()), "bound_K": float((bound + first[1]).max())}
         progress(f"  {name}: {row['iterations_mean']:.2f} iterations a step, {row['step_ms']:.1f} ms")
@@ -162,7 +162,7 @@ def markdown(rows: list[dict], command: str) -> str:
     return "\n".join([
         "# The heat step's preconditioner and start (issue 10)", "",
         f"Command: `{command}`; `{MACHINE}`, `{SCENARIO}`, {r['nodes']} temperature dofs, the first {r['steps']} "
-        "of 1440 steps at the whole run's per-step tolerance. One CG iteration is one product with the "
+        f"of {r['run_steps']} steps at the whole run's per-step tolerance. One CG iteration is one product with the "
         "heat matrix; a two-grid iteration is three and a coarse solve.", "",
         markdown_table(rows, cols, heads), ""])
 

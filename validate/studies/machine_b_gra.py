@@ -82,8 +82,9 @@ def why(rows, sel) -> list[str]:
     deg = {int(r["point"][1:]): r["degree"] for r in rows}
     g5 = sel["groups"][5]
     out = [f"- Liu's degree (Eq. 4.1) compares the accumulated Y [um] with each point's accumulated rise [K]: "
-           f"the twin's peak Y here is {sel['y_peak_um']:.1f} um against the seed's 79 um (the twin's Y is too "
-           "small, README), so the points whose rise best matches a small displacement win; the degrees span "
+           f"the twin's peak Y here is {sel['y_peak_um']:.1f} um against the seed's 79 um "
+           f"({sel['y_peak_um'] / 79.0:.2g} of it{', README' if sel['y_peak_um'] < 0.8 * 79.0 else ''}), so the "
+           "points whose rise best matches this displacement win; the degrees span "
            f"{min(deg.values()):.2g}-{max(deg.values()):.2g}."]
     air_first = [i for i in g5[:3] if i in AIR]
     out.append(f"- Air points read the room air the model assumes (no warm air round the spindle): T75, the seed's "

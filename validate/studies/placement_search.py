@@ -16,9 +16,10 @@ intercept column first: for the index set J = {0} u S,
 with ``G = A^T A``, ``b = A^T y`` of each set. Sets are processed in chunks (one batched 5 x 5 solve
 each for k = 4), so C(168, 4) = 31.6 million sets take about a minute; the best ``recheck`` sets are
 then scored again by ``numpy.linalg.lstsq`` on the rows themselves (the normal equations square the
-condition number of nearly collinear neighbouring sensors), and the best of those is returned. The
-optimum is exact for this criterion (least squares, test RMSE) over all sets; another learner's best
-set may differ.
+condition number of nearly collinear neighbouring sensors), and the best of those is returned: the
+optimum for this criterion (least squares, test RMSE) over all sets to the screen's accuracy (a
+set the normal equations rank below the rechecked ones is not rescored; their SSE margin is what
+separates them); another learner's best set may differ.
 """
 
 from __future__ import annotations
