@@ -149,7 +149,10 @@ def gm0n_coefficients_runs(runs, alpha=0.0) -> np.ndarray:
     return theta
 
 
-def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = 1e-6, n_grid: int = 49, start=None):
+A_MIN = 1e-6   # the response fit's smallest development coefficient per sample (a stable response)
+
+
+def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = A_MIN, n_grid: int = 49, start=None):
     """Least squares of a simulated grey response, by variable projection over the development coefficient.
 
     ``simulate(a, coef, y0)`` returns the predicted raw series (length n) and must be affine in
@@ -188,6 +191,18 @@ def response_ls_fit(simulate, y, n_coef: int, a_max: float, a_min: float = 1e-6,
         if cand[2] <= best[2]:
             best = cand
     return best
+
+
+def search_bound(value: float, a_max: float, a_min: float = A_MIN) -> str:
+    """'' when the response fit's development coefficient ``value`` lies inside its search range,
+    else which end it sits at (within 1e-6 of the range in log): reported by the learners'
+    ``at_bound_`` so that a coefficient pinned at the range's end is not read as a fitted one."""
+    span = np.log(a_max) - np.log(a_min)
+    if np.log(value) - np.log(a_min) <= 1e-6 * span:
+        return f"at the search range's lower end {a_min:g} per sample"
+    if np.log(a_max) - np.log(value) <= 1e-6 * span:
+        return f"at the search range's upper end {a_max:g} per sample"
+    return ""
 
 
 def check_growth(retention: float, n: int, *, model: str, coef_name: str, coef: float, fit_method: str) -> None:
@@ -457,6 +472,8 @@ class GM1N(BaseEstimator, RegressorMixin):
 
             a, b, _ = response_ls_fit(simulate, np.concatenate([ya for _, ya in checked]), p, a_max=a_max,
                                       start=starts)
+        # the development coefficient at an end of the response fit's search range ('' inside it)
+        self.at_bound_ = search_bound(a, a_max) if self.fit_method != "equation" else ""
         self.a_ = float(a)
         self.b_ = np.asarray(b, dtype=float)
         self.coef_ = self.b_

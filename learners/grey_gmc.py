@@ -50,7 +50,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 
 from learners._checks import check_choice, check_int, check_positive, check_start_value
 from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_runs, check_series, \
-    iago, refuse_divergence, response_ls_fit
+    iago, refuse_divergence, response_ls_fit, search_bound
 from learners.pso import pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
@@ -179,6 +179,7 @@ class GMC1N(_GMCBase):
         starts = np.array([ya[0] for _, ya in checked])
         if self.fit_method == "equation":
             b1, b, u = gmc_ls_fit_runs(checked)
+            self.at_bound_ = ""
             check_growth(gmc_retention(b1, self.response), max(ya.size for _, ya in checked), model=self._name,
                          coef_name="b1", coef=b1, fit_method="equation")
         else:
@@ -192,6 +193,7 @@ class GMC1N(_GMCBase):
             b1, theta, _ = response_ls_fit(simulate, np.concatenate([ya for _, ya in checked]), p + 1, a_max=20.0,
                                            start=starts)
             b, u = theta[:-1], theta[-1]
+            self.at_bound_ = search_bound(b1, 20.0)   # b_1 at an end of the search range ('' inside it)
         self._store(b1, b, u, starts, p)
         return self
 

@@ -216,3 +216,20 @@ def test_long_record_response_fit_is_stable_and_close(model):
         pred = model.predict(Xp)
         assert np.all(np.isfinite(pred))
         assert np.sqrt(np.mean((pred - yp) ** 2)) < 0.05 * np.ptp(yp)  # ~0.7 um of a 33 um range
+
+
+def test_a_development_coefficient_pinned_at_its_search_range_is_reported():
+    """The response fit searches a in [1e-6, a_max] per sample; a value at either end is pinned, not
+    fitted, and ``at_bound_`` says which end ('' inside the range)."""
+    from learners import make_learner
+    from learners.grey import A_MIN, search_bound
+
+    assert search_bound(A_MIN, 20.0).startswith("at the search range's lower end")
+    assert search_bound(20.0, 20.0).startswith("at the search range's upper end")
+    assert search_bound(0.05, 20.0) == ""
+    t = np.arange(40.0)
+    X = np.column_stack([1.0 + 0.1 * t, 2.0 + 0.05 * t])
+    y = 3.0 * (1.0 - np.exp(-0.1 * t)) + 0.01 * t
+    for name in ("gm1n", "gmc1n"):
+        model = make_learner(name).fit(X, y)
+        assert isinstance(model.at_bound_, str)

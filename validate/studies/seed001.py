@@ -140,6 +140,14 @@ def _anfis_train_text(z: dict, best: dict) -> str:
             "patterns the training run never shows.")
 
 
+def _grey_bounds(models: dict) -> str:
+    """' `gm1n`'s development coefficient sits at ...': the grey learners whose response fit pinned
+    the coefficient at an end of its search range (``at_bound_``), '' when none did."""
+    pinned = [f"`{n}`'s development coefficient sits {m.at_bound_}" for n, m in models.items()
+              if getattr(m, "at_bound_", "")]
+    return (" In the response fit, " + "; ".join(pinned) + ": pinned there, not fitted.") if pinned else ""
+
+
 def grey_equation_note(X, y) -> str:
     """The thesis's equation least squares of GM(1,N)/GMC(1,N) on the training run: coefficient and growth."""
     from learners.grey import ago, background, gm1n_retention
@@ -237,7 +245,8 @@ def markdown(rows, extra, data) -> str:
         "thesis's PSO minimises: the linear coefficients exactly, the development coefficient by a log grid refined "
         "by Brent's method, a minimum to the grid's resolution), with a stable development coefficient. The thesis's least "
         "squares of the grey *equation* on accumulated series (`fit_method='equation'`, Table 6-3) is refused on "
-        f"this 1141-sample record: on Z it gives {grey_note}. Its regressors are accumulated sums that grow with the "
+        f"this 1141-sample record: on Z it gives {grey_note}.{_grey_bounds(ez.get('models', {}))} Its regressors are "
+        "accumulated sums that grow with the "
         "record, so the fit pushes the development coefficient to about 0 with a noise-set sign; the seeds fit "
         "grey models on a handful of readings, where this does not arise.",
         "- Y: reported for completeness; the seed reports only Z for its models.",
