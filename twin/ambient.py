@@ -157,11 +157,12 @@ def check_ambient(a: Ambient, source: str) -> None:
         if not isinstance(e.door, bool):
             raise InputError(source, f"{where}.door", f"expected true or false, got {describe(e.door)}")
     if a.events:
-        # the extremes of base + events: every event at its full change on the base's extremes
-        base = a.base(np.linspace(0.0, max(e.end for e in a.events) + 86400.0, 4001))
-        low = base.min() + sum(min(e.change, 0.0) for e in a.events)
-        high = base.max() + sum(max(e.change, 0.0) for e in a.events)
-        limits.check_temperatures([low, high], source, "ambient.events")
+        # the extremes of base + events: at every event's corners (the events are piecewise linear)
+        # and on a fine grid for the base (events apart from each other do not add up)
+        corners = [t for e in a.events for t in (e.start, e.start + e.fall, e.start + e.fall + e.hold, e.end)]
+        t = np.union1d(np.linspace(0.0, max(corners) + 86400.0, 8001), corners)
+        air = a(t)
+        limits.check_temperatures([air.min(), air.max()], source, "ambient.events")
 
 
 def check_air_covers(ambient: Ambient, total: float, source: str, slack: float = 0.0) -> None:

@@ -31,6 +31,13 @@ class ModelSpec:
     params: dict[str, dict[str, float]] = field(default_factory=dict)
 
     def __post_init__(self):
+        if isinstance(self.effects, str) or not isinstance(self.effects, (tuple, list)):
+            raise InputError(CLI, "--effects", f"expected a tuple of effect names, got {self.effects!r}")
+        twice = sorted({n for n in self.effects if list(self.effects).count(n) > 1}, key=str)
+        if twice:   # applied twice, its heat would count twice
+            raise InputError(CLI, f"--effects {twice[0]}", "named more than once; name each effect once")
+        if not isinstance(self.params, dict) or not all(isinstance(v, dict) for v in self.params.values()):
+            raise InputError(CLI, "--set", f"expected {{effect: {{parameter: value [SI]}}}}, got {self.params!r}")
         for name in self.effects:
             if name not in EFFECTS:
                 raise InputError(CLI, f"--effects {name}", f"unknown effect; known: {', '.join(sorted(EFFECTS))}")
@@ -159,8 +166,12 @@ def parse_settings(items: list[str] | None, effects: tuple[str, ...]) -> dict[st
 
 def check_applicable(effects, machine) -> None:
     """Raise :class:`InputError` naming machine, effect and role if an effect in ``effects``
-    needs a role ``machine`` does not declare."""
+    needs a role ``machine`` does not declare, or is a custom effect read for another machine."""
     for name in effects:
+        if not EFFECTS[name].applies_to(machine) and not EFFECTS[name].missing_roles(machine):
+            raise InputError(CLI, f"--effects {name}", f"does not apply to machine {machine.name}: a custom effect read "
+                                                       f"for machine {getattr(EFFECTS[name], 'machine', '?')} (its "
+                                                       "regions name that machine's parts); read the file for this one")
         missing = EFFECTS[name].missing_roles(machine)
         if missing:
             role = missing[0]

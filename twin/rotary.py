@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from twin.errors import InputError
+from twin.limits import is_number
 from twin.io.table_reader import TableReader
 
 
@@ -79,6 +80,26 @@ def c_axis_from_toml(raw, source: str, dt: float) -> RotarySchedule | None:
         duty = 1.0 if on is None else on / (on + dwell)
         steps.append((duration, speed, duty))
     return RotarySchedule(tuple(steps))
+
+
+def check_schedule(schedule: RotarySchedule, source: str) -> None:
+    """A schedule built in Python as the reader builds one: one or more (duration [s] > 0, speed
+    [rpm] >= 0, duty in (0, 1]) steps of finite numbers (a duty of 2 or -1 would double or
+    reverse the heat); the speeds' limits are the machine's (:func:`twin.limits.check_c_axis`)."""
+    steps = schedule.steps
+    if isinstance(steps, (str, bytes)) or not isinstance(steps, (tuple, list)) or not steps:
+        raise InputError(source, "c_axis", f"expected one or more (duration [s], speed [rpm], duty) steps, got {steps!r}")
+    for i, step in enumerate(steps):
+        if not isinstance(step, (tuple, list)) or len(step) != 3 or not all(is_number(v) for v in step):
+            raise InputError(source, f"c_axis[{i}]", f"expected (duration [s], speed [rpm], duty) numbers, got {step!r}")
+        duration, speed, duty = (float(v) for v in step)
+        if not np.isfinite(duration) or duration <= 0:
+            raise InputError(source, f"c_axis[{i}].duration", f"must be finite and positive, got {duration:g} s")
+        if not np.isfinite(speed) or speed < 0:
+            raise InputError(source, f"c_axis[{i}].speed", f"must be finite and not negative, got {speed:g} rpm")
+        if not np.isfinite(duty) or not 0.0 < duty <= 1.0:
+            raise InputError(source, f"c_axis[{i}].duty", f"the fraction of the time turning is above 0 and at most 1, "
+                                                          f"got {duty:g}")
 
 
 def check_duration(schedule: RotarySchedule | None, total: float, source: str) -> None:

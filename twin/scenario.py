@@ -62,7 +62,7 @@ from twin.motion import Motion, check_durations, motions_from_toml
 from twin.observe.camera import CameraConfig
 from twin.observe.interferometer import InterferometerConfig, interferometer_from_toml
 from twin.observe.probing import ProbingConfig, probing_from_toml
-from twin.rotary import RotarySchedule, c_axis_from_toml, check_duration
+from twin.rotary import RotarySchedule, c_axis_from_toml, check_duration, check_schedule
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 # the keys a scenario's tables may hold (the readers read them; a misspelled key is named as
@@ -228,6 +228,8 @@ def check_values(sc: Scenario) -> None:
     limits.check_steps(total, dt, source, "sample_interval" if total <= limits.MAX_STEPS else "spindle")
     check_ambient(sc.ambient, source)
     check_air_covers(sc.ambient, total, source, slack=0.5 * dt * (1 + 1e-9))
+    if sc.c_axis is not None:
+        check_schedule(sc.c_axis, source)
 
 
 def _check_types(sc: Scenario, source: str) -> None:

@@ -55,6 +55,7 @@ from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
 from twin.io.table_reader import TableReader
+from twin.limits import is_number
 from twin.observe.base import variable
 from twin.observe.displacement import DisplacementObserver
 from twin.observe.instants import baseline_instants, check_on_grid
@@ -117,7 +118,17 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
     """The axis exists, its feedback is modelled (a semi-closed loop's screw is on ``machine``: the
     scenario moves the axis, :func:`twin.motion.machine_for`), the targets lie in its travel and
     the runs on the scenario's time grid within its duration."""
+    if not isinstance(config, InterferometerConfig):
+        raise InputError(scenario.name, "interferometer", f"expected a twin.observe.interferometer.InterferometerConfig, "
+                                                          f"got {config!r}")
     src = config.source or scenario.name
+    if not is_number(config.spacing) or not np.isfinite(config.spacing) or config.spacing < MIN_SPACING:
+        raise InputError(src, "interferometer.spacing", f"expected a finite spacing of {MIN_SPACING * 1e3:g} mm or more "
+                                                        f"[m], got {config.spacing!r}")
+    ends = [v for v in (config.first, config.last) if v is not None]
+    if any(not is_number(v) or not np.isfinite(v) for v in ends) or (len(ends) == 2 and ends[1] <= ends[0]):
+        raise InputError(src, "interferometer.targets", f"expected finite first < last [m], got {config.first!r}, "
+                                                        f"{config.last!r}")
     try:
         axis = machine.axis(config.axis)
     except KeyError:
@@ -141,7 +152,7 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
     if t[0] < axis.travel[0] - 1e-9 or t[-1] > axis.travel[1] + 1e-9:
         raise InputError(src, "interferometer.targets", f"outside the {axis.name} travel "
                                                         f"{axis.travel[0] * 1e3:g} .. {axis.travel[1] * 1e3:g} mm")
-    check_on_grid(config.runs, scenario, src, "interferometer.runs")
+    check_on_grid(config.runs, scenario, src, "interferometer.runs", "the cold reference run")
 
 
 def screw_line_rows(layout, axis, targets: np.ndarray, expansion: float) -> sp.csr_matrix:

@@ -81,12 +81,23 @@ def check_probing(config: ProbingConfig, scenario, machine) -> None:
     if names[:3] != list(AXES):
         raise InputError(src, "probing", f"machine {machine.name} has no X, Y, Z axes to probe with (its axes: "
                                          f"{', '.join(names) or 'none'})")
-    for i, d in enumerate(config.datums):
-        for a, v in zip(machine.axes, d):
+    if not isinstance(config, ProbingConfig):
+        raise InputError(src, "probing", f"expected a twin.observe.probing.ProbingConfig, got {config!r}")
+    datums = config.datums
+    if isinstance(datums, (str, bytes)) or not hasattr(datums, "__len__") or not len(datums):
+        raise InputError(src, "probing.datums", f"expected one or more (X, Y, Z) positions [m], got {datums!r}")
+    for i, d in enumerate(datums):
+        try:
+            xyz = np.asarray(d, dtype=float)
+        except (TypeError, ValueError):
+            xyz = None
+        if xyz is None or xyz.shape != (3,) or not np.all(np.isfinite(xyz)):
+            raise InputError(src, f"probing.datums[{i}]", f"expected three finite positions (X, Y, Z) [m], got {d!r}")
+        for a, v in zip(machine.axes, xyz):
             if v < a.travel[0] - 1e-9 or v > a.travel[1] + 1e-9:
                 raise InputError(src, f"probing.datums[{i}]", f"{a.name} {v * 1e3:g} mm is outside the travel "
                                                              f"{a.travel[0] * 1e3:g} .. {a.travel[1] * 1e3:g} mm")
-    check_on_grid(config.times, scenario, src, "probing.times")
+    check_on_grid(config.times, scenario, src, "probing.times", "the datum baseline")
 
 
 class DatumProbing(DisplacementObserver):

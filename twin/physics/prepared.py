@@ -352,7 +352,8 @@ class PreparedTwin:
                                   stepper, loads.operator_key)
         return {o.key: out[:, a:b, :] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
 
-    def run(self, scenario, spec, observers, theta: float = 0.5, on_step=None, progress=None) -> tuple[LoadSet, dict]:
+    def run(self, scenario, spec, observers, theta: float = 0.5, on_step=None, progress=None,
+            plausible: bool = True) -> tuple[LoadSet, dict]:
         """Integrate ``scenario`` with the effects of ``spec``, observed by ``observers``.
 
         Returns (loads, readings): ``readings[observer.key]`` is that observer's raw output
@@ -363,9 +364,14 @@ class PreparedTwin:
         in each observer's raw SI unit (``raw_unit``: m, m/m, K ...), not the Dataset's um.
         The scenario is checked against this twin's machine and theta against the stable range
         first (:func:`twin.limits.check_scenario`, :func:`twin.limits.theta_value`), as
-        :func:`twin.api.simulate` does: a Python caller meets the same rules.
+        :func:`twin.api.simulate` does: a Python caller meets the same rules; so is ``spec``: its
+        effects must apply to the machine and, with ``plausible`` (the default), every parameter lie
+        within its declared bounds (``plausible=False`` for a study of the model beyond them, such
+        as an effect at zero strength).
         """
         self.check_run(scenario, theta)
+        self.check_spec(spec, scenario, plausible)
+        check_observers(observers)
         loads = self.loads(scenario, spec)
         times = scenario.times()
         nsteps = len(times) - 1
@@ -420,14 +426,21 @@ class PreparedTwin:
         check_finite(readings, times, scenario.source or scenario.name)
         return loads, readings
 
-    def run_batch(self, cases, observers, theta: float = 0.5, progress=None, bound: bool = True) -> tuple[LoadSet, dict, dict]:
+    def run_batch(self, cases, observers, theta: float = 0.5, progress=None, bound: bool = True,
+                  plausible: bool = True) -> tuple[LoadSet, dict, dict]:
         """Many (scenario, spec) cases at once, vectorised in the reduced model and as multiple
         right-hand sides in the full one (:func:`twin.physics.batch.run_batch`): (loads, readings
         {key: (n_t, k, cases)}, info), in the observers' raw SI units. Observers must be linear
         (rows only); every case's scenario is checked as :meth:`run` checks one."""
         from twin.physics.batch import run_batch
-        for scenario, _ in cases:
-            self.check_run(scenario, theta)
+        if isinstance(cases, (str, bytes)) or not isinstance(cases, (list, tuple)) or not cases:
+            raise InputError("command line", "cases", f"expected a list of one or more (scenario, spec), got {cases!r}")
+        for i, case in enumerate(cases):
+            if not isinstance(case, (list, tuple)) or len(case) != 2:
+                raise InputError("command line", f"cases[{i}]", f"expected (scenario, spec), got {case!r}")
+            self.check_run(case[0], theta)
+            self.check_spec(case[1], case[0], plausible)
+        check_observers(observers)
         for o in observers:   # a step hook or a sampled observer would come back empty, silently
             if type(o).on_step is not Observer.on_step or o.sample_steps(cases[0][0].times()) is not None:
                 raise InputError("command line", "observers", f"{type(o).__name__} ({o.key}) is read at a step or "
@@ -435,9 +448,26 @@ class PreparedTwin:
                                                               "step (rows only); run it with run()")
         return run_batch(self, cases, observers, theta, progress, bound)
 
+    def check_spec(self, spec, scenario, plausible: bool = True) -> None:
+        """:class:`InputError` unless ``spec`` is a :class:`twin.model.ModelSpec` whose effects
+        apply to this twin's machine, with its parameters within their bounds when ``plausible``."""
+        from twin.model import ModelSpec, check_applicable
+
+        if not isinstance(spec, ModelSpec):
+            raise InputError("command line", "spec", f"expected a twin.model.ModelSpec (twin.model.model_spec), "
+                                                     f"got {spec!r}")
+        check_applicable(spec.effects, self.machine)
+        if plausible:
+            spec.check_bounds(scenario.source or scenario.name)
+
     def check_run(self, scenario, theta: float) -> None:
         """:class:`InputError` unless ``scenario`` may run on this twin's machine (its values, the
-        machine's speeds) and ``theta`` lies in [1/2, 1]."""
+        machine's speeds, its axis moves with their feed drives built, its interferometer and
+        probing) and ``theta`` lies in [1/2, 1]."""
+        from geometries.axes import with_feed_drives
+        from twin.motion import check_motions
+        from twin.observe.interferometer import check_interferometer
+        from twin.observe.probing import check_probing
         from twin.scenario import Scenario
 
         if not isinstance(scenario, Scenario):
@@ -445,6 +475,29 @@ class PreparedTwin:
                                                          f"{type(scenario).__name__}")
         limits.theta_value(theta, scenario.source or scenario.name)
         limits.check_scenario(scenario, self.machine)
+        if scenario.axes:
+            check_motions(scenario, self.machine)
+            needed = with_feed_drives(self.machine, {m.axis for m in scenario.axes})
+            if [q.name for q in needed.parts] != [q.name for q in self.machine.parts]:
+                raise InputError(scenario.source or scenario.name, "axis", "the scenario moves axes whose feed drives "
+                                 "this twin's machine lacks: prepare it on twin.motion.machine_for(machine, scenario)")
+        if scenario.interferometer is not None:
+            check_interferometer(scenario.interferometer, scenario, self.machine)
+        if scenario.probing is not None:
+            check_probing(scenario.probing, scenario, self.machine)
+
+
+def check_observers(observers) -> None:
+    """``observers``: a list of :class:`twin.observe.base.Observer` with distinct keys."""
+    if isinstance(observers, (str, bytes)) or not isinstance(observers, (list, tuple)):
+        raise InputError("command line", "observers", f"expected a list of observers (twin.observe), got {observers!r}")
+    for i, o in enumerate(observers):
+        if not isinstance(o, Observer):
+            raise InputError("command line", f"observers[{i}]", f"expected an observer (twin.observe), got {o!r}")
+    keys = [o.key for o in observers]
+    twice = sorted({k for k in keys if keys.count(k) > 1})
+    if twice:
+        raise InputError("command line", "observers", f"two observers read {twice[0]!r}: give each observer once")
 
 
 def check_finite(readings: dict, times: np.ndarray, source: str) -> None:

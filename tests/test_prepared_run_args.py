@@ -1,0 +1,142 @@
+"""A prepared twin's runs and the objects a Python user puts into a scenario, checked before any
+step (API audit): observers, specs and batch cases of the wrong kind, a spec beyond its bounds
+or naming an effect twice, a custom effect of another machine, axis moves that jump, overspeed or
+leave the travel inside a piece, C-axis steps with an impossible duty, probing and interferometer
+instants that do not start at 0 s (their readings' slots were left unfilled: garbage in the
+result), and room-air events whose extremes are checked where they happen."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from geometries import build_machine
+from twin.ambient import AirEvent, Ambient, check_ambient
+from twin.errors import InputError
+from twin.model import ModelSpec, default_spec
+from twin.motion import Motion, check_pieces
+from twin.observe import ToolDrift
+from twin.observe.interferometer import InterferometerConfig
+from twin.observe.probing import ProbingConfig
+from twin.physics.prepared import PreparedTwin
+from twin.rotary import RotarySchedule
+from twin.scenario import Scenario
+
+SHORT = Scenario("short", ((600.0, 8000.0),), Ambient("constant", mean=20.0), 60.0)
+CFRAME = build_machine("cframe-vmc")
+
+
+@pytest.fixture(scope="module")
+def twin():
+    return PreparedTwin(CFRAME, resolution="coarse", solver="direct")
+
+
+@pytest.fixture
+def no_steps(monkeypatch, twin):
+    """Fail the test if the loads are built: every check must come first."""
+    def refuse(*args, **kwargs):
+        raise AssertionError("the run started before its arguments were checked")
+    monkeypatch.setattr(twin, "loads", refuse)
+
+
+def refused(field: str, call, *args, **kwargs) -> InputError:
+    with pytest.raises(InputError) as err:
+        call(*args, **kwargs)
+    assert err.value.field.startswith(field), str(err.value)
+    return err.value
+
+
+SPEC = default_spec(CFRAME)
+BAD_RUNS = [
+    ("observers-none", {"observers": None}, "observers"),
+    ("observers-a-text", {"observers": "temperature"}, "observers"),
+    ("observer-a-text", {"observers": ["temperature"]}, "observers[0]"),
+    ("observers-twice", {"observers": [ToolDrift(), ToolDrift()]}, "observers"),
+    ("spec-none", {"spec": None}, "spec"),
+    ("spec-negative-power", {"spec": ModelSpec(SPEC.effects, {"spindle_bearings": {"front_power": -500.0}})},
+     "spec spindle_bearings.front_power"),
+    ("spec-negative-film", {"spec": ModelSpec(SPEC.effects, {"ambient_convection": {"h": -10.0}})},
+     "spec ambient_convection.h"),
+    ("spec-probe-noise", {"spec": ModelSpec(SPEC.effects, {"probe": {"noise": 1.0}})}, "spec probe.noise"),
+    ("spec-of-another-machine", {"spec": ModelSpec(("belt_drive",))}, "--effects belt_drive"),
+]
+
+
+@pytest.mark.parametrize("case, change, field", BAD_RUNS, ids=[c for c, _, _ in BAD_RUNS])
+def test_a_run_names_a_bad_argument_before_it_starts(twin, no_steps, case, change, field):
+    args = {"scenario": SHORT, "spec": SPEC, "observers": [ToolDrift()], **change}
+    refused(field, twin.run, args["scenario"], args["spec"], args["observers"])
+
+
+def test_a_batch_names_bad_cases_and_observers(twin, no_steps):
+    for cases, field in (([], "cases"), ("x", "cases"), ([SHORT], "cases[0]"), ([(SHORT, None)], "spec")):
+        refused(field, twin.run_batch, cases, [ToolDrift()])
+    refused("observers[0]", twin.run_batch, [(SHORT, SPEC)], ["drift"])
+
+
+def test_a_spec_names_each_effect_once_and_a_study_may_go_beyond_the_bounds(twin):
+    refused("--effects spindle_bearings", ModelSpec, ("spindle_bearings", "spindle_bearings"))
+    refused("--effects", ModelSpec, "spindle_bearings")
+    refused("--set", ModelSpec, ("ambient_convection",), {"ambient_convection": 5.0})
+    beyond = ModelSpec(("ambient_convection",), {"ambient_convection": {"h": 0.0}})   # below its 0.5 W/m2K bound
+    loads, raw = twin.run(SHORT, beyond, [ToolDrift()], plausible=False)
+    assert np.all(np.isfinite(raw["drift"]))
+
+
+def test_a_motion_built_in_python_moves_as_a_planned_one():
+    """Each piece ends where the next starts, within the speed and acceleration limits; the travel
+    is checked at the turning points inside pieces too (0.1 -> 1.1 m passed on a 0-0.4 m axis)."""
+    ok = Motion("Y", [0.0, 100.0], [50.0, 50.0], [0.1, 0.2], [0.002, -0.002], [0.0, 0.0], 0.1)
+    assert np.allclose(sorted(check_pieces(ok, "s", "axis[0]")), [0.1, 0.1, 0.2])
+    turn = Motion("Y", [0.0], [20.0], [0.1], [0.02], [-0.002], 0.1)      # out and back: turns at 0.2 m
+    assert check_pieces(turn, "s", "axis[0]").max() == pytest.approx(0.2)
+    for bad in (Motion("Y", [0.0], [100.0], [0.1], [0.01], [0.0], 0.3),      # a jump into x_end
+                Motion("Y", [0.0], [100.0], [0.1], [50.0], [0.0], 5000.1),    # 50 m/s
+                Motion("Y", [0.0], [-100.0], [0.1], [0.0], [0.0], 0.1),       # a negative duration
+                Motion("Y", [0.0, 1.0], [100.0], [0.1], [0.0], [0.0], 0.1),   # ragged pieces
+                Motion("Y", [0.0], [100.0], [np.nan], [0.0], [0.0], 0.1)):
+        refused("axis[0]", check_pieces, bad, "s", "axis[0]")
+
+
+def test_a_c_axis_schedule_built_in_python_has_a_duty_from_0_to_1():
+    gantry = replace(SHORT, steps=((600.0, 1000.0),))
+    for steps, field in ((((600.0, 1000.0, 2.0),), "c_axis[0].duty"), (((600.0, 1000.0, -1.0),), "c_axis[0].duty"),
+                         (((600.0, 1000.0, np.nan),), "c_axis[0].duty"), (((-600.0, 1000.0, 1.0),), "c_axis[0].duration"),
+                         (((600.0, 1000.0),), "c_axis[0]"), ((), "c_axis")):
+        refused(field, replace(gantry, c_axis=RotarySchedule(steps)).check)
+
+
+def test_probing_and_interferometer_instants_start_at_zero_and_increase():
+    """A negative or late first instant left the readings' first slot unfilled: the result held
+    uninitialised memory (-40834 um) without an error."""
+    from twin.observe.instants import check_on_grid
+    for times in ((0.0, -60.0), (300.0, 600.0), (0.0, np.nan), (0.0, 60.0, 60.0), ()):
+        refused("probing.times", check_on_grid, times, SHORT, "s", "probing.times")
+    check_on_grid((0.0, 300.0, 600.0), SHORT, "s", "probing.times")
+    assert ProbingConfig((0.0, 60.0), ((0.1, 0.1, 0.1),)).times == (0.0, 60.0)
+    assert InterferometerConfig("Y", (0.0, 60.0), spacing=0.01).spacing == 0.01
+
+
+def test_separate_air_events_are_not_added_up_but_overlapping_ones_are():
+    cold = lambda start, hold: AirEvent(start, -35.0, 1.0, hold, 60.0)
+    check_ambient(Ambient("constant", mean=20.0, events=(cold(0.0, 0.0), cold(300.0, 0.0))), "s")
+    refused("ambient.events", check_ambient, Ambient("constant", mean=20.0, events=(cold(0.0, 100.0), cold(50.0, 0.0))),
+            "s")
+
+
+def test_a_run_needs_the_feed_drives_of_the_axes_it_moves_and_its_machines_custom_effects(twin, no_steps, tmp_path):
+    """A scenario moving Y on a twin prepared without the Y drive ran with the axis ignored; a
+    custom effect read for the C-frame ran on another machine's part of the same name."""
+    from tests.fuzz_files import EFFECTS_FILE
+    from twin.effects.custom import load_effects_file
+    from twin.model import check_applicable
+    from twin.scenario import load_scenario
+
+    moving = replace(load_scenario("seed003-exp1"), interferometer=None)
+    refused("axis", twin.run, moving, SPEC, [ToolDrift()])
+    (tmp_path / "fx.toml").write_text(EFFECTS_FILE)
+    (name,) = load_effects_file(tmp_path / "fx.toml", CFRAME)
+    check_applicable((name,), CFRAME)
+    refused(f"--effects {name}", check_applicable, (name,), build_machine("belt-vmc"))
