@@ -92,3 +92,41 @@ def test_cli_refuses_with_exit_2_and_no_output(tmp_path, capsys, camera, field):
     err = capsys.readouterr().err
     assert f"s.toml: {field}: " in err and "Traceback" not in err and "Warning" not in err, err
     assert not out.exists()
+
+
+def test_a_camera_built_in_python_meets_the_readers_limits():
+    """API audit: a NaN emissivity or a 0-bit ADC wrote a thermogram of NaN, a 40-bit ADC asked for
+    8 TiB, a camera at its own target divided by zero: each is one InputError naming the field as a
+    scenario file would, checked before the run (CameraConfig.check)."""
+    from dataclasses import replace
+
+    from twin.errors import InputError
+    from twin.observe.camera import CameraConfig
+    from twin.observe.camera_geometry import Intrinsics
+    from twin.observe.microbolometer import Microbolometer
+    from twin.scenario import Ambient, Scenario
+
+    sc = Scenario("short", ((600.0, 8000.0),), Ambient("constant", mean=20.0), 60.0)
+    base = CameraConfig(pose="carrier-front", where="camera.", source="s.toml")
+    base.check(sc)
+    cases = [({"emissivity": float("nan")}, "camera.settings.emissivity"), ({"emissivity": 2.0}, "camera.settings.emissivity"),
+             ({"relative_humidity": -0.5}, "camera.settings.relative_humidity"),
+             ({"reflected_temperature": -300.0}, "camera.settings.reflected_temperature"),
+             ({"wall_distance": -5.0}, "camera.scene.wall_distance"), ({"distance": float("nan")}, "camera.settings.distance"),
+             ({"room_temperature": float("nan")}, "camera.scene.room_temperature"),
+             ({"intrinsics": Intrinsics(width=0)}, "camera.resolution"), ({"intrinsics": Intrinsics(fov_h=4.0)}, "camera.field_of_view"),
+             ({"intrinsics": None}, "camera.resolution"), ({"band": (13e-6, 7.5e-6)}, "camera.band"),
+             ({"edge_rays": 0}, "camera.edge_rays"), ({"backend": "foo"}, "camera.backend"),
+             ({"frame_interval": float("nan")}, "camera.frame_interval"),
+             ({"position": (0.0, -2.0, 1.0)}, "camera.target"),
+             ({"position": (0.0, -2.0, 1.0), "target": (0.0, -2.0, 1.0)}, "camera.target"),
+             ({"position": (0.0, -2.0, 1.0), "target": (0.0, 0.0, 1.0), "up": (0.0, 1.0, 0.0)}, "camera.up"),
+             ({"sensor": Microbolometer(bits=0)}, "camera.sensor.bits"), ({"sensor": Microbolometer(bits=40)}, "camera.sensor.bits"),
+             ({"sensor": Microbolometer(netd=float("nan"))}, "camera.sensor.netd"),
+             ({"sensor": Microbolometer(drift_time=-1.0)}, "camera.sensor.drift_time"),
+             ({"sensor": Microbolometer(range=(120.0, -40.0))}, "camera.sensor.range"),
+             ({"sensor": Microbolometer(reference_temperature=-500.0)}, "camera.sensor.reference_temperature")]
+    for change, field in cases:
+        with pytest.raises(InputError) as err:
+            replace(base, **change).check(sc)
+        assert err.value.field == field, (change, str(err.value))

@@ -103,6 +103,9 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
             raise InputError(CLI, "--solver", f"differs from the prepared twin's: {', '.join(differ)}; leave solver "
                                               "out, the prepared twin's is used")
     _check_sensors(sensors, m)
+    if cameras is not None and (isinstance(cameras, str) or not isinstance(cameras, (list, tuple))):
+        raise InputError(CLI, "cameras", f"expected a list of pose names or CameraConfig, got {cameras!r}"
+                                         + (f": write [{cameras!r}]" if isinstance(cameras, str) else ""))
     configs = list(sc.cameras) + [c if isinstance(c, CameraConfig) else CameraConfig(pose=c) for c in cameras or ()]
     for c in configs:
         c.check(sc)

@@ -52,14 +52,10 @@ from twin import limits
 from twin.errors import InputError
 from twin.io.table_reader import TableReader
 from twin.observe.camera import CameraConfig
+from twin.observe.camera_checks import NOISE_TERMS, RADIANCE_SPAN, check_up
 from twin.observe.camera_geometry import Intrinsics
 from twin.observe.microbolometer import Microbolometer
-from twin.observe.radiometry import RadianceTable
 from twin.units import UnitError, parse_quantity
-
-RADIANCE_SPAN = (RadianceTable.lo, RadianceTable.hi)   # degC: where the twin's radiance table holds
-_NOISE = ("netd", "fixed_pattern", "row_fixed", "column_fixed", "row_temporal", "column_temporal",
-          "frame_temporal", "offset", "drift", "accuracy")
 
 
 def cameras_from_option(text: str | None) -> list[CameraConfig]:
@@ -104,7 +100,7 @@ def _camera(table, source: str, prefix: str) -> CameraConfig:
                     and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in up)):
                 raise InputError(source, prefix + "up", "expected three numbers, a direction")
             kw["up"] = tuple(float(x) for x in up)
-        _check_up(np.asarray(kw.get("up", CameraConfig.up), dtype=float), sight, source, prefix + "up")
+        check_up(np.asarray(kw.get("up", CameraConfig.up), dtype=float), sight, source, prefix + "up")
     elif up is not None:
         raise InputError(source, prefix + "up", "goes with position and target")
     if pose is not None:
@@ -136,18 +132,6 @@ def _camera(table, source: str, prefix: str) -> CameraConfig:
         kw["sensor"] = _sensor(sensor, source, prefix + "sensor.")
     r.finish()
     return CameraConfig(**kw)
-
-
-def _check_up(up: np.ndarray, sight: np.ndarray, source: str, field: str) -> None:
-    """``up`` must be a finite, non-zero direction not along the line of sight ``sight``."""
-    if not np.all(np.isfinite(up)):
-        raise InputError(source, field, f"{list(up)} is not a finite direction")
-    norm = float(np.linalg.norm(up))
-    if norm == 0:
-        raise InputError(source, field, "[0, 0, 0] is no direction; give the image's up, e.g. [0, 0, 1]")
-    if np.linalg.norm(np.cross(sight / np.linalg.norm(sight), up / norm)) < 1e-6:
-        raise InputError(source, field, f"{[float(x) for x in up]} is along the line of sight from position to "
-                                        "target, so the image has no up; choose a direction across it")
 
 
 def _intrinsics(r, source: str, prefix: str) -> Intrinsics:
@@ -196,7 +180,7 @@ def _scene(table, source: str, prefix: str) -> dict:
 
 def _sensor(table, source: str, prefix: str) -> Microbolometer:
     r = TableReader(table, source, prefix)
-    kw = {k: _non_negative(r, k, "temperature_difference") for k in _NOISE}
+    kw = {k: _non_negative(r, k, "temperature_difference") for k in NOISE_TERMS}
     kw["drift_time"] = r.positive("drift_time", "time")
     kw["reference_temperature"] = _temperature(r, "reference_temperature", RADIANCE_SPAN, "the twin's radiance table")
     bits = r.get("bits")

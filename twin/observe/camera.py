@@ -89,7 +89,12 @@ class CameraConfig:
     def check(self, scenario) -> None:
         """Raise :class:`InputError` unless the frame interval is a whole multiple of the
         scenario's sample interval and no longer than the run (a camera with one frame, the cold
-        one at t = 0, would record nothing)."""
+        one at t = 0, would record nothing), after every value of the configuration
+        (:func:`twin.observe.camera_checks.check_camera_values`: one built in Python never met
+        the scenario reader)."""
+        from twin.observe.camera_checks import check_camera_values
+
+        check_camera_values(self)
         if self.frame_interval is None:
             return
         if self.frame_interval > scenario.duration * (1 + 1e-9):
