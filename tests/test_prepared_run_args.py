@@ -140,3 +140,25 @@ def test_a_run_needs_the_feed_drives_of_the_axes_it_moves_and_its_machines_custo
     (name,) = load_effects_file(tmp_path / "fx.toml", CFRAME)
     check_applicable((name,), CFRAME)
     refused(f"--effects {name}", check_applicable, (name,), build_machine("belt-vmc"))
+
+
+def test_a_field_and_a_plot_from_python_check_what_they_are_given(twin, tmp_path):
+    """A field of 10 values for thousands of nodes wrote a corrupt XDMF, an all-NaN field and a
+    NaN time were written, a folder given as the plot's path wrote ``out/.png``."""
+    from tests.fuzz_files import result_dataset
+    from twin.io.fields import save_temperature_field
+    from twin.plotting import plot_result
+
+    mm = twin.mm
+    good = np.full(mm.nheat, 20.0)
+    for field, time_s, name in ((good[:10], 600.0, "a.xdmf"), (np.full(mm.nheat, np.nan), 600.0, "b.vtu"),
+                                (good, float("nan"), "c.vtu"), (good, "600 s", "d.vtu"), (None, 600.0, "e.vtu"),
+                                (good, 600.0, "f.txt")):
+        refused("--field", save_temperature_field, mm, field, tmp_path / name, time_s)
+    assert list(tmp_path.iterdir()) == []
+    assert [p.name for p in save_temperature_field(mm, good, tmp_path / "ok.vtu", 600.0)] == ["ok.vtu"]
+    (tmp_path / "out").mkdir()
+    refused("path", plot_result, result_dataset(), tmp_path / "out")
+    refused("result", plot_result, None, tmp_path / "p.png")
+    refused("drift", plot_result, result_dataset().drop_vars("drift"), tmp_path / "p.png")
+    assert not (tmp_path / "p.png").exists() and list((tmp_path / "out").iterdir()) == []

@@ -14,6 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
+from twin.errors import InputError
+from twin.io.paths import output_file
+
 
 def _pyplot():
     import matplotlib
@@ -81,10 +84,30 @@ def picture_suffixes() -> tuple[str, ...]:
     return tuple(f".{k}" for k in _PICTURES if k in supported)
 
 
+NEEDED = ("drift", "temperature", "temperature_true", "spindle_speed", "ambient_temperature")
+# the test bar's instruments: the ISO 230-3 probes, or (a machine without them) laser triangulation
+PROBES, LASERS = ("tilt", "probe_drift"), ("laser", "laser_tilt")
+
+
+def check_plottable(ds, source: str) -> None:
+    """``ds`` is a twin result :func:`plot_result` can draw: a Dataset with :data:`NEEDED` and the
+    test bar's instruments (:data:`PROBES`, or :data:`LASERS` on a machine without probes)."""
+    import xarray as xr
+
+    if not isinstance(ds, xr.Dataset):
+        raise InputError(source, "result", f"expected a twin result (an xarray.Dataset), got {type(ds).__name__}")
+    missing = [v for v in NEEDED + (LASERS if "laser" in ds else PROBES) if v not in ds]
+    if missing:
+        raise InputError(source, missing[0], "missing variable; is this a twin result?")
+
+
 def plot_result(ds, path) -> None:
     """Three panels against time [min]: drift X, Y, Z [um] (with the ISO 230-3 probes' or the laser
     sensors' readings); tilts [urad] (A, B from the probes, or A from the laser pair); temperatures
-    [degC]."""
+    [degC]. ``ds`` is checked (:func:`check_plottable`) and ``path`` must be a picture file name
+    (:func:`picture_suffixes`) in an existing folder."""
+    check_plottable(ds, "plot_result")
+    output_file(path, "path", picture_suffixes())
     plt = _pyplot()
     t = ds.time.values / 60.0
     fig, axes = plt.subplots(3, 1, figsize=(9, 10), sharex=True)

@@ -2,13 +2,8 @@
 
 from __future__ import annotations
 
-from twin.errors import InputError
 from twin.io.atomic import atomic_write
 from twin.io.paths import Files
-
-NEEDED = ("drift", "temperature", "temperature_true", "spindle_speed", "ambient_temperature")
-# the test bar's instruments: the ISO 230-3 probes, or (a machine without them) laser triangulation
-PROBES, LASERS = ("tilt", "probe_drift"), ("laser", "laser_tilt")
 
 
 def add_parser(sub) -> None:
@@ -20,15 +15,13 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     from twin.io.results import read_result
-    from twin.plotting import picture_suffixes, plot_result
+    from twin.plotting import check_plottable, picture_suffixes, plot_result
 
     files = Files()
     src = files.input(args.result, "result", "result file")
     out = files.output(args.output, "-o", picture_suffixes())
-    ds = read_result(src, "result", NEEDED)
-    missing = [v for v in (LASERS if "laser" in ds else PROBES) if v not in ds]
-    if missing:
-        raise InputError(str(src), missing[0], "missing variable; is this a twin result?")
+    ds = read_result(src, "result")
+    check_plottable(ds, str(src))
     atomic_write(out, lambda tmp: plot_result(ds, tmp), "-o")
     print(f"wrote {out}")
     return 0

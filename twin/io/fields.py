@@ -18,6 +18,8 @@ import numpy as np
 
 from twin.errors import InputError
 from twin.io.atomic import atomic_write
+from twin.io.paths import as_path
+from twin.limits import is_number
 
 SUFFIXES = (".vtu", ".xdmf")
 HEAVY_SUFFIX = ".h5"
@@ -89,8 +91,21 @@ def save_temperature_field(mm, field: np.ndarray, path, time_s: float, field_nam
     """:func:`write_temperature_field` to ``path`` atomically; for XDMF the companion HDF5 file
     (:func:`heavy_data_file`) too, written first, the XDMF referring to it by its final name.
     Both are made in a temporary folder beside ``path`` and renamed into place (the folder is
-    removed whatever happens). Returns the files written."""
-    path = Path(path)
+    removed whatever happens). Returns the files written. ``field`` is the run's temperature
+    [degC] at every temperature dof of ``mm`` (finite), ``time_s`` a finite time >= 0 [s]:
+    checked before anything is written, as is the suffix."""
+    path = as_path(path, field_name)
+    if path.suffix.lower() not in SUFFIXES:
+        raise InputError(str(path), field_name, f"unknown field format {path.suffix!r}; use {' or '.join(SUFFIXES)}")
+    values = np.asarray(field, dtype=float) if isinstance(field, np.ndarray) else None
+    if values is None or values.shape != (mm.nheat,) or not np.all(np.isfinite(values)):
+        got = "not an array" if values is None else f"shape {values.shape}" + (
+            "" if values.shape != (mm.nheat,) else ", not finite")
+        raise InputError(str(path), field_name, f"the field must hold one finite temperature per temperature dof "
+                                                f"({mm.nheat}), got {got}")
+    if not is_number(time_s) or not np.isfinite(time_s) or time_s < 0:
+        raise InputError(str(path), field_name, f"the field's time must be a finite number of seconds >= 0, got "
+                                                f"{time_s!r}")
     heavy = heavy_data_file(path)
     if heavy is None:
         return [atomic_write(path, lambda tmp: write_temperature_field(mm, field, tmp, time_s), field_name)]
