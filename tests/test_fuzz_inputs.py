@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from tests.fuzz_cases import all_cases
@@ -207,7 +208,7 @@ def test_interrupt_names_the_outputs_that_are_complete(tmp_path, capsys, monkeyp
 
     (tmp_path / "s.toml").write_text(good_files()["short.toml"].decode())
     ds = result_dataset()
-    fake = SimpleNamespace(mm=SimpleNamespace(nnodes=1), hottest_field=None, hottest_time=0.0)
+    fake = SimpleNamespace(mm=SimpleNamespace(nnodes=1, nheat=1), hottest_field=np.zeros(1), hottest_time=0.0)
     monkeypatch.setattr(cmd_simulate, "simulate_with_progress", lambda *a: (ds, fake))
 
     def interrupted(mm, field, path, time_s):
