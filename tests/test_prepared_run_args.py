@@ -162,3 +162,22 @@ def test_a_field_and_a_plot_from_python_check_what_they_are_given(twin, tmp_path
     refused("result", plot_result, None, tmp_path / "p.png")
     refused("drift", plot_result, result_dataset().drop_vars("drift"), tmp_path / "p.png")
     assert not (tmp_path / "p.png").exists() and list((tmp_path / "out").iterdir()) == []
+
+
+def test_effects_files_and_model_specs_take_a_built_machine(tmp_path):
+    """``load_effects_file(path, "cframe-vmc")`` and ``model_spec("cframe-vmc")`` failed with an
+    AttributeError deep in the region code; ``extra="floor"`` was read letter by letter."""
+    from tests.fuzz_files import EFFECTS_FILE
+    from twin.effects.custom import load_effects_file
+    from twin.model import model_spec
+
+    (tmp_path / "fx.toml").write_text(EFFECTS_FILE)
+    for call, field in ((lambda: load_effects_file(tmp_path / "fx.toml", "cframe-vmc"), "machine"),
+                        (lambda: load_effects_file(tmp_path / "fx.toml", None), "machine"),
+                        (lambda: load_effects_file(None, CFRAME), "file"),
+                        (lambda: model_spec("cframe-vmc"), "machine"), (lambda: model_spec(None), "machine"),
+                        (lambda: model_spec(CFRAME, None, None, "floor"), "--effects-file"),
+                        (lambda: model_spec(CFRAME, None, None, ("nosuch",)), "--effects-file")):
+        with pytest.raises(InputError) as err:
+            call()
+        assert err.value.field == field, str(err.value)

@@ -346,3 +346,12 @@ def finite_numbers(values, source: str, field: str) -> np.ndarray:
     if bad.size:
         raise InputError(source, f"{field}[{bad[0]}]", f"expected a finite number, got {out[bad[0]]!r}")
     return out
+
+
+def check_machine(machine, source: str) -> None:
+    """``machine`` is a built machine (:class:`geometries.base.Machine`), not its name."""
+    if isinstance(machine, str):
+        raise InputError(source, "machine", f"expected a Machine, got the name {machine!r}: pass "
+                                            f"twin.api.machine_by_name({machine!r}) (or geometries.build_machine)")
+    if not hasattr(machine, "parts") or not hasattr(machine, "resolutions"):
+        raise InputError(source, "machine", f"expected a Machine (twin.api.machine_by_name builds one), got {machine!r}")

@@ -189,6 +189,11 @@ def model_spec(machine, effects: str | None = None, settings: list[str] | None =
     """The model of ``machine`` from CLI-style strings: ``effects="+a,-b"`` edits the machine's
     default set, ``settings=["a.p=3 W"]``; every effect must apply to the machine. ``extra``
     effects (e.g. a user's custom effects) are switched on in addition."""
+    from twin.limits import check_machine
+
+    check_machine(machine, CLI)
+    if isinstance(extra, str) or not isinstance(extra, (tuple, list)) or any(e not in EFFECTS for e in extra):
+        raise InputError(CLI, "--effects-file", f"expected a tuple of registered effect names, got {extra!r}")
     chosen = tuple(dict.fromkeys(parse_effects(effects, tuple(machine.default_effects), tuple(extra)) + tuple(extra)))
     check_applicable(chosen, machine)
     return ModelSpec(chosen, with_machine_defaults(machine, chosen, parse_settings(settings, chosen)))

@@ -22,7 +22,7 @@ from twin.limits import is_number, is_whole
 from twin.model import ModelSpec
 from twin.physics.prepared import check_resolution
 from twin.scenario import Scenario
-from validate.evidence import check_machine, sensor_points
+from validate.evidence import check_measured_machine, sensor_points
 
 SOURCE = "diagnose"
 
@@ -54,7 +54,7 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
         if not isinstance(ds, xr.Dataset):
             raise InputError(label, "measurement", f"expected an xarray.Dataset (twin.io.measurement.read_measurement), "
                                                    f"got {describe(ds)}")
-        check_machine(ds, machine, label)
+        check_measured_machine(ds, machine, label)
         check_measurement(ds, machine, label)
         sensor_points(ds, machine, label)     # every temperature sensor a site or placed by x, y, z
         if not isinstance(scenario, Scenario):

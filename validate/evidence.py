@@ -59,7 +59,7 @@ def diagnosed_groups(ds) -> tuple[str, ...]:
     return tuple(g for g in GROUPS if not (g == "strain_raw" and "strain" in ds) and g not in RUN_GROUPS)
 
 
-def check_machine(ds, machine, label: str) -> None:
+def check_measured_machine(ds, machine, label: str) -> None:
     """The measurement ``ds`` names no machine (its ``machine`` attribute) or ``machine``."""
     named = ds.attrs.get("machine")
     if named is not None and str(named) != machine.name:
@@ -182,7 +182,7 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
     and, when ``ds`` has laser-interferometer runs, the record of their positioning error (same
     label, same engine; module docstring); InputError when it has no channel to diagnose, when it
     outlasts the scenario, or when its interferometer runs are not the scenario's."""
-    check_machine(ds, machine, label)
+    check_measured_machine(ds, machine, label)
     stacked = stack(ds, diagnosed_groups(ds))
     run_times, runs = stack_runs(ds)
     if not stacked.names and runs is None:

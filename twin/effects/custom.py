@@ -192,7 +192,9 @@ def read_effects_file(path, machine) -> list[CustomEffect]:
     """The custom effects of TOML file ``path`` for ``machine`` (regions checked against its parts)."""
     from twin.io.paths import read_toml
 
-    path = Path(path)
+    from twin.io.paths import as_path
+
+    path = as_path(path, "file")
     data, _ = read_toml(path, "file", "effects file")
     return effects_from_dict(data, str(path), machine, path.parent)
 
@@ -203,7 +205,9 @@ def table_files(path) -> list[tuple[Path, str]]:
     inputs before any work (:class:`twin.io.paths.Files`). The file is checked in full later."""
     from twin.io.paths import read_toml
 
-    path = Path(path)
+    from twin.io.paths import as_path
+
+    path = as_path(path, "file")
     data, _ = read_toml(path, "file", "effects file")
     effects = data.get("effects")
     found = []
@@ -455,5 +459,9 @@ def unregister_custom(names=None) -> None:
 
 
 def load_effects_file(path, machine) -> list[str]:
-    """Read ``path`` for ``machine`` and register its effects; returns their names."""
+    """Read ``path`` for ``machine`` (a built :class:`geometries.base.Machine`) and register its
+    effects; returns their names."""
+    from twin.limits import check_machine
+
+    check_machine(machine, "load_effects_file")
     return register_custom(read_effects_file(path, machine))

@@ -45,15 +45,6 @@ MATERIAL_PROPERTIES = ("conductivity", "density", "specific_heat", "youngs_modul
 from twin.physics.steppers import DirectStepper, IterativeStepper, ReducedStart
 
 
-def check_machine(machine, source: str = SOURCE) -> None:
-    """``machine`` is a built machine (:class:`geometries.base.Machine`), not its name."""
-    if isinstance(machine, str):
-        raise InputError(source, "machine", f"expected a Machine, got the name {machine!r}: pass "
-                                            f"twin.api.machine_by_name({machine!r}) (or geometries.build_machine)")
-    if not hasattr(machine, "parts") or not hasattr(machine, "resolutions"):
-        raise InputError(source, "machine", f"expected a Machine (twin.api.machine_by_name builds one), got {machine!r}")
-
-
 def check_prepared(prepared, machine, source: str, field: str = "prepared") -> None:
     """``prepared`` is a :class:`PreparedTwin` of ``machine`` (its name), or
     :class:`InputError` naming ``field``."""
@@ -130,7 +121,7 @@ class PreparedTwin:
 
     def __init__(self, machine, mm=None, resolution: str = "default", materials: dict | None = None,
                  solver=None):
-        check_machine(machine)
+        limits.check_machine(machine, SOURCE)
         if mm is None:
             check_resolution(machine, resolution)
         elif not isinstance(mm, MachineMesh):
