@@ -5,14 +5,11 @@ from __future__ import annotations
 from dataclasses import fields
 from os import PathLike
 
-import numpy as np
-
 from geometries import MACHINES, build_machine
-from geometries.base import Point
+from geometries.base import Point  # noqa: F401 (re-exported: sensors are Points)
 from twin import limits
 from twin.errors import InputError, describe
 from twin.fem.mesh import mesh_machine
-from twin.io.mapping_columns import NETCDF_BAD_NAME_CHARACTERS, check_sensor_name
 from twin.io.results import to_dataset
 from twin.model import ModelSpec, model_spec
 from twin.motion import machine_for
@@ -20,6 +17,7 @@ from twin.observe import standard_observers
 from twin.observe.camera import CameraConfig
 from twin.observe.interferometer import LaserInterferometer, check_interferometer
 from twin.observe.probing import DatumProbing, check_probing
+from twin.observe.temperature import check_points
 from twin.observe.camera import cameras as camera_observers
 from twin.physics.prepared import PreparedTwin, check_prepared, check_resolution, part_materials  # noqa: F401 (PreparedTwin re-exported)
 from twin.physics.options import as_options
@@ -127,30 +125,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
 
 
 def _check_sensors(sensors, machine) -> None:
-    """``sensors``: None (the machine's sites) or a list of :class:`geometries.base.Point` s with
-    distinct non-empty names (printable, without '@' or ','), each on its part of ``machine`` (anywhere on it when the part is
-    empty) or in the air near it (:func:`twin.limits.check_position`)."""
-    if sensors is None:
-        return
-    if not isinstance(sensors, (list, tuple)):
-        raise InputError(CLI, "sensors", f"expected a list of geometries.base.Point, got {sensors!r}")
-    seen = set()
-    for i, p in enumerate(sensors):
-        if not isinstance(p, Point):
-            raise InputError(CLI, f"sensors[{i}]", f"expected a geometries.base.Point(name, (x, y, z) [m], part), "
-                                                   f"got {p!r}")
-        # the name a measurement file can hold (twin.io.measurement_writer, read back by read_measurement)
-        check_sensor_name(p.name, CLI, f"sensors[{i}]", NETCDF_BAD_NAME_CHARACTERS)
-        field = f"sensors[{i}] {p.name}"
-        if p.name in seen:
-            raise InputError(CLI, field, "named twice: sensors need distinct names")
-        seen.add(p.name)
-        if not isinstance(p.part, str):
-            raise InputError(CLI, field, f"a sensor's part is a part name (or 'air'), got {p.part!r}")
-        try:
-            xyz = np.asarray(p.xyz, dtype=float)
-        except (TypeError, ValueError):
-            xyz = None
-        if xyz is None or xyz.shape != (3,):
-            raise InputError(CLI, field, f"a position is three numbers (x, y, z) [m], got {p.xyz!r}")
-        limits.check_position(machine, xyz, p.part, CLI, field)
+    """``sensors``: None (the machine's sites) or points :func:`twin.observe.temperature.check_points`
+    takes (the arguments' source: the command line)."""
+    if sensors is not None:
+        check_points(sensors, machine, CLI, "sensors")

@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from twin import limits
 from twin.effects import EFFECTS
+from twin.errors import InputError
 from twin.fem.points import interpolation_matrix
 from twin.observe.base import Observer, RunContext, variable
 from twin.observe.instruments import temperature_reading
@@ -34,6 +36,41 @@ def air_temperature(points, ctx: RunContext) -> np.ndarray:
     return out
 
 
+def check_points(points, machine, source: str, field: str = "sensors") -> list:
+    """``points``: a list of :class:`geometries.base.Point` s with distinct names a measurement
+    file can hold (printable, without '@' or ','), each three finite coordinates [m] on its part of
+    ``machine`` (anywhere on it when the part is empty) or in the air near it
+    (:func:`twin.limits.check_position`; not checked without a machine, None); an
+    :class:`InputError` naming ``field[i]`` otherwise."""
+    from geometries.base import Point
+    from twin.io.mapping_columns import NETCDF_BAD_NAME_CHARACTERS, check_sensor_name
+
+    if isinstance(points, (str, bytes)) or not isinstance(points, (list, tuple)):
+        raise InputError(source, field, f"expected a list of geometries.base.Point, got {points!r}")
+    seen = set()
+    for i, p in enumerate(points):
+        if not isinstance(p, Point):
+            raise InputError(source, f"{field}[{i}]", f"expected a geometries.base.Point(name, (x, y, z) [m], part), "
+                                                      f"got {p!r}")
+        # the name a measurement file can hold (twin.io.measurement_writer, read back by read_measurement)
+        check_sensor_name(p.name, source, f"{field}[{i}]", NETCDF_BAD_NAME_CHARACTERS)
+        where = f"{field}[{i}] {p.name}"
+        if p.name in seen:
+            raise InputError(source, where, "named twice: sensors need distinct names")
+        seen.add(p.name)
+        if not isinstance(p.part, str):
+            raise InputError(source, where, f"a sensor's part is a part name (or 'air'), got {p.part!r}")
+        try:
+            xyz = np.asarray(p.xyz, dtype=float)
+        except (TypeError, ValueError):
+            xyz = None
+        if xyz is None or xyz.shape != (3,):
+            raise InputError(source, where, f"a position is three numbers (x, y, z) [m], got {p.xyz!r}")
+        if machine is not None:
+            limits.check_position(machine, xyz, p.part, source, where)
+    return list(points)
+
+
 class TemperatureSensors(Observer):
     """Temperature sensors at ``points`` (:class:`geometries.base.Point`); variables
     ``temperature`` (as measured) and ``temperature_true`` (time, sensor) [degC] with the sensor
@@ -43,13 +80,14 @@ class TemperatureSensors(Observer):
     raw_unit = "K"
 
     def __init__(self, points):
-        self.points = list(points)
+        self.points = check_points(points, None, "TemperatureSensors", "points")   # their machine: at rows()
         self.air = np.array([p.part == AIR for p in self.points], bool)
 
     def cache_key(self) -> tuple:
         return (type(self).__name__, tuple((p.name, tuple(p.xyz), p.part) for p in self.points))
 
     def rows(self, twin, loads):
+        check_points(self.points, twin.machine, "TemperatureSensors", "points")   # built in Python: checked here
         layout = loads.mm
         rows = np.zeros((len(self.points), layout.nheat))
         glued = np.flatnonzero(~self.air)

@@ -236,7 +236,11 @@ class PreparedTwin:
     def prepare(self, scenario, spec, observers, theta: float = 0.5) -> dict:
         """Build what :meth:`run` of these arguments needs before its first step (the elastic
         solver, the adjoints, the observers' rows, and the reduced basis of ``rom`` or of the
-        reduced start), as :meth:`run` itself does (:meth:`_prepare`); the seconds each part took."""
+        reduced start), as :meth:`run` itself does (:meth:`_prepare`); the seconds each part took.
+        The arguments are checked as :meth:`run` checks them."""
+        self.check_run(scenario, theta)
+        self.check_spec(spec, scenario)
+        check_observers(observers)
         loads = self.loads(scenario, spec)
         times = scenario.times()
         h, _, _ = loads.signals(times[:-1] + theta * scenario.sample_interval)
