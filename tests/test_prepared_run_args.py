@@ -200,3 +200,12 @@ def test_temperature_sensors_built_in_python_are_checked_on_their_twins_machine(
 class SimpleLoads:
     def __init__(self, mm):
         self.mm = mm
+
+
+def test_an_ambient_field_its_kind_does_not_read_is_refused_not_ignored():
+    check_ambient(Ambient("daily", mean=20.0, amplitude=2.0), "s")
+    for air, field in ((Ambient("constant", 20.0, amplitude=5.0), "ambient.amplitude"),
+                       (Ambient("constant", 20.0, times=(0.0, 60.0), temperatures=(20.0, 21.0)), "ambient.times"),
+                       (Ambient("table", mean=25.0, times=(0.0, 600.0), temperatures=(20.0, 21.0)), "ambient.mean"),
+                       (Ambient("daily", mean=20.0, amplitude=2.0, file="room.csv"), "ambient.file")):
+        refused(field, check_ambient, air, "s")

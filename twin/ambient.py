@@ -6,7 +6,7 @@ checked as air a workshop can have (:mod:`twin.limits`). The table's keys are li
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -111,6 +111,14 @@ def ambient_from_toml(table, source: str) -> Ambient:
     return a
 
 
+# the fields each kind does not read (a Python-built Ambient must leave them at their defaults)
+UNUSED = {"constant": ("amplitude", "coldest_at", "start_time_of_day", "times", "temperatures", "file"),
+          "daily": ("times", "temperatures", "file"),
+          "table": ("mean", "amplitude", "coldest_at", "start_time_of_day", "file"),
+          "csv": ("mean", "amplitude", "coldest_at", "start_time_of_day")}
+_DEFAULTS = {f.name: f.default for f in fields(Ambient)}
+
+
 def check_ambient(a: Ambient, source: str) -> None:
     """The room air's values: temperatures [degC] finite and plausible for room air (a daily
     sine's extremes too, and base + events at their extremes), a daily amplitude not negative and
@@ -119,6 +127,10 @@ def check_ambient(a: Ambient, source: str) -> None:
     them again on a built scenario)."""
     if not isinstance(a, Ambient):
         raise InputError(source, "ambient", f"expected a twin.scenario.Ambient, got {a!r}")
+    for key in UNUSED.get(a.kind, ()):   # a value its kind does not read would be ignored silently
+        if getattr(a, key) != _DEFAULTS[key]:
+            raise InputError(source, f"ambient.{key}", f"is not read by kind {a.kind!r}: leave it out (or choose "
+                                                       "the kind that uses it)")
     if a.kind == "constant":
         limits.check_temperatures(limits.finite_number(a.mean, source, "ambient.temperature"), source, "ambient.temperature")
     elif a.kind == "daily":
