@@ -281,3 +281,17 @@ def test_a_prepared_twin_checks_its_runs_as_simulate_does(cframe):
     refused("sample_interval", rom.run, replace(SHORT, sample_interval=0.0), spec, [ToolDrift()])
     from twin.observe.snapshot import HottestField
     refused("observers", rom.run_batch, [(SHORT, spec)], [ToolDrift(), HottestField()])
+
+
+def test_solver_options_are_frozen_and_refuse_what_their_solver_never_reads():
+    """API audit: ``SolverOptions("direct", rom_order=100)`` was accepted (no basis is built) and
+    ``options.heat_tol = -1`` after construction ran as if checked."""
+    import dataclasses
+
+    refused("--rom-order", SolverOptions, "direct", rom_order=100)
+    refused("--heat-tol", SolverOptions, "direct", heat_tol=1e-3)
+    refused("--heat-tol", SolverOptions, "rom", heat_tol="1e-4 K")
+    refused("max_iterations", SolverOptions, "rom", max_iterations=10)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        SolverOptions().heat_tol = -1.0
+    assert SolverOptions("rom", rom_order=32).rom_order == 32

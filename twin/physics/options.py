@@ -12,7 +12,7 @@ that would do nothing in the run asked for are refused.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 from twin.errors import InputError
 from twin.limits import is_number, is_whole
@@ -28,7 +28,7 @@ MIN_ROM_ORDER = 2           # the reduced model's smallest basis (a model may ne
 MAX_ROM_ORDER = 500         # its largest: the basis is nodes x order, the bound's Gram matrix (order x films)^2
 
 
-@dataclass
+@dataclass(frozen=True)
 class SolverOptions:
     """What solves the linear systems of a prepared twin.
 
@@ -74,10 +74,15 @@ class SolverOptions:
             raise InputError("command line", "--device", f"the GPU path is the full-order iterative heat step, not the "
                              f"{'direct solver' if self.solver == 'direct' else 'reduced model (it runs on the CPU)'}: "
                              f"use --solver iterative or auto with --device gpu")
-        self.heat_tol = _heat_tol(self.heat_tol)
-        self.elastic_rtol = _fraction(self.elastic_rtol, "elastic_rtol")
-        self.max_iterations = _whole(self.max_iterations, "max_iterations", 1, None, "iterations")
-        self.rom_order = _whole(self.rom_order, "--rom-order", MIN_ROM_ORDER, MAX_ROM_ORDER, "basis vectors")
+        checked = {"heat_tol": _heat_tol(self.heat_tol), "elastic_rtol": _fraction(self.elastic_rtol, "elastic_rtol"),
+                   "max_iterations": _whole(self.max_iterations, "max_iterations", 1, None, "iterations"),
+                   "rom_order": _whole(self.rom_order, "--rom-order", MIN_ROM_ORDER, MAX_ROM_ORDER, "basis vectors")}
+        for key, value in checked.items():     # frozen: the checked values replace the given ones once
+            object.__setattr__(self, key, value)
+        for key in UNUSED.get(self.solver, ()):   # a value the solver never reads would be ignored silently
+            if getattr(self, key) != _DEFAULTS[key]:
+                raise InputError("command line", OPTION[key], f"does nothing with --solver {self.solver}: leave it out "
+                                                              "(or choose the solver that uses it)")
         if not is_whole(self.elastic_coarsening) or not 1 <= self.elastic_coarsening <= MAX_ELASTIC_COARSENING:
             raise InputError("command line", "--elastic-coarsening",
                              f"must be a whole number from 1 (the temperature mesh) to {MAX_ELASTIC_COARSENING} (beyond, "
@@ -131,6 +136,11 @@ def _whole(value, field: str, lower: int, upper: int | None, what: str) -> int:
 
 
 DEFAULT = {"solver": "auto"}   # what None means; the test suite's --solver option changes it
+# what each solver never reads (the direct factorisation has no tolerance, iterations or basis; the
+# reduced model no heat-step tolerance or iterations), and the options that set them
+UNUSED = {"direct": ("heat_tol", "max_iterations", "rom_order"), "rom": ("heat_tol", "max_iterations")}
+OPTION = {"heat_tol": "--heat-tol", "max_iterations": "max_iterations", "rom_order": "--rom-order"}
+_DEFAULTS = {f.name: f.default for f in fields(SolverOptions)}
 
 
 def as_options(solver) -> SolverOptions:
