@@ -209,3 +209,15 @@ def test_an_ambient_field_its_kind_does_not_read_is_refused_not_ignored():
                        (Ambient("table", mean=25.0, times=(0.0, 600.0), temperatures=(20.0, 21.0)), "ambient.mean"),
                        (Ambient("daily", mean=20.0, amplitude=2.0, file="room.csv"), "ambient.file")):
         refused(field, check_ambient, air, "s")
+
+
+def test_a_batch_of_other_grids_a_renamed_material_and_a_sensitivity_of_nothing_are_named(twin):
+    from geometries.materials import MATERIALS
+    from twin.observe.displacement import ExpansionSensitivity
+
+    longer = replace(SHORT, steps=((1200.0, 8000.0),))
+    refused("cases[1]", twin.run_batch, [(SHORT, SPEC), (longer, SPEC)], [ToolDrift()])
+    refused("materials['grey_cast_iron']", PreparedTwin, CFRAME, resolution="coarse",
+            materials={"grey_cast_iron": replace(MATERIALS["grey_cast_iron"], name="granite")})
+    refused("material", twin.run, SHORT, SPEC, [ExpansionSensitivity("unobtainium", ToolDrift())])
+    refused("of", ExpansionSensitivity, "steel", "drift")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
 from twin.observe.base import Observer, variable
 from twin.observe.instruments import probe_reading
@@ -181,6 +182,10 @@ class ExpansionSensitivity(Observer):
     (no Dataset variables): the diagnosis fits it as a nuisance."""
 
     def __init__(self, material: str, of: DisplacementObserver):
+        if not isinstance(of, DisplacementObserver):
+            raise InputError("command line", "of", f"expected a displacement observer (twin.observe), got {of!r}")
+        if not isinstance(material, str):
+            raise InputError("command line", "material", f"expected a material name, got {material!r}")
         self.material, self.of = material, of
         self.key = f"expansion:{material}:{of.key}"
         self.raw_unit = of.raw_unit   # per unit change of alpha
@@ -189,4 +194,8 @@ class ExpansionSensitivity(Observer):
         return (type(self).__name__, self.material) + self.of.cache_key()
 
     def rows(self, twin, loads):
+        made_of = sorted({p.material.name for p in twin.machine.parts})
+        if self.material not in made_of:     # its rows would be zeros: a sensitivity of nothing
+            raise InputError("command line", "material", f"no part of machine {twin.machine.name} is made of "
+                                                         f"{self.material!r}; its materials: {', '.join(made_of)}")
         return self.of.material_rows(twin, loads, self.material)

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from twin.errors import InputError
 from twin.observe.base import error_units
 from twin.physics.heat import integrate
 from twin.physics.loads import LoadSet, collect_loads, pattern_key
@@ -43,12 +44,14 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
     (O(d^2) per case and step; the estimate is always computed)."""
     cases = list(cases)
     if not cases:
-        raise ValueError("run_batch needs at least one case")
+        raise InputError("command line", "cases", "run_batch needs at least one (scenario, spec)")
     sc0, spec0 = cases[0]
     times, T0 = sc0.times(), sc0.start_temperature
-    for sc, _ in cases:
+    for i, (sc, _) in enumerate(cases):
         if len(sc.times()) != len(times) or not np.allclose(sc.times(), times) or sc.start_temperature != T0:
-            raise ValueError("batched cases must share the time grid and the start temperature")
+            raise InputError("command line", f"cases[{i}]", "batched cases share the first case's time grid (duration "
+                                                            "and sample interval) and start temperature; run this one "
+                                                            "in another batch")
     loads = twin.loads(sc0, spec0)
     dt = sc0.sample_interval
     nsteps = len(times) - 1

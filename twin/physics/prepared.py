@@ -82,6 +82,10 @@ def part_materials(machine, materials, source: str = SOURCE, field: str = "mater
             raise InputError(source, f"{field}[{name!r}]", f"expected a geometries.materials.Material (e.g. "
                                                            f"MATERIALS[{name!r}].scaled(conductivity=1.05)), got "
                                                            f"{material!r}")
+        if material.name != name:   # the key names the parts' material, the Material another
+            raise InputError(source, f"{field}[{name!r}]", f"holds the material {material.name!r}: a replacement keeps "
+                                                           f"its name (MATERIALS[{name!r}].scaled(...) or "
+                                                           f"dataclasses.replace(..., name={name!r}))")
         values = {k: getattr(material, k) for k in MATERIAL_PROPERTIES + ("poisson_ratio", "expansion")}
         bad = [k for k, v in values.items() if not limits.is_number(v) or not np.isfinite(v) or (k in MATERIAL_PROPERTIES and v <= 0)
                or (k == "poisson_ratio" and not -1.0 < v < 0.5)]
