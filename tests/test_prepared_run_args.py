@@ -221,3 +221,18 @@ def test_a_batch_of_other_grids_a_renamed_material_and_a_sensitivity_of_nothing_
             materials={"grey_cast_iron": replace(MATERIALS["grey_cast_iron"], name="granite")})
     refused("material", twin.run, SHORT, SPEC, [ExpansionSensitivity("unobtainium", ToolDrift())])
     refused("of", ExpansionSensitivity, "steel", "drift")
+
+
+def test_instruments_a_machine_lacks_or_gauges_off_their_part_are_named(twin):
+    """``LaserTriangulation()`` on the C-frame (no lasers) and ``StrainGauges([])`` failed with
+    scipy's 'blocks must be 2-D'; a gauge on a part the machine lacks was accepted."""
+    from geometries.base import StrainGauge
+    from twin.observe.strain import StrainGauges
+    from twin.observe.triangulation import LaserTriangulation
+
+    refused("observers", twin.run, SHORT, SPEC, [LaserTriangulation()])
+    for gauges in ([], "abc", ["FBG-1"]):
+        refused("gauges", StrainGauges, gauges)
+    motor = CFRAME.point("motor")
+    gauge = StrainGauge("g", motor.xyz, (1.0, 0.0, 0.0), 0.01, "nosuch")
+    refused("gauges[0] g", twin.run, SHORT, SPEC, [StrainGauges([gauge])])

@@ -141,7 +141,11 @@ class FiveProbeTestBar(DisplacementObserver):
         return machine.probes
 
     def functionals(self, mm):
-        rows = [relative_displacement(mm, p.target, p.fixture, [p.direction]) for p in self.sensors(mm.machine)]
+        sensors = self.sensors(mm.machine)
+        if not sensors:     # an empty stack of rows is no reading
+            raise InputError("command line", "observers", f"machine {mm.machine.name} has no {self.long_name} "
+                                                          f"({type(self).__name__} reads the machine's own)")
+        rows = [relative_displacement(mm, p.target, p.fixture, [p.direction]) for p in sensors]
         return sp.vstack(rows).tocsr()
 
     def posed_points(self, machine):

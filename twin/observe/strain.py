@@ -29,6 +29,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from twin import limits
+from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
 from twin.observe.base import variable
 from twin.observe.displacement import DisplacementObserver
@@ -58,6 +60,12 @@ class StrainGauges(DisplacementObserver):
     raw_unit = "m/m"
 
     def __init__(self, gauges):
+        from geometries.base import StrainGauge
+
+        if isinstance(gauges, (str, bytes)) or not isinstance(gauges, (list, tuple)) or not gauges or not all(
+                isinstance(g, StrainGauge) for g in gauges):
+            raise InputError("command line", "gauges", f"expected a list of one or more geometries.base.StrainGauge "
+                                                       f"(a machine's strain_gauges), got {gauges!r}")
         self.gauges = list(gauges)
 
     def cache_key(self) -> tuple:
@@ -73,6 +81,8 @@ class StrainGauges(DisplacementObserver):
 
     def rows(self, twin, loads):
         layout, machine = loads.mm, loads.mm.machine
+        for i, g in enumerate(self.gauges):    # built in Python: on its part of this machine
+            limits.check_position(machine, g.xyz, g.part, "StrainGauges", f"gauges[{i}] {g.name}")
         strain = twin.displacement_rows(self, layout)
         weights = 0.5 * _GAUSS[1]
         grating = sp.vstack([sp.csr_matrix(weights @ interpolation_matrix(layout, grating_points(g),
