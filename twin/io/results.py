@@ -40,7 +40,15 @@ def package_version() -> str:
 
 def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "") -> xr.Dataset:
     """Apply the instrument models (seeded) and build the result Dataset of a
-    :class:`twin.simulate.RunResult`: the inputs, then each observer's variables in order."""
+    :class:`twin.simulate.RunResult`: the inputs, then each observer's variables in order.
+    ``seed``: the instruments' noise seed, an integer from 0 to 2**32 - 1; ``resolution``: the
+    mesh's name as the result's ``mesh`` attribute (a text)."""
+    from twin import limits
+
+    seed = limits.seed_value(seed, "command line", "seed")
+    if not isinstance(resolution, str) or not isinstance(scenario_label, str):
+        raise InputError("command line", "resolution", f"expected texts for resolution and scenario_label, got "
+                                                       f"{resolution!r}, {scenario_label!r}")
     machine, spec, sc = r.machine, r.spec, r.scenario
     ctx = r.context(seed)
     data = {"spindle_speed": variable("time", sc.spindle_speed(r.times), "rpm", "spindle speed"),
