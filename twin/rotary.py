@@ -84,7 +84,7 @@ def c_axis_from_toml(raw, source: str, dt: float) -> RotarySchedule | None:
 
 def check_schedule(schedule: RotarySchedule, source: str) -> None:
     """A schedule built in Python as the reader builds one: one or more (duration [s] > 0, speed
-    [rpm] >= 0, duty in (0, 1]) steps of finite numbers (a duty of 2 or -1 would double or
+    [rpm] >= 0, duty in [0, 1]: 0 from a log at rest) steps of finite numbers (a duty of 2 or -1 would double or
     reverse the heat); the speeds' limits are the machine's (:func:`twin.limits.check_c_axis`)."""
     steps = schedule.steps
     if isinstance(steps, (str, bytes)) or not isinstance(steps, (tuple, list)) or not steps:
@@ -97,9 +97,9 @@ def check_schedule(schedule: RotarySchedule, source: str) -> None:
             raise InputError(source, f"c_axis[{i}].duration", f"must be finite and positive, got {duration:g} s")
         if not np.isfinite(speed) or speed < 0:
             raise InputError(source, f"c_axis[{i}].speed", f"must be finite and not negative, got {speed:g} rpm")
-        if not np.isfinite(duty) or not 0.0 < duty <= 1.0:
-            raise InputError(source, f"c_axis[{i}].duty", f"the fraction of the time turning is above 0 and at most 1, "
-                                                          f"got {duty:g}")
+        if not np.isfinite(duty) or not 0.0 <= duty <= 1.0:
+            raise InputError(source, f"c_axis[{i}].duty", f"the fraction of the time turning is from 0 to 1, got "
+                                                          f"{duty:g}")
 
 
 def check_duration(schedule: RotarySchedule | None, total: float, source: str) -> None:
