@@ -52,7 +52,7 @@ from twin import limits
 from twin.errors import InputError
 from twin.io.table_reader import TableReader
 from twin.observe.camera import CameraConfig
-from twin.observe.camera_checks import NOISE_TERMS, RADIANCE_SPAN, check_up
+from twin.observe.camera_checks import BITS, EDGE_RAYS, MAX_PIXELS, NOISE_TERMS, RADIANCE_SPAN, check_up
 from twin.observe.camera_geometry import Intrinsics
 from twin.observe.microbolometer import Microbolometer
 from twin.units import UnitError, parse_quantity
@@ -119,7 +119,7 @@ def _camera(table, source: str, prefix: str) -> CameraConfig:
         kw["frame_interval"] = interval
     edge = r.get("edge_rays")
     if edge is not None:
-        kw["edge_rays"] = _integer(edge, source, prefix + "edge_rays", 1, 8)
+        kw["edge_rays"] = _integer(edge, source, prefix + "edge_rays", *EDGE_RAYS)
     counts = r.get("store_counts")
     if counts is not None:
         if not isinstance(counts, bool):
@@ -140,7 +140,7 @@ def _intrinsics(r, source: str, prefix: str) -> Intrinsics:
     if res is not None:
         if not (isinstance(res, list) and len(res) == 2):
             raise InputError(source, prefix + "resolution", "expected [width, height] in pixels")
-        kw["width"], kw["height"] = (_integer(x, source, prefix + "resolution", 1, 8192) for x in res)
+        kw["width"], kw["height"] = (_integer(x, source, prefix + "resolution", 1, MAX_PIXELS) for x in res)
     fov = _pair(r, "field_of_view", "angle")
     if fov is not None:
         if not all(0 < a < math.pi for a in fov):
@@ -184,7 +184,7 @@ def _sensor(table, source: str, prefix: str) -> Microbolometer:
     kw["drift_time"] = r.positive("drift_time", "time")
     kw["reference_temperature"] = _temperature(r, "reference_temperature", RADIANCE_SPAN, "the twin's radiance table")
     bits = r.get("bits")
-    kw["bits"] = None if bits is None else _integer(bits, source, prefix + "bits", 8, 16)
+    kw["bits"] = None if bits is None else _integer(bits, source, prefix + "bits", *BITS)
     span = _pair(r, "range", "temperature")
     if span is not None:
         for i, t in enumerate(span):
