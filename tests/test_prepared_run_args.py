@@ -236,3 +236,23 @@ def test_instruments_a_machine_lacks_or_gauges_off_their_part_are_named(twin):
     motor = CFRAME.point("motor")
     gauge = StrainGauge("g", motor.xyz, (1.0, 0.0, 0.0), 0.01, "nosuch")
     refused("gauges[0] g", twin.run, SHORT, SPEC, [StrainGauges([gauge])])
+
+
+def test_an_instrument_built_with_its_own_instants_is_checked_against_the_run():
+    """helper-29: a LaserInterferometer or DatumProbing built in Python with a negative first
+    instant bypassed the scenario's checks and returned uninitialised memory (6.9e-304)."""
+    from twin.motion import machine_for
+    from twin.observe.interferometer import LaserInterferometer
+    from twin.observe.probing import DatumProbing
+    from twin.scenario import load_scenario
+
+    sc = load_scenario("seed003-exp2")
+    m = machine_for(CFRAME, sc)
+    moving = PreparedTwin(m, resolution="coarse", solver="direct")
+    moving.loads = lambda *a, **k: (_ for _ in ()).throw(AssertionError("run started"))
+    for runs in ((-60.0, 2400.0), (0.0, 9600.0, 2400.0), (0.0, 123.4)):
+        observer = LaserInterferometer(replace(sc.interferometer, runs=runs), m)
+        refused("interferometer.runs", moving.run, sc, default_spec(m), [observer])
+    probing = DatumProbing(ProbingConfig((-60.0, 600.0), ((0.1, 0.1, 0.1),)), m)
+    refused("probing.times", moving.run, sc, default_spec(m), [probing])
+    refused("interferometer", LaserInterferometer, "Y", m)

@@ -66,6 +66,11 @@ class Observer:
         for step-hook observers."""
         return None
 
+    def check(self, scenario, machine) -> None:
+        """Raise :class:`twin.errors.InputError` unless this observer can read ``scenario`` on
+        ``machine`` (an instrument with its own instants checks them against the run's grid);
+        the twin calls it before a run."""
+
     def sample_steps(self, times: np.ndarray) -> np.ndarray | None:
         """Indices into the run's output instants ``times`` [s] at which this observer records;
         None (the default) records every instant in the twin's stacked output operator."""

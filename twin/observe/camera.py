@@ -174,6 +174,10 @@ class ThermalCamera(Observer):
         c = self.config
         return (type(self).__name__, self.key, self.pose, c.intrinsics, c.edge_rays, c.backend)
 
+    def check(self, scenario, machine) -> None:
+        """Its configuration's values and frame interval against the run (:meth:`CameraConfig.check`)."""
+        self.config.check(scenario)
+
     def name(self, base: str) -> str:
         return base + self.suffix
 

@@ -190,12 +190,22 @@ class LaserInterferometer(DisplacementObserver):
     layout_cached = True
 
     def __init__(self, config: InterferometerConfig, machine):
+        if not isinstance(config, InterferometerConfig):
+            raise InputError("command line", "interferometer", f"expected an InterferometerConfig, got {config!r}")
         self.config = config
-        self.axis = machine.axis(config.axis)
+        try:
+            self.axis = machine.axis(config.axis)
+        except KeyError:
+            raise InputError(config.source or "command line", "interferometer.axis",
+                             f"machine {machine.name} has no axis {config.axis!r}") from None
         self.targets = config.targets(self.axis)
 
     def cache_key(self) -> tuple:
         return (type(self).__name__, self.config)
+
+    def check(self, scenario, machine) -> None:
+        """Its runs on the scenario's grid, from 0 s, increasing; its axis and targets on the machine."""
+        check_interferometer(self.config, scenario, machine)
 
     def _point(self, along: float, across) -> np.ndarray:
         k = "xyz".index(self.axis.direction)

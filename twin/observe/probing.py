@@ -107,6 +107,8 @@ class DatumProbing(DisplacementObserver):
     layout_cached = True
 
     def __init__(self, config: ProbingConfig, machine):
+        if not isinstance(config, ProbingConfig):
+            raise InputError("command line", "probing", f"expected a ProbingConfig, got {config!r}")
         self.config = config
         self.datums = np.array(config.datums, float).reshape(-1, 3)
         self.screws = [a for a in machine.axes[:3] if a.feedback == "semi-closed" and a.drive is not None
@@ -114,6 +116,10 @@ class DatumProbing(DisplacementObserver):
 
     def cache_key(self) -> tuple:
         return (type(self).__name__, self.config)
+
+    def check(self, scenario, machine) -> None:
+        """Its instants on the scenario's grid, from 0 s, increasing; its datums in the travel."""
+        check_probing(self.config, scenario, machine)
 
     def functionals(self, mm):
         return relative_displacement(mm, mm.machine.tool_point, mm.machine.workpiece_point, _UNIT)

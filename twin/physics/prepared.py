@@ -244,7 +244,7 @@ class PreparedTwin:
         The arguments are checked as :meth:`run` checks them."""
         self.check_run(scenario, theta)
         self.check_spec(spec, scenario)
-        check_observers(observers)
+        check_observers(observers, scenario, self.machine)
         loads = self.loads(scenario, spec)
         times = scenario.times()
         h, _, _ = loads.signals(times[:-1] + theta * scenario.sample_interval)
@@ -370,7 +370,7 @@ class PreparedTwin:
         """
         self.check_run(scenario, theta)
         self.check_spec(spec, scenario, plausible)
-        check_observers(observers)
+        check_observers(observers, scenario, self.machine)
         loads = self.loads(scenario, spec)
         times = scenario.times()
         nsteps = len(times) - 1
@@ -439,7 +439,7 @@ class PreparedTwin:
                 raise InputError("command line", f"cases[{i}]", f"expected (scenario, spec), got {case!r}")
             self.check_run(case[0], theta)
             self.check_spec(case[1], case[0], plausible)
-        check_observers(observers)
+            check_observers(observers, case[0], self.machine)
         for o in observers:   # a step hook or a sampled observer would come back empty, silently
             if type(o).on_step is not Observer.on_step or o.sample_steps(cases[0][0].times()) is not None:
                 raise InputError("command line", "observers", f"{type(o).__name__} ({o.key}) is read at a step or "
@@ -486,8 +486,9 @@ class PreparedTwin:
             check_probing(scenario.probing, scenario, self.machine)
 
 
-def check_observers(observers) -> None:
-    """``observers``: a list of :class:`twin.observe.base.Observer` with distinct keys."""
+def check_observers(observers, scenario, machine) -> None:
+    """``observers``: a list of :class:`twin.observe.base.Observer` with distinct keys, each able
+    to read ``scenario`` on ``machine`` (:meth:`twin.observe.base.Observer.check`)."""
     if isinstance(observers, (str, bytes)) or not isinstance(observers, (list, tuple)):
         raise InputError("command line", "observers", f"expected a list of observers (twin.observe), got {observers!r}")
     for i, o in enumerate(observers):
@@ -497,6 +498,8 @@ def check_observers(observers) -> None:
     twice = sorted({k for k in keys if keys.count(k) > 1})
     if twice:
         raise InputError("command line", "observers", f"two observers read {twice[0]!r}: give each observer once")
+    for o in observers:
+        o.check(scenario, machine)
 
 
 def check_finite(readings: dict, times: np.ndarray, source: str) -> None:
