@@ -280,6 +280,19 @@ def test_several_measurements_fit_one_set_of_strengths(machine, mm, truth):
     assert d.fitter.r.size == sum(r.measured.size for r in d.evidence.records)
 
 
+def test_a_quiet_measurement_beside_a_loud_one_does_not_hide_what_explains_it(machine, mm, truth):
+    """helper-29: a spindle run (front bearing 210 W in truth) diagnosed with a run at rest beside
+    it: the candidate brought every factor within noise but 'explained only 39 %', because the
+    quiet run's noise-weighted channels held most of the share's reference. The share now counts
+    each measurement's groups above noise in it: explained, significant, one strength for both."""
+    quiet = replace(SHORT, name="short-rest", steps=((3600.0, 0.0),))
+    runs = [(sc.name, truth(None, ["spindle_bearings.front_power=210 W"], sc), sc) for sc in (SHORT, quiet)]
+    d = diagnose_many(runs, machine, model_spec(machine), mm=mm, candidates=[], **FAST)
+    assert d.verdict == "explained" and d.significant, format_diagnosis(d)
+    assert d.candidates[0]["effect"] == "spindle_bearings.front_power" and d.candidates[0]["explained"] > 0.9
+    assert abs(d.fits[0].values[0] / 210 - 1) < 0.25
+
+
 def test_model_error_weights():
     """w_c = 1 / (sqrt(s_g^2 + e_c^2) sqrt(m_g)): a channel with a model-error estimate e_c weighs
     less, the others keep the group weight; finer_resolution walks coarse -> default -> fine."""

@@ -330,7 +330,8 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
 
 class Share:
     """The significance share 1 - SSE(g) / SSE_0 over A, the channels of the groups whose residual
-    factor before any candidate (``factors``) is above ``WITHIN`` (every channel when none is); SSE
+    factor before any candidate (``factors``) is above ``WITHIN`` (every channel when none is;
+    with several measurements, of each measurement's groups above ``WITHIN`` in it); SSE
     weighted, nuisance fitted. ``plain``: the baseline residual r - nuisance (flat), whose SSE over
     A is kept as SSE_0."""
 
@@ -339,6 +340,13 @@ class Share:
         self.fitter = fitter
         self.mask = (np.logical_or.reduce([evidence.group_mask(g) for g in above]) if above
                      else np.ones(fitter.r.shape, bool))
+        if above and evidence.multiple:
+            # several measurements: only each one's groups that stand above noise there (a quiet
+            # ambient run's channels, noise-weighted, would otherwise hold most of SSE_0 and hide
+            # what a candidate explains in the spindle run beside it)
+            loud = [m for m in V.record_group_masks(evidence, above) if V.block_factor(evidence, plain, m) > V.WITHIN]
+            if loud:
+                self.mask = np.logical_or.reduce(loud)
         self.sse0 = self.sse(plain)
 
     def sse(self, residual: np.ndarray) -> float:

@@ -167,6 +167,29 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
     return where
 
 
+def record_group_masks(evidence, groups: list[str]) -> list[np.ndarray]:
+    """Flat boolean masks of each record's channels of each of ``groups`` (records without the
+    group left out)."""
+    out = []
+    for k, rec in enumerate(evidence.records):
+        for g in groups:
+            if g in rec.groups:
+                out.append(evidence.flat([np.broadcast_to(np.array(r.groups) == g, r.measured.shape) if j == k
+                                          else np.zeros(r.measured.shape) for j, r in enumerate(evidence.records)]) > 0)
+    return out
+
+
+def block_factor(evidence, residual_flat: np.ndarray, mask: np.ndarray) -> float:
+    """RMS of the residual over one record's group block ``mask`` / that record's noise and model
+    error there (:func:`envelope`; the model error where the record has an estimate)."""
+    k = next(i for i, s in enumerate(evidence.split(mask.astype(float))) if s.any())
+    rec = evidence.records[k]
+    cols = np.flatnonzero(evidence.split(mask.astype(float))[k].any(axis=0))
+    group = rec.groups[cols[0]]
+    err = None if rec.model_error is None else float(rms(np.asarray(rec.model_error)[cols]))
+    return float(rms(residual_flat[mask]) / max(envelope((rec.noise.get(group, 0.0), err)), 1e-300))
+
+
 def above_noise(factors: dict[str, float]) -> list[str]:
     """The groups whose residual factor is above ``WITHIN`` (the groups the significance share
     counts, :class:`validate.diagnose.Share`)."""
