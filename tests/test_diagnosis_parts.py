@@ -83,7 +83,9 @@ def test_verdict_within_the_envelope_but_beyond_the_model_error_along_the_signat
 
 
 class _TwoGroups:
-    """Evidence stand-in: the first n samples are group "laser", the rest "strain"."""
+    """Evidence stand-in: the first n samples are group "laser", the rest "strain" (one measurement)."""
+
+    multiple = False
 
     def __init__(self, n, m):
         self.mask = {"laser": np.r_[np.ones(n, bool), np.zeros(m, bool)],
