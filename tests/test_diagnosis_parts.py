@@ -102,7 +102,7 @@ def test_explained_share_counts_only_the_groups_above_noise():
     removes the lasers' residual exactly explains 100 % of A (to round-off) though only about
     half of everything; with both groups at noise A is every channel and the share is the
     all-channel 1 - SSE_k / SSE_0."""
-    from validate.diagnose import Share
+    from validate.verdict import Share
     from validate.verdict import residual_factors
     rng = np.random.default_rng(3)
     n = 500

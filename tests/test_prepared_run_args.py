@@ -16,7 +16,8 @@ from geometries import build_machine
 from twin.ambient import AirEvent, Ambient, check_ambient
 from twin.errors import InputError
 from twin.model import ModelSpec, default_spec
-from twin.motion import Motion, check_pieces
+from twin.motion import Motion
+from twin.motion_checks import check_pieces
 from twin.observe import ToolDrift
 from twin.observe.interferometer import InterferometerConfig
 from twin.observe.probing import ProbingConfig

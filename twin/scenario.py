@@ -58,7 +58,8 @@ from twin.camera_config import cameras_from_toml
 from twin.errors import InputError, describe
 from twin.io.paths import read_toml
 from twin.io.table_reader import TableReader
-from twin.motion import Motion, check_durations, motions_from_toml
+from twin.motion import Motion, motions_from_toml
+from twin.motion_checks import check_durations
 from twin.observe.camera import CameraConfig
 from twin.observe.interferometer import InterferometerConfig, interferometer_from_toml
 from twin.observe.probing import ProbingConfig, probing_from_toml

@@ -61,6 +61,7 @@ from learners.metrics import rms
 from twin.model import ModelSpec, default_spec
 from twin.physics.prepared import PreparedTwin, check_prepared
 from validate import verdict as V
+from validate.verdict import Share
 from validate.candidates import candidate_pool
 from validate.diagnose_args import SOURCE, check_arguments, check_model_error
 from validate.diagnosis_text import diagnosis_json, format_diagnosis, reasoning  # noqa: F401  (re-exported)
@@ -326,43 +327,6 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     _judge(d, machine, localise_regions, localise_steps, stage)
     d.runs = evidence.runs
     return d
-
-
-class Share:
-    """The significance share 1 - SSE(g) / SSE_0 over A, the channels of the groups whose residual
-    factor before any candidate (``factors``) is above ``WITHIN`` (every channel when none is;
-    with several measurements, of each measurement's groups above ``WITHIN`` in it); SSE
-    weighted, nuisance fitted. ``plain``: the baseline residual r - nuisance (flat), whose SSE over
-    A is kept as SSE_0."""
-
-    def __init__(self, evidence: Evidence, fitter: BoundedFitter, factors: dict, plain: np.ndarray):
-        above = V.above_noise(factors)
-        self.fitter = fitter
-        self.mask = (np.logical_or.reduce([evidence.group_mask(g) for g in above]) if above
-                     else np.ones(fitter.r.shape, bool))
-        if above and evidence.multiple:
-            # several measurements: only each one's groups that stand above noise there (a quiet
-            # ambient run's channels, noise-weighted, would otherwise hold most of SSE_0 and hide
-            # what a candidate explains in the spindle run beside it)
-            loud = [m for m in V.record_group_masks(evidence, above) if V.block_factor(evidence, plain, m) > V.WITHIN]
-            if loud:
-                self.mask = np.logical_or.reduce(loud)
-        self.sse0 = self.sse(plain)
-
-    def sse(self, residual: np.ndarray) -> float:
-        """Weighted sum of squares of a flat residual over A."""
-        e = (self.fitter.w * residual)[self.mask]
-        return float(e @ e)
-
-    def of_residual(self, residual: np.ndarray, reference_sse: float | None = None) -> float:
-        """1 - SSE(residual) / SSE_ref over A (reference: the baseline's SSE_0)."""
-        ref = self.sse0 if reference_sse is None else reference_sse
-        return float(1 - self.sse(residual) / ref) if ref > 0 else 0.0
-
-    def explained(self, g: np.ndarray, reference: np.ndarray | None = None) -> float:
-        """The share a response g explains, of the baseline or of what ``reference`` leaves."""
-        ref = None if reference is None else self.sse(self.fitter.residual_after(reference))
-        return self.of_residual(self.fitter.residual_after(g), ref)
 
 
 def _leaves_a_residual(d: Diagnosis, best: Fit) -> bool:

@@ -117,7 +117,7 @@ def localise(evidence, fitter, spec, machine, top: int = 8, max_steps: int = 100
     """Regions ranked by the share of the (nuisance-fitted) residual a generic heat input there
     explains: [{region, kind, schedule, power_W, explained}], best first, ``top`` of them.
     ``explained`` is over every channel group (the weighted residual of all groups), not the
-    significance share over the groups above noise (:class:`validate.diagnose.Share`): the
+    significance share over the groups above noise (:class:`validate.verdict.Share`): the
     diagnosis's message states each share's base."""
     twin = twin or localisation_twin(evidence, machine)
     cols, labels = region_columns(evidence, spec, twin, max_steps)

@@ -192,7 +192,7 @@ def block_factor(evidence, residual_flat: np.ndarray, mask: np.ndarray) -> float
 
 def above_noise(factors: dict[str, float]) -> list[str]:
     """The groups whose residual factor is above ``WITHIN`` (the groups the significance share
-    counts, :class:`validate.diagnose.Share`)."""
+    counts, :class:`validate.verdict.Share`)."""
     return [g for g, f in factors.items() if f > WITHIN]
 
 
@@ -313,3 +313,40 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
     return (f"unexplained: the residual is {_above_text(factors, levels, 'above')}; {best}; no library candidate, "
             f"as fitted, explains it: the cause may lie outside the library (or a candidate's fit failed: see "
             f"its bounds); worst at {left}, mostly during {when}{reg}")
+
+
+class Share:
+    """The significance share 1 - SSE(g) / SSE_0 over A, the channels of the groups whose residual
+    factor before any candidate (``factors``) is above ``WITHIN`` (every channel when none is;
+    with several measurements, of each measurement's groups above ``WITHIN`` in it); SSE
+    weighted, nuisance fitted. ``plain``: the baseline residual r - nuisance (flat), whose SSE over
+    A is kept as SSE_0."""
+
+    def __init__(self, evidence, fitter, factors: dict, plain: np.ndarray):
+        above = above_noise(factors)
+        self.fitter = fitter
+        self.mask = (np.logical_or.reduce([evidence.group_mask(g) for g in above]) if above
+                     else np.ones(fitter.r.shape, bool))
+        if above and evidence.multiple:
+            # several measurements: only each one's groups that stand above noise there (a quiet
+            # ambient run's channels, noise-weighted, would otherwise hold most of SSE_0 and hide
+            # what a candidate explains in the spindle run beside it)
+            loud = [m for m in record_group_masks(evidence, above) if block_factor(evidence, plain, m) > WITHIN]
+            if loud:
+                self.mask = np.logical_or.reduce(loud)
+        self.sse0 = self.sse(plain)
+
+    def sse(self, residual: np.ndarray) -> float:
+        """Weighted sum of squares of a flat residual over A."""
+        e = (self.fitter.w * residual)[self.mask]
+        return float(e @ e)
+
+    def of_residual(self, residual: np.ndarray, reference_sse: float | None = None) -> float:
+        """1 - SSE(residual) / SSE_ref over A (reference: the baseline's SSE_0)."""
+        ref = self.sse0 if reference_sse is None else reference_sse
+        return float(1 - self.sse(residual) / ref) if ref > 0 else 0.0
+
+    def explained(self, g: np.ndarray, reference: np.ndarray | None = None) -> float:
+        """The share a response g explains, of the baseline or of what ``reference`` leaves."""
+        ref = None if reference is None else self.sse(self.fitter.residual_after(reference))
+        return self.of_residual(self.fitter.residual_after(g), ref)

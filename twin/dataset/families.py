@@ -16,7 +16,7 @@ from twin.dataset.fields import MAX_CASES, Dist, distribution, quantity
 from twin.io.table_reader import TableReader
 from twin.errors import InputError
 from twin.io.paths import read_toml
-from twin.motion import check_motions
+from twin.motion_checks import check_motions
 from twin.scenario import SCENARIO_DIR, scenario_from_dict
 
 # the keys of a [[scenarios]] family: a scenario file, or a duty-cycle generator

@@ -78,7 +78,7 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
     from twin.observe import sensor_points, standard_observers
     from twin.observe.camera import cameras as camera_observers
     from twin.observe.sensor_grid import surface_sensor_grid
-    from twin.motion import check_motions
+    from twin.motion_checks import check_motions
     from twin.scenario import scenario_from_dict
     from twin.simulate import run
 
