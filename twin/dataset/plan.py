@@ -47,6 +47,7 @@ class Case:
     hash: str
     info: dict
     split: str
+    spec_key: str = ""   # the plan's spec (:func:`spec_key`): an index never mixes two specs' cases
 
     @property
     def file(self) -> str:
@@ -139,6 +140,12 @@ def check_cases(cases, source: str) -> list[Case]:
     return list(cases)
 
 
+def spec_key(spec: DatasetSpec) -> str:
+    """The first 16 hex digits of the SHA-256 of the spec's values (its repr: every field but the
+    file's text), stamped on each planned :class:`Case`."""
+    return hashlib.sha256(repr(spec).encode()).hexdigest()[:16]
+
+
 def plan(spec: DatasetSpec) -> list[Case]:
     """Every case of ``spec`` in plan order (module doc)."""
     if not isinstance(spec, DatasetSpec):
@@ -172,7 +179,8 @@ def plan(spec: DatasetSpec) -> list[Case]:
                             **{f"{k} [{CANONICAL[spec.parameters[k].dimension]}]": values[k] for k in sorted(values)}}
                     cases.append((record, info))
     splits = assign_splits(spec, [c[1] for c in cases])
-    return [Case(rec, case_hash(rec), info, split) for (rec, info), split in zip(cases, splits)]
+    key = spec_key(spec)
+    return [Case(rec, case_hash(rec), info, split, key) for (rec, info), split in zip(cases, splits)]
 
 
 def assign_splits(spec: DatasetSpec, infos: list[dict]) -> list[str]:
