@@ -167,27 +167,22 @@ def worst_time(evidence, residual_flat: np.ndarray, weights_flat: np.ndarray) ->
     return where
 
 
-def record_group_masks(evidence, groups: list[str]) -> list[np.ndarray]:
-    """Flat boolean masks of each record's channels of each of ``groups`` (records without the
-    group left out)."""
+def loud_blocks(evidence, residual_flat: np.ndarray, groups: list[str]) -> list[np.ndarray]:
+    """Flat boolean masks of each record's block of each of ``groups`` whose residual stands above
+    ``WITHIN`` times that record's noise and model error there (:func:`envelope`; the model error
+    where the record has an estimate)."""
     out = []
-    for k, rec in enumerate(evidence.records):
+    for k, (rec, res) in enumerate(zip(evidence.records, evidence.split(residual_flat))):
         for g in groups:
-            if g in rec.groups:
-                out.append(evidence.flat([np.broadcast_to(np.array(r.groups) == g, r.measured.shape) if j == k
-                                          else np.zeros(r.measured.shape) for j, r in enumerate(evidence.records)]) > 0)
+            cols = np.array(rec.groups) == g
+            if not cols.any():
+                continue
+            err = None if rec.model_error is None else float(rms(np.asarray(rec.model_error)[cols]))
+            if rms(res[:, cols]) / max(envelope((rec.noise.get(g, 0.0), err)), 1e-300) > WITHIN:
+                mask = np.zeros(residual_flat.shape, bool)
+                mask[evidence.offsets[k]:evidence.offsets[k + 1]] = np.broadcast_to(cols, res.shape).ravel()
+                out.append(mask)
     return out
-
-
-def block_factor(evidence, residual_flat: np.ndarray, mask: np.ndarray) -> float:
-    """RMS of the residual over one record's group block ``mask`` / that record's noise and model
-    error there (:func:`envelope`; the model error where the record has an estimate)."""
-    k = next(i for i, s in enumerate(evidence.split(mask.astype(float))) if s.any())
-    rec = evidence.records[k]
-    cols = np.flatnonzero(evidence.split(mask.astype(float))[k].any(axis=0))
-    group = rec.groups[cols[0]]
-    err = None if rec.model_error is None else float(rms(np.asarray(rec.model_error)[cols]))
-    return float(rms(residual_flat[mask]) / max(envelope((rec.noise.get(group, 0.0), err)), 1e-300))
 
 
 def above_noise(factors: dict[str, float]) -> list[str]:
@@ -331,7 +326,7 @@ class Share:
             # several measurements: only each one's groups that stand above noise there (a quiet
             # ambient run's channels, noise-weighted, would otherwise hold most of SSE_0 and hide
             # what a candidate explains in the spindle run beside it)
-            loud = [m for m in record_group_masks(evidence, above) if block_factor(evidence, plain, m) > WITHIN]
+            loud = loud_blocks(evidence, plain, above)
             if loud:
                 self.mask = np.logical_or.reduce(loud)
         self.sse0 = self.sse(plain)
