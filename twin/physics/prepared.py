@@ -196,7 +196,7 @@ class PreparedTwin:
         The arguments are checked as :meth:`run` checks them."""
         self.check_run(scenario, theta)
         self.check_spec(spec, scenario)
-        check_observers(observers, scenario, self.machine)
+        check_observers(observers, [scenario], self.machine)
         loads = self.loads(scenario, spec)
         times = scenario.times()
         h, _, _ = loads.signals(times[:-1] + theta * scenario.sample_interval)
@@ -322,7 +322,7 @@ class PreparedTwin:
         """
         self.check_run(scenario, theta)
         self.check_spec(spec, scenario, plausible)
-        check_observers(observers, scenario, self.machine)
+        check_observers(observers, [scenario], self.machine)
         loads = self.loads(scenario, spec)
         times = scenario.times()
         nsteps = len(times) - 1
@@ -391,7 +391,7 @@ class PreparedTwin:
                 raise InputError("command line", f"cases[{i}]", f"expected (scenario, spec), got {case!r}")
             self.check_run(case[0], theta)
             self.check_spec(case[1], case[0], plausible)
-            check_observers(observers, case[0], self.machine)
+        check_observers(observers, [sc for sc, _ in cases], self.machine)
         for o in observers:   # a step hook or a sampled observer would come back empty, silently
             if type(o).on_step is not Observer.on_step or o.sample_steps(cases[0][0].times()) is not None:
                 raise InputError("command line", "observers", f"{type(o).__name__} ({o.key}) is read at a step or "
@@ -413,12 +413,11 @@ class PreparedTwin:
 
     def check_run(self, scenario, theta: float) -> None:
         """:class:`InputError` unless ``scenario`` may run on this twin's machine (its values, the
-        machine's speeds, its axis moves with their feed drives built, its interferometer and
-        probing) and ``theta`` lies in [1/2, 1]."""
+        machine's speeds, its axis moves with their feed drives built) and ``theta`` lies in
+        [1/2, 1]; its interferometer and probing are checked by the observers that read them
+        (:func:`check_observers`)."""
         from geometries.axes import with_feed_drives
         from twin.motion_checks import check_motions
-        from twin.observe.interferometer import check_interferometer
-        from twin.observe.probing import check_probing
         from twin.scenario import Scenario
 
         if not isinstance(scenario, Scenario):
@@ -432,15 +431,11 @@ class PreparedTwin:
             if [q.name for q in needed.parts] != [q.name for q in self.machine.parts]:
                 raise InputError(scenario.source or scenario.name, "axis", "the scenario moves axes whose feed drives "
                                  "this twin's machine lacks: prepare it on twin.motion.machine_for(machine, scenario)")
-        if scenario.interferometer is not None:
-            check_interferometer(scenario.interferometer, scenario, self.machine)
-        if scenario.probing is not None:
-            check_probing(scenario.probing, scenario, self.machine)
 
 
-def check_observers(observers, scenario, machine) -> None:
+def check_observers(observers, scenarios: list, machine) -> None:
     """``observers``: a list of :class:`twin.observe.base.Observer` with distinct keys, each able
-    to read ``scenario`` on ``machine`` (:meth:`twin.observe.base.Observer.check`)."""
+    to read each of ``scenarios`` on ``machine`` (:meth:`twin.observe.base.Observer.check`)."""
     if isinstance(observers, (str, bytes)) or not isinstance(observers, (list, tuple)):
         raise InputError("command line", "observers", f"expected a list of observers (twin.observe), got {observers!r}")
     for i, o in enumerate(observers):
@@ -450,8 +445,9 @@ def check_observers(observers, scenario, machine) -> None:
     twice = sorted({k for k in keys if keys.count(k) > 1})
     if twice:
         raise InputError("command line", "observers", f"two observers read {twice[0]!r}: give each observer once")
-    for o in observers:
-        o.check(scenario, machine)
+    for scenario in scenarios:
+        for o in observers:
+            o.check(scenario, machine)
 
 
 def check_finite(readings: dict, times: np.ndarray, source: str) -> None:
