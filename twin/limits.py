@@ -323,9 +323,14 @@ def theta_value(theta, source: str, field: str = "theta") -> float:
     return float(theta)
 
 
+def is_finite_number(value) -> bool:
+    """Whether ``value`` is a finite number (:func:`is_number`, not NaN or inf)."""
+    return is_number(value) and bool(np.isfinite(value))
+
+
 def finite_number(value, source: str, field: str) -> float:
     """``value`` as a float when it is a finite number (not a bool, a text or None)."""
-    if not is_number(value) or not np.isfinite(value):
+    if not is_finite_number(value):
         raise InputError(source, field, f"expected a finite number, got {value!r}")
     return float(value)
 

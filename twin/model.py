@@ -10,13 +10,12 @@ error, not the last value.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from geometries.regions import ROLES
 from twin.effects import EFFECTS
 from twin.errors import InputError
-from twin.limits import is_number
+from twin.limits import is_finite_number
 from twin.observe.instruments import INSTRUMENTS
 from twin.units import UnitError, format_quantity, parse_quantity
 
@@ -56,7 +55,7 @@ class ModelSpec:
         """A parameter's value [SI] given in Python: a finite number (NaN would run and mislead).
         Its bounds are checked where a user's model enters (:meth:`check_bounds`): the library
         itself runs effects at other strengths (zero, unit responses) to build its signatures."""
-        if not is_number(value) or not math.isfinite(value):
+        if not is_finite_number(value):
             param = next(p for p in self.parameter_table(group) if p.name == key)
             raise InputError(CLI, f"--set {group}.{key}", f"expected a finite number [{param.unit}], got {value!r}")
         return float(value)

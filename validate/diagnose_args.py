@@ -9,8 +9,6 @@ errors name.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import xarray as xr
 
@@ -18,7 +16,7 @@ from geometries.base import Machine
 from twin.effects import EFFECTS
 from twin.errors import InputError, describe
 from twin.io.measurement import check_measurement
-from twin.limits import is_number, is_whole
+from twin.limits import is_finite_number, is_whole
 from twin.model import ModelSpec
 from twin.physics.prepared import check_resolution
 from twin.scenario import Scenario
@@ -69,9 +67,9 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
     _check_names("custom", custom, lambda n: n in EFFECTS and getattr(EFFECTS[n], "custom", False),
                  "a custom effect registered from an effects file (twin.effects.custom.load_effects_file)")
     for name, value in shares.items():
-        if not is_number(value) or not math.isfinite(value) or not 0.0 < value <= 1.0:
+        if not is_finite_number(value) or not 0.0 < value <= 1.0:
             raise InputError(SOURCE, name, f"expected a share above 0 and at most 1, got {describe(value)}")
-    if not is_number(bic_margin) or not math.isfinite(bic_margin) or bic_margin < 0:
+    if not is_finite_number(bic_margin) or bic_margin < 0:
         raise InputError(SOURCE, "bic_margin", f"expected a finite number of BIC units >= 0, got {describe(bic_margin)}")
     for name, value in counts.items():
         if not is_whole(value) or value < 1:

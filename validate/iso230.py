@@ -26,7 +26,7 @@ import xarray as xr
 
 from twin.errors import InputError, describe
 from twin.io.measurement import check_times
-from twin.limits import check_temperatures, is_number
+from twin.limits import check_temperatures, is_finite_number
 
 TESTS = ("etve", "spindle", "axis")
 WARNING = ("ISO 230-3 on the environmental temperature variation error: the result describes this machine "
@@ -182,7 +182,7 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
     source = source or ds.attrs.get("source", "result")
     if not isinstance(test, str) or test not in TESTS:
         raise InputError(source, "--test", f"unknown test {test!r}; known: {', '.join(TESTS)}")
-    if segment is not None and (not is_number(segment) or not np.isfinite(segment) or segment <= 0):
+    if segment is not None and (not is_finite_number(segment) or segment <= 0):
         raise InputError("command line", "--segment", f"expected a positive time [s], got {describe(segment)}")
     t = np.asarray(ds.time.values, float)
     check_times(t, source, "time")

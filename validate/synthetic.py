@@ -20,7 +20,7 @@ import numpy as np
 from twin.api import simulate
 from geometries.materials import MATERIALS
 from twin.errors import InputError, describe
-from twin.limits import is_number
+from twin.limits import is_finite_number
 from twin.scenario import Scenario
 
 PERTURBED = {
@@ -36,7 +36,7 @@ def short_scenario(sc: Scenario, factor: float) -> Scenario:
     the C axis's steps too; ``factor`` is a finite number > 0."""
     if not isinstance(sc, Scenario):
         raise InputError("short_scenario", "sc", f"expected a twin.scenario.Scenario, got {describe(sc)}")
-    if not is_number(factor) or not np.isfinite(factor) or factor <= 0:
+    if not is_finite_number(factor) or factor <= 0:
         raise InputError("short_scenario", "factor", f"expected a finite number > 0, got {describe(factor)}")
     scale = lambda d: max(round(d * factor / sc.sample_interval), 1) * sc.sample_interval
     steps = tuple((scale(d), s) for d, s in sc.steps)

@@ -184,7 +184,7 @@ def check_spacing(machine, spacing, source: str = "command line", field: str = "
     """``spacing`` [m] as a float when it is a finite positive number whose mesh of ``machine``
     stays within :data:`twin.limits.MAX_NODES` nodes (:func:`estimated_nodes`), else
     :class:`twin.errors.InputError` naming ``field``."""
-    if not limits.is_number(spacing) or not np.isfinite(spacing) or not spacing > 0:
+    if not limits.is_finite_number(spacing) or not spacing > 0:
         raise InputError(source, field, f"a mesh spacing is a finite positive length in m, got {spacing!r}")
     spacing = float(spacing)
     limits.check_mesh_nodes(estimated_nodes(machine, spacing), spacing, machine.name, source, field)

@@ -19,7 +19,7 @@ import numpy as np
 from twin.errors import InputError
 from twin.io.atomic import atomic_write
 from twin.io.paths import as_path
-from twin.limits import is_number
+from twin.limits import is_finite_number
 
 SUFFIXES = (".vtu", ".xdmf")
 HEAVY_SUFFIX = ".h5"
@@ -103,7 +103,7 @@ def save_temperature_field(mm, field: np.ndarray, path, time_s: float, field_nam
             "" if values.shape != (mm.nheat,) else ", not finite")
         raise InputError(str(path), field_name, f"the field must hold one finite temperature per temperature dof "
                                                 f"({mm.nheat}), got {got}")
-    if not is_number(time_s) or not np.isfinite(time_s) or time_s < 0:
+    if not is_finite_number(time_s) or time_s < 0:
         raise InputError(str(path), field_name, f"the field's time must be a finite number of seconds >= 0, got "
                                                 f"{time_s!r}")
     heavy = heavy_data_file(path)

@@ -116,12 +116,14 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, field: str = "output")
     is a path without a NetCDF suffix (``.nc``, ``.nc4``, ``.netcdf``)."""
     if not isinstance(ds, xr.Dataset):
         raise InputError(str(path), field, f"expected an xarray.Dataset to write, got {describe(ds)}")
-    if as_path(path, field).suffix.lower() not in NETCDF_SUFFIXES:
+    suffix = as_path(path, field).suffix
+    if suffix.lower() not in NETCDF_SUFFIXES:
         raise InputError(str(path), field, f"a NetCDF file is named {', '.join(NETCDF_SUFFIXES)}, not "
-                                           f"{as_path(path, field).suffix or 'without a suffix'}")
+                                           f"{suffix or 'without a suffix'}")
     check_finite(ds, str(path))
-    # about the file's size: the values uncompressed, the attributes and HDF5's own structures
-    size = int(ds.nbytes + sum(len(str(v)) for v in ds.attrs.values()) + 64 * 1024 * (1 + len(ds.variables)) // 8)
+    # about the file's size: the values uncompressed, the attributes and 8 KiB of HDF5 structures
+    # for the file and for each variable
+    size = ds.nbytes + sum(len(str(v)) for v in ds.attrs.values()) + 8192 * (1 + len(ds.variables))
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"), field, size_hint=size)
 
 

@@ -57,19 +57,19 @@ def check_camera_values(c) -> None:
         raise InputError(src, f("band"), "needs 0 < lower < upper wavelength [m]")
     if c.frame_interval is not None:
         _positive(c.frame_interval, src, f("frame_interval"))
-    if not _finite(c.emissivity) or not 0 < c.emissivity <= 1:
+    if not limits.is_finite_number(c.emissivity) or not 0 < c.emissivity <= 1:
         raise InputError(src, f("settings.emissivity"), f"expected a fraction above 0 and at most 1, got {c.emissivity!r}")
     for key, value in (("settings.relative_humidity", c.relative_humidity), ("scene.relative_humidity", c.room_humidity)):
-        if not _finite(value) or not 0 <= value <= 1:
+        if not limits.is_finite_number(value) or not 0 <= value <= 1:
             raise InputError(src, f(key), f"expected a fraction from 0 to 1, got {value!r}")
     for key, value, kind in (("settings.reflected_temperature", c.reflected_temperature, "structure"),
                              ("settings.air_temperature", c.air_temperature, "air"),
                              ("scene.room_temperature", c.room_temperature, "structure")):
         if value is not None:
-            _number(value, src, f(key))
+            limits.finite_number(value, src, f(key))
             limits.check_temperatures(value, src, f(key), kind)
     for key, value in (("settings.distance", c.distance), ("scene.wall_distance", c.wall_distance)):
-        if value is not None and (not _finite(value) or value < 0):
+        if value is not None and (not limits.is_finite_number(value) or value < 0):
             raise InputError(src, f(key), f"expected a finite distance >= 0 [m], got {value!r}")
     _whole(c.edge_rays, *EDGE_RAYS, src, f("edge_rays"))
     if c.backend not in BACKENDS:
@@ -86,7 +86,7 @@ def _check_intrinsics(i, src: str, f) -> None:
     _whole(i.width, 1, MAX_PIXELS, src, f("resolution"))
     _whole(i.height, 1, MAX_PIXELS, src, f("resolution"))
     for value in (i.fov_h, i.fov_v):
-        if not _finite(value) or not 0 < value < math.pi:
+        if not limits.is_finite_number(value) or not 0 < value < math.pi:
             raise InputError(src, f("field_of_view"), f"each angle must lie between 0 and 180 deg, got {value!r} rad")
     _positive(i.ifov, src, f("ifov"))
 
@@ -96,7 +96,7 @@ def _check_sensor(s, src: str, f) -> None:
         raise InputError(src, f("sensor"), f"expected a twin.observe.microbolometer.Microbolometer, got {s!r}")
     for key in NOISE_TERMS:
         value = getattr(s, key)
-        if not _finite(value) or value < 0:
+        if not limits.is_finite_number(value) or value < 0:
             raise InputError(src, f(f"sensor.{key}"), f"expected a finite value >= 0 [K], got {value!r}")
     _positive(s.drift_time, src, f("sensor.drift_time"))
     _in_span(s.reference_temperature, src, f("sensor.reference_temperature"))
@@ -108,18 +108,8 @@ def _check_sensor(s, src: str, f) -> None:
         raise InputError(src, f("sensor.range"), "needs the lower temperature first (low end below high end)")
 
 
-def _finite(value) -> bool:
-    return limits.is_number(value) and math.isfinite(value)
-
-
-def _number(value, src: str, field: str) -> float:
-    if not _finite(value):
-        raise InputError(src, field, f"expected a finite number, got {value!r}")
-    return float(value)
-
-
 def _positive(value, src: str, field: str) -> None:
-    if _number(value, src, field) <= 0:
+    if limits.finite_number(value, src, field) <= 0:
         raise InputError(src, field, f"must be positive, got {value!r}")
 
 
@@ -130,7 +120,7 @@ def _whole(value, low: int, high: int, src: str, field: str) -> None:
 
 def _in_span(value, src: str, field: str) -> None:
     lo, hi = RADIANCE_SPAN
-    if not lo <= _number(value, src, field) <= hi:
+    if not lo <= limits.finite_number(value, src, field) <= hi:
         raise InputError(src, field, f"{value:g} degC is outside the twin's radiance table ({lo:g} to {hi:g} degC)")
 
 

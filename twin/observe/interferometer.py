@@ -55,7 +55,7 @@ from geometries.regions import feed_drive_role
 from twin.errors import InputError
 from twin.fem.points import displacement_functional, interpolation_matrix
 from twin.io.table_reader import TableReader
-from twin.limits import is_number
+from twin.limits import is_finite_number
 from twin.observe.base import variable
 from twin.observe.displacement import DisplacementObserver
 from twin.observe.instants import baseline_instants, check_on_grid
@@ -122,11 +122,11 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
         raise InputError(scenario.name, "interferometer", f"expected a twin.observe.interferometer.InterferometerConfig, "
                                                           f"got {config!r}")
     src = config.source or scenario.name
-    if not is_number(config.spacing) or not np.isfinite(config.spacing) or config.spacing < MIN_SPACING:
+    if not is_finite_number(config.spacing) or config.spacing < MIN_SPACING:
         raise InputError(src, "interferometer.spacing", f"expected a finite spacing of {MIN_SPACING * 1e3:g} mm or more "
                                                         f"[m], got {config.spacing!r}")
     ends = [v for v in (config.first, config.last) if v is not None]
-    if any(not is_number(v) or not np.isfinite(v) for v in ends) or (len(ends) == 2 and ends[1] <= ends[0]):
+    if any(not is_finite_number(v) for v in ends) or (len(ends) == 2 and ends[1] <= ends[0]):
         raise InputError(src, "interferometer.targets", f"expected finite first < last [m], got {config.first!r}, "
                                                         f"{config.last!r}")
     try:

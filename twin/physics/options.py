@@ -11,11 +11,10 @@ that would do nothing in the run asked for are refused.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 
 from twin.errors import InputError
-from twin.limits import is_number, is_whole
+from twin.limits import is_finite_number, is_number, is_whole
 from twin.units import UnitError, parse_quantity
 
 SOLVERS = ("auto", "direct", "iterative", "rom")
@@ -113,7 +112,7 @@ def _heat_tol(value) -> float:
             value = parse_quantity(value, "temperature_difference")
         except UnitError as err:
             raise InputError("command line", "--heat-tol", str(err)) from None
-    if not is_number(value) or not math.isfinite(value) or not value > 0:
+    if not is_finite_number(value) or not value > 0:
         raise InputError("command line", "--heat-tol", f"a temperature difference in K (a number, or a text like "
                                                        f"'1e-6 K'), finite and positive, got {value!r}")
     return float(value)

@@ -4,8 +4,6 @@ tool's structure may be made of (:data:`PLAUSIBLE_MATERIAL`)."""
 
 from __future__ import annotations
 
-import numpy as np
-
 from twin import limits
 from twin.errors import InputError
 
@@ -39,7 +37,7 @@ def part_materials(machine, materials, source: str = SOURCE, field: str = "mater
                                                            f"its name (MATERIALS[{name!r}].scaled(...) or "
                                                            f"dataclasses.replace(..., name={name!r}))")
         values = {k: getattr(material, k) for k in MATERIAL_PROPERTIES + ("poisson_ratio", "expansion")}
-        bad = [k for k, v in values.items() if not limits.is_number(v) or not np.isfinite(v) or (k in MATERIAL_PROPERTIES and v <= 0)
+        bad = [k for k, v in values.items() if not limits.is_finite_number(v) or (k in MATERIAL_PROPERTIES and v <= 0)
                or (k == "poisson_ratio" and not -1.0 < v < 0.5)]
         if bad:
             raise InputError(source, f"{field}[{name!r}].{bad[0]}", f"{values[bad[0]]!r} is not a possible value "
