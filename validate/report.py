@@ -13,8 +13,8 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.errors import InputError, describe
-from twin.io.atomic import atomic_write_text
-from twin.io.paths import output_folder
+from twin.io.atomic import atomic_write_text, output_folder
+from twin.io.paths import output_folder as checked_folder
 from validate.channels import residual_unit
 from validate.verdict import WITHIN, against
 from validate.report_map import machine_outline as _machine_outline
@@ -237,7 +237,7 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
         if items is not None and (not isinstance(items, (list, tuple)) or not all(
                 isinstance(i, (list, tuple)) and len(i) == 2 and all(isinstance(x, str) for x in i) for i in items)):
             raise InputError("write_report", name, f"expected a list of (title, text) pairs, got {describe(items)}")
-    folder = output_folder(folder, "folder")
+    folder = checked_folder(folder, "folder")
     parts = [f"<html><head><meta charset='utf-8'><title>twin diagnose</title><style>{_CSS}</style></head><body>",
              "<h1>Diagnosis: what the model lacks</h1>", f"<p><b>{html.escape(d.message)}</b></p>"]
     parts += [block(t, x) for t, x in sections or []]
@@ -252,5 +252,5 @@ def write_report(d, machine, folder: str | os.PathLike, after: np.ndarray | None
         parts.append(f"<h2>{html.escape(title)}</h2><p class='caption'>{html.escape(caption)}</p>"
                      f"<img src='data:image/png;base64,{png}'/>")
     parts.append("</body></html>")
-    folder.mkdir(exist_ok=True)
-    return atomic_write_text(folder / "index.html", "\n".join(parts))
+    with output_folder(folder):      # made for the page, removed again if writing it fails
+        return atomic_write_text(folder / "index.html", "\n".join(parts))

@@ -23,9 +23,10 @@ import xarray as xr
 
 from geometries import MACHINES, build_machine
 from twin.errors import InputError, describe
-from twin.io.atomic import atomic_write_text, check_writable
+from twin.io.atomic import atomic_write_text, check_writable, output_folder
 from twin.io.mapping_columns import check_sensor_name
 from twin.io.measurement import check_measurement
+from twin.io.paths import output_folder as checked_folder
 
 SOURCE = "write_measurement"
 REQUIRED = ("spindle_speed", "ambient_temperature")
@@ -47,18 +48,14 @@ def write_measurement(ds, folder, stem: str, machine: str) -> tuple[Path, Path]:
     missing = [v for v in REQUIRED if v not in ds]
     if missing:
         raise InputError(SOURCE, missing[0], "missing: a measurement file holds the spindle speed and the room air")
-    folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
-        raise InputError(str(folder), "folder", "is not a folder")
-    if not folder.parent.is_dir():
-        raise InputError(str(folder), "folder", f"its parent {folder.parent} is not a folder")
+    folder = checked_folder(folder, "folder")   # an existing folder, or one its parent can take
     columns, mapping = _columns(ds, mach, stem)
     csv_path, toml_path = folder / f"{stem}.csv", folder / f"{stem}.toml"
-    folder.mkdir(exist_ok=True)
-    for path in (csv_path, toml_path):      # both checked before either is written: never half a pair
-        check_writable(path)
-    atomic_write_text(csv_path, _csv_text(columns, len(ds.time)))
-    atomic_write_text(toml_path, "\n".join(mapping) + "\n")
+    with output_folder(folder):                 # made for the writes, removed again if they fail empty
+        for path in (csv_path, toml_path):      # both checked before either is written: never half a pair
+            check_writable(path)
+        atomic_write_text(csv_path, _csv_text(columns, len(ds.time)))
+        atomic_write_text(toml_path, "\n".join(mapping) + "\n")
     return csv_path, toml_path
 
 
