@@ -23,7 +23,7 @@ import xarray as xr
 
 from learners.metrics import max_abs_residual, nse, rmse
 from twin.errors import InputError, describe
-from twin.io.measurement import check_measurement, check_times
+from twin.io.measurement import check_measurement, check_named_machine, check_times
 from twin.limits import is_whole
 from validate.channels import Phase, input_phases, stack
 
@@ -98,9 +98,9 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
     times) whose compared channels are finite; at least one channel must be in both.
     """
     source = str(getattr(measured, "attrs", {}).get("source", "measurement"))
-    named, modelled = (getattr(ds, "attrs", {}).get("machine") for ds in (measured, model))
-    if named is not None and modelled is not None and str(named) != str(modelled):
-        raise InputError(source, "machine", f"the measurement is of machine {named!r}, the model of {modelled!r}")
+    modelled = getattr(model, "attrs", {}).get("machine")
+    if modelled is not None:
+        check_named_machine(measured, str(modelled), source, "the model of")
     measured = check_measurement(measured, _named_machine(measured, model), source)
     if not isinstance(model, xr.Dataset) or "time" not in model.variables:
         raise InputError("compare", "model", f"expected a twin result (an xarray.Dataset with a time axis), got "
@@ -191,9 +191,7 @@ def model_for(measured: xr.Dataset, machine: str, scenario=None, effects: str | 
 
     source = str(getattr(measured, "attrs", {}).get("source", "measurement"))
     mach = machine_by_name(machine)
-    named = measured.attrs.get("machine") if isinstance(measured, xr.Dataset) else None
-    if named is not None and str(named) != mach.name:
-        raise InputError(source, "machine", f"the measurement is of machine {named!r}, not {mach.name!r}")
+    check_named_machine(measured, mach.name, source)
     check_measurement(measured, mach, source)
     sc = scenario if scenario is not None else scenario_from_measurement(measured)
     sensors = sensors_of(measured) or None

@@ -15,12 +15,12 @@ import xarray as xr
 from geometries.base import Machine
 from twin.effects import EFFECTS
 from twin.errors import InputError, describe
-from twin.io.measurement import check_measurement
+from twin.io.measurement import check_measurement, check_named_machine
 from twin.limits import is_finite_number, is_whole
 from twin.model import ModelSpec
 from twin.physics.prepared import check_resolution
 from twin.scenario import Scenario
-from validate.evidence import check_measured_machine, sensor_points
+from validate.evidence import sensor_points
 
 SOURCE = "diagnose"
 
@@ -52,7 +52,7 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
         if not isinstance(ds, xr.Dataset):
             raise InputError(label, "measurement", f"expected an xarray.Dataset (twin.io.measurement.read_measurement), "
                                                    f"got {describe(ds)}")
-        check_measured_machine(ds, machine, label)
+        check_named_machine(ds, machine.name, label, "the diagnosing model of")
         check_measurement(ds, machine, label)
         sensor_points(ds, machine, label)     # every temperature sensor a site or placed by x, y, z
         if not isinstance(scenario, Scenario):

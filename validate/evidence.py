@@ -36,6 +36,7 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.errors import InputError
+from twin.io.measurement import check_named_machine
 from twin.model import ModelSpec
 from validate.channels import RUN_GROUPS, input_phases, resampler, stack, stack_runs
 from validate.signatures import Engine
@@ -57,14 +58,6 @@ def diagnosed_groups(ds) -> tuple[str, ...]:
     the compensated ``strain`` (each gauge counted once); the interferometer's group, read at its
     runs, has a record of its own (:func:`make_records`)."""
     return tuple(g for g in GROUPS if not (g == "strain_raw" and "strain" in ds) and g not in RUN_GROUPS)
-
-
-def check_measured_machine(ds, machine, label: str) -> None:
-    """The measurement ``ds`` names no machine (its ``machine`` attribute) or ``machine``."""
-    named = ds.attrs.get("machine")
-    if named is not None and str(named) != machine.name:
-        raise InputError(label, "machine", f"the measurement is of machine {named!r}, the diagnosing model of "
-                                           f"{machine.name!r}")
 
 
 def sensor_points(ds, machine, label: str = "measurement") -> list:
@@ -182,7 +175,7 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
     and, when ``ds`` has laser-interferometer runs, the record of their positioning error (same
     label, same engine; module docstring); InputError when it has no channel to diagnose, when it
     outlasts the scenario, or when its interferometer runs are not the scenario's."""
-    check_measured_machine(ds, machine, label)
+    check_named_machine(ds, machine.name, label, "the diagnosing model of")
     stacked = stack(ds, diagnosed_groups(ds))
     run_times, runs = stack_runs(ds)
     if not stacked.names and runs is None:

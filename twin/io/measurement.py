@@ -297,6 +297,14 @@ def check_measurement(ds, machine, src: str = "measurement") -> xr.Dataset:
     return _with_channels(ds, src)
 
 
+def check_named_machine(ds, name: str, src: str, against: str = "not") -> None:
+    """The Dataset ``ds`` names no machine (its ``machine`` attribute) or the machine ``name``:
+    'the measurement is of machine X, {against} Y' otherwise."""
+    named = getattr(ds, "attrs", {}).get("machine") if isinstance(ds, xr.Dataset) else None
+    if named is not None and str(named) != name:
+        raise InputError(src, "machine", f"the measurement is of machine {named!r}, {against} {name!r}")
+
+
 def check_times(t: np.ndarray, src: str, col: str) -> None:
     """Times [s] of a measurement or a model: two or more, finite, increasing, without a gap of more than three median steps."""
     if t.ndim != 1 or t.size < 2:

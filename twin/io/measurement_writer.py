@@ -25,7 +25,7 @@ from geometries import MACHINES, build_machine
 from twin.errors import InputError, describe
 from twin.io.atomic import atomic_write_text, check_writable, output_folder
 from twin.io.mapping_columns import check_sensor_name
-from twin.io.measurement import check_measurement
+from twin.io.measurement import check_measurement, check_named_machine
 from twin.io.paths import output_folder as checked_folder
 
 SOURCE = "write_measurement"
@@ -39,9 +39,7 @@ def write_measurement(ds, folder, stem: str, machine: str) -> tuple[Path, Path]:
     if not isinstance(machine, str) or machine not in MACHINES:
         raise InputError(SOURCE, "machine", f"unknown machine {machine!r}; known: {', '.join(sorted(MACHINES))}")
     mach = build_machine(machine)
-    named = getattr(ds, "attrs", {}).get("machine") if isinstance(ds, xr.Dataset) else None
-    if named is not None and str(named) != mach.name:
-        raise InputError(SOURCE, "machine", f"the Dataset is of machine {named!r}, not {mach.name!r}")
+    check_named_machine(ds, mach.name, SOURCE)
     if not isinstance(stem, str) or not stem.strip() or stem != Path(stem).name or stem.startswith("."):
         raise InputError(SOURCE, "stem", f"expected a file name without folders or a leading dot, got {describe(stem)}")
     check_measurement(ds, mach, SOURCE)
