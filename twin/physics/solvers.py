@@ -74,7 +74,11 @@ def output_bounds(rows: sp.spmatrix | np.ndarray, weights: np.ndarray, rho_sum: 
     return np.sqrt(np.asarray(rows.multiply(rows) @ weights).ravel()) * rho_sum
 
 
-def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2000, residual: bool = False):
+GPU_FUSED = True    # a one-column Jacobi-PCG on a GPU runs on :mod:`twin.physics.gpu_cg` (False: CuPy's array path)
+
+
+def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2000, residual: bool = False,
+        matrix=None):
     """Preconditioned CG on every column of ``b`` (n,) or (n, m) at once.
 
     ``apply(X)`` is A X and ``precondition(R)`` an SPD approximation of A^-1 R, both on (n, m)
@@ -84,8 +88,14 @@ def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2
     recurrence's, equal to it up to round-off); raises RuntimeError if ``max_iterations`` are not
     enough (never a silent unconverged answer). Column sums and the direction update run in
     place (a single column's sums are BLAS dot products): the vector work of an iteration is a
-    few passes over n.
+    few passes over n. ``matrix``, when given, is the CSR matrix whose product ``apply`` is: one
+    column with the Jacobi preconditioner on a GPU then runs on the fused kernels of
+    :mod:`twin.physics.gpu_cg` (unless :data:`GPU_FUSED` is switched off, to compare); on the CPU
+    one such column runs on numba's kernels from :data:`twin.physics.kernels.CG_FUSED_FROM` unknowns.
     """
+    if xp is not np and b.ndim == 1 and isinstance(precondition, Jacobi) and matrix is not None and GPU_FUSED:
+        from twin.physics import gpu_cg
+        return gpu_cg.jacobi_pcg(matrix, b, x0, precondition.dinv, weights, float(tol), max_iterations, residual)
     if xp is np and b.ndim == 1 and isinstance(precondition, Jacobi) and kernels.fused_cg(len(b)):
         return _fused_jacobi_pcg(apply, b, x0, precondition.dinv, weights, float(tol), max_iterations, residual)
     single = b.ndim == 1

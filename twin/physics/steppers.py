@@ -220,7 +220,7 @@ class IterativeStepper:
         (with ``residual``: (x, the final residual))."""
         lhs = op[0]
         x, it, rho, *R = pcg(lambda v: lhs @ v, rhs, guess, self.preconditioner(op), self._w, self.step_tol, self.xp,
-                             self.max_iterations, residual)
+                             self.max_iterations, residual, matrix=None if self.device == "cpu" else lhs)
         self._previous = T
         self.iterations.append(it)
         self.rho_sum = self.rho_sum + to_host(self.xp, rho)
