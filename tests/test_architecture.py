@@ -79,10 +79,10 @@ def test_import_graph_has_no_cycle():
 
 def is_command_module(name: str) -> bool:
     """Modules that are command lines (they may print): ``twin.cli``, the ``*_cli`` modules and
-    ``learners.cli``, the benchmarks and the studies run with ``python -m``."""
+    ``learners.cli``, the benchmarks (``validate.*benchmark``) and the studies run with ``python -m``."""
     last = name.rsplit(".", 1)[-1]
     return (name.startswith(("twin.cli", "validate.studies.")) or last == "cli" or last.endswith("_cli")
-            or name in ("validate.benchmark", "validate.camera_benchmark"))
+            or (name.startswith("validate.") and last.endswith("benchmark")))
 
 
 def test_only_command_modules_print():

@@ -121,8 +121,8 @@ def test_camera_benchmark_checks_the_scenario_against_the_machine(fast_scenario,
     (["--mesh", "coarse", "--rom-order", "10"], "--rom-order: sets the reduced basis of the reduced model or of "
                                                 "iterative steps; this run factorises"),
     (["--solver", "rom", "--no-bound"], "command line: --no-bound: skips the batched reduced model's bound"),
-    (["--solver", "iterative", "--gpu-cg", "arrays"], "command line: --gpu-cg: chooses the GPU's CG kernels: it "
-                                                      "needs --device gpu"),
+    (["--solver", "iterative", "--gpu-kernels", "arrays"], "command line: --gpu-kernels: chooses the GPU's kernels: "
+                                                           "it needs --device gpu"),
     (["--solver", "direct", "--no-reference"], "command line: --no-reference: skips the full-order reference"),
     (["--solver", "direct", "--heat-start", "reduced"], "--heat-start: starts iterative heat steps; --solver direct"),
     (["--solver", "rom", "--heat-start", "projection"], "--heat-start: starts iterative heat steps; --solver rom"),

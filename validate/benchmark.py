@@ -1,7 +1,7 @@
 """Benchmark one run or a batch of cases and print one JSON object.
 
     python -m validate.benchmark --machine cframe-vmc --scenario etve-day-night --spacing 20mm \
-        --solver full|rom|direct|iterative [--device gpu [--gpu-cg fused|arrays]] [--cases N] [--heat-tol "1e-4 K"] [--json]
+        --solver full|rom|direct|iterative [--device gpu [--gpu-kernels fused|arrays]] [--cases N] [--heat-tol "1e-4 K"] [--json]
 
 (``--mesh coarse|default|fine`` instead of ``--spacing``). Every option is checked first, as the
 twin CLI checks them: the scenario's speeds against the machine, the mesh's size and the run's
@@ -50,9 +50,9 @@ def _parser() -> argparse.ArgumentParser:
                     help="a named resolution, not with --spacing (default: default)")
     ap.add_argument("--solver", default="full", choices=sorted(SOLVER_NAMES))
     ap.add_argument("--device", default="cpu", choices=["cpu", "gpu"])
-    ap.add_argument("--gpu-cg", default=None, choices=["fused", "arrays"],
-                    help="--device gpu: the heat step's CG on the fused kernels of twin.physics.gpu_cg (default) "
-                         "or on CuPy's array operations (the path they replace, to compare)")
+    ap.add_argument("--gpu-kernels", default=None, choices=["fused", "arrays"],
+                    help="--device gpu: the heat step's CG and products on the kernels of twin.physics.gpu_cg "
+                         "(default) or on CuPy's array operations and cuSPARSE (the path they replace, to compare)")
     ap.add_argument("--cases", type=whole_number("cases", 1), default=1,
                     help="number of batched cases (default 1: one plain run)")
     ap.add_argument("--rom-order", type=whole_number("basis vectors", 2), default=None,
@@ -116,7 +116,7 @@ def _run(args) -> int:
     from twin.fem.mesh import build_mesh, mesh_machine
     from twin.model import model_spec
     from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
-    from twin.physics import solvers
+    from twin.physics import gpu_cg
     from twin.physics.prepared import PreparedTwin
     from twin.physics.options import SolverOptions
     from twin.scenario import load_scenario
@@ -130,7 +130,7 @@ def _run(args) -> int:
     tol = {"heat_tol": args.heat_tol} if args.heat_tol is not None else {}
     options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order or 48,
                             elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
-    solvers.GPU_FUSED = args.gpu_cg != "arrays"
+    gpu_cg.FUSED = args.gpu_kernels != "arrays"
     t0, c0 = time.perf_counter(), time.process_time()
     mm = build_mesh(machine, args.spacing) if args.spacing is not None else mesh_machine(machine, args.mesh or "default")
     limits.check_run_size(scenario, mm.nheat)
@@ -213,8 +213,8 @@ def _check_combination(args) -> None:
         raise InputError("command line", "--no-reference", "skips the full-order reference of --solver rom or the "
                                                            "one-mesh elastic reference of --elastic-coarsening N > 1; "
                                                            "this run has neither")
-    if args.gpu_cg is not None and args.device != "gpu":
-        raise InputError("command line", "--gpu-cg", "chooses the GPU's CG kernels: it needs --device gpu")
+    if args.gpu_kernels is not None and args.device != "gpu":
+        raise InputError("command line", "--gpu-kernels", "chooses the GPU's kernels: it needs --device gpu")
     if args.rom_order is not None and args.solver == "direct":
         raise InputError("command line", "--rom-order", "sets a reduced basis; --solver direct has none")
 

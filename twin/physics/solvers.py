@@ -41,7 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from twin.errors import InputError
-from twin.physics import kernels
+from twin.physics import gpu_cg, kernels
 
 MASS_BOUND = 27.0           # M >= M_L / 27 for trilinear bricks
 
@@ -52,7 +52,9 @@ def array_module(device: str):
         return np
     try:
         import cupy
-    except ImportError:  # pragma: no cover - depends on the machine
+        if cupy.cuda.runtime.getDeviceCount() < 1:
+            raise RuntimeError("no CUDA device")
+    except Exception:  # noqa: BLE001 - no CuPy, or CuPy without a driver or a device: one clear error
         raise InputError("command line", "--device", "gpu needs CuPy (pip install cupy-cuda12x) and a CUDA GPU") from None
     return cupy
 
@@ -74,9 +76,6 @@ def output_bounds(rows: sp.spmatrix | np.ndarray, weights: np.ndarray, rho_sum: 
     return np.sqrt(np.asarray(rows.multiply(rows) @ weights).ravel()) * rho_sum
 
 
-GPU_FUSED = True    # a one-column Jacobi-PCG on a GPU runs on :mod:`twin.physics.gpu_cg` (False: CuPy's array path)
-
-
 def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2000, residual: bool = False,
         matrix=None):
     """Preconditioned CG on every column of ``b`` (n,) or (n, m) at once.
@@ -90,11 +89,10 @@ def pcg(apply, b, x0, precondition, weights, tol, xp=np, max_iterations: int = 2
     place (a single column's sums are BLAS dot products): the vector work of an iteration is a
     few passes over n. ``matrix``, when given, is the CSR matrix whose product ``apply`` is: one
     column with the Jacobi preconditioner on a GPU then runs on the fused kernels of
-    :mod:`twin.physics.gpu_cg` (unless :data:`GPU_FUSED` is switched off, to compare); on the CPU
+    :mod:`twin.physics.gpu_cg` (unless its ``FUSED`` is switched off, to compare); on the CPU
     one such column runs on numba's kernels from :data:`twin.physics.kernels.CG_FUSED_FROM` unknowns.
     """
-    if xp is not np and b.ndim == 1 and isinstance(precondition, Jacobi) and matrix is not None and GPU_FUSED:
-        from twin.physics import gpu_cg
+    if xp is not np and b.ndim == 1 and isinstance(precondition, Jacobi) and matrix is not None and gpu_cg.FUSED:
         return gpu_cg.jacobi_pcg(matrix, b, x0, precondition.dinv, weights, float(tol), max_iterations, residual)
     if xp is np and b.ndim == 1 and isinstance(precondition, Jacobi) and kernels.fused_cg(len(b)):
         return _fused_jacobi_pcg(apply, b, x0, precondition.dinv, weights, float(tol), max_iterations, residual)

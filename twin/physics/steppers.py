@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from twin.physics import kernels, parallel
+from twin.physics import gpu_cg, kernels, parallel
 from twin.physics.lu import SymmetricLU
 from twin.physics.solvers import Projection, array_module, jacobi, mass_weights, pcg, to_host
 
@@ -155,8 +155,7 @@ class IterativeStepper:
     def _matrix(self, A):
         if self.device == "cpu":
             return parallel.split_matrix(A)     # row blocks on two threads when large (the same numbers)
-        import cupyx.scipy.sparse as csp
-        return csp.csr_matrix(A)
+        return gpu_cg.device_matrix(A)
 
     def begin(self, nsteps: int, system) -> None:
         """Reset the statistics and set the per-step tolerance for a run of ``nsteps`` steps."""
