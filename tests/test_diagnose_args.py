@@ -139,3 +139,19 @@ def test_the_synthetic_truth_names_a_bad_factor_or_settings_and_lets_the_user_se
         synthetic.truth_measurement("cframe-vmc", SCENARIO, settings=["temperature_sensor.noise=0.2 K"])
     assert "temperature_sensor.noise=0.2 K" in seen["settings"]
     assert sum(s.startswith("temperature_sensor.noise") for s in seen["settings"]) == 1
+
+
+def test_a_mesh_or_resolution_beside_a_prepared_twin_must_be_its_own():
+    """diagnose_many(twin=..., resolution=...) and Engine(prepared=..., resolution=...) would use
+    the twin's mesh and drop the other: refused, naming the argument, before the baseline runs."""
+    from twin.physics.prepared import PreparedTwin
+    from validate.signatures import Engine
+
+    twin = PreparedTwin(MACHINE, resolution="coarse")
+    with pytest.raises(InputError) as err:
+        diagnose_many([("m", measurement(), SCENARIO)], MACHINE, resolution="default", twin=twin)
+    assert err.value.field == "resolution" and "the prepared twin's mesh is 'coarse'" in str(err.value)
+    with pytest.raises(InputError) as err:
+        Engine(MACHINE, SCENARIO, "default", prepared=twin)
+    assert err.value.field == "resolution"
+    assert Engine(MACHINE, SCENARIO, "coarse", prepared=twin).twin is twin

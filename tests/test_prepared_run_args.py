@@ -257,3 +257,24 @@ def test_an_instrument_built_with_its_own_instants_is_checked_against_the_run():
     probing = DatumProbing(ProbingConfig((-60.0, 600.0), ((0.1, 0.1, 0.1),)), m)
     refused("probing.times", moving.run, sc, default_spec(m), [probing])
     refused("interferometer", LaserInterferometer, "Y", m)
+
+
+def test_a_mesh_and_a_resolution_or_a_prepared_twin_and_its_arguments_must_agree(twin):
+    """A value that would be ignored is refused: PreparedTwin(mm=..., resolution=...) must name
+    the mesh's own resolution; twin.simulate.run beside a prepared twin takes no other mesh,
+    resolution, materials or solver than the twin's own (equal ones pass)."""
+    from geometries.materials import MATERIALS
+    from twin.simulate import run
+
+    refused("resolution", PreparedTwin, CFRAME, twin.mm, "fine")
+    refused("resolution", PreparedTwin, CFRAME, twin.mm, "ultra")
+    assert PreparedTwin(CFRAME, twin.mm, "coarse").resolution == "coarse"
+    stiffer = {"grey_cast_iron": MATERIALS["grey_cast_iron"].scaled(youngs_modulus=1.1)}
+    for field, kwargs in (("mm", {"mm": PreparedTwin(CFRAME, resolution="coarse").mm}),
+                          ("resolution", {"resolution": "default"}), ("materials", {"materials": stiffer}),
+                          ("solver", {"solver": "iterative"})):
+        err = refused(field, run, CFRAME, SHORT, prepared=twin, **kwargs)
+        assert "leave it out, the prepared twin's is used" in str(err)
+    refused("prepared", run, build_machine("belt-vmc"), SHORT, prepared=twin)
+    same = run(CFRAME, SHORT, prepared=twin, mm=twin.mm, resolution="coarse", solver="direct")
+    assert np.isfinite(same.readings["temperature"]).all()

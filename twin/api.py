@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import fields
 from os import PathLike
 
 from geometries import MACHINES, build_machine
@@ -19,7 +18,8 @@ from twin.observe.interferometer import LaserInterferometer, check_interferomete
 from twin.observe.probing import DatumProbing, check_probing
 from twin.observe.temperature import check_points
 from twin.observe.camera import cameras as camera_observers
-from twin.physics.prepared import PreparedTwin, check_prepared, check_resolution, part_materials  # noqa: F401 (PreparedTwin re-exported)
+from twin.physics.prepared import (PreparedTwin, check_beside_prepared, check_prepared,  # noqa: F401 (PreparedTwin re-exported)
+                                   check_resolution, part_materials)
 from twin.physics.options import as_options
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run
@@ -64,11 +64,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     m = machine_by_name(machine)
     if prepared is not None:
         check_prepared(prepared, m, CLI)
-        if resolution is not None and resolution != prepared.resolution:
-            check_resolution(m, resolution, CLI, "--mesh")
-            raise InputError(CLI, "--mesh", f"the prepared twin's mesh is {prepared.resolution!r} "
-                                            f"({prepared.mm.nnodes} nodes), not {resolution!r}: leave resolution out "
-                                            f"or prepare the twin on {resolution!r}")
+        check_beside_prepared(prepared, CLI, resolution=resolution, fields={"resolution": "--mesh"})
         resolution = prepared.resolution
     else:
         resolution = check_resolution(m, "default" if resolution is None else resolution, CLI, "--mesh")
@@ -89,17 +85,10 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
         extra = tuple(load_effects_file(effects_file, m))
     spec: ModelSpec = model_spec(m, effects, settings, extra)
     limits.check_scenario(sc, m)
-    parts = part_materials(m, materials, CLI, "materials")
+    part_materials(m, materials, CLI, "materials")      # checked before the mesh is built
     options = as_options(solver)
     if prepared is not None:
-        if materials is not None and parts != prepared.materials:
-            raise InputError(CLI, "materials", "differ from the prepared twin's (the materials it was assembled with): "
-                                               "leave materials out, the prepared twin's are used")
-        if solver is not None and options != prepared.options:
-            differ = [f"{f.name} {getattr(options, f.name)!r} (the prepared twin's: {getattr(prepared.options, f.name)!r})"
-                      for f in fields(options) if getattr(options, f.name) != getattr(prepared.options, f.name)]
-            raise InputError(CLI, "--solver", f"differs from the prepared twin's: {', '.join(differ)}; leave solver "
-                                              "out, the prepared twin's is used")
+        check_beside_prepared(prepared, CLI, materials=materials, solver=solver, fields={"solver": "--solver"})
     _check_sensors(sensors, m)
     if cameras is not None and (isinstance(cameras, str) or not isinstance(cameras, (list, tuple))):
         raise InputError(CLI, "cameras", f"expected a list of pose names or CameraConfig, got {cameras!r}"
@@ -118,9 +107,9 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
         observers = (observers or standard_observers(m, sensors)) + [LaserInterferometer(sc.interferometer, m)]
     if sc.probing is not None:
         observers = (observers or standard_observers(m, sensors)) + [DatumProbing(sc.probing, m)]
-    result: RunResult = run(m, sc, spec, theta=theta, materials=materials, progress=progress, sensors=sensors,
-                            mm=None if prepared is not None else mm, prepared=prepared, solver=options,
-                            observers=observers)
+    beside = {"prepared": prepared} if prepared is not None else {"mm": mm, "materials": materials, "solver": options}
+    result: RunResult = run(m, sc, spec, theta=theta, progress=progress, sensors=sensors, observers=observers,
+                            **beside)
     return to_dataset(result, seed, resolution), result
 
 

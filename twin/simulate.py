@@ -18,7 +18,9 @@ from twin.fem.mesh import MachineMesh
 from twin.model import ModelSpec, default_spec
 from twin.observe import HeatBalance, HottestField, RunContext, TemperatureSensors, standard_observers
 from twin.physics.loads import LoadSet
-from twin.physics.prepared import PreparedTwin
+from twin.physics.prepared import PreparedTwin, check_beside_prepared, check_prepared
+
+SOURCE = "twin.simulate.run"
 
 
 @dataclass
@@ -97,7 +99,7 @@ class RunResult:
         return HeatBalance.energy(self.readings["energy"], self.context())
 
 
-def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "default", theta: float = 0.5,
+def run(machine, scenario, spec: ModelSpec | None = None, resolution: str | None = None, theta: float = 0.5,
         materials: dict | None = None, progress=None, mm: MachineMesh | None = None,
         sensors: list | None = None, prepared: PreparedTwin | None = None, observers: list | None = None,
         solver=None) -> RunResult:
@@ -108,11 +110,16 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str = "def
     :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites; ``observers``
     replaces the whole standard set; ``prepared`` reuses a :class:`PreparedTwin` of the machine;
     ``solver`` (:class:`twin.physics.options.SolverOptions` or a name) chooses the solvers of a
-    new one (default: by size).
+    new one (default: by size). Beside ``prepared``, ``mm``, ``resolution``, ``materials`` and
+    ``solver`` are left out or equal to its own (anything else is refused, never ignored);
+    ``resolution`` with ``mm`` names the mesh's own resolution.
     """
     spec = spec or default_spec(machine)
     observers = observers if observers is not None else standard_observers(machine, sensors)
     t0 = _time.perf_counter()
+    if prepared is not None:
+        check_prepared(prepared, machine, SOURCE)
+        check_beside_prepared(prepared, SOURCE, mm, resolution, materials, solver)
     twin = prepared or PreparedTwin(machine, mm, resolution, materials, solver)
     twin.adjoints(observers)   # factorise and solve the adjoints now, so that "preparation" holds them
     prep = _time.perf_counter() - t0

@@ -59,7 +59,7 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.model import ModelSpec, default_spec
-from twin.physics.prepared import PreparedTwin, check_prepared
+from twin.physics.prepared import PreparedTwin, check_beside_prepared, check_prepared
 from validate import verdict as V
 from validate.verdict import Share
 from validate.candidates import candidate_pool
@@ -237,7 +237,7 @@ def diagnose(ds, machine, scenario, spec: ModelSpec | None = None, **kw) -> Diag
     return diagnose_many([(label, ds, scenario)], machine, spec, **kw)
 
 
-def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resolution: str = "coarse", mm=None,
+def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resolution: str | None = None, mm=None,
                   candidates: list[str] | None = None, parameters: bool = True, min_explained: float = 0.5,
                   bic_margin: float = 10.0, pair_threshold: float = 0.8, pair_pool: int = 4,
                   error_resolution: str | None = None, model_error: list | None = None,
@@ -248,7 +248,8 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     ``measurements``: [(label, Dataset, Scenario)] (twin schema: any of ``temperature`` [degC],
     ``probe`` and ``laser`` [um], ``strain`` or ``strain_raw`` [um/m]); each scenario's grid must cover its measurement. ``machine``: a built
     machine; ``spec``: the diagnosing model (default: the machine's); ``mm``/``resolution``: its
-    mesh. ``candidates``: the missing effects to try (default: every applicable library effect not
+    mesh (default the coarse one; both given, the resolution must be the mesh's), or ``twin`` a
+    prepared twin (then ``mm`` and ``resolution`` are left out or its own). ``candidates``: the missing effects to try (default: every applicable library effect not
     in ``spec`` and the ``custom`` effects named, those of an effects file this diagnosis reads,
     :func:`twin.effects.custom.load_effects_file`); ``parameters``: also try the declared uncertain
     parameters of the model's effects. ``error_resolution``/``model_error`` (one per-channel RMS
@@ -262,14 +263,14 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     measurements = check_arguments(measurements, machine, spec, candidates, custom,
                                    {"min_explained": min_explained, "pair_threshold": pair_threshold}, bic_margin,
                                    {"pair_pool": pair_pool, "localise_steps": localise_steps},
-                                   {"resolution": None if mm is not None or twin is not None else resolution,
-                                    "error_resolution": error_resolution}, model_error)
+                                   {"resolution": resolution, "error_resolution": error_resolution}, model_error)
     if twin is not None:
         check_prepared(twin, machine, SOURCE, "twin")
+        check_beside_prepared(twin, SOURCE, mm, resolution)
     spec = spec or default_spec(machine)
     pool = candidate_pool(machine, spec, candidates, parameters, custom)
     stage = Stages(progress, 1 + len(measurements) + len(pool))
-    twin = twin or PreparedTwin(machine, mm, resolution)
+    twin = twin or PreparedTwin(machine, mm, "coarse" if mm is None and resolution is None else resolution)
     evidence = Evidence([rec for lab, ds, sc in measurements for rec in make_records(lab, ds, sc, machine, twin)])
     bands = expansion_bands(machine)
     with_drift = bool(set(DISPLACEMENT_GROUPS) & set(evidence.groups()))   # channels alpha moves

@@ -25,6 +25,8 @@ transient integration; the readings come back per observer (:mod:`twin.observe`)
 
 from __future__ import annotations
 
+from dataclasses import fields as fields_of
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -54,6 +56,31 @@ def check_prepared(prepared, machine, source: str, field: str = "prepared") -> N
         raise InputError(source, field, f"the prepared twin is of machine {prepared.machine.name}, not {machine.name}")
 
 
+def check_beside_prepared(prepared, source: str, mm=None, resolution=None, materials=None, solver=None,
+                          fields: dict | None = None) -> None:
+    """Arguments given beside a prepared twin are the ones it was prepared with, or an
+    :class:`InputError` naming the argument (``fields`` renames them: the CLI's ``--mesh``): its
+    mesh, resolution, materials and solver are the run's, so another value would be ignored."""
+    name = {"mm": "mm", "resolution": "resolution", "materials": "materials", "solver": "solver", **(fields or {})}
+    keep = "leave it out, the prepared twin's is used"
+    if mm is not None and mm is not prepared.mm:
+        raise InputError(source, name["mm"], f"is not the prepared twin's mesh ({prepared.resolution!r}, "
+                                             f"{prepared.mm.nnodes} nodes): {keep}")
+    if resolution is not None and resolution != prepared.resolution:
+        check_resolution(prepared.machine, resolution, source, name["resolution"])
+        raise InputError(source, name["resolution"], f"the prepared twin's mesh is {prepared.resolution!r} "
+                                                     f"({prepared.mm.nnodes} nodes), not {resolution!r}: {keep}, or "
+                                                     f"prepare the twin on {resolution!r}")
+    if materials is not None and part_materials(prepared.machine, materials, source, name["materials"]) != prepared.materials:
+        raise InputError(source, name["materials"], f"differ from the prepared twin's (the materials it was assembled "
+                                                    f"with): {keep}")
+    options = as_options(solver) if solver is not None else prepared.options
+    differ = [f"{f.name} {getattr(options, f.name)!r} (the prepared twin's: {getattr(prepared.options, f.name)!r})"
+              for f in fields_of(options) if getattr(options, f.name) != getattr(prepared.options, f.name)]
+    if differ:
+        raise InputError(source, name["solver"], f"differs from the prepared twin's: {', '.join(differ)}; {keep}")
+
+
 def check_resolution(machine, resolution, source: str = SOURCE, field: str = "resolution") -> str:
     """``resolution`` is the name of one of ``machine``'s meshes."""
     if not isinstance(resolution, str) or resolution not in machine.resolutions:
@@ -73,13 +100,15 @@ class PreparedTwin:
     ``solver``: a :class:`twin.physics.options.SolverOptions` or a solver name (default auto).
     The arguments are checked before the mesh is built (:class:`twin.errors.InputError`): a
     Machine (not its name), a resolution it has, materials it is made of (:func:`part_materials`).
-    ``resolution`` records the mesh's name (:func:`mesh_label`)."""
+    ``resolution`` (default ``"default"``) names the mesh to build; given with ``mm`` it must be
+    the one ``mm`` was built at (never silently ignored). ``self.resolution`` records the mesh's
+    name (:func:`mesh_label`)."""
 
-    def __init__(self, machine, mm=None, resolution: str = "default", materials: dict | None = None,
+    def __init__(self, machine, mm=None, resolution: str | None = None, materials: dict | None = None,
                  solver=None):
         limits.check_machine(machine, SOURCE)
         if mm is None:
-            check_resolution(machine, resolution)
+            resolution = check_resolution(machine, "default" if resolution is None else resolution)
         elif not isinstance(mm, MachineMesh):
             raise InputError(SOURCE, "mm", f"expected a twin.fem.mesh.MachineMesh of the machine, got {mm!r}")
         elif mm.machine.name != machine.name or [p.name for p in mm.machine.parts] != [p.name for p in machine.parts]:
@@ -87,6 +116,9 @@ class PreparedTwin:
                                            f"{', '.join(p.name for p in mm.machine.parts)}, not of {machine.name} with "
                                            f"{', '.join(p.name for p in machine.parts)} (mesh the machine the twin is "
                                            "of: twin.fem.mesh.mesh_machine(machine, resolution))")
+        elif resolution is not None and check_resolution(machine, resolution) != mesh_label(machine, mm):
+            raise InputError(SOURCE, "resolution", f"is {resolution!r} but the mesh mm given with it is at "
+                                                   f"{mesh_label(machine, mm)!r}: give the mesh or the resolution")
         materials = part_materials(machine, materials)
         self.machine = machine
         self.options = as_options(solver)
