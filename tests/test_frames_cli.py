@@ -224,3 +224,27 @@ def test_an_export_never_mixes_with_an_earlier_one(capsys, work):
     assert _tree(work) == before
     assert main(["frames", "x.nc", "-o", "fr", "--png", "--every", "2"]) == 0
     assert sorted(_tree(work)) == sorted(before)
+
+
+def test_an_export_of_another_camera_is_not_replaced_file_for_file(capsys, work):
+    """Two single-camera exports of the same length into one folder would name their files alike:
+    the second would replace the first silently. Each export names its camera (the TIFFs' JSON
+    sidecars, a text chunk in each PNG), so another camera's export is refused before anything is
+    written; the same camera again is a rerun."""
+    from twin.io.thermography import exported_camera
+
+    with xr.open_dataset("x.nc") as ds:
+        other = ds.load()
+    info = json.loads(other.attrs["camera"])
+    other.attrs["camera"] = json.dumps({**info, "name": "other-camera"})
+    other.to_netcdf("y.nc", engine="h5netcdf")
+    for kind, first in (("--png", "fr/png/frame_00000.png"), ("--tiff", "fr/tiff/frame_00000.json")):
+        assert main(["frames", "x.nc", "-o", "fr", kind]) == 0
+        capsys.readouterr()
+        assert exported_camera(first) == info["name"]
+        before = _tree(work)
+        err = _error(capsys, ["frames", "y.nc", "-o", "fr", kind])
+        assert first in err and f"export of camera {info['name']!r}" in err and "'other-camera'" in err
+        assert _tree(work) == before
+        assert main(["frames", "x.nc", "-o", "fr", kind]) == 0
+        shutil.rmtree("fr")

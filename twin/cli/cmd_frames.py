@@ -39,14 +39,17 @@ def open_result(path: Path, field: str = "result"):
         raise InputError(str(path), field, "not a NetCDF result file") from None
 
 
-def declare_output(files, output: str, layout: list[str], field: str = "-o") -> Path:
+def declare_output(files, output: str, layout: list[str], field: str = "-o", cameras: dict | None = None) -> Path:
     """Declare the output folder and the files ``layout`` (relative paths) to ``files``. The
     first file of each kind in each subfolder is declared as any output (which checks the
     subfolder, the suffix and the clashes with the inputs); declaring thousands of frames that
     way would take minutes, so the rest are checked for clashes without being recorded
     (:meth:`twin.io.paths.Files.check_output`) and, where they exist already (a rerun), checked
-    as outputs. A subfolder that is in the way (a file, a link to nothing) is refused as well."""
+    as outputs. A subfolder that is in the way (a file, a link to nothing) is refused as well, and
+    so is an earlier export of another camera that this one would replace file for file
+    (``cameras``: each camera's folder prefix, ``""`` or ``"NAME/"``, to its name)."""
     from twin.io.paths import output_file
+    from twin.io.thermography import exported_camera
 
     firsts: dict[tuple[str, str], str] = {}
     for rel in layout:
@@ -62,6 +65,13 @@ def declare_output(files, output: str, layout: list[str], field: str = "-o") -> 
                                                      "(another camera, --every or kind) that this one would not "
                                                      "replace, so the two would mix: export into an empty folder, "
                                                      "or every camera at once")
+    for prefix, name in (cameras or {}).items():
+        for rel in (f"{prefix}tiff/frame_00000.json", f"{prefix}png/frame_00000.png"):
+            other = exported_camera(out / rel) if rel in layout and (out / rel).is_file() else None
+            if other is not None and other != name:
+                raise InputError(str(out / rel), field, f"the folder holds an export of camera {other!r} that this "
+                                                        f"export of {name!r} would replace: export into another "
+                                                        "folder, or every camera at once")
     chosen = set(firsts.values())
     for rel in layout:
         if rel in chosen:
@@ -111,7 +121,8 @@ def run(args) -> int:
         counts = {suffix: check_frames(ds, suffix, source) for _, suffix in chosen}
         layout = [f"{name}/{rel}" if many else rel
                   for name, suffix in chosen for rel in export_files(counts[suffix], args.every, kinds, name)]
-        out = declare_output(files, args.output, layout)
+        out = declare_output(files, args.output, layout,
+                             cameras={(f"{name}/" if many else ""): name for name, _ in chosen})
         with output_folder(out):
             for name, suffix in chosen:
                 folder = out / name if many else out

@@ -187,15 +187,37 @@ def rgb_frames(ds, suffix: str = "", every: int = 1, scale: int = 2, cmap: str =
 
 
 def write_png_frames(ds, outdir, suffix: str = "", every: int = 1, prefix: str = "frame") -> list[Path]:
-    """Colour PNGs ``{prefix}_{i:05d}.png`` (:func:`rgb_frames`); returns their paths."""
+    """Colour PNGs ``{prefix}_{i:05d}.png`` (:func:`rgb_frames`), each naming its camera in a
+    ``camera`` text chunk (:func:`exported_camera`); returns their paths."""
+    from PIL.PngImagePlugin import PngInfo
+
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
+    text = PngInfo()
+    text.add_text("camera", camera_info(ds, suffix)["name"])
     paths = []
     for i, _, image in rgb_frames(ds, suffix, every):
         path = outdir / frame_file(i, "png", prefix)
-        atomic_write(path, lambda tmp: image.save(tmp, format="PNG"))
+        atomic_write(path, lambda tmp: image.save(tmp, format="PNG", pnginfo=text))
         paths.append(path)
     return paths
+
+
+def exported_camera(path) -> str | None:
+    """The camera an exported frame file names: a TIFF's JSON sidecar (``.json``) its ``camera``
+    field, a PNG its ``camera`` text chunk; None where the file names none (or is unreadable:
+    an export older than the markers, or not an export)."""
+    path = Path(path)
+    try:
+        if path.suffix == ".json":
+            name = json.loads(path.read_text(encoding="utf-8")).get("camera")
+        else:
+            from PIL import Image
+            with Image.open(path) as image:
+                name = image.text.get("camera")
+    except Exception:  # noqa: BLE001 - not a readable export: nothing to compare
+        return None
+    return name if isinstance(name, str) else None
 
 
 def write_gif(ds, path, suffix: str = "", every: int = 1, frame_ms: int = 80) -> Path:
