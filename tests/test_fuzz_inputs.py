@@ -118,9 +118,13 @@ SAMPLE = ["simulate.scenario:speed-1e300-krpm", "simulate.o:link-to-input", "com
 READY = """
 import signal, sys
 signal.signal(signal.SIGINT, signal.default_int_handler)   # as at a terminal, even when pytest runs in a background job
-from twin.cli import main
-print("ready", flush=True)
-sys.exit(main(sys.argv[1:]))
+import twin.cli as cli
+inner = cli._main
+def ready(argv):       # "ready" from inside main's handler: a loaded machine cannot deliver Ctrl-C before it
+    print("ready", flush=True)
+    return inner(argv)
+cli._main = ready
+sys.exit(cli.main(sys.argv[1:]))
 """
 SLOW_WRITE = """
 import sys, time
