@@ -51,6 +51,33 @@ def test_probing_screw_share_at_a_uniform_rise_is_alpha_dT_times_the_nut_distanc
     assert np.all(err[0] == 0.0)
 
 
+def test_probing_reads_the_drift_at_each_datums_pose_for_an_affine_field():
+    """The structure in a free uniform expansion u(x) = g (x - x0) and every screw still: datum j
+    at pose p reads, from the baseline (u = 0), the tool-minus-workpiece drift at the mesh's pose,
+    g (x_tool - x_workpiece), plus each axis's carry to the datum's pose, g (p_a - p_ref,a) along
+    its direction, with the sign of what it carries: -1 for X and Y (the workpiece), +1 for Z
+    (the tool). Exact to round-off (trilinear interpolation and the pose's hats reproduce affine
+    fields; a uniform expansion has no rotation)."""
+    sc = load_scenario("thesis-duty-test1")
+    machine = machine_for(build_machine("cframe-vmc"), sc)
+    mm = mesh_machine(machine, "coarse")
+    datums = ((0.10, 0.05, 0.02), (0.45, 0.35, 0.30), (0.30, 0.20, 0.15))
+    obs = DatumProbing(ProbingConfig((0.0, 60.0), datums), machine)
+    g, x0 = 24e-6, np.array([0.1, -0.2, 0.3])
+    u = (g * (mm.mesh.p.T - x0)).ravel()
+    rows = obs.all_functionals(mm)
+    raw = np.vstack([np.zeros(rows.shape[0]), rows @ u])
+    raw = np.hstack([raw, np.zeros((2, len(obs.screws) * len(datums)))])
+    err = obs.errors(raw, machine)
+    xyz = {n: np.array(machine.point(n).xyz) for n in (machine.tool_point, machine.workpiece_point)}
+    drift = g * (xyz[machine.tool_point] - xyz[machine.workpiece_point])
+    sign = {"X": -1.0, "Y": -1.0, "Z": 1.0}
+    for j, p in enumerate(np.array(datums)):
+        expect = drift + np.array([sign[a.name] * g * (p[k] - a.p_ref) for k, a in enumerate(machine.axes[:3])])
+        assert err[1, j] == pytest.approx(expect, rel=1e-9, abs=1e-18)
+    assert np.all(err[0] == 0.0)
+
+
 def test_duty_cycle_peaks_lie_within_30_percent_of_the_thesis(duty):
     """Test-I: the largest probed error per axis over the datums and probings lies within +-30 %
     of the thesis's X 27, Y 32, Z 74 um (plausible, not a measured machine), the screw nuts and

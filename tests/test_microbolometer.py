@@ -105,3 +105,32 @@ def test_offset_drift_is_an_ornstein_uhlenbeck_process_common_to_all_pixels():
     clipped = _chain(Microbolometer(**{**QUIET, "offset": 50.0, "drift": 0.3}), (1, 1), np.arange(50) * 60.0, seed=2)
     x = (clipped.radiance_of(clipped.counts(np.full((50, 1, 1), L30))[:, 0, 0]) - L30) / clipped.kelvin
     assert np.all(np.abs(np.abs(x) - 2.0) <= 0.5 / (clipped.gain * clipped.kelvin) + 1e-6)
+
+
+@pytest.mark.parametrize("term", ["row_fixed", "column_fixed", "row_temporal", "column_temporal"])
+def test_row_and_column_banding_is_one_offset_a_line(term):
+    """Banding (3-D noise sigma_v, sigma_h fixed; sigma_tv, sigma_th temporal), one term at a
+    time at 0.02 K on a uniform scene at T_ref: every pixel of a row (or column) gets the same
+    offset, so each line of counts is constant (exactly: white noise would not be), and the
+    lines' counts have the variance (G L'(T_ref) sigma)^2 + 1/12 (Sheppard). 20000 lines x 2
+    frames: a fixed term repeats in the second frame and its variance over 20000 lines has
+    relative standard error sqrt(2 / 20000) = 1 %, held to 4 %; a temporal one is drawn anew each
+    frame (40000 independent lines, held to 2.8 %) and the two frames' lines are uncorrelated
+    within 4 / sqrt(20000)."""
+    table = RadianceTable(BAND)
+    L30 = table.radiance(30.0)
+    lines, across = 20000, 3
+    shape = (lines, across) if term.startswith("row") else (across, lines)
+    chain = _chain(Microbolometer(**{**QUIET, term: 0.02}), shape, (0.0, 10.0), seed=21)
+    c = chain.counts(np.full((2, *shape), L30)).astype(float)
+    if term.startswith("column"):
+        c = c.transpose(0, 2, 1)                   # lines first
+    assert np.all(c == c[:, :, :1])                # one offset a line
+    line = c[:, :, 0]
+    sigma_c = chain.gain * chain.kelvin * 0.02
+    if term.endswith("fixed"):
+        assert np.array_equal(line[0], line[1])
+        assert line[0].var(ddof=1) == pytest.approx(sigma_c ** 2 + 1 / 12, rel=4 * np.sqrt(2 / lines))
+    else:
+        assert line.var(ddof=1) == pytest.approx(sigma_c ** 2 + 1 / 12, rel=4 * np.sqrt(2 / line.size))
+        assert abs(np.corrcoef(line[0], line[1])[0, 1]) < 4 / np.sqrt(lines)

@@ -89,6 +89,26 @@ def test_gauge_on_a_thermally_bent_beam_reads_the_surface_strain():
     np.testing.assert_allclose(r["strain_true"][1], expected, atol=1e-9 * abs(expected[0]))
 
 
+def test_the_grating_reads_its_mean_temperature_along_its_length():
+    """T = T0 + g x along the bar: a grating from x_c - l/2 to x_c + l/2 along x has the mean
+    temperature rise g x_c (five-point Gauss quadrature and trilinear interpolation are exact for a
+    linear field), so its raw reading exceeds the true strain by k_T g x_c, and the reading
+    compensated with sensor s (at x = 0.5 m, rise g 0.5 m) by k_T g (x_c - 0.5 m); gauges across
+    x see the rise at their centre alike. To round-off."""
+    g = 30.0      # K/m along the bar: 30 K end to end
+    gauges = [StrainGauge("near", (0.1, 0.05, H - E), (1.0, 0.0, 0.0), 0.08, "bar"),
+              StrainGauge("far", (0.83, 0.05, H - E), (-1.0, 0.0, 0.0), 0.12, "bar"),
+              StrainGauge("across", (0.37, 0.05, H - E), (0.0, 1.0, 0.0), 0.05, "bar")]
+    machine = _bar(gauges)
+    mm = build_mesh(machine, 0.025)
+    x = mm.mesh.p[0]
+    T = np.vstack([np.full(mm.nnodes, 20.0), 20.0 + g * x])
+    _, r, _ = _readings(machine, T)
+    kt, xc = 8.64, np.array([0.1, 0.83, 0.37])     # um/m/K; the gauges' centres [m]
+    np.testing.assert_allclose(r["strain_raw"][1] - r["strain_true"][1], kt * g * xc, rtol=1e-11)
+    np.testing.assert_allclose(r["strain"][1] - r["strain_true"][1], kt * g * (xc - 0.5), rtol=1e-11)
+
+
 @pytest.fixture(scope="module")
 def gantry():
     m = build_machine("gantry-ram")
