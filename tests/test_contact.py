@@ -42,7 +42,9 @@ def test_steady_jump_across_a_contact_is_q_over_hc():
 
 def test_contact_effect_conserves_energy_and_tends_to_perfect_contact():
     """test_bar_contact on the machine: the theta-scheme energy balance closes to round-off, and a
-    very large G reproduces the bonded model's drift (h_c -> infinity)."""
+    very large G reproduces the bonded model's drift (h_c -> infinity): at G = 1000 W/K (the bar's
+    seat 100 times stiffer thermally than the 2 W/K of a poor one) Z within 1e-3 of its peak
+    (2.5e-4 measured; the gap falls as 1/G)."""
     from twin.api import simulate
     from twin.scenario import Ambient, Scenario
 
@@ -55,7 +57,7 @@ def test_contact_effect_conserves_energy_and_tends_to_perfect_contact():
     heat_in, convected, stored = r.step_energy()
     assert abs(heat_in + convected - stored) < 1e-9 * heat_in
     zb, zs, zl = (d.drift.sel(axis="Z").values for d in (bonded, stiff, loose))
-    assert np.max(np.abs(zs - zb)) < 0.01 * np.max(np.abs(zb))
+    assert np.max(np.abs(zs - zb)) < 1e-3 * np.max(np.abs(zb))
     bar = lambda d: d.temperature_true.sel(sensor="test_bar").values[-1]  # noqa: E731
     assert bar(loose) < bar(bonded) - 0.1  # a poor seat keeps the bar cooler
 

@@ -63,7 +63,8 @@ def test_flux_on_faces_and_table_schedule(machine, mm, tmp_path):
 
 def test_convection_and_energy_balance(machine, mm):
     """A custom convection h s(t) (T - T_air - offset) closes the first law over a run like any
-    library effect: heat in by sources + by convection = change of stored heat (1e-9)."""
+    library effect: heat in by sources + by convection = change of stored heat (1e-9); its loads
+    see the air T_air + offset and h s(t) (spindle_on: 1 while the spindle turns), exactly."""
     from twin.model import ModelSpec
     from twin.observe import HeatBalance, RunContext
     from twin.physics.prepared import PreparedTwin
@@ -76,6 +77,12 @@ def test_convection_and_energy_balance(machine, mm):
     src, conv, stored = HeatBalance.energy(raw["energy"], ctx)
     assert abs(src + conv - stored) <= 1e-9 * max(abs(src), abs(conv), abs(stored))
     assert not EFFECTS[names[0]].linear
+    # what the balance cannot see: the air is the room's + 5 K, h is 12 W/m2K while the spindle runs
+    t = SC.times()
+    h, air, _ = loads.signals(t)
+    k = loads.convection_effect.index(names[0])
+    np.testing.assert_allclose(air[:, k], SC.ambient_temperature(t) + 5.0, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(h[:, k], np.where(np.abs(SC.spindle_speed(t)) > 0, 12.0, 0.0))
 
 
 @pytest.mark.parametrize("spec,field", [

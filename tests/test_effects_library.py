@@ -123,6 +123,9 @@ def test_stratification_split_above_and_below_z_ref_gives_each_side_its_moment(g
 
 
 def test_door_draft_active_only_in_event_window(mm, heat):
+    """The draft through an open door on the front (-y) skin: h(t) = h_d w(t), w = 1 inside each
+    window [start + k period, start + k period + duration) and 0 outside, with air at
+    T_air + dT (20 degC - 8 K), exactly."""
     sc = scenario(0.0)
     params = {"door_draft": {"start": 3600.0, "duration": 1200.0, "period": 7200.0}}
     ls = build_loads(mm, sc, ModelSpec(("door_draft",), params), heat)
@@ -134,6 +137,9 @@ def test_door_draft_active_only_in_event_window(mm, heat):
 
 
 def test_solar_load_only_in_day_hours_with_peak_qA(mm, heat):
+    """Absorbed sunlight on the rear (+y) skin: P(t) = q A sin(pi (tod - t_rise) / (t_set - t_rise))
+    between sunrise and sunset (07:00-19:00 by default), 0 at night: q A at 13:00, q A sin(pi/4) at
+    10:00, to round-off."""
     sc = scenario(0.0, tod=6 * 3600.0)  # clock 06:00 at t = 0
     ls = build_loads(mm, sc, ModelSpec(("solar_load",)), heat)
     area = mm.facet_area(facing(mm, mm.facets["skin"], "+y"))
@@ -208,3 +214,29 @@ def test_forced_convection_is_beckers_law_for_the_rotating_bar():
     omega, diameter, nu, k, prandtl = p["reference_speed"] * 2 * np.pi / 60, 0.04, 1.51e-5, 0.0257, 0.71
     becker = 0.133 * (omega * diameter ** 2 / nu) ** (2 / 3) * prandtl ** (1 / 3) * k / diameter
     assert p["reference_speed"] == 9000.0 and p["h_reference"] == pytest.approx(becker, rel=0.10)
+
+
+def test_offsets_and_speed_laws_reach_the_loads(mm, heat):
+    """What an energy balance cannot see (it closes on the loads' own signals): the air each
+    convection sees and each power away from its reference, read from the loads, exactly.
+    Half speed (4500 rpm) for 10 min, then at rest, the room at 20 degC:
+    spindle_coolant T_c = T_air + offset (-3 K: 17 degC) with h A = G while it runs, 0 at rest;
+    floor T_floor = lag(T_air) + offset (+2 K: 22 degC, the room constant);
+    spindle_motor P = P_ref (n / n_ref)^x = 0.5^1.5 P_ref at n_ref / 2 (x = 1.5), 0 at rest;
+    electrical_cabinet P = P_standby + P_run [n > 0]: 40 + 25 W running, 40 W at rest."""
+    sc = Scenario("half", ((600.0, 4500.0), (600.0, 0.0)), Ambient("constant", mean=20.0), 60.0)
+    params = {"spindle_coolant": {"offset": -3.0}, "floor": {"offset": 2.0},
+              "spindle_motor": {"exponent": 1.5, "reference_speed": 9000.0},
+              "electrical_cabinet": {"running_power": 25.0}}
+    ls = build_loads(mm, sc, ModelSpec(("spindle_coolant", "floor", "spindle_motor", "electrical_cabinet"), params),
+                     heat)
+    t = np.array([300.0, 900.0])
+    h, air, s = ls.signals(t)
+    k = ls.convection_effect.index("spindle_coolant")
+    assert air[:, k].tolist() == [17.0, 17.0]
+    assert h[0, k] * ls.areas[k] == pytest.approx(20.0, rel=1e-12) and h[1, k] == 0.0
+    assert air[:, ls.convection_effect.index("floor")] == pytest.approx([22.0, 22.0], rel=1e-14)
+    p_ref = EFFECTS["spindle_motor"].defaults()["power"]
+    motor = s[:, ls.source_effect.index("spindle_motor")]
+    assert motor[0] == pytest.approx(p_ref * 0.5 ** 1.5, rel=1e-14) and motor[1] == 0.0
+    assert s[:, ls.source_effect.index("electrical_cabinet")].tolist() == [65.0, 40.0]

@@ -119,13 +119,15 @@ def test_test_bar_refinement_resolves_its_fin_length():
 def test_fin_with_end_flux_matches_fin_equation():
     """Steady fin, heat P into the base, convection along the sides, adiabatic tip:
     theta(x) = P cosh(m (L - x)) / (k A m sinh(m L)), m = sqrt(h p / (k A)) (Incropera Table 3.4 case B
-    with a prescribed base flux). Within 1 % of the base excess."""
+    with a prescribed base flux). Within 0.5 % of the base excess: the 3-D bar against the 1-D fin
+    equation leaves 0.22-0.24 % at 10, 5 and 2.5 mm cells alike (the model's floor, not the
+    mesh's: the section is not isothermal)."""
     L, w, h, P = 0.3, 0.02, 20.0, 5.0
     mm, T, conv = _steady_fin(L, w, h, P, 0.005)
     k, A, perim = STEEL.conductivity, w * w, 4 * w
     m = np.sqrt(h * perim / (k * A))
     x = mm.mesh.p[0]
     exact = P * np.cosh(m * (L - x)) / (k * A * m * np.sinh(m * L))
-    assert np.max(np.abs((T - 20.0) - exact)) < 0.01 * exact.max()
+    assert np.max(np.abs((T - 20.0) - exact)) < 0.005 * exact.max()
     # and the energy balance of the steady state: all of P leaves through the sides
     assert h * (conv.r @ T - 20.0 * conv.area) == pytest.approx(P, rel=1e-9)

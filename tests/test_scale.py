@@ -175,12 +175,13 @@ def test_run_started_from_the_reduced_basis_equals_direct_within_its_bound(twins
 
 def test_amg_adjoints_equal_direct_ones(twins, machine):
     """Drift influence rows by AMG-CG (rigid-body modes as near-null space) vs SuperLU: the
-    relative residual 1e-8 gives rows equal to about that relative accuracy."""
+    relative residual 1e-8 gives rows equal to about that relative accuracy (measured 7.6e-10 for
+    the drift, 1.2e-9 for the probes; held to 1e-8)."""
     d, i = twins["direct"], twins["iterative"]
     assert i.elastic.method == "amg" and d.elastic.method == "direct"
     for obs in (ToolDrift(), FiveProbeTestBar()):
         a, b = d.displacement_rows(obs, d.mm), i.displacement_rows(obs, i.mm)
-        assert np.max(np.abs(a - b)) <= 1e-6 * np.max(np.abs(a))
+        assert np.max(np.abs(a - b)) <= 1e-8 * np.max(np.abs(a))
 
 
 @pytest.fixture(scope="module")

@@ -86,7 +86,9 @@ def air_transmission(distance, air_degc, relative_humidity) -> np.ndarray:
 @dataclass(frozen=True)
 class RadianceTable:
     """L(T) tabulated every ``step`` K on [lo, hi] degC for fast forward and inverse look-ups by
-    linear interpolation (relative error below 1e-7 for a 0.05 K step: L'' h^2 / 8 L)."""
+    linear interpolation: relative error at most L'' h^2 / (8 L) for a step h, with h = 0.05 K
+    1.4e-7 over a camera's -40 to 120 degC (7.5e-8 above 0 degC, 4.7e-7 at -100 degC), under
+    1e-5 K in temperature."""
 
     band: tuple[float, float]
     lo: float = -100.0
