@@ -23,18 +23,46 @@ def check_fit_data(estimator, X, y, *, min_samples: int = 2):
     X = _checked(check_array, estimator, "X", X, dtype=float, ensure_min_samples=min_samples)
     try:
         X, y = check_X_y(X, y, dtype=float, y_numeric=True, ensure_min_samples=min_samples)
-    except ValueError as err:     # X passed on its own: what is wrong is y, or y against X
+        y = np.asarray(y, dtype=float).ravel()
+    except (ValueError, TypeError) as err:     # X passed on its own: what is wrong is y, or y against X
         raise InputError(model_name(estimator), "y", str(err)) from None
+    refuse_huge(estimator, "X", X)
+    refuse_huge(estimator, "y", y)
+    check_seed(estimator, getattr(estimator, "random_state", None))
     estimator.n_features_in_ = X.shape[1]
-    y = np.asarray(y, dtype=float).ravel()
     refuse_constant_target(y, estimator)
     return X, y
 
 
+def check_seed(model, value):
+    """A learner's ``random_state``: None (fresh entropy) or a whole number from 0 to 2^32 - 1
+    (:func:`twin.limits.seed_value`; not a bool, a float or a text), else an :class:`InputError`
+    naming the learner and ``random_state``. Returns it."""
+    if value is None:
+        return None
+    from twin.limits import seed_value
+    return seed_value(value, model_name(model), "random_state")
+
+
+VALUE_LIMIT = 1e12      # |value| a learner takes: any unit of a measured temperature or error stays far below
+
+
+def refuse_huge(estimator, name: str, values) -> None:
+    """An :class:`InputError` naming the learner and ``name`` for values beyond +-:data:`VALUE_LIMIT`:
+    no unit of a machine's temperatures or errors reaches them, and their squares and products
+    overflow or lose every digit inside the fits (NaN predictions, infinite scores)."""
+    worst = float(np.max(np.abs(values))) if np.size(values) else 0.0
+    if worst > VALUE_LIMIT:
+        raise InputError(model_name(estimator), name, f"holds values up to {worst:.3g}, beyond +-{VALUE_LIMIT:g}: not a "
+                                                      "measured temperature or error in any unit; rescale it")
+
+
 def check_table(estimator, X):
-    """``X`` as a finite 2-D float array (scikit-learn's ``check_array``), or an
-    :class:`InputError` naming the learner and ``X``."""
-    return _checked(check_array, estimator, "X", X, dtype=float)
+    """``X`` as a finite 2-D float array within +-:data:`VALUE_LIMIT` (scikit-learn's
+    ``check_array``), or an :class:`InputError` naming the learner and ``X``."""
+    X = _checked(check_array, estimator, "X", X, dtype=float)
+    refuse_huge(estimator, "X", X)
+    return X
 
 
 def _checked(check, estimator, name: str, values, **kw):
@@ -42,7 +70,7 @@ def _checked(check, estimator, name: str, values, **kw):
     :class:`InputError` naming the learner and the argument ``name``."""
     try:
         return check(values, **kw)
-    except ValueError as err:
+    except (ValueError, TypeError) as err:
         raise InputError(model_name(estimator), name, str(err)) from None
 
 
@@ -60,10 +88,19 @@ def refuse_constant_target(y, model) -> None:
                                                  "there is nothing to learn")
 
 
+def check_fitted(estimator, attribute: str) -> None:
+    """scikit-learn's ``check_is_fitted``, its NotFittedError raised as an :class:`InputError`
+    naming the learner (or selector)."""
+    try:
+        check_is_fitted(estimator, attribute)
+    except ValueError:          # NotFittedError
+        raise InputError(model_name(estimator), "X", "not fitted: call fit(X, y) first") from None
+
+
 def check_predict_data(estimator, X, fitted_attribute: str):
     """Validate prediction inputs against a fitted estimator; return a float 2-D array (an
     :class:`InputError` naming the learner and ``X`` when it is not one of the fitted width)."""
-    check_is_fitted(estimator, fitted_attribute)
+    check_fitted(estimator, fitted_attribute)
     X = check_table(estimator, X)
     if X.shape[1] != estimator.n_features_in_:
         raise InputError(model_name(estimator), "X", f"X has {X.shape[1]} features, but {type(estimator).__name__} "

@@ -41,13 +41,14 @@ from pathlib import Path
 
 import numpy as np
 
-from learners.leaderboard import COLUMNS, as_input_error, check_segments, leaderboard, write_csv, write_markdown
+from learners.leaderboard import COLUMNS, as_input_error, check_segments, leaderboard, notes, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
 from learners.runs import check_one_interval, dataset_runs, is_time_ordered, resample, select_runs
 from learners.table import Table, check_problem, load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity_value, whole_number
+from twin.limits import plain_int
 from twin.errors import InputError
-from twin.io.paths import Files
+from twin.io.paths import Files, same_file
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
@@ -115,7 +116,7 @@ def _make_selector(spec, seed):
     params = {}
     if sep:
         try:
-            k = int(count)
+            k = plain_int(count)
         except ValueError:
             k = 0
         if k < 1:
@@ -138,8 +139,9 @@ def _fmt(value, digits=4):
 def _text_table(rows, timings):
     """The terminal's leaderboard: the rows (``COLUMNS``) and each learner's fit time [s, wall
     clock], which only the terminal shows (the written files hold what the inputs determine)."""
+    shown = [c for c in COLUMNS if c != "note"]         # the notes follow the table, one line each
     cells = [_HEADINGS] + [[_fmt(r[c]) if c not in ("improvement_pct", "mre_pct")
-                            else (f"{r[c]:.2f}" if np.isfinite(r[c]) else "nan") for c in COLUMNS]
+                            else (f"{r[c]:.2f}" if np.isfinite(r[c]) else "nan") for c in shown]
                            + [f"{timings[r['learner']]:.2f}"] for r in rows]
     widths = [max(len(row[i]) for row in cells) for i in range(len(_HEADINGS))]
     numeric = {2, 3, 4, 5, 6, 7, 8, 11}
@@ -148,7 +150,7 @@ def _text_table(rows, timings):
         parts = [cell.rjust(w) if i in numeric else cell.ljust(w) for i, (cell, w) in enumerate(zip(row, widths))]
         lines.append("  ".join(parts).rstrip())
     lines.insert(1, "  ".join("-" * w for w in widths))
-    return "\n".join(lines)
+    return "\n".join(lines + [f"note: {line}" for line in notes(rows)])
 
 
 def _declare_files(args) -> Files:
@@ -199,6 +201,7 @@ def run_learn(args) -> int:
         train_paths += [files.input(p, "--train", "table", once=True) for p in dataset_runs(args.dataset, args.train_split)]
         runs = [files.input(p, "--test", "table", once=True) for p in dataset_runs(args.dataset, args.split)]
         test_sets.append((f"{args.dataset} [{args.split}: {len(runs)} runs]", runs))
+    _refuse_training_on_test(train_paths, test_sets)
     first = load_table(train_paths[0], args.target, inputs=inputs, time_column=args.time_column, field="--train")
     runs = [first] + [load_table(path, args.target, inputs=first.input_names, time_column=args.time_column,
                                  field="--train") for path in train_paths[1:]]
@@ -236,6 +239,19 @@ def run_learn(args) -> int:
         else:
             write_csv(path, rows)
     return 0
+
+
+def _refuse_training_on_test(train_paths, test_sets) -> None:
+    """A test run that is also a training run (the same file by any spelling: ``--train a.nc
+    --test a.nc``, a dataset's test case given by hand with ``--train``, ``--split`` equal to
+    ``--train-split``) would score a model on its own training data, which says nothing of its
+    error on new runs: refused, naming the file."""
+    for label, paths in test_sets:
+        for path in paths:
+            for train in train_paths:
+                if same_file(path, train):
+                    raise InputError(str(path), "--test", f"is also a training run ({train}): scores on a model's own "
+                                                          "training data say nothing of its error on new runs")
 
 
 def _interval(text):

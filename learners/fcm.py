@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from learners._checks import check_seed
 from twin.errors import InputError
 
 __all__ = ["FCMResult", "fuzzy_cmeans", "fcm_memberships"]
@@ -80,7 +81,7 @@ def fuzzy_cmeans(data, n_clusters, *, m=2.0, max_iter=300, tol=1e-6, random_stat
     if c < 1 or c > n_distinct:
         raise InputError("data", "rows", f"fuzzy c-means with {c} clusters needs at least {c} distinct rows, "
                                          f"got {n_distinct}")
-    rng = np.random.default_rng(random_state)
+    rng = np.random.default_rng(check_seed("fuzzy c-means", random_state))
     # Initial centres: distinct data points drawn at random.
     uniq = np.unique(x, axis=0)
     centers = uniq[np.sort(rng.choice(uniq.shape[0], size=c, replace=False))].copy()

@@ -38,9 +38,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
-from sklearn.utils.validation import check_is_fitted
 
-from learners._checks import check_choice, check_int, check_start_value, refuse_constant_target
+from learners._checks import (check_choice, check_fitted, check_int, check_start_value, refuse_constant_target,
+                              refuse_huge)
 from learners.registry import register_learner
 from twin.errors import InputError
 
@@ -69,28 +69,43 @@ def background(x1, axis=0) -> np.ndarray:
     return np.moveaxis(0.5 * (x1[1:] + x1[:-1]), 0, axis)
 
 
+def _numbers(values, model: str, name: str) -> np.ndarray:
+    """``values`` as a float array copy, or an :class:`InputError` naming ``name`` (text, complex
+    numbers: a grey model would drop the imaginary part)."""
+    if np.iscomplexobj(values):
+        raise InputError("data", name, f"{model} takes real numbers, got complex ones")
+    try:
+        return np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("data", name, f"{model} takes numbers, got {np.asarray(values).dtype} values") from None
+
+
 def check_series(X, y=None, *, model: str, min_rows: int = 4, constant_ok: bool = False):
     """Validate time-ordered inputs: ``X`` -> float (n, p) copy, ``y`` -> float (n,) copy.
 
     Raises :class:`InputError` for non-finite values, mismatched lengths or fewer than ``min_rows``,
     ``ValueError`` for a constant ``y`` unless ``constant_ok``.
     """
-    Xa = np.array(X, dtype=float)  # copies: never mutate caller data
+    Xa = _numbers(X, model, "X")  # copies: never mutate caller data
     if Xa.ndim == 1:
         Xa = Xa[:, None]
     if Xa.ndim != 2:
         raise InputError("data", "X", f"{model} needs a 2-D input array, got {Xa.ndim}-D")
+    if Xa.shape[1] == 0:
+        raise InputError("data", "X", f"{model} needs at least one input column, got none")
     if not np.all(np.isfinite(Xa)):
         raise InputError("data", "X", f"{model} inputs contain NaN or infinite values")
+    refuse_huge(model, "X", Xa)
     if Xa.shape[0] < min_rows:
         raise InputError("data", "rows", f"{model} needs at least {min_rows} rows, got {Xa.shape[0]}")
     if y is None:
         return Xa
-    ya = np.array(y, dtype=float).ravel()
+    ya = _numbers(y, model, "y").ravel()
     if ya.shape[0] != Xa.shape[0]:
         raise InputError("data", "y", f"{model}: X has {Xa.shape[0]} rows but y has {ya.shape[0]}")
     if not np.all(np.isfinite(ya)):
         raise InputError("data", "y", f"{model} target contains NaN or infinite values")
+    refuse_huge(model, "y", ya)
     if not constant_ok:
         refuse_constant_target(ya, model)
     return Xa, ya
@@ -114,7 +129,7 @@ def check_runs(runs, *, model: str, min_rows: int = 4) -> list:
 
 def check_n_features(est, X):
     """Raise ``NotFittedError`` before fit, :class:`InputError` if ``X`` has another column count."""
-    check_is_fitted(est, "n_features_in_")
+    check_fitted(est, "n_features_in_")
     if X.shape[1] != est.n_features_in_:
         raise InputError("data", "X", f"{type(est).__name__} was fitted with {est.n_features_in_} inputs, "
                                       f"got {X.shape[1]}")
@@ -351,7 +366,7 @@ class GM11(BaseEstimator, RegressorMixin):
         return self
 
     def predict(self, X):
-        check_is_fitted(self, "a_")
+        check_fitted(self, "a_")
         Xa = check_series(X, model="GM(1,1)", min_rows=1)
         return _gm11_values(self.a_, self.b_, self.y0_, 0, Xa.shape[0], "X")
 
@@ -359,7 +374,7 @@ class GM11(BaseEstimator, RegressorMixin):
         """Values for the ``steps`` samples after the training series (``steps`` an integer >= 1;
         a forecast that overflows is an :class:`InputError`, never NaN)."""
         steps = check_int(self, "steps", steps)
-        check_is_fitted(self, "a_")
+        check_fitted(self, "a_")
         return _gm11_values(self.a_, self.b_, self.first_train_, self.n_train_, steps, "steps")
 
 

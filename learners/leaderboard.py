@@ -34,11 +34,13 @@ from learners.runs import fit_runs
 from twin.errors import InputError
 from twin.io.atomic import atomic_write, atomic_write_text
 
-__all__ = ["COLUMNS", "as_input_error", "segments_of", "leaderboard", "write_csv", "markdown", "write_markdown"]
+__all__ = ["COLUMNS", "as_input_error", "segments_of", "leaderboard", "fit_note", "notes", "write_csv", "markdown",
+           "write_markdown"]
 
 COLUMNS = ["learner", "test", "rmse", "nse", "r", "max_abs_residual", "p95_abs_residual", "improvement_pct", "mre_pct",
-           "unit", "inputs"]
-HEADINGS = ["learner", "test", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "unit", "inputs"]
+           "unit", "inputs", "note"]
+HEADINGS = ["learner", "test", "RMSE", "NSE", "R", "max|res|", "p95|res|", "improv. %", "MRE %", "unit", "inputs",
+            "note"]
 IN_UNIT = ("rmse", "max_abs_residual", "p95_abs_residual")   # the columns in the target's unit
 
 
@@ -76,6 +78,7 @@ def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: 
             fit_runs(est, train_runs, name)
         if timings is not None:
             timings[name] = time.perf_counter() - start
+        note = fit_note(est)
         for label, runs in test_sets:
             with as_input_error(label, name):
                 preds = [np.asarray(est.predict(X), dtype=float).ravel() for X, _ in runs]   # each run from its start
@@ -88,10 +91,24 @@ def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: 
                 p = np.concatenate([q[s] for q, s in zip(preds, pick)])
                 scores = _defined_scores(z, p, seg_label, name, segment=seg_label != str(label))
                 rows.append({"learner": name, "test": seg_label, **scores,
-                             "p95_abs_residual": abs_residual_percentile(z, p), "unit": unit, "inputs": inputs})
+                             "p95_abs_residual": abs_residual_percentile(z, p), "unit": unit, "inputs": inputs,
+                             "note": note})
         if progress is not None:
             progress(done, len(learners))
     return rows
+
+
+def fit_note(estimator) -> str:
+    """What a fitted learner says of its own fit that its scores do not: a coefficient pinned at
+    its search range's end (``at_bound_``, the grey models) is not a fitted one ("" otherwise)."""
+    bound = getattr(estimator, "at_bound_", "") or ""
+    return (f"its development coefficient sits {bound}: pinned at the bound, not determined by the data"
+            if bound else "")
+
+
+def notes(rows) -> list[str]:
+    """One line per learner with a :func:`fit_note`, in the rows' order."""
+    return [f"{learner}: {note}" for learner, note in dict.fromkeys((r["learner"], r.get("note", "")) for r in rows) if note]
 
 
 MIN_SEGMENT_ROWS = 3    # rows a scored segment needs (NSE and R compare a segment's spread)
@@ -169,7 +186,7 @@ def markdown(rows, title: str = "Leaderboard", note: str = "") -> str:
     if len(units) > 1:
         raise ValueError(f"the rows are in different units ({', '.join(units)}); one table needs one unit")
     unit = unit_heading(units[0] if units else "")
-    cols = [c for c in COLUMNS if c not in ("test", "inputs", "unit")]
+    cols = [c for c in COLUMNS if c not in ("test", "inputs", "unit", "note")]
     heads = [(h if c not in IN_UNIT else f"{h} {unit}").replace("|", "\\|")
              for h, c in zip(HEADINGS, COLUMNS) if c in cols]
     for test in dict.fromkeys(r["test"] for r in rows):
@@ -179,6 +196,7 @@ def markdown(rows, title: str = "Leaderboard", note: str = "") -> str:
         lines.append("")
     if len(inputs) == 1 and inputs[0]:
         lines += [f"Inputs: {inputs[0].replace(';', ', ')}.", ""]
+    lines += [f"Note: {line}." for line in notes(rows)] + ([""] if notes(rows) else [])
     return "\n".join(lines)
 
 

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from learners._checks import check_seed
+
 __all__ = ["PSOResult", "pso_minimize"]
 
 
@@ -109,7 +111,8 @@ def pso_minimize(
     elif variant != "inertia":
         raise ValueError(f"unknown PSO variant {variant!r}; use 'inertia' or 'constriction'")
 
-    rng = np.random.default_rng(random_state)
+    rng = random_state if isinstance(random_state, np.random.Generator) else \
+        np.random.default_rng(check_seed("pso", random_state))
     d = lower.size
     span = upper - lower
     v_max = 0.2 * span

@@ -44,10 +44,9 @@ import scipy.stats
 from scipy.cluster.hierarchy import fcluster, linkage
 from scipy.spatial.distance import squareform
 from sklearn.base import BaseEstimator, TransformerMixin
-from sklearn.utils.validation import check_is_fitted
 
-from learners._checks import check_choice, check_count_fits, check_fit_data, check_float, check_int, check_predict_data, \
-    check_table, column_names
+from learners._checks import (check_choice, check_count_fits, check_fit_data, check_fitted, check_float, check_int,
+                              check_predict_data, check_table, column_names)
 from learners.registry import register_selector
 
 __all__ = [
@@ -198,7 +197,7 @@ class _Selector(TransformerMixin, BaseEstimator):
 
     def get_support(self, indices=False):
         """Boolean mask (or the indices) of the kept columns, as in scikit-learn's selectors."""
-        check_is_fitted(self, "selected_")
+        check_fitted(self, "selected_")
         if indices:
             return np.array(self.selected_, dtype=int)
         mask = np.zeros(self.n_features_in_, dtype=bool)

@@ -26,16 +26,25 @@ from typing import NamedTuple
 
 import numpy as np
 
-from learners._checks import is_constant as _is_constant
+from learners._checks import VALUE_LIMIT, is_constant as _is_constant
 from twin.errors import InputError
+from twin.io.measurement import NETCDF_UNITS
 from twin.io.paths import input_file, read_text
+from twin.limits import check_displacements, check_strains, check_temperatures
+from twin.units import UnitError, parse_quantity
 
 __all__ = ["Table", "load_table", "check_problem", "MIN_ROWS"]
 
 MIN_ROWS = 3
 _NETCDF_EXT = (".nc", ".nc4", ".netcdf", ".cdf", ".h5", ".hdf5")
-_TIME_FACTORS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "min": 60.0, "minute": 60.0,
-                 "minutes": 60.0, "h": 3600.0, "hour": 3600.0, "hours": 3600.0}
+# the units a twin result gives its variables (its ``*_true`` twins alike): a NetCDF table is read
+# as one, so a variable it uses states its unit, and a variable of these names states this one
+RESULT_UNITS = {**NETCDF_UNITS, "drift": "um", "probe_drift": "um", "tilt": "urad", "laser_tilt": "urad",
+                "heat_power": "W"}
+# what a value in these units must be (a machine's temperatures, errors and strains: twin.limits)
+_PLAUSIBLE = {"degC": lambda v, src, f: check_temperatures(v, src, f, "structure"),
+              "um": lambda v, src, f: check_displacements(v * 1e-6, src, f),
+              "um/m": lambda v, src, f: check_strains(v * 1e-6, src, f)}
 
 
 class Table(NamedTuple):
@@ -114,11 +123,16 @@ def _is_netcdf(path):
 
 def _parse(path, column, line, text):
     try:
+        if "_" in text:             # Python reads 6_0 as 60; a measurement file means no such number
+            raise ValueError(text)
         value = float(text)
     except ValueError:
         raise InputError(path, column, f"line {line}: non-numeric value {text.strip()!r}") from None
     if math.isnan(value) or math.isinf(value):
         raise InputError(path, column, f"line {line}: {'NaN' if math.isnan(value) else 'infinite'} value")
+    if abs(value) > VALUE_LIMIT:
+        raise InputError(path, column, f"line {line}: {text.strip()} is beyond +-{VALUE_LIMIT:g}: not a measured time, "
+                                       "temperature or error in any unit")
     return value
 
 
@@ -170,9 +184,9 @@ def _open_dataset(path):
 
 
 def _time_seconds(path, ds, time_column):
-    name = time_column if time_column in ds.coords or time_column in ds.variables else "time"
-    if name not in ds.variables:
-        raise InputError(path, time_column, "missing time coordinate")
+    name = time_column
+    if name not in ds.variables:      # never another one silently
+        raise InputError(path, time_column, f"missing time coordinate; coordinates: {', '.join(map(str, ds.coords))}")
     t = ds[name].values
     if np.issubdtype(t.dtype, np.datetime64):
         return (t - t[0]) / np.timedelta64(1, "s"), name
@@ -182,8 +196,15 @@ def _time_seconds(path, ds, time_column):
         t = np.asarray(t, dtype=float)
     except (TypeError, ValueError):
         raise InputError(path, name, "time is not numeric") from None
-    unit = str(ds[name].attrs.get("units", "s")).strip().lower()
-    return t * _TIME_FACTORS.get(unit, 1.0), name
+    stated = ds[name].attrs.get("units", ds[name].encoding.get("units"))
+    if stated is None or not str(stated).strip():
+        raise InputError(path, name, "states no units: a numeric time needs them (s, min or h, as a twin result's "
+                                     "'s')")
+    try:
+        factor = parse_quantity(f"1 {str(stated).strip()}", "time")
+    except UnitError as err:
+        raise InputError(path, name, f"in {str(stated)!r}: {err}") from None
+    return t * factor, name
 
 
 def _finite(path, column, values):
@@ -194,14 +215,48 @@ def _finite(path, column, values):
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
         raise InputError(path, column, f"NaN or infinite value at time index {int(bad[0])}")
+    huge = np.flatnonzero(np.abs(values) > VALUE_LIMIT)
+    if huge.size:
+        raise InputError(path, column, f"{values.ravel()[huge[0]]:.3g} at time index {int(huge[0])} is beyond "
+                                       f"+-{VALUE_LIMIT:g}: not a measured time, temperature or error in any unit")
     return values
 
 
+def variable_unit(path, ds, var: str, address: str) -> str:
+    """The unit ``var`` states (its ``units`` attribute): required, and a variable a twin result
+    holds (:data:`RESULT_UNITS`) must state the result's unit (a drift in mm read as um would be
+    1000 times too small), else an :class:`InputError` naming the file and ``address``."""
+    stated = ds[var].attrs.get("units", ds[var].encoding.get("units"))
+    stated = "" if stated is None else str(stated).strip()
+    expected = RESULT_UNITS.get(var.removesuffix("_true"))
+    if not stated:
+        raise InputError(path, address, f"{var!r} states no units"
+                         + (f" (a twin result holds it in {expected!r})" if expected else "")
+                         + ": a NetCDF table is read as a twin result, whose variables carry them")
+    if expected is not None and stated != expected:
+        raise InputError(path, address, f"{var!r} is in {stated!r}; a twin result holds it in {expected!r}: convert "
+                                        "it, or give a CSV table")
+    return stated
+
+
 def _series(path, ds, address, tname):
-    """1-D values over time of ``var`` or ``var:label``."""
+    """1-D values over time of ``var`` or ``var:label``, in their stated unit (checked, and
+    plausible where it is a temperature, an error or a strain)."""
     var, _, label = address.partition(":")
     if var not in ds.variables or var == tname:
         raise InputError(path, address, f"no variable {var!r}; variables: {', '.join(map(str, ds.data_vars))}")
+    values = _plausible(path, address, variable_unit(path, ds, var, address), _values(path, ds, address, tname))
+    return values
+
+
+def _plausible(path, address, unit, values):
+    if unit in _PLAUSIBLE:
+        _PLAUSIBLE[unit](values, path, address)
+    return values
+
+
+def _values(path, ds, address, tname):
+    var, _, label = address.partition(":")
     da = ds[var]
     if tname not in da.dims:
         raise InputError(path, address, f"variable {var!r} does not depend on {tname!r}")
@@ -240,7 +295,7 @@ def _load_netcdf(path, target, inputs, time_column):
             raise InputError(path, name, f"missing input sensor; this file's sensors: {', '.join(sensors) or 'none'}")
     y = _series(path, ds, target, tname)
     X = np.column_stack(columns) if columns else np.empty((len(time), 0))
-    unit = str(ds[target.partition(":")[0]].attrs.get("units", ""))
+    unit = variable_unit(path, ds, target.partition(":")[0], target)
     return _finite(path, tname, time), X, y, list(inputs), unit
 
 

@@ -33,6 +33,8 @@ affordable. Each check raises :class:`twin.errors.InputError` ``(source, field, 
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from twin.errors import InputError
@@ -278,10 +280,18 @@ def check_acceleration(value: float, source: str, field: str) -> float:
         f"{MAX_ACCELERATION / 9.80665:.0f} g): linear-motor axes reach 2-5 g, ball screws about 1 g (check the unit)"))
 
 
+def plain_int(text) -> int:
+    """``text`` as an integer written in plain digits with an optional sign (Python's int() also
+    reads 1_0 as 10, which no user means), else ValueError."""
+    if not re.fullmatch(r"\s*[+-]?\d+\s*", str(text)):
+        raise ValueError(f"not a whole number: {text!r}")
+    return int(text)
+
+
 def check_seed(text) -> int:
     """A noise seed: an integer from 0 to :data:`MAX_SEED` (raises ValueError otherwise)."""
     try:
-        seed = int(str(text).strip())
+        seed = plain_int(text)
     except ValueError:
         raise ValueError(f"{text!r} is not an integer") from None
     if not 0 <= seed <= MAX_SEED:

@@ -154,11 +154,9 @@ def test_wrong_width_at_predict():
 
 
 def test_unfitted_and_bad_response():
-    from sklearn.exceptions import NotFittedError
-
-    with pytest.raises(NotFittedError):
+    with pytest.raises(InputError, match="not fitted"):
         GM1N().predict(drivers())
-    with pytest.raises(NotFittedError):
+    with pytest.raises(InputError, match="not fitted"):
         GM11().predict(np.zeros((3, 1)))
     X = drivers()
     with pytest.raises(InputError, match="response"):

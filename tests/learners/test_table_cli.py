@@ -106,21 +106,22 @@ def test_bad_tables_raise_input_error_naming_file_and_column(tmp_path, case, col
 
 
 def test_unknown_names_and_missing_input(tmp_path):
-    good = _write_csv(tmp_path / "good.csv")
+    good, other = _write_csv(tmp_path / "good.csv"), _write_csv(tmp_path / "other.csv", seed=1)
     for argv in (["--learner", "mlr,nope"], ["--learner", "mlr", "--select", "nope:2"],
                  ["--learner", "mlr", "--select", "correlation:x"], ["--learner", "mlr", "--select", "all:2"]):
         with pytest.raises(InputError):
-            run_learn(_args("--train", good, "--test", good, "--target", "drift_z", *argv))
+            run_learn(_args("--train", good, "--test", other, "--target", "drift_z", *argv))
     with pytest.raises(InputError) as err:
-        run_learn(_args("--train", good, "--test", good, "--target", "drift_z", "--learner", "mlr",
+        run_learn(_args("--train", good, "--test", other, "--target", "drift_z", "--learner", "mlr",
                         "--inputs", "T1,T9"))
     assert err.value.field == "T9"
 
 
 def test_learner_refusing_the_data_is_an_input_error(tmp_path):
     short = _write_csv(tmp_path / "short.csv", n=5)          # combination needs >= 7 rows
+    other = _write_csv(tmp_path / "other.csv", n=5, seed=1)
     with pytest.raises(InputError) as err:
-        run_learn(_args("--train", short, "--test", short, "--target", "drift_z", "--learner", "combination"))
+        run_learn(_args("--train", short, "--test", other, "--target", "drift_z", "--learner", "combination"))
     assert err.value.source == short and err.value.field == "combination"
 
 
@@ -132,7 +133,8 @@ def _write_netcdf(path, n=50, seed=0):
          "drift": (("time", "axis"), np.column_stack([0.1 * drift, 0.5 * drift, drift]), {"units": "um"}),
          "probe": (("time", "probe_id"), np.column_stack([drift, drift + 1.0]), {"units": "um"}),
          "tilt": (("time", "rotation"), np.column_stack([0.2 * drift, -0.2 * drift]), {"units": "urad"}),
-         "spindle_speed": (("time",), np.full(n, 8000.0))},
+         "spindle_speed": (("time",), np.full(n, 8000.0), {"units": "rpm"}),
+         "load": (("time",), 100.0 + drift, {"units": "N"})},
         coords={"time": ("time", t, {"units": "s"}), "sensor": ["S1", "S2", "S3", "S4"],
                 "axis": ["X", "Y", "Z"], "probe_id": ["Y1", "Y2"], "rotation": ["A", "B"]})
     ds.to_netcdf(path)
@@ -160,7 +162,8 @@ def test_netcdf_targets_and_learn(tmp_path, capsys):
 
 def test_learn_writes_the_targets_unit_and_refuses_files_in_different_units(tmp_path, capsys):
     """A tilt target is scored in urad: the Markdown headings and the CSV's unit column say so;
-    a test file whose target is in another unit than the training file's is refused."""
+    a test file whose tilt is not in a twin result's urad is refused, and so is one whose target
+    (a variable no twin result holds) is in another unit than the training file's."""
     import xarray as xr
 
     train = _write_netcdf(tmp_path / "train.nc", seed=0)
@@ -173,9 +176,13 @@ def test_learn_writes_the_targets_unit_and_refuses_files_in_different_units(tmp_
     assert row.split(",")[header.split(",").index("unit")] == "urad"
     ds = xr.load_dataset(test)
     ds["tilt"].attrs["units"] = "mrad"
+    ds["load"].attrs["units"] = "kN"
     ds.to_netcdf(tmp_path / "mrad.nc")
-    with pytest.raises(InputError, match="different units"):
+    with pytest.raises(InputError, match="'tilt' is in 'mrad'; a twin result holds it in 'urad'"):
         run_learn(_args("--train", train, "--test", str(tmp_path / "mrad.nc"), "--target", "tilt:A",
+                        "--learner", "mlr", "--select", "hier-corr:2"))
+    with pytest.raises(InputError, match="different units"):      # a variable no twin result holds
+        run_learn(_args("--train", train, "--test", str(tmp_path / "mrad.nc"), "--target", "load",
                         "--learner", "mlr", "--select", "hier-corr:2"))
 
 
@@ -192,6 +199,41 @@ def test_time_ordered_learners_need_one_sample_interval(tmp_path, capsys):
     assert run_learn(_args(*common, "--learner", "mlr")) == 0
     assert run_learn(_args(*common, "--learner", "mlr,gm1n", "--interval", "20 s")) == 0
     assert "gm1n" in capsys.readouterr().out
+
+
+def test_netcdf_units_are_stated_and_values_plausible(tmp_path):
+    """A NetCDF table is read as a twin result: every variable it uses states its unit (a twin
+    result's own, where it holds that variable), a numeric time states a time unit (converted:
+    min to s), and temperatures, errors and strains are a machine's (twin.limits): a drift in
+    metres written as um, or 293 'degC' that were kelvin, are refused naming file and variable."""
+    import xarray as xr
+
+    path = _write_netcdf(tmp_path / "t.nc")
+    base = xr.load_dataset(path)
+    cases = [("temperature", lambda d: d["temperature"].attrs.pop("units"), "drift:Z", "temperature:S1",
+              "states no units"),
+             ("temperature", lambda d: d["temperature"].attrs.update(units="K"), "drift:Z", "temperature:S1",
+              "a twin result holds it in 'degC'"),
+             ("drift", lambda d: d["drift"].attrs.update(units="furlong"), "drift:Z", "drift:Z", "'drift' is in"),
+             ("time", lambda d: d["time"].attrs.update(units="fortnights"), "drift:Z", "time", "in 'fortnights'"),
+             ("time", lambda d: d["time"].attrs.pop("units"), "drift:Z", "time", "states no units"),
+             ("temperature", lambda d: d["temperature"].__setitem__(slice(None), d["temperature"].values + 400.0),
+              "drift:Z", "temperature:S1", "structure"),
+             ("drift", lambda d: d["drift"].__setitem__(slice(None), d["drift"].values * 1e6), "drift:Z", "drift:Z",
+              "beyond")]
+    for k, (_, change, target, field, needle) in enumerate(cases):
+        ds = base.copy(deep=True)
+        change(ds)
+        bad = tmp_path / f"bad{k}.nc"
+        ds.to_netcdf(bad)
+        with pytest.raises(InputError, match=needle) as err:
+            load_table(str(bad), target)
+        assert err.value.source == str(bad) and err.value.field == field, str(err.value)
+    ds = base.copy(deep=True)
+    ds["time"] = ds["time"] / 60.0
+    ds["time"].attrs["units"] = "min"
+    ds.to_netcdf(tmp_path / "min.nc")
+    assert np.allclose(load_table(str(tmp_path / "min.nc"), "drift:Z").time, load_table(path, "drift:Z").time)
 
 
 def test_a_grid_sensor_the_test_file_lacks_is_named_as_a_missing_sensor(tmp_path):

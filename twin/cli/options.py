@@ -48,7 +48,7 @@ def whole_number(what: str, lower: int = 0, upper: int | None = None):
     ``lower`` to ``upper`` (no upper limit: None)."""
     def parse(text: str) -> int:
         try:
-            n = int(text)
+            n = limits.plain_int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"expected a whole number of {what}, got {text!r}") from None
         if upper is not None and not lower <= n <= upper:
