@@ -74,6 +74,16 @@ def _checked(check, estimator, name: str, values, **kw):
         raise InputError(model_name(estimator), name, str(err)) from None
 
 
+def refuse_constant_columns(model, X) -> None:
+    """A sensor selector's inputs each vary: a constant column carries nothing to select by (its
+    correlations and grey relations are undefined), so an :class:`InputError` names it."""
+    X = np.asarray(X, dtype=float)
+    flat = [j for j in range(X.shape[1]) if is_constant(X[:, j])]
+    if flat:
+        raise InputError(model_name(model), "X", f"column {flat[0]} is constant: a sensor that does not vary carries "
+                                                 "nothing to select by; leave it out")
+
+
 def is_constant(values) -> bool:
     """Whether ``values`` hardly vary: range <= 1e-12 x max(1, max |value|)."""
     v = np.asarray(values, dtype=float)

@@ -21,6 +21,7 @@ import numpy as np
 
 from learners._checks import check_seed
 from twin.errors import InputError
+from twin.limits import is_number, is_whole
 
 __all__ = ["FCMResult", "fuzzy_cmeans", "fcm_memberships"]
 
@@ -66,17 +67,24 @@ def fcm_memberships(data, centers, m=2.0) -> np.ndarray:
 def fuzzy_cmeans(data, n_clusters, *, m=2.0, max_iter=300, tol=1e-6, random_state=None) -> FCMResult:
     """Cluster the rows of ``data`` (n_samples, n_features) into ``n_clusters`` fuzzy clusters.
 
-    A 1-D ``data`` is treated as one feature. Raises :class:`InputError` when there are fewer
-    distinct rows than clusters, and ``ValueError`` for ``m <= 1``.
+    A 1-D ``data`` is treated as one feature. Raises :class:`InputError` for a bad argument
+    (``n_clusters`` a whole number >= 1, ``m`` above 1, ``tol`` >= 0, ``max_iter`` >= 1) and when
+    there are fewer distinct rows than clusters.
     """
     x = np.asarray(data, dtype=float)
     if x.ndim == 1:
         x = x[:, None]
+    if not is_whole(n_clusters) or n_clusters < 1:
+        raise InputError("fuzzy c-means", "n_clusters", f"expected a whole number >= 1, got {n_clusters!r}")
+    if not is_number(m) or not 1.0 < m < 1e3:
+        raise InputError("fuzzy c-means", "m", f"the fuzzifier must be a number above 1 (2: the usual), got {m!r}")
+    if not is_number(tol) or not tol >= 0:
+        raise InputError("fuzzy c-means", "tol", f"expected a tolerance >= 0, got {tol!r}")
+    if not is_whole(max_iter) or max_iter < 1:
+        raise InputError("fuzzy c-means", "max_iter", f"expected a whole number >= 1, got {max_iter!r}")
     if x.ndim != 2 or not np.all(np.isfinite(x)):
         raise InputError("data", "values", "fuzzy c-means needs a finite 2-D array")
     c = int(n_clusters)
-    if m <= 1.0:
-        raise ValueError(f"fuzzifier m must be > 1, got {m}")
     n_distinct = np.unique(x, axis=0).shape[0]
     if c < 1 or c > n_distinct:
         raise InputError("data", "rows", f"fuzzy c-means with {c} clusters needs at least {c} distinct rows, "

@@ -87,8 +87,9 @@ def check_series(X, y=None, *, model: str, min_rows: int = 4, constant_ok: bool 
     ``ValueError`` for a constant ``y`` unless ``constant_ok``.
     """
     Xa = _numbers(X, model, "X")  # copies: never mutate caller data
-    if Xa.ndim == 1:
-        Xa = Xa[:, None]
+    if Xa.ndim == 1:               # one row of p inputs or p rows of one? scikit-learn's rule: ask
+        raise InputError("data", "X", f"{model} needs a 2-D (rows, inputs) table, got a 1-D one: X[:, None] for one "
+                                      "input, X[None, :] for one row")
     if Xa.ndim != 2:
         raise InputError("data", "X", f"{model} needs a 2-D input array, got {Xa.ndim}-D")
     if Xa.shape[1] == 0:
@@ -119,6 +120,8 @@ def check_runs(runs, *, model: str, min_rows: int = 4) -> list:
     runs = list(runs)
     if not runs:
         raise InputError("data", "runs", f"{model} needs at least one run")
+    if any(y is None for _, y in runs):
+        raise InputError("data", "y", f"{model} needs the target y")
     checked = [check_series(X, y, model=model, min_rows=min_rows, constant_ok=len(runs) > 1) for X, y in runs]
     if any(Xa.shape[1] != checked[0][0].shape[1] for Xa, _ in checked):
         raise InputError("data", "X", f"{model}: the runs have different numbers of inputs")
@@ -368,6 +371,7 @@ class GM11(BaseEstimator, RegressorMixin):
     def predict(self, X):
         check_fitted(self, "a_")
         Xa = check_series(X, model="GM(1,1)", min_rows=1)
+        check_n_features(self, Xa)        # its rows only set the horizon; the width must still be the fit's
         return _gm11_values(self.a_, self.b_, self.y0_, 0, Xa.shape[0], "X")
 
     def forecast(self, steps: int) -> np.ndarray:

@@ -26,8 +26,11 @@ __all__ = ["rms", "rmse", "nse", "correlation", "max_abs_residual", "abs_residua
 
 
 def _pair(y_true, y_pred):
-    z = np.asarray(y_true, dtype=float).ravel()
-    p = np.asarray(y_pred, dtype=float).ravel()
+    try:
+        z = np.asarray(y_true, dtype=float).ravel()
+        p = np.asarray(y_pred, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise InputError("data", "y_true, y_pred", "expected numbers (measured values and predictions)") from None
     if z.shape != p.shape:
         raise InputError("data", "rows", f"measured and predicted differ in length: {z.size} vs {p.size}")
     if z.size == 0:

@@ -43,6 +43,7 @@ def is_time_ordered(estimator) -> bool:
 
 def fit_runs(estimator, runs: list, name: str = "learner"):
     """Fit ``estimator`` on ``runs`` = [(X, y), ...] (module doc); returns it."""
+    _check_run_list(runs, name)
     if len(runs) == 1:
         return estimator.fit(*runs[0])
     if not is_time_ordered(estimator):
@@ -54,8 +55,25 @@ def fit_runs(estimator, runs: list, name: str = "learner"):
                                                   "training run")
 
 
+def _check_run_list(runs, name: str) -> None:
+    """``runs`` a non-empty list of (X, y) pairs whose tables have one width, else one
+    :class:`InputError` naming ``runs``."""
+    if not isinstance(runs, (list, tuple)) or not runs:
+        raise InputError("data", "runs", f"{name} needs a list of one or more (X, y) runs, got {runs!r}")
+    widths = set()
+    for i, run in enumerate(runs):
+        if not isinstance(run, (list, tuple)) or len(run) != 2:
+            raise InputError("data", f"runs[{i}]", "expected an (X, y) pair")
+        shape = np.shape(run[0])
+        widths.add(shape[1] if len(shape) == 2 else None)
+    if len(widths) > 1:
+        raise InputError("data", "runs", f"the runs' tables differ in width ({', '.join(map(str, sorted(widths, key=str)))} "
+                                         "columns): every run needs the same inputs")
+
+
 def select_runs(selector, runs: list):
     """Fit the sensor ``selector`` on ``runs`` = [(X, y), ...] (module doc); returns it."""
+    _check_run_list(runs, "selector")
     if len(runs) > 1 and hasattr(selector, "fit_runs"):
         return selector.fit_runs(runs)
     return selector.fit(np.vstack([X for X, _ in runs]), np.concatenate([y for _, y in runs]))

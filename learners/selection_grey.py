@@ -46,7 +46,8 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 
-from learners._checks import check_bool, check_choice, check_count_fits, check_float, check_int, check_non_negative
+from learners._checks import (check_bool, check_choice, check_count_fits, check_float, check_int, check_non_negative,
+                              refuse_constant_columns)
 from learners.fcm import fuzzy_cmeans
 from learners.grey import check_n_features, check_runs, check_series, gm0n_coefficients_runs
 from learners.registry import register_selector
@@ -133,6 +134,7 @@ class _GreyFCMSelector(BaseEstimator, TransformerMixin):
         """Pick sensors on several runs ``[(X, y), ...]``, each its own time-ordered sequence."""
         self._check_params()
         checked = check_runs(runs, model=self._name, min_rows=3)
+        refuse_constant_columns(self._name, np.vstack([Xa for Xa, _ in checked]))
         check_count_fits(self, "n_select", self.n_select, checked[0][0].shape[1])
         self.scores_ = self._scores_runs(checked)
         self.selected_, self.labels_ = fcm_representatives(self.scores_, self.n_select, m=self.m,

@@ -46,8 +46,9 @@ from scipy.spatial.distance import squareform
 from sklearn.base import BaseEstimator, TransformerMixin
 
 from learners._checks import (check_choice, check_count_fits, check_fit_data, check_fitted, check_float, check_int,
-                              check_predict_data, check_table, column_names)
+                              check_predict_data, check_table, column_names, model_name, refuse_constant_columns)
 from learners.registry import register_selector
+from twin.errors import InputError
 
 __all__ = [
     "HierCorrSelector", "FuzzyR2Selector", "CorrelationSelector", "AllSelector",
@@ -163,6 +164,7 @@ def _regression_test(X, y):
 
 
 class _Selector(TransformerMixin, BaseEstimator):
+    needs_target = True     # fit ranks sensors against y (all but AllSelector)
     """Shared fit/transform plumbing; subclasses implement ``_choose(X, y) -> indices``."""
 
     def _check_params(self):
@@ -174,10 +176,14 @@ class _Selector(TransformerMixin, BaseEstimator):
         self._check_params()
         names_source = X
         if y is None:
+            if self.needs_target:
+                raise InputError(model_name(self), "y", "this selector ranks the sensors by their relation to the "
+                                                        "target: give y")
             X = check_table(self, X)
             self.n_features_in_ = X.shape[1]
         else:
             X, y = check_fit_data(self, X, y)
+        refuse_constant_columns(self, X)
         idx = sorted(int(i) for i in self._choose(X, y))
         self.selected_ = idx
         names = column_names(names_source, X.shape[1])
@@ -298,6 +304,8 @@ class CorrelationSelector(_Selector):
 @register_selector("all")
 class AllSelector(_Selector):
     """Keeps every column (no selection); ``y`` is accepted and ignored."""
+
+    needs_target = False
 
     def _choose(self, X, y):
         return range(X.shape[1])

@@ -122,3 +122,36 @@ def test_a_seed_is_a_whole_number_from_0_to_2_32(name):
         with pytest.raises(InputError) as err:
             make_learner(name, random_state=bad).fit(X, y)
         assert err.value.field == "random_state", (bad, str(err.value))
+
+
+def test_python_calls_the_audit_found_raw_are_one_input_error():
+    """Each was numpy's, scipy's or LAPACK's own exception, or a silent misreading: a grey model's
+    1-D X (one row of p inputs, or p rows of one?), GM(1,1) predicting from a table of another
+    width, a selector that ranks against y fitted without it or on a constant sensor, no runs or
+    runs of different widths, fuzzy c-means' arguments, scores of text."""
+    from learners import make_selector
+    from learners.fcm import fuzzy_cmeans
+    from learners.metrics import score_all
+    from learners.runs import fit_runs
+
+    rng = np.random.default_rng(2)
+    X = rng.random((40, 4))
+    y = X @ np.array([1.0, 2.0, 3.0, 4.0])
+    flat = X.copy()
+    flat[:, 2] = 5.0
+    calls = [(lambda: make_learner("gm1n").fit(X[:, 0], y), "X"),
+             (lambda: make_learner("gm11").fit(X, y).predict(X[:, :1]), "X"),
+             (lambda: make_selector("fuzzy-r2").fit(X, None), "y"),
+             (lambda: make_selector("gm0n-fcm").fit(X, None), "y"),
+             (lambda: make_selector("hier-corr").fit(flat, y), "X"),
+             (lambda: make_selector("gm0n-fcm").fit(flat, y), "X"),
+             (lambda: fit_runs(make_learner("mlr"), []), "runs"),
+             (lambda: fit_runs(make_learner("mlr"), [(X, y), (X[:, :2], y)]), "runs"),
+             (lambda: fuzzy_cmeans(X, 2.5), "n_clusters"),
+             (lambda: fuzzy_cmeans(X, 2, m=1.0), "m"),
+             (lambda: fuzzy_cmeans(X, 2, tol=-1.0), "tol"),
+             (lambda: score_all(["a", "b"], [1.0, 2.0]), "y_true, y_pred")]
+    for call, field in calls:
+        with pytest.raises(InputError) as err:
+            call()
+        assert err.value.field == field, str(err.value)

@@ -5,6 +5,8 @@ on synthetic data."""
 import numpy as np
 import pytest
 
+from twin.errors import InputError
+
 from learners.selection_stats import (AllSelector, CorrelationSelector, FuzzyR2Selector, HierCorrSelector,
                                       choose_level, maximal_spanning_tree, representatives, tree_partition)
 
@@ -110,4 +112,6 @@ def test_bad_count_and_constant_column():
     with pytest.raises(ValueError):
         CorrelationSelector(n_select=0).fit(X, y)
     Xc = np.column_stack([np.ones(len(y)), X])
-    assert 0 not in CorrelationSelector(n_select=3).fit(Xc, y).selected_
+    for selector in (CorrelationSelector(n_select=3), HierCorrSelector(n_select=3), FuzzyR2Selector(n_select=3)):
+        with pytest.raises(InputError, match="column 0 is constant"):   # as twin learn refuses it: never picked
+            selector.fit(Xc, y)
