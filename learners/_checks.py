@@ -161,6 +161,14 @@ def _refuse(model, name: str, message: str):
     raise InputError(model_name(model), name, message)
 
 
+# the most training work a hyper-parameter may ask for: 100 to 1000 times the seeds' settings (50
+# epochs, 90 particles, 100 PSO iterations), hours on a laptop; beyond them a typo (1e9) would run
+# for days or ask for terabytes
+MAX_EPOCHS = 100_000
+MAX_PARTICLES = 10_000
+MAX_ITERATIONS = 100_000
+
+
 def check_int(model, name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
     """``value`` as an ``int`` if it is an integer (``int`` or numpy integer, not a bool) from
     ``minimum`` to ``maximum`` (None: no upper limit); an :class:`InputError` otherwise."""

@@ -53,6 +53,7 @@ import numpy as np
 import scipy.linalg
 from sklearn.base import BaseEstimator, RegressorMixin
 
+from learners._checks import MAX_EPOCHS
 from learners._checks import check_fit_data, check_float, check_int, check_positive, check_predict_data, standardise
 from learners.fcm import fuzzy_cmeans
 from learners.registry import register_learner
@@ -152,7 +153,7 @@ class _ANFISBase(RegressorMixin, BaseEstimator):
 
     def _check_params(self):
         """Check the hyper-parameters (:mod:`learners._checks`); subclasses add their own."""
-        check_int(self, "epochs", self.epochs, minimum=0)
+        check_int(self, "epochs", self.epochs, minimum=0, maximum=MAX_EPOCHS)
         check_positive(self, "learning_rate", self.learning_rate)
         if self.validation_fraction is not None:   # 0 switches the checking data off, as None
             check_float(self, "validation_fraction", self.validation_fraction, 0.0, 0.5)

@@ -46,6 +46,7 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 
+from learners._checks import MAX_ITERATIONS, MAX_PARTICLES
 from learners._checks import check_choice, check_int, check_non_negative, check_positive, check_start_value, \
     model_name
 from learners.grey import ago, check_n_features, check_runs, check_series, iago, refuse_divergence
@@ -98,8 +99,8 @@ class GNNMCI(BaseEstimator, RegressorMixin):
 
     def _check_params(self):
         check_start_value(self, self.y0)
-        check_int(self, "n_particles", self.n_particles)
-        check_int(self, "n_iterations", self.n_iterations, minimum=0)
+        check_int(self, "n_particles", self.n_particles, maximum=MAX_PARTICLES)
+        check_int(self, "n_iterations", self.n_iterations, minimum=0, maximum=MAX_ITERATIONS)
         check_choice(self, "variant", self.variant, ("inertia", "constriction"))
         check_non_negative(self, "c1", self.c1)
         check_non_negative(self, "c2", self.c2)

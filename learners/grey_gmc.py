@@ -48,6 +48,7 @@ import numpy as np
 from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 
+from learners._checks import MAX_ITERATIONS, MAX_PARTICLES
 from learners._checks import check_choice, check_int, check_positive, check_start_value
 from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_runs, check_series, \
     iago, refuse_divergence, response_ls_fit, search_bound
@@ -229,8 +230,8 @@ class GMC1NPSO(_GMCBase):
 
     def _check_params(self):
         super()._check_params()
-        check_int(self, "n_particles", self.n_particles)
-        check_int(self, "n_iterations", self.n_iterations, minimum=0)
+        check_int(self, "n_particles", self.n_particles, maximum=MAX_PARTICLES)
+        check_int(self, "n_iterations", self.n_iterations, minimum=0, maximum=MAX_ITERATIONS)
         check_choice(self, "variant", self.variant, ("inertia", "constriction"))
         check_positive(self, "b1_max", self.b1_max)
         check_positive(self, "coef_bound", self.coef_bound)

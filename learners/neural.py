@@ -44,6 +44,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.neural_network import MLPRegressor
 
+from learners._checks import MAX_EPOCHS, MAX_ITERATIONS, MAX_PARTICLES
 from learners._checks import check_choice, check_fit_data, check_fraction, check_int, check_non_negative, \
     check_positive, check_predict_data, check_sizes, model_name
 from learners.pso import pso_minimize
@@ -115,7 +116,7 @@ class ANN(RegressorMixin, BaseEstimator):
         check_choice(self, "activation", self.activation, ("tanh", "logistic", "relu"))
         check_choice(self, "solver", self.solver, ("lbfgs", "adam", "sgd"))
         check_non_negative(self, "alpha", self.alpha)
-        check_int(self, "max_iter", self.max_iter)
+        check_int(self, "max_iter", self.max_iter, maximum=MAX_EPOCHS)
         return hidden
 
     def fit(self, X, y):
@@ -278,11 +279,11 @@ class PSOBPNN(RegressorMixin, BaseEstimator):
         check_sizes(self, "hidden_layer_sizes", self.hidden_layer_sizes)
         check_choice(self, "activation", self.activation, ("tanh", "sigmoid"))
         check_positive(self, "learning_rate", self.learning_rate)
-        check_int(self, "epochs", self.epochs, minimum=0)
+        check_int(self, "epochs", self.epochs, minimum=0, maximum=MAX_EPOCHS)
         check_non_negative(self, "goal", self.goal)
         check_fraction(self, "momentum", self.momentum)
-        check_int(self, "n_particles", self.n_particles)
-        check_int(self, "n_iterations", self.n_iterations, minimum=0)
+        check_int(self, "n_particles", self.n_particles, maximum=MAX_PARTICLES)
+        check_int(self, "n_iterations", self.n_iterations, minimum=0, maximum=MAX_ITERATIONS)
         check_choice(self, "pso_variant", self.pso_variant, ("constriction", "inertia"))
         check_positive(self, "weight_bound", self.weight_bound)
         check_fraction(self, "validation_fraction", self.validation_fraction, zero=False)

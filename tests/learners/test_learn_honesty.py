@@ -155,3 +155,14 @@ def test_python_calls_the_audit_found_raw_are_one_input_error():
         with pytest.raises(InputError) as err:
             call()
         assert err.value.field == field, str(err.value)
+
+
+@pytest.mark.parametrize("name, setting", [("anfis-fcm", {"epochs": 10 ** 9}), ("pso-bpnn", {"n_particles": 10 ** 9}),
+                                           ("gnnmci", {"n_iterations": 10 ** 9}), ("ann", {"max_iter": 10 ** 9})])
+def test_training_work_has_an_upper_bound(name, setting):
+    """100 to 1000 times the seeds' settings at most (hours on a laptop): a typo of 1e9 epochs,
+    particles or iterations is refused before the fit, not run for days or asked of the memory."""
+    X = np.random.default_rng(0).random((40, 3))
+    with pytest.raises(InputError, match="must be an integer from") as err:
+        make_learner(name, **setting).fit(X, X @ np.array([1.0, 2.0, 3.0]))
+    assert err.value.field == next(iter(setting))
