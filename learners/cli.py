@@ -94,9 +94,12 @@ def add_learn_parser(subparsers):
 
 
 def _split_names(text, option):
-    names = [s.strip() for s in str(text).split(",") if s.strip()]
-    if not names:
+    names = [s.strip() for s in str(text).split(",")]
+    if not any(names):
         raise InputError("command line", option, "no names given")
+    if not all(names):      # "mlr," or "a,,b": a name left out by mistake, never dropped silently
+        raise InputError("command line", option, f"an empty name in {text!r}: write the names comma-separated, "
+                                                 "each once")
     repeated = sorted({n for n in names if names.count(n) > 1})
     if repeated:
         raise InputError("command line", option, f"{', '.join(repeated)} given more than once")

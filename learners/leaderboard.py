@@ -99,11 +99,19 @@ def leaderboard(learners: dict, train_runs: list, test_sets: list, *, segments: 
 
 
 def fit_note(estimator) -> str:
-    """What a fitted learner says of its own fit that its scores do not: a coefficient pinned at
-    its search range's end (``at_bound_``, the grey models) is not a fitted one ("" otherwise)."""
+    """What a fitted learner says of its own fit that its scores do not ("" when nothing): a
+    coefficient pinned at its search range's end is not a fitted one (``at_bound_``: the grey
+    models' development coefficient, or the parameters a learner's ``bound_subject`` names), and
+    a training set thinned to ``max_samples`` rows (``thinned_``, LS-SVM) is not the whole one."""
+    notes = []
     bound = getattr(estimator, "at_bound_", "") or ""
-    return (f"its development coefficient sits {bound}: pinned at the bound, not determined by the data"
-            if bound else "")
+    if bound:
+        subject = getattr(estimator, "bound_subject", "its development coefficient sits")
+        notes.append(f"{subject} {bound}: pinned at the bound, not determined by the data")
+    thinned = getattr(estimator, "thinned_", "") or ""
+    if thinned:
+        notes.append(thinned)
+    return "; ".join(notes)
 
 
 def notes(rows) -> list[str]:

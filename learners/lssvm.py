@@ -97,9 +97,12 @@ class LSSVM(RegressorMixin, BaseEstimator):
         max_samples = self._check_params()
         X, y = check_fit_data(self, X, y)
         n = X.shape[0]
+        self.thinned_ = ""
         if n > max_samples:
             keep = np.unique(np.round(np.linspace(0, n - 1, max_samples)).astype(int))
             X, y = X[keep], y[keep]
+            self.thinned_ = (f"trained on {len(keep)} evenly spaced of its {n} training rows (max_samples: its "
+                             "kernel system grows as the rows squared)")
         if self.standardize:
             X, self.x_mean_, self.x_scale_ = standardise(X)
         else:

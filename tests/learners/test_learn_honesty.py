@@ -166,3 +166,27 @@ def test_training_work_has_an_upper_bound(name, setting):
     with pytest.raises(InputError, match="must be an integer from") as err:
         make_learner(name, **setting).fit(X, X @ np.array([1.0, 2.0, 3.0]))
     assert err.value.field == next(iter(setting))
+
+
+def test_a_learners_own_limits_are_notes_beside_its_scores():
+    """GNNMCI's weights left on the PSO's search box (weight_bound 0.01: far too tight for this
+    relation) and an LS-SVM trained on an evenly spaced max_samples of its rows say so in the
+    leaderboard's note; a fit inside its box and on all its rows has none."""
+    from learners.leaderboard import fit_note
+
+    X = np.random.default_rng(0).random((80, 2)).cumsum(axis=0)
+    y = X @ np.array([1.0, 2.0])
+    tight = make_learner("gnnmci", weight_bound=0.01, random_state=0).fit(X, y)
+    assert fit_note(tight).startswith("its network weights sit at the search box's bound (")
+    assert fit_note(make_learner("lssvm", max_samples=20).fit(X, y)).startswith(
+        "trained on 20 evenly spaced of its 80 training rows")
+    assert fit_note(make_learner("lssvm").fit(X, y)) == "" and fit_note(make_learner("mlr").fit(X, y)) == ""
+
+
+def test_an_empty_name_in_a_list_option_is_refused(tmp_path):
+    good, other = _write_csv(tmp_path / "a.csv"), _write_csv(tmp_path / "b.csv", seed=1)
+    for option, value in (("--learner", "mlr,"), ("--learner", "mlr,,gm1n"), ("--inputs", "T1,")):
+        argv = ["--learner", "mlr"] if option == "--inputs" else []
+        with pytest.raises(InputError, match="an empty name") as err:
+            run_learn(_args("--train", good, "--test", other, "--target", "drift_z", *argv, option, value))
+        assert err.value.field == option
