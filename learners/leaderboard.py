@@ -102,7 +102,8 @@ def fit_note(estimator) -> str:
     """What a fitted learner says of its own fit that its scores do not ("" when nothing): a
     coefficient pinned at its search range's end is not a fitted one (``at_bound_``: the grey
     models' development coefficient, or the parameters a learner's ``bound_subject`` names), and
-    a training set thinned to ``max_samples`` rows (``thinned_``, LS-SVM) is not the whole one."""
+    a training set thinned to ``max_samples`` rows (``thinned_``, LS-SVM) is not the whole one,
+    and a learner that reads no input (``uses_inputs`` False, GM(1,1)) is not one of them."""
     notes = []
     bound = getattr(estimator, "at_bound_", "") or ""
     if bound:
@@ -111,6 +112,9 @@ def fit_note(estimator) -> str:
     thinned = getattr(estimator, "thinned_", "") or ""
     if thinned:
         notes.append(thinned)
+    if getattr(estimator, "uses_inputs", True) is False:
+        notes.append("uses none of the inputs listed: it extrapolates the target's own training series (a test "
+                     "table's rows set only the horizon)")
     return "; ".join(notes)
 
 

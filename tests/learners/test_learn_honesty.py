@@ -190,3 +190,13 @@ def test_an_empty_name_in_a_list_option_is_refused(tmp_path):
         with pytest.raises(InputError, match="an empty name") as err:
             run_learn(_args("--train", good, "--test", other, "--target", "drift_z", *argv, option, value))
         assert err.value.field == option
+
+
+def test_gm11s_row_says_it_reads_none_of_the_inputs():
+    """GM(1,1) extrapolates the target's own series: the leaderboard row lists the command's
+    inputs like every row, and its note says it uses none of them."""
+    from learners.leaderboard import fit_note
+
+    X = np.random.default_rng(0).random((80, 2)).cumsum(axis=0)
+    note = fit_note(make_learner("gm11").fit(X, X @ np.array([1.0, 2.0])))
+    assert note.startswith("uses none of the inputs listed")
