@@ -222,7 +222,7 @@ def run_learn(args) -> int:
         tests.append((label, tabs))
     check_one_interval(runs + [tab for _, tabs in tests for tab in tabs],
                        [name for name, est in learners.items() if is_time_ordered(est)])
-    check_segments([(label, [(tab.X, tab.y) for tab in tabs]) for label, tabs in tests], args.segments, "--test")
+    check_segments([(label, [(tab.X, tab.y) for tab in tabs]) for label, tabs in tests], args.segments, "command line")
     with as_input_error(train_label, args.select):
         select_runs(selector, [(r.X, r.y) for r in runs])
     cols = list(selector.selected_)
