@@ -200,3 +200,11 @@ def test_gm11s_row_says_it_reads_none_of_the_inputs():
     X = np.random.default_rng(0).random((80, 2)).cumsum(axis=0)
     note = fit_note(make_learner("gm11").fit(X, X @ np.array([1.0, 2.0])))
     assert note.startswith("uses none of the inputs listed")
+
+
+def test_too_many_segments_is_an_error_of_the_command_line(tmp_path):
+    good, other = _write_csv(tmp_path / "a.csv"), _write_csv(tmp_path / "b.csv", n=8, seed=1)
+    with pytest.raises(InputError, match="a scored segment needs at least 3") as err:
+        run_learn(_args("--train", good, "--test", other, "--target", "drift_z", "--learner", "mlr",
+                        "--segments", "4"))
+    assert (err.value.source, err.value.field) == ("command line", "--segments")
