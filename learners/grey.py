@@ -98,7 +98,8 @@ def check_series(X, y=None, *, model: str, min_rows: int = 4, constant_ok: bool 
         raise InputError("data", "X", f"{model} inputs contain NaN or infinite values")
     refuse_huge(model, "X", Xa)
     if Xa.shape[0] < min_rows:
-        raise InputError("data", "rows", f"{model} needs at least {min_rows} rows, got {Xa.shape[0]}")
+        raise InputError("data", "rows", f"{model} needs at least {min_rows} row{'s' if min_rows > 1 else ''}, "
+                                         f"got {Xa.shape[0]}")
     if y is None:
         return Xa
     ya = _numbers(y, model, "y").ravel()
