@@ -73,6 +73,11 @@ def test_c_axis_heat_is_the_cycle_mean_of_motor_and_bearing(machine, c_axis_runs
 
 
 def test_c_axis_test_lies_in_the_seeds_bands(c_axis_runs):
+    """Seed 000's C-axis test (plausible, not a measured machine): peak Z 80-130 um downwards,
+    T1 rising 5-9 K, T2 under 4 K, T3 and T4 0.5-2 K; and two identities: the laser on the bar's
+    end reads the tool-point drift (the same point against a table-fixed sensor, to round-off),
+    and each FBG's compensated reading is strain_raw - k_T (T_s - T_s,0), k_T = 8.64 um/m/K, with
+    T_s what its nearest sensor recorded."""
     r = c_axis_runs["coarse"]
     names = [p.name for p in r.sensors]
     rise = dict(zip(names, (r.sensor_true - r.sensor_true[0]).max(axis=0)))
