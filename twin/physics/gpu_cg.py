@@ -13,10 +13,13 @@ iteration (the same arithmetic as the CPU's compiled :func:`twin.physics.kernels
 4. ``finish`` again (rho^2 and the new r.z), the only value read back: rho, for the test;
 5. ``cg_direction``: beta = (r.z)_new / (r.z)_old on the device; P = beta P + Z.
 
-Every sum is formed in a fixed order (each block's tree, then the blocks in order), so a run
-gives the same numbers every time; they differ from CuPy's array path in the order of the sums
-only (``tests/test_scale.py`` holds them to the CPU's at 1e-8 K). CuPy is imported by the
-caller (:func:`twin.physics.solvers.array_module`); nothing here runs without a GPU.
+Measured on an H200 at 200 k unknowns: 0.081 ms an iteration against 0.601 ms on CuPy's arrays
+(README "Scale"). :class:`DeviceMatrix` makes the step's other products with a heat matrix one
+launch of the same warp-a-row product. Every sum is formed in a fixed order (each block's tree,
+then the blocks in order), so a run gives the same numbers every time; they differ from CuPy's
+array path in the order of the sums only (``tests/test_gpu_kernels.py`` and ``tests/test_scale.py
+-k gpu`` hold them to it and to the CPU's at 1e-8 K). CuPy is imported by the caller
+(:func:`twin.physics.solvers.array_module`); nothing here runs without a GPU.
 """
 
 from __future__ import annotations
@@ -171,8 +174,8 @@ def _blocks(rows: int, rows_a_block: int) -> int:
 
 def jacobi_pcg(A, b, x0, dinv, weights, tol: float, max_iterations: int, residual: bool):
     """:func:`twin.physics.solvers.pcg` for one column with the Jacobi preconditioner D^-1
-    (``dinv``, (n,)) on the GPU: ``A`` a ``cupyx.scipy.sparse.csr_matrix``, the vectors CuPy
-    arrays. Returns (x, iterations, rho) and with ``residual`` the final residual as well;
+    (``dinv``, (n,)) on the GPU: ``A`` a :class:`DeviceMatrix` or a ``cupyx.scipy.sparse.csr_matrix``
+    (its ``indptr``, ``indices``, ``data`` are read), the vectors CuPy arrays. Returns (x, iterations, rho) and with ``residual`` the final residual as well;
     RuntimeError after ``max_iterations`` (never a silent unconverged answer)."""
     import cupy as cp
     import numpy as np
