@@ -8,8 +8,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from tests.test_scale import _cooled_slab
 from twin.physics import gpu_cg
+from twin.physics.heat import integrate
 from twin.physics.solvers import jacobi, pcg
+from twin.physics.steppers import IterativeStepper
 
 
 def _cuda():
@@ -51,6 +54,34 @@ def test_gpu_fused_cg_is_the_array_path_to_round_off():
     assert fused[0][2] <= 1e-9 and np.array_equal(x, cupy.asnumpy(fused[1][0]))      # deterministic
     with pytest.raises(RuntimeError, match="did not converge in 3"):
         gpu_cg.jacobi_pcg(Ag, bg, cupy.zeros(n), dg, wg, 1e-9, 3, False)
+
+
+def test_gpu_heat_steps_equal_cpu_ones(monkeypatch):
+    """The heat steps on the GPU's fused CG kernels and on CuPy's array path (the same PCG code
+    on CuPy arrays) equal the CPU's (skipped without CuPy and a CUDA device)."""
+    _cuda()
+    _, system, n, args = _cooled_slab(50)
+    cpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6))
+    gpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
+    np.testing.assert_allclose(gpu, cpu, atol=1e-8)
+    monkeypatch.setattr(gpu_cg, "FUSED", False)
+    arrays = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
+    np.testing.assert_allclose(arrays, cpu, atol=1e-8)
+
+
+def test_gpu_reduced_start_equals_cpu_one():
+    """The start from a fixed basis on CuPy arrays: the same steps as on the CPU (skipped without
+    CuPy and a CUDA device)."""
+    _cuda()
+    from twin.physics.steppers import ReducedStart
+    _, system, n, args = _cooled_slab(50)
+    V = np.random.default_rng(2).standard_normal((n, 6))
+    out = []
+    for device in ("cpu", "gpu"):
+        stepper = IterativeStepper(heat_tol=1e-6, device=device)
+        stepper.start = ReducedStart(V, stepper.xp)
+        out.append(integrate(system, *args, stepper=stepper))
+    np.testing.assert_allclose(out[1], out[0], atol=1e-8)
 
 
 def test_device_matrix_products_equal_scipys():

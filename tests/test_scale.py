@@ -404,44 +404,6 @@ def test_gpu_option_needs_the_iterative_path():
     assert SolverOptions("auto").resolve(100) == "direct" and SolverOptions("auto").resolve(10**6) == "iterative"
 
 
-def _need_cuda() -> None:
-    """Skip the calling test without CuPy and a CUDA device."""
-    cupy = pytest.importorskip("cupy")
-    try:
-        cupy.cuda.runtime.getDeviceCount()
-    except Exception:  # noqa: BLE001
-        pytest.skip("no CUDA device")
-
-
-def test_gpu_heat_steps_equal_cpu_ones(monkeypatch):
-    """The heat steps on the GPU's fused CG kernels and on CuPy's array path (the same PCG code
-    on CuPy arrays) equal the CPU's (skipped without CuPy and a CUDA device)."""
-    _need_cuda()
-    from twin.physics import gpu_cg
-    _, system, n, args = _cooled_slab(50)
-    cpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6))
-    gpu = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
-    np.testing.assert_allclose(gpu, cpu, atol=1e-8)
-    monkeypatch.setattr(gpu_cg, "FUSED", False)
-    arrays = integrate(system, *args, stepper=IterativeStepper(heat_tol=1e-6, device="gpu"))
-    np.testing.assert_allclose(arrays, cpu, atol=1e-8)
-
-
-def test_gpu_reduced_start_equals_cpu_one():
-    """The start from a fixed basis on CuPy arrays: the same steps as on the CPU (skipped without
-    CuPy and a CUDA device)."""
-    _need_cuda()
-    from twin.physics.steppers import ReducedStart
-    _, system, n, args = _cooled_slab(50)
-    V = np.random.default_rng(2).standard_normal((n, 6))
-    out = []
-    for device in ("cpu", "gpu"):
-        stepper = IterativeStepper(heat_tol=1e-6, device=device)
-        stepper.start = ReducedStart(V, stepper.xp)
-        out.append(integrate(system, *args, stepper=stepper))
-    np.testing.assert_allclose(out[1], out[0], atol=1e-8)
-
-
 def test_a_result_says_the_units_of_its_solver_errors(runs):
     """The per-output errors are in each observer's raw SI unit (m for displacements, K for
     temperatures; the heat balance's rows J and K m2), not the variables' um: a run reports the

@@ -17,8 +17,8 @@ Measured on an H200 at 200 k unknowns: 0.081 ms an iteration against 0.601 ms on
 (README "Scale"). :class:`DeviceMatrix` makes the step's other products with a heat matrix one
 launch of the same warp-a-row product. Every sum is formed in a fixed order (each block's tree,
 then the blocks in order), so a run gives the same numbers every time; they differ from CuPy's
-array path in the order of the sums only (``tests/test_gpu_kernels.py`` and ``tests/test_scale.py
--k gpu`` hold them to it and to the CPU's at 1e-8 K). CuPy is imported by the caller
+array path in the order of the sums only (``tests/test_gpu_kernels.py`` holds them to it and to
+the CPU's at 1e-8 K). CuPy is imported by the caller
 (:func:`twin.physics.solvers.array_module`); nothing here runs without a GPU.
 """
 
