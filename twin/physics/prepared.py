@@ -25,8 +25,6 @@ transient integration; the readings come back per observer (:mod:`twin.observe`)
 
 from __future__ import annotations
 
-from dataclasses import fields as fields_of
-
 import numpy as np
 import scipy.sparse as sp
 
@@ -43,7 +41,7 @@ from twin.physics.options import as_options
 from twin.physics.part_materials import part_materials
 from twin.physics.solvers import mass_weights, output_bounds
 
-SOURCE = "PreparedTwin"     # the source named in errors about a PreparedTwin's arguments
+from twin.physics.prepared_args import SOURCE, check_beside_prepared, check_resolution, mesh_label  # noqa: F401
 from twin.physics.steppers import DirectStepper, IterativeStepper, ReducedStart
 
 
@@ -54,44 +52,6 @@ def check_prepared(prepared, machine, source: str, field: str = "prepared") -> N
         raise InputError(source, field, f"expected a twin.physics.prepared.PreparedTwin, got {prepared!r}")
     if prepared.machine.name != machine.name:
         raise InputError(source, field, f"the prepared twin is of machine {prepared.machine.name}, not {machine.name}")
-
-
-def check_beside_prepared(prepared, source: str, mm=None, resolution=None, materials=None, solver=None,
-                          fields: dict | None = None) -> None:
-    """Arguments given beside a prepared twin are the ones it was prepared with, or an
-    :class:`InputError` naming the argument (``fields`` renames them: the CLI's ``--mesh``): its
-    mesh, resolution, materials and solver are the run's, so another value would be ignored."""
-    name = {"mm": "mm", "resolution": "resolution", "materials": "materials", "solver": "solver", **(fields or {})}
-    keep = "leave it out, the prepared twin's is used"
-    if mm is not None and mm is not prepared.mm:
-        raise InputError(source, name["mm"], f"is not the prepared twin's mesh ({prepared.resolution!r}, "
-                                             f"{prepared.mm.nnodes} nodes): {keep}")
-    if resolution is not None and resolution != prepared.resolution:
-        check_resolution(prepared.machine, resolution, source, name["resolution"])
-        raise InputError(source, name["resolution"], f"the prepared twin's mesh is {prepared.resolution!r} "
-                                                     f"({prepared.mm.nnodes} nodes), not {resolution!r}: {keep}, or "
-                                                     f"prepare the twin on {resolution!r}")
-    if materials is not None and part_materials(prepared.machine, materials, source, name["materials"]) != prepared.materials:
-        raise InputError(source, name["materials"], f"differ from the prepared twin's (the materials it was assembled "
-                                                    f"with): {keep}")
-    options = as_options(solver) if solver is not None else prepared.options
-    differ = [f"{f.name} {getattr(options, f.name)!r} (the prepared twin's: {getattr(prepared.options, f.name)!r})"
-              for f in fields_of(options) if getattr(options, f.name) != getattr(prepared.options, f.name)]
-    if differ:
-        raise InputError(source, name["solver"], f"differs from the prepared twin's: {', '.join(differ)}; {keep}")
-
-
-def check_resolution(machine, resolution, source: str = SOURCE, field: str = "resolution") -> str:
-    """``resolution`` is the name of one of ``machine``'s meshes."""
-    if not isinstance(resolution, str) or resolution not in machine.resolutions:
-        raise InputError(source, field, f"unknown resolution {resolution!r}; known: {', '.join(machine.resolutions)}")
-    return resolution
-
-
-def mesh_label(machine, mm) -> str:
-    """The name of ``machine``'s resolution ``mm`` was built at, else its spacing (``"12 mm"``)."""
-    names = [name for name, h in machine.resolutions.items() if np.isclose(h, mm.spacing, rtol=1e-9, atol=0.0)]
-    return names[0] if names else f"{mm.spacing * 1e3:.6g} mm"
 
 
 class PreparedTwin:
