@@ -50,7 +50,7 @@ from learners._checks import MAX_ITERATIONS, MAX_PARTICLES
 from learners._checks import check_choice, check_int, check_non_negative, check_positive, check_start_value, \
     model_name
 from learners.grey import ago, check_n_features, check_runs, check_series, iago, refuse_divergence
-from learners.pso import pso_minimize
+from learners.pso import box_edges, pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
 
@@ -72,19 +72,6 @@ def gnnmci_forward(w11: float, w2, w2u: float, X_ago: np.ndarray, x1_first: floa
     out = (w3[:, None] * layer_c).sum(axis=1) - theta
     out[0] = x1_first  # unit step u(t-1) of (A.2)/(A.3): G = 0 at the first sample
     return out
-
-
-
-def weights_at_bound(w, lower, upper, p: int) -> str:
-    """Which of the scaled weights (w11, w2[0..p-1], w2u) the PSO left on its search box's edge
-    (within 1e-9 of the box's width), as "(w2[1], w2u) at the search box's bound"; "" when none:
-    a weight on the edge is where the search stopped, not a value the data chose."""
-    names = ["w11"] + [f"w2[{j}]" for j in range(p)] + ["w2u"]
-    tol = 1e-9 * (np.asarray(upper) - np.asarray(lower))
-    edge = (np.asarray(w) - lower <= tol) | (upper - np.asarray(w) <= tol)
-    edge[0] &= w[0] > lower[0] + tol[0]     # w11 = 0 is a model without inertia, inside its meaning
-    hit = [n for n, e in zip(names, edge) if e]
-    return f"sit at the search box's bound ({', '.join(hit)})" if hit else ""
 
 
 @register_learner("gnnmci")
@@ -152,7 +139,8 @@ class GNNMCI(BaseEstimator, RegressorMixin):
         res = pso_minimize(fitness, lower, upper, n_particles=self.n_particles, n_iterations=self.n_iterations,
                            variant=self.variant, c1=self.c1, c2=self.c2, random_state=self.random_state)
         w = res.x
-        self.at_bound_ = weights_at_bound(w, lower, upper, p)
+        self.at_bound_ = box_edges(w, lower, upper, ["w11"] + [f"w2[{j}]" for j in range(p)] + ["w2u"],
+                                   free_lower=("w11",))   # w11 = 0: a model without inertia, inside its meaning
         self.w11_ = float(w[0])
         self.w2_ = w[1:-1] * sy / sx
         self.w2u_ = float(w[-1] * sy)

@@ -52,7 +52,7 @@ from learners._checks import MAX_ITERATIONS, MAX_PARTICLES
 from learners._checks import check_choice, check_int, check_positive, check_start_value
 from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_runs, check_series, \
     iago, refuse_divergence, response_ls_fit, search_bound
-from learners.pso import pso_minimize
+from learners.pso import box_edges, pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError
 
@@ -217,6 +217,8 @@ class GMC1NPSO(_GMCBase):
 
     _name = "GMC(1,N)-PSO"
 
+    bound_subject = "its coefficients"     # the leaderboard's note: "... sit at the search box's bound"
+
     def __init__(self, response="convolution", y0=None, n_particles=90, n_iterations=100, variant="inertia",
                  b1_max=2.0, coef_bound=10.0, random_state=None):
         self.response = response
@@ -255,6 +257,7 @@ class GMC1NPSO(_GMCBase):
                                variant=self.variant, random_state=self.random_state)
         theta = res.x
         self._store(theta[0], theta[1:-1] * sy / sx, theta[-1] * sy, [ya[0] for _, ya in checked], p)
+        self.at_bound_ = box_edges(theta, lower, upper, ["b1"] + [f"b[{j}]" for j in range(p)] + ["u"])
         self.fitness_ = res.fun
         self.n_evaluations_ = res.n_evaluations
         return self

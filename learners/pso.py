@@ -154,3 +154,15 @@ def pso_minimize(
         history[t] = gbest_val
 
     return PSOResult(x=gbest, fun=float(gbest_val), n_evaluations=n_eval, history=history)
+
+
+def box_edges(x, lower, upper, names, free_lower=()) -> str:
+    """Which components of a PSO solution ``x`` lie on the search box's edge (within 1e-9 of its
+    width), as "sit at the search box's bound (a, b)"; "" when none: a component on the edge is
+    where the search stopped, not a value the data chose. ``free_lower``: names whose lower end
+    is a meaningful value (a zero weight), not counted there."""
+    x, lower, upper = (np.asarray(v, dtype=float) for v in (x, lower, upper))
+    tol = 1e-9 * (upper - lower)
+    low = (x - lower <= tol) & ~np.isin(np.asarray(names), list(free_lower))
+    hit = [n for n, e in zip(names, low | (upper - x <= tol)) if e]
+    return f"sit at the search box's bound ({', '.join(hit)})" if hit else ""

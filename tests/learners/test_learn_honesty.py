@@ -169,8 +169,8 @@ def test_training_work_has_an_upper_bound(name, setting):
 
 
 def test_a_learners_own_limits_are_notes_beside_its_scores():
-    """GNNMCI's weights left on the PSO's search box (weight_bound 0.01: far too tight for this
-    relation) and an LS-SVM trained on an evenly spaced max_samples of its rows say so in the
+    """GNNMCI's weights and GMC(1,N)-PSO's coefficients left on the PSO's search box (a bound of
+    0.01: far too tight for this relation) and an LS-SVM trained on an evenly spaced max_samples of its rows say so in the
     leaderboard's note; a fit inside its box and on all its rows has none."""
     from learners.leaderboard import fit_note
 
@@ -178,6 +178,9 @@ def test_a_learners_own_limits_are_notes_beside_its_scores():
     y = X @ np.array([1.0, 2.0])
     tight = make_learner("gnnmci", weight_bound=0.01, random_state=0).fit(X, y)
     assert fit_note(tight).startswith("its network weights sit at the search box's bound (")
+    tight = make_learner("gmc1n-pso", coef_bound=0.01, random_state=0).fit(X, y)
+    assert fit_note(tight).startswith("its coefficients sit at the search box's bound (")
+    assert fit_note(make_learner("gmc1n-pso", random_state=0).fit(X, y)) == ""
     assert fit_note(make_learner("lssvm", max_samples=20).fit(X, y)).startswith(
         "trained on 20 evenly spaced of its 80 training rows")
     assert fit_note(make_learner("lssvm").fit(X, y)) == "" and fit_note(make_learner("mlr").fit(X, y)) == ""
