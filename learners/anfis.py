@@ -53,8 +53,8 @@ import numpy as np
 import scipy.linalg
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners._checks import MAX_EPOCHS
-from learners._checks import check_fit_data, check_float, check_int, check_positive, check_predict_data, standardise
+from learners._checks import (MAX_EPOCHS, check_fit_data, check_float, check_int, check_positive, check_predict_data,
+                              standardise)
 from learners.fcm import fuzzy_cmeans
 from learners.registry import register_learner
 from twin.errors import InputError

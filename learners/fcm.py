@@ -86,7 +86,7 @@ def fuzzy_cmeans(data, n_clusters, *, m=2.0, max_iter=300, tol=1e-6, random_stat
         raise InputError("data", "values", "fuzzy c-means needs a finite 2-D array")
     c = int(n_clusters)
     n_distinct = np.unique(x, axis=0).shape[0]
-    if c < 1 or c > n_distinct:
+    if c > n_distinct:
         raise InputError("data", "rows", f"fuzzy c-means with {c} clusters needs at least {c} distinct rows, "
                                          f"got {n_distinct}")
     rng = np.random.default_rng(check_seed("fuzzy c-means", random_state))

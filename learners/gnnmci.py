@@ -46,9 +46,8 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners._checks import MAX_ITERATIONS, MAX_PARTICLES
-from learners._checks import check_choice, check_int, check_non_negative, check_positive, check_start_value, \
-    model_name
+from learners._checks import (MAX_ITERATIONS, MAX_PARTICLES, check_choice, check_int, check_non_negative,
+                              check_positive, check_start_value, model_name)
 from learners.grey import ago, check_n_features, check_runs, check_series, iago, refuse_divergence
 from learners.pso import box_edges, pso_minimize
 from learners.registry import register_learner

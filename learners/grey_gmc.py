@@ -48,8 +48,7 @@ import numpy as np
 from scipy.signal import lfilter
 from sklearn.base import BaseEstimator, RegressorMixin
 
-from learners._checks import MAX_ITERATIONS, MAX_PARTICLES
-from learners._checks import check_choice, check_int, check_positive, check_start_value
+from learners._checks import MAX_ITERATIONS, MAX_PARTICLES, check_choice, check_int, check_positive, check_start_value
 from learners.grey import FIT_METHODS, ago, background, check_growth, check_n_features, check_runs, check_series, \
     iago, refuse_divergence, response_ls_fit, search_bound
 from learners.pso import box_edges, pso_minimize

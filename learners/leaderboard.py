@@ -208,7 +208,8 @@ def markdown(rows, title: str = "Leaderboard", note: str = "") -> str:
         lines.append("")
     if len(inputs) == 1 and inputs[0]:
         lines += [f"Inputs: {inputs[0].replace(';', ', ')}.", ""]
-    lines += [f"Note: {line}." for line in notes(rows)] + ([""] if notes(rows) else [])
+    remarks = notes(rows)
+    lines += [f"Note: {line}." for line in remarks] + ([""] if remarks else [])
     return "\n".join(lines)
 
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from learners._checks import refuse_huge
 from twin.errors import InputError
 
 __all__ = ["rms", "rmse", "nse", "correlation", "max_abs_residual", "abs_residual_percentile", "improvement", "mean_relative_error", "score_all"]
@@ -101,18 +102,6 @@ def mean_relative_error(y_true, y_pred) -> float:
     return float(100.0 * np.mean(np.abs((p[keep] - z[keep]) / z[keep])))
 
 
-def _refuse_overflow(values: np.ndarray, field: str, what: str) -> None:
-    """Values beyond +-:data:`learners._checks.VALUE_LIMIT` are no machine's temperature or error
-    in any unit, and their squares overflow or lose every digit (an infinite RMSE, a meaningless
-    R): refused, naming the largest."""
-    from learners._checks import VALUE_LIMIT
-
-    worst = float(np.max(np.abs(values))) if values.size else 0.0
-    if worst > VALUE_LIMIT:
-        raise InputError("data", field, f"the {what} reach {worst:.3g}, beyond +-{VALUE_LIMIT:g}: not a measured "
-                                        "temperature or error in any unit, and no score of them would be exact")
-
-
 def _refuse_non_finite(values: np.ndarray, field: str, what: str) -> None:
     bad = ~np.isfinite(values)
     if bad.any():
@@ -129,8 +118,8 @@ def score_all(y_true, y_pred) -> dict:
     z, p = _pair(y_true, y_pred)
     _refuse_non_finite(z, "y_true", "measured values")
     _refuse_non_finite(p, "y_pred", "predictions")
-    _refuse_overflow(z, "y_true", "measured values")
-    _refuse_overflow(p, "y_pred", "predictions")
+    refuse_huge("data", "y_true", z)      # squares beyond 1e24 would overflow or lose every digit
+    refuse_huge("data", "y_pred", p)
     return {
         "rmse": rmse(y_true, y_pred),
         "nse": nse(y_true, y_pred),

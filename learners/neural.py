@@ -44,9 +44,9 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.neural_network import MLPRegressor
 
-from learners._checks import MAX_EPOCHS, MAX_ITERATIONS, MAX_PARTICLES
-from learners._checks import check_choice, check_fit_data, check_fraction, check_int, check_non_negative, \
-    check_positive, check_predict_data, check_sizes, model_name
+from learners._checks import (MAX_EPOCHS, MAX_ITERATIONS, MAX_PARTICLES, check_choice, check_fit_data, check_fraction,
+                              check_int, check_non_negative, check_positive, check_predict_data, check_sizes,
+                              model_name)
 from learners.pso import pso_minimize
 from learners.registry import register_learner
 from twin.errors import InputError

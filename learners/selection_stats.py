@@ -164,8 +164,9 @@ def _regression_test(X, y):
 
 
 class _Selector(TransformerMixin, BaseEstimator):
-    needs_target = True     # fit ranks sensors against y (all but AllSelector)
     """Shared fit/transform plumbing; subclasses implement ``_choose(X, y) -> indices``."""
+
+    needs_target = True     # fit ranks sensors against y (all but AllSelector)
 
     def _check_params(self):
         """Check the hyper-parameters (:mod:`learners._checks`); ``n_select`` against the columns at fit."""

@@ -28,7 +28,7 @@ import numpy as np
 
 from learners._checks import VALUE_LIMIT, is_constant as _is_constant
 from twin.errors import InputError
-from twin.io.measurement import NETCDF_UNITS
+from twin.io.measurement import NETCDF_UNITS, stated_units
 from twin.io.paths import input_file, read_text
 from twin.limits import check_displacements, check_strains, check_temperatures
 from twin.units import UnitError, parse_quantity
@@ -196,7 +196,7 @@ def _time_seconds(path, ds, time_column):
         t = np.asarray(t, dtype=float)
     except (TypeError, ValueError):
         raise InputError(path, name, "time is not numeric") from None
-    stated = ds[name].attrs.get("units", ds[name].encoding.get("units"))
+    stated = stated_units(ds, name)
     if stated is None or not str(stated).strip():
         raise InputError(path, name, "states no units: a numeric time needs them (s, min or h, as a twin result's "
                                      "'s')")
@@ -226,7 +226,7 @@ def variable_unit(path, ds, var: str, address: str) -> str:
     """The unit ``var`` states (its ``units`` attribute): required, and a variable a twin result
     holds (:data:`RESULT_UNITS`) must state the result's unit (a drift in mm read as um would be
     1000 times too small), else an :class:`InputError` naming the file and ``address``."""
-    stated = ds[var].attrs.get("units", ds[var].encoding.get("units"))
+    stated = stated_units(ds, var)
     stated = "" if stated is None else str(stated).strip()
     expected = RESULT_UNITS.get(var.removesuffix("_true"))
     if not stated:
@@ -245,8 +245,7 @@ def _series(path, ds, address, tname):
     var, _, label = address.partition(":")
     if var not in ds.variables or var == tname:
         raise InputError(path, address, f"no variable {var!r}; variables: {', '.join(map(str, ds.data_vars))}")
-    values = _plausible(path, address, variable_unit(path, ds, var, address), _values(path, ds, address, tname))
-    return values
+    return _plausible(path, address, variable_unit(path, ds, var, address), _values(path, ds, address, tname))
 
 
 def _plausible(path, address, unit, values):

@@ -131,3 +131,18 @@ def test_gpu_commands_without_a_gpu_are_one_clear_error(tmp_path, capsys):
     assert twin_main(["simulate", "cframe-vmc", "spindle-duty-cycle", "--mesh", "coarse", "--device", "gpu",
                       "-o", str(out)]) == 2
     assert "--device: gpu needs CuPy" in capsys.readouterr().err and not out.exists()
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--spacing", "3"], "command line: --spacing: '3' has no unit"),
+    (["--repeats", "0"], "command line: --repeats: must be from 1 to 100000"),
+    (["--repeats", "5", "--repeats", "6"], "command line: --repeats: given more than once"),
+    (["--bogus"], "unrecognized arguments"),
+])
+def test_gpu_step_benchmark_refuses_bad_options_on_any_machine(argv, needle, capsys):
+    """Its options are checked before the device is asked for: one line, exit code 2."""
+    from validate import gpu_step_benchmark
+
+    assert gpu_step_benchmark.main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: ") and needle in err[0], err

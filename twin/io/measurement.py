@@ -157,13 +157,19 @@ NETCDF_UNITS = {"time": "s", "temperature": "degC", "ambient_temperature": "degC
                 "axis_position": "mm", "positioning_error": "um"}
 
 
+def stated_units(ds: xr.Dataset, var: str) -> str | None:
+    """The unit variable ``var`` of ``ds`` states: its ``units`` attribute, or the one xarray moved
+    into its encoding while decoding (None when it states none)."""
+    return ds[var].attrs.get("units", ds[var].encoding.get("units"))
+
+
 def _check_netcdf_units(ds: xr.Dataset, src: str) -> None:
     """Each variable of :data:`NETCDF_UNITS` that states a unit states the twin's (probes in mm
     were read as um, 1000 times too small)."""
     for var, unit in NETCDF_UNITS.items():
         if var not in ds.variables:
             continue
-        stated = ds[var].attrs.get("units", ds[var].encoding.get("units"))
+        stated = stated_units(ds, var)
         if stated is not None and str(stated).strip() != unit:
             raise InputError(src, var, f"in {str(stated)!r}; a NetCDF measurement is read as a twin result, which holds "
                                        f"{var} in {unit!r}: convert it, or give a CSV with a column mapping "

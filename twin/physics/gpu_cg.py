@@ -232,7 +232,8 @@ class DeviceMatrix:
 
         self.csr = csp.csr_matrix(sp.csr_matrix(A, dtype=float))
         self.shape = self.csr.shape
-        self.indptr, self.indices = self.csr.indptr.astype(cp.int32), self.csr.indices.astype(cp.int32)
+        self.indptr = self.csr.indptr.astype(cp.int32, copy=False)        # no second copy on the card
+        self.indices = self.csr.indices.astype(cp.int32, copy=False)
         self.data = self.csr.data
 
     def __matmul__(self, x):
