@@ -48,7 +48,7 @@ from learners.table import Table, check_problem, load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity_value, whole_number
 from twin.limits import plain_int
 from twin.errors import InputError
-from twin.io.paths import Files, same_file
+from twin.io.paths import Files, same_file, within
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
@@ -172,7 +172,7 @@ def _declare_files(args) -> Files:
             raise InputError("command line", option, "names a split of a --dataset: give --dataset, or leave it out")
     args.split, args.train_split = args.split or "test", args.train_split or "train"
     for path in args.output:
-        if args.dataset and Path(args.dataset).resolve() in Path(path).resolve().parents:
+        if args.dataset and within(path, args.dataset):
             raise InputError(path, "-o", f"lies in the input dataset {args.dataset}: write the scores elsewhere")
         files.output(path, "-o", (".csv", ".md"))
     formats = [Path(path).suffix.lower() for path in args.output]

@@ -11,7 +11,7 @@ from geometries import MACHINES, build_machine
 from twin import limits
 from twin.errors import InputError
 from twin.io.atomic import output_folder
-from twin.io.paths import Files, read_text, same_file
+from twin.io.paths import Files, read_text, same_file, within
 
 
 def test_absolute_zero_is_the_lowest_temperature():
@@ -88,6 +88,32 @@ def test_an_output_is_never_an_input_in_either_order(tmp_path):
     files.output(tmp_path / "c.csv", "-o")
     with pytest.raises(InputError, match="also the output of -o"):
         files.output(tmp_path / "c.csv", "--json")
+
+
+def test_within_a_folder_by_any_spelling(tmp_path):
+    """``within(path, folder)``: the folder itself, anything below it, and the same through a
+    link to the folder or a ``..`` detour; not a sibling whose name merely starts alike."""
+    folder = tmp_path / "data"
+    (folder / "sub").mkdir(parents=True)
+    os.symlink(folder, tmp_path / "alias")
+    assert within(folder, folder) and within(folder / "sub" / "x.csv", folder)
+    assert within(tmp_path / "alias" / "sub" / "x.csv", folder)
+    assert within(tmp_path / "other" / ".." / "data" / "x.csv", folder)
+    (tmp_path / "data2").mkdir()
+    assert not within(tmp_path / "data2" / "x.csv", folder) and not within(tmp_path / "x.csv", folder)
+
+
+def test_within_a_bind_mounted_folder(tmp_path, monkeypatch):
+    """A bind mount is a second path to the same inode that no link resolves: ``within`` must
+    compare the ancestors' inodes. The kernel's answer for a mount of ``data`` on ``mnt`` is
+    played by os.path.samefile (mounting needs privileges a test run may not have)."""
+    (tmp_path / "data").mkdir()
+    (tmp_path / "mnt" / "sub").mkdir(parents=True)
+    mounted = {str(tmp_path / "data"), str(tmp_path / "mnt")}
+    real = os.path.samefile
+    monkeypatch.setattr(os.path, "samefile", lambda a, b: {str(a), str(b)} <= mounted or real(a, b))
+    assert within(tmp_path / "mnt" / "sub" / "x.csv", tmp_path / "data")
+    assert not within(tmp_path / "x.csv", tmp_path / "data")
 
 
 def test_an_output_folder_is_never_an_output_file_in_either_order(tmp_path):

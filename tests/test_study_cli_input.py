@@ -271,12 +271,17 @@ def test_dataset_study_and_learn_write_nothing_into_their_input_dataset(csv_data
     input, and an output never replaces one; the folder is unchanged."""
     from twin.cli import main
     before = sorted(p.name for p in csv_dataset.rglob("*"))
-    for out in (csv_dataset, csv_dataset / "board"):
+    alias = csv_dataset.parent / "alias"
+    alias.symlink_to(csv_dataset)           # a second name for the dataset (as a bind mount would be)
+    for out in (csv_dataset, csv_dataset / "board", alias / "board"):
         assert dataset_learners.main([str(csv_dataset), "-o", str(out)]) == 2
         one_error(capsys, f"{out}: -o: lies in the input dataset")
     assert main(["learn", "--dataset", str(csv_dataset), "--target", "drift:Z", "--learner", "mlr",
                  "-o", str(csv_dataset / "README.md")]) == 2
     one_error(capsys, "README.md: -o: lies in the input dataset")
+    assert main(["learn", "--dataset", str(csv_dataset), "--target", "drift:Z", "--learner", "mlr",
+                 "-o", str(alias / "scores.csv")]) == 2
+    one_error(capsys, "scores.csv: -o: lies in the input dataset")
     assert sorted(p.name for p in csv_dataset.rglob("*")) == before
 
 

@@ -182,6 +182,14 @@ def same_file(a: str | os.PathLike, b: str | os.PathLike) -> bool:
         return a == b
 
 
+def within(path: str | os.PathLike, folder: str | os.PathLike) -> bool:
+    """Whether ``path`` is ``folder`` or lies anywhere below it: ``folder`` compared with ``path``
+    and each of its parent folders by :func:`same_file` (resolved path, then inode), so a link,
+    a second spelling or a bind mount of ``folder`` counts as ``folder``."""
+    here = Path(path).absolute()
+    return any(same_file(ancestor, folder) for ancestor in (here, *here.parents))
+
+
 class Files:
     """The inputs and outputs of one command, each checked when it is declared (module doc).
 

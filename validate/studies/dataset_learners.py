@@ -40,7 +40,7 @@ from learners.table import load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity, whole_number
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
-from twin.io.paths import Files, read_text
+from twin.io.paths import Files, read_text, within
 from validate.studies.common import (check_output_folder, cli_parser, markdown_table, preset, run_cli,
                                      write_csv as write_rows)
 from validate.studies.placement_search import exhaustive_best, greedy_oracle
@@ -222,8 +222,7 @@ def _run(args) -> int:
         raise InputError(args.dataset, "dataset", "not a dataset folder (twin dataset SPEC -o DIR makes one)")
     files = Files()
     files.input(Path(args.dataset) / "index.csv", "dataset", "dataset index (index.csv)")
-    here = Path(args.output).resolve()
-    if here == Path(args.dataset).resolve() or Path(args.dataset).resolve() in here.parents:
+    if within(args.output, args.dataset):
         raise InputError(args.output, "-o", f"lies in the input dataset {args.dataset}: write the study elsewhere")
     out = check_output_folder(args.output, OUTPUTS if not args.no_placement else OUTPUTS[:2], default=DEFAULT_OUTPUT,
                               files=files)
