@@ -44,15 +44,14 @@ above absolute zero.
 
 from __future__ import annotations
 
-import math
 
-import numpy as np
 
 from twin import limits
 from twin.errors import InputError
 from twin.io.table_reader import TableReader
 from twin.observe.camera import CameraConfig
-from twin.observe.camera_checks import BITS, EDGE_RAYS, MAX_PIXELS, NOISE_TERMS, RADIANCE_SPAN, check_up
+from twin.observe.camera_checks import (BITS, EDGE_RAYS, MAX_PIXELS, NOISE_TERMS, RADIANCE_SPAN, check_camera_values,
+                                        check_temperature)
 from twin.observe.camera_geometry import Intrinsics
 from twin.observe.microbolometer import Microbolometer
 from twin.units import UnitError, parse_quantity
@@ -85,22 +84,15 @@ def _camera(table, source: str, prefix: str) -> CameraConfig:
     pose = r.get("pose")
     position, target = _vector(r, "position"), _vector(r, "target")
     up = r.get("up")
-    if (position is None) != (target is None):
-        raise InputError(source, prefix + ("target" if target is None else "position"), "position and target go together")
-    if position is not None:
+    if position is not None or target is not None:      # the pair, its distance and the up: check_camera_values
         if pose is not None:
             raise InputError(source, prefix + "pose", "give a pose or a position and a target, not both")
         kw.update(position=position, target=target)
-        sight = np.subtract(target, position)
-        if np.linalg.norm(sight) < 1e-6:
-            raise InputError(source, prefix + "target", "equals position; the camera looks from position towards "
-                                                        "target, so they must differ")
         if up is not None:
             if not (isinstance(up, list) and len(up) == 3
                     and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in up)):
                 raise InputError(source, prefix + "up", "expected three numbers, a direction")
             kw["up"] = tuple(float(x) for x in up)
-        check_up(np.asarray(kw.get("up", CameraConfig.up), dtype=float), sight, source, prefix + "up")
     elif up is not None:
         raise InputError(source, prefix + "up", "goes with position and target")
     if pose is not None:
@@ -111,8 +103,6 @@ def _camera(table, source: str, prefix: str) -> CameraConfig:
     kw["intrinsics"] = _intrinsics(r, source, prefix)
     band = _pair(r, "band", "length")
     if band is not None:
-        if not 0 < band[0] < band[1]:
-            raise InputError(source, prefix + "band", "needs 0 < lower < upper wavelength")
         kw["band"] = band
     interval = r.positive("frame_interval", "time")
     if interval is not None:
@@ -131,7 +121,9 @@ def _camera(table, source: str, prefix: str) -> CameraConfig:
     if sensor is not None:
         kw["sensor"] = _sensor(sensor, source, prefix + "sensor.")
     r.finish()
-    return CameraConfig(**kw)
+    config = CameraConfig(**kw)
+    check_camera_values(config)          # the values' rules, one set for files and Python (camera_checks)
+    return config
 
 
 def _intrinsics(r, source: str, prefix: str) -> Intrinsics:
@@ -143,8 +135,6 @@ def _intrinsics(r, source: str, prefix: str) -> Intrinsics:
         kw["width"], kw["height"] = (_integer(x, source, prefix + "resolution", 1, MAX_PIXELS) for x in res)
     fov = _pair(r, "field_of_view", "angle")
     if fov is not None:
-        if not all(0 < a < math.pi for a in fov):
-            raise InputError(source, prefix + "field_of_view", "each angle must lie between 0 and 180 deg")
         kw["fov_h"], kw["fov_v"] = fov
     ifov = r.positive("ifov", "angle")
     if ifov is not None:
@@ -185,13 +175,7 @@ def _sensor(table, source: str, prefix: str) -> Microbolometer:
     kw["reference_temperature"] = _temperature(r, "reference_temperature", RADIANCE_SPAN, "the twin's radiance table")
     bits = r.get("bits")
     kw["bits"] = None if bits is None else _integer(bits, source, prefix + "bits", *BITS)
-    span = _pair(r, "range", "temperature")
-    if span is not None:
-        for i, t in enumerate(span):
-            _check_temperature(t, RADIANCE_SPAN, "the twin's radiance table", source, f"{prefix}range[{i}]")
-        if not span[0] < span[1]:
-            raise InputError(source, prefix + "range", "needs the lower temperature first (low end below high end)")
-    kw["range"] = span
+    kw["range"] = _pair(r, "range", "temperature")        # within the radiance table, in order: camera_checks
     r.finish()
     return Microbolometer(**{k: v for k, v in kw.items() if v is not None})
 
@@ -208,17 +192,8 @@ def _temperature(r, key: str, span: tuple, what: str):
     """A temperature [degC] key, above absolute zero and within ``span`` (the plausible range of ``what``)."""
     value = r.get(key, "temperature")
     if value is not None:
-        _check_temperature(value, span, what, r.source, r.prefix + key)
+        check_temperature(value, span, what, r.source, r.prefix + key)
     return value
-
-
-def _check_temperature(value: float, span: tuple, what: str, source: str, field: str) -> None:
-    if value < limits.ABSOLUTE_ZERO:
-        raise InputError(source, field, f"{value:g} degC is below absolute zero ({limits.ABSOLUTE_ZERO} degC)")
-    lo, hi = span
-    if not lo <= value <= hi:
-        raise InputError(source, field, f"{value:g} degC is outside the plausible range of {what} ({lo:g} to {hi:g} "
-                                        "degC)")
 
 
 def _non_negative(r, key: str, dimension: str):

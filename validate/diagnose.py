@@ -59,7 +59,7 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.model import ModelSpec, default_spec
-from twin.physics.prepared import PreparedTwin, check_beside_prepared, check_prepared
+from twin.physics.prepared import PreparedTwin, check_beside_prepared, check_prepared, coarse_unless_given
 from validate import verdict as V
 from validate.verdict import Share
 from validate.candidates import candidate_pool
@@ -270,7 +270,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     spec = spec or default_spec(machine)
     pool = candidate_pool(machine, spec, candidates, parameters, custom)
     stage = Stages(progress, 1 + len(measurements) + len(pool))
-    twin = twin or PreparedTwin(machine, mm, "coarse" if mm is None and resolution is None else resolution)
+    twin = twin or PreparedTwin(machine, mm, coarse_unless_given(mm, resolution))
     evidence = Evidence([rec for lab, ds, sc in measurements for rec in make_records(lab, ds, sc, machine, twin)])
     bands = expansion_bands(machine)
     with_drift = bool(set(DISPLACEMENT_GROUPS) & set(evidence.groups()))   # channels alpha moves

@@ -34,7 +34,7 @@ from twin.model import ModelSpec
 from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, LaserTriangulation, RunContext, StrainGauges,
                           TemperatureSensors, sensor_points)
 from twin.observe.interferometer import PositioningTrace, check_interferometer
-from twin.physics.prepared import PreparedTwin, check_beside_prepared
+from twin.physics.prepared import PreparedTwin, check_beside_prepared, coarse_unless_given
 from validate.channels import target_label
 from twin.signals import lag_series
 
@@ -54,8 +54,7 @@ class Engine:
         self.machine, self.scenario = machine, scenario
         if prepared is not None:
             check_beside_prepared(prepared, "validate.signatures.Engine", mm, resolution, materials)
-        coarse = resolution is None and mm is None      # the default mesh of an engine is the coarse one
-        self.twin = prepared or PreparedTwin(machine, mm, "coarse" if coarse else resolution, materials)
+        self.twin = prepared or PreparedTwin(machine, mm, coarse_unless_given(mm, resolution), materials)
         self.mm = self.twin.mm
         self.temperature = TemperatureSensors(sensors if sensors is not None else sensor_points(machine))
         self.sensors = self.temperature.points

@@ -49,8 +49,9 @@ def check_camera_values(c) -> None:
         ends = [_vector(v, src, f(key)) for key, v in (("position", c.position), ("target", c.target))]
         sight = ends[1] - ends[0]
         if np.linalg.norm(sight) < 1e-6:
-            raise InputError(src, f("target"), "equals position; the camera looks from position towards target")
-        check_up(_vector(c.up, src, f("up")), sight, src, f("up"))
+            raise InputError(src, f("target"), "equals position; the camera looks from position towards target, "
+                                              "so they must differ")
+        check_up(_numbers(c.up, 3, src, f("up"), finite=False), sight, src, f("up"))
     _check_intrinsics(c.intrinsics, src, f)
     band = _numbers(c.band, 2, src, f("band"))
     if not 0 < band[0] < band[1]:
@@ -118,19 +119,29 @@ def _whole(value, low: int, high: int, src: str, field: str) -> None:
         raise InputError(src, field, f"expected a whole number from {low} to {high}, got {value!r}")
 
 
+def check_temperature(value, span: tuple, what: str, src: str, field: str) -> float:
+    """``value`` [degC] finite, above absolute zero and within ``span``, the plausible range of
+    ``what`` (the scenario reader's check of each camera temperature, and this module's)."""
+    value = limits.finite_number(value, src, field)
+    if value < limits.ABSOLUTE_ZERO:
+        raise InputError(src, field, f"{value:g} degC is below absolute zero ({limits.ABSOLUTE_ZERO} degC)")
+    lo, hi = span
+    if not lo <= value <= hi:
+        raise InputError(src, field, f"{value:g} degC is outside the plausible range of {what} ({lo:g} to {hi:g} degC)")
+    return value
+
+
 def _in_span(value, src: str, field: str) -> None:
-    lo, hi = RADIANCE_SPAN
-    if not lo <= limits.finite_number(value, src, field) <= hi:
-        raise InputError(src, field, f"{value:g} degC is outside the twin's radiance table ({lo:g} to {hi:g} degC)")
+    check_temperature(value, RADIANCE_SPAN, "the twin's radiance table", src, field)
 
 
-def _numbers(values, n: int, src: str, field: str) -> np.ndarray:
+def _numbers(values, n: int, src: str, field: str, finite: bool = True) -> np.ndarray:
     try:
         v = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         v = None
-    if v is None or v.shape != (n,) or not np.all(np.isfinite(v)):
-        raise InputError(src, field, f"expected {n} finite numbers, got {values!r}")
+    if v is None or v.shape != (n,) or (finite and not np.all(np.isfinite(v))):
+        raise InputError(src, field, f"expected {n} {'finite ' if finite else ''}numbers, got {values!r}")
     return v
 
 

@@ -41,6 +41,12 @@ def check_beside_prepared(prepared, source: str, mm=None, resolution=None, mater
         raise InputError(source, name["solver"], f"differs from the prepared twin's: {', '.join(differ)}; {keep}")
 
 
+def coarse_unless_given(mm=None, resolution=None):
+    """The resolution a study prepares its twin on: the coarse mesh unless the caller gave a mesh
+    ``mm`` or a ``resolution`` (a study repeats many runs; the caller opts into finer meshes)."""
+    return "coarse" if mm is None and resolution is None else resolution
+
+
 def check_resolution(machine, resolution, source: str = SOURCE, field: str = "resolution") -> str:
     """``resolution`` is the name of one of ``machine``'s meshes."""
     if not isinstance(resolution, str) or resolution not in machine.resolutions:
