@@ -72,13 +72,30 @@ def test_cframe_grid_points_lie_in_their_parts_cells():
 
 
 def test_run_with_grid_sensors_coarse():
+    """Grid sensors are observers only: with the machine's own sites added under other names,
+    (i) every reading at t = 0 is the uniform initial field, the 20 degC room (exact), (ii) a
+    site reads the same with and without the grid beside it, and as the grid's copy of it at the
+    same point (the same interpolation of one field: round-off), (iii) the heat is the spindle's:
+    the warmest grid sensor is on the spindle's side (the test bar in its nose, or the carrier
+    holding the bearings), and the column's warmest rises less than the carrier's."""
+    from geometries.base import Point
     from twin.api import simulate
 
     m = build_machine("cframe-vmc")
     pts = surface_sensor_grid(m, spacing=0.15)
+    sites = [p for p in m.points if p.name in m.sensor_sites]
+    copies = [Point(f"copy:{p.name}", p.xyz, p.part) for p in sites]
     sc = Scenario("short", ((600.0, 9000.0), (600.0, 0.0)), Ambient("constant", mean=20.0), sample_interval=60.0)
-    ds, _ = simulate("cframe-vmc", sc, resolution="coarse", sensors=pts)
-    assert list(ds.sensor.values) == [p.name for p in pts]
-    assert ds.temperature.shape == (21, len(pts))
-    rise = ds.temperature_true.isel(time=-1) - ds.temperature_true.isel(time=0)
-    assert float(rise.max()) > 0.0 and np.isfinite(ds.temperature.values).all()
+    ds, _ = simulate("cframe-vmc", sc, resolution="coarse", sensors=pts + copies)
+    assert list(ds.sensor.values) == [p.name for p in pts + copies]
+    assert ds.temperature.shape == (21, len(pts) + len(copies))
+    assert np.abs(ds.temperature_true.isel(time=0).values - 20.0).max() < 1e-12
+    plain, _ = simulate("cframe-vmc", sc, resolution="coarse")
+    own = plain.temperature_true.sel(sensor=[p.name for p in sites]).values
+    assert np.allclose(ds.temperature_true.sel(sensor=[c.name for c in copies]).values, own, rtol=0, atol=1e-10)
+    grid = ds.temperature_true.sel(sensor=[p.name for p in pts]).isel(time=-1)
+    assert float((grid - 20.0).max()) > 0.1
+    part = [p.part for p in pts]
+    assert part[int(np.argmax(grid.values))] in ("test_bar", "carrier")
+    rise = {name: float(grid.values[[q == name for q in part]].max()) - 20.0 for name in ("carrier", "column")}
+    assert 0 < rise["column"] < rise["carrier"]
