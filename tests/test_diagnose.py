@@ -218,6 +218,18 @@ def test_cause_outside_the_library_is_unexplained_and_located(machine, mm, truth
     assert saddle["schedule"] == "constant" and 40 < saddle["power_W"] < 160
     doc = json.loads(json.dumps(diagnosis_json(d)))
     assert doc["regions"][0].keys() >= {"region", "power_W", "explained"}
+    # the loop closes: `twin compare --effects-file x.toml` (the missing heat added) against the
+    # twin without it: the worst channel's error falls fivefold, and every group's residual falls
+    # to within 1.5x what remains of the truth with nothing hidden (noise and the coarse model's error)
+    from validate.compare import compare, model_for
+    without, _ = model_for(ds, "cframe-vmc", resolution="coarse")
+    added, _ = model_for(ds, "cframe-vmc", resolution="coarse", effects_file=str(tmp_path / "x.toml"))
+    before, after, floor = compare(ds, without), compare(ds, added), compare(truth(), without)
+    worst = before.ranking()[0]
+    assert worst.stats.rmse > 5 * after.channel(worst.name).stats.rmse, (worst.name, format_diagnosis(d))
+    for unit in ("K", "um"):
+        total = [sum(c.stats.rmse ** 2 for c in r.channels if c.unit == unit) for r in (before, after, floor)]
+        assert total[1] < 1.5 * total[2] < 0.5 * total[0], (unit, total)
 
 
 def test_two_hidden_effects_are_one_pair(run):
