@@ -31,17 +31,27 @@ def test_air_event_is_the_documented_trapezoid():
 
 
 def test_bundled_etve_scenarios_hold_the_seed_schedule():
-    """Winter: 160 h, 1 min, 5 K day/night, door falls 9 K in 30 min at 110 h; summer 8 K swing;
+    """Winter: 160 h, 1 min, a 3-day holiday 4 K colder, 5 K day/night coldest at 06:00 and
+    warmest at 18:00 (late afternoon), door falls 9 K in 30 min at 110 h; summer 8 K swing;
+    forced: 96 h through the heater's 30 degC and the air conditioner's 15 degC, spindle off;
     training: 80 min at 10 s."""
     w = load_scenario("etve-winter")
     assert w.duration == 160 * 3600 and w.sample_interval == 60
     day = np.arange(0, 24 * 3600, 60.0) + 80 * 3600
     assert np.ptp(w.ambient_temperature(day)) == pytest.approx(5.0, abs=1e-3)
+    air = w.ambient_temperature(day)
+    assert (day[np.argmin(air)] / 3600 % 24, day[np.argmax(air)] / 3600 % 24) == (6.0, 18.0)
+    holiday, work = (w.ambient_temperature(np.arange(d, d + 24, 1 / 60) * 3600).mean() for d in (24, 76))
+    assert work - holiday == pytest.approx(4.0, abs=1e-6)       # whole days before any door: the sine averages out
     door = w.ambient_temperature(np.array([110 * 3600.0, 110.5 * 3600.0]))
     assert door[0] - door[1] == pytest.approx(9.0, abs=0.5)  # the daily sine moves 0.3 K meanwhile
     assert sum(e.door for e in w.ambient.events) == 3
     summer = load_scenario("etve-summer").ambient_temperature(np.arange(0, 72 * 3600 + 1, 60.0))
     assert 7.5 < np.ptp(summer) < 8.0   # 6 K day/night on a 2 K warming spell
+    f = load_scenario("etve-forced")
+    forced = f.ambient_temperature(np.arange(0, 96 * 3600 + 1, 60.0))
+    assert f.duration == 96 * 3600 and (forced.min(), forced.max(), forced[-1]) == (15.0, 30.0, 20.0)
+    assert np.all(f.spindle_speed(np.arange(0, 96 * 3600, 600.0)) == 0)
     tr = load_scenario("etve-training")
     assert tr.duration == 80 * 60 and tr.sample_interval == 10
 
@@ -137,6 +147,36 @@ def test_door_stream_blows_only_while_a_scenario_door_is_open(mm, heat):
     assert np.array_equal(role_facets(mm, "structure.open_front"), open_front)
     facets = np.union1d(open_front, role_facets(mm, "spindle.rotating"))
     assert ls.areas[0] == pytest.approx(mm.facet_area(facets))
+
+
+def test_door_stream_coefficient_and_bar_time_constant_from_their_closed_forms():
+    """The stream's defaults against the correlations the effect cites, air at 20 degC (k 0.0257
+    W/(m K), nu 1.51e-5 m2/s, Pr 0.71): Hilpert's cylinder in cross flow, Nu = C Re^m Pr^(1/3)
+    (C, m = 0.683, 0.466 for 40 < Re < 4000; 0.193, 0.618 up to 40 000), on the C-frame's 40 mm
+    test bar at 2 m/s gives the default h_d (22 W/(m2 K)) within 5 %, and 15-30 W/(m2 K) over
+    1-3 m/s; the laminar plate, Nu =
+    0.664 Re^0.5 Pr^(1/3), on 0.4 m at 1-3 m/s gives 6-11 W/(m2 K); the bar's lumped time
+    constant, tau = rho c d / (4 (h_d + 8)) for a long square or round bar of width d (volume
+    over area d/4), is about 20 min."""
+    from geometries import build_machine
+    from twin.effects.base import EFFECTS
+    k, nu, pr = 0.0257, 1.51e-5, 0.71
+    bar = next(p for p in build_machine("cframe-vmc").parts if p.name == "test_bar")
+    d = bar.boxes[0].hi[0] - bar.boxes[0].lo[0]
+
+    def hilpert(v):
+        re = v * d / nu
+        assert 40 < re < 40000
+        c, m = (0.683, 0.466) if re < 4000 else (0.193, 0.618)
+        return c * re ** m * pr ** (1 / 3) * k / d
+
+    h_d = next(p.default for p in EFFECTS["door_stream"].parameters if p.name == "h")
+    assert d == pytest.approx(0.04) and hilpert(2.0) == pytest.approx(h_d, rel=0.05)
+    assert 15 < hilpert(1.0) < hilpert(3.0) < 30
+    plate = [0.664 * (v * 0.4 / nu) ** 0.5 * pr ** (1 / 3) * k / 0.4 for v in (1.0, 3.0)]
+    assert 5.5 < plate[0] < plate[1] < 11
+    tau = bar.material.density * bar.material.specific_heat * d / (4 * (h_d + 8.0))
+    assert 15 * 60 < tau < 25 * 60
 
 
 @pytest.fixture(scope="module")
