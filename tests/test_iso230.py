@@ -123,6 +123,21 @@ def test_axis_needs_positioning_errors():
     assert np.allclose(ev.air, np.interp(runs, ds.time.values, ds.ambient_temperature.values), rtol=0, atol=1e-12)
     with pytest.raises(InputError, match="two"):
         evaluate(ds.isel(run_time=[0]), "axis", source="r.nc")
+    from validate.iso230_report import sections
+    table = dict(sections(ev))["Positioning-error change at the targets, run by run"]
+    assert table[2:5] == [f"| {t:.3f} h | {a:.3f} | {b:.3f} | {air:.2f} |" for t, a, b, air in
+                          zip(runs / 3600, [0.0, 2.0, 3.0], [0.0, -1.0, -2.0], ev.air)]
+    assert "Positioning-error change at the targets, run by run" not in dict(sections(evaluate(synthetic(), "etve")))
+
+
+def test_conditions_say_when_the_file_has_no_temperature_sensor():
+    """ISO 230-3 lists the sensors; a record without temperature sensors says so instead of
+    leaving the row out."""
+    rows = dict(evaluate(synthetic(), "etve").conditions)
+    assert rows["temperature sensors"] == "3: motor, column_side, bed_front"
+    rows = dict(evaluate(synthetic().drop_vars(["temperature", "temperature_true", "sensor"], errors="ignore"),
+                         "etve").conditions)
+    assert rows["temperature sensors"] == "none in the file"
 
 
 def test_cli_writes_both_reports_with_the_ranges_and_the_warning(tmp_path, capsys):

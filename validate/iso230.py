@@ -61,6 +61,7 @@ class Evaluation:
     segments: list[tuple[float, float]]    # [start, end) s
     steps: list[tuple[float, float, float]] = field(default_factory=list)   # (start s, end s, rpm)
     conditions: list[tuple[str, str]] = field(default_factory=list)
+    runs: bool = False                     # channels read at interferometer runs (the axis test)
 
     @property
     def air_range(self) -> float | None:
@@ -218,7 +219,8 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
         if not np.all(np.isfinite(c.values)):
             raise InputError(source, c.name, f"is not finite (NaN or inf) at {int(np.sum(~np.isfinite(c.values)))} of "
                                              f"its {c.values.size} samples: an ISO 230-3 range of it would be NaN")
-    ev = Evaluation(test, source, t, channels, air, segments_of(t, length), steps)
+    runs = test == "axis" and "positioning_error" in ds
+    ev = Evaluation(test, source, t, channels, air, segments_of(t, length), steps, runs=runs)
     ev.conditions = conditions(ds, ev)
     return ev
 
@@ -245,9 +247,8 @@ def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:
                                              + ("; tilt A from the laser pair" if "laser_tilt" in ds else "")))
     elif "drift" in ds:
         rows.append(("displacement", "true tool-point drift (no probes in the file)"))
-    if "sensor" in ds.coords:
-        names = list(map(str, ds.sensor.values))
-        rows.append(("temperature sensors", f"{len(names)}: {', '.join(names)}"))
+    names = list(map(str, ds.sensor.values)) if "sensor" in ds.coords else []
+    rows.append(("temperature sensors", f"{len(names)}: {', '.join(names)}" if names else "none in the file"))
     if "ambient_temperature" in ds:   # over the whole record (an axis test reads its channels at the runs only)
         air = np.asarray(ds.ambient_temperature.values, float)
         rows.append(("room air", f"{air.min():.2f} to {air.max():.2f} degC (range {np.ptp(air):.2f} K, "

@@ -38,6 +38,15 @@ def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
                 for (a, b, n), r in zip(ev.steps, ranges)]
         units = ", ".join(f"{c.name} [{c.unit}]" for c in ev.channels)
         out.append(("Range within each speed step", _table(["step", "speed"] + names, rows) + ["", f"Units: {units}."]))
+    if ev.runs:
+        rows = [[f"{t / 3600:.3f} h"] + [f"{c.values[i]:.3f}" for c in ev.channels] + ([f"{ev.air[i]:.2f}"] if
+                                                                                      ev.air is not None else [])
+                for i, t in enumerate(ev.time)]
+        head = ["run"] + [c.name for c in ev.channels] + (["room air [degC]"] if ev.air is not None else [])
+        units = ", ".join(sorted({c.unit for c in ev.channels}))
+        out.append(("Positioning-error change at the targets, run by run",
+                    _table(head, rows) + ["", f"Each target's positioning error minus the first run's [{units}], "
+                                              "the mean of both approach directions."]))
     stats = []
     for c in ev.channels:
         rows = [[f"{s['start'] / 3600:.3g}-{s['end'] / 3600:.3g} h", f"{s['min']:.3f}", f"{s['max']:.3f}",
