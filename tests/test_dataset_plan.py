@@ -7,6 +7,9 @@ from __future__ import annotations
 import pytest
 
 from tests.dataset_files import SPEC, write_spec
+
+DAILY = 'kind = "daily"\nmean = ["18 degC", "22 degC"]\namplitude = ["0 K", "3 K"]\ncoldest_at = ["0 h", "24 h"]'
+
 from twin.cli import main
 from twin.dataset import load_spec, plan
 from twin.dataset.spec import spec_from_dict
@@ -105,6 +108,24 @@ BAD = [
      'is not switched on for machine cframe-vmc; switch it on with the spec\'s effects key: effects = "+door_draft"'),
     ('"ambient_convection.h" = "7 W/m2K"', '"belt_drive.power" = "50 W"', "parameters.belt_drive.power",
      "effect 'belt_drive' does not apply to machine cframe-vmc"),
+    # a fixed room and drawn events in a generator family
+    (DAILY, 'kind = "table"\ntimes = ["0 min", "5 min"]\ntemperatures = ["20 degC", "21 degC"]',
+     "scenarios[0].ambient.times", "must cover the scenario's 0 to 0.166667 h"),
+    (DAILY, 'kind = "table"\ntimes = ["0 min", "10 min"]\ntemperatures = ["20 degC", "21 degC"]\nfile = "r.csv"',
+     "scenarios[0].ambient.file", "is not read by kind 'table'"),
+    (DAILY, 'kind = "table"\ntimes = ["0 min", "10 min"]\ntemperatures = ["20 degC", "-300 degC"]',
+     "scenarios[0].ambient.temperatures", "absolute zero"),
+    (DAILY, 'kind = "sunny"', "scenarios[0].ambient.kind", "known for a generator: constant, daily, table, csv"),
+    (DAILY, DAILY + '\n[[scenarios.ambient.events]]\nstart = ["1 min", "10 min"]\nchange = "-5 K"\nfall = "1 min"',
+     "scenarios[0].ambient.events[0].start", "may fall at or after the end"),
+    (DAILY, DAILY + '\n[[scenarios.ambient.events]]\nstart = "1 min"\nchange = "-5 kg"\nfall = "1 min"',
+     "scenarios[0].ambient.events[0].change", "wrong unit"),
+    (DAILY, DAILY + '\n[[scenarios.ambient.events]]\nstart = "1 min"\nchange = "-5 K"\nfal = "1 min"',
+     "scenarios[0].ambient.events[0].fal", "unknown key"),
+    (DAILY, DAILY + '\n[[scenarios.ambient.events]]\nstart = "1 min"\nchange = "-5 K"\nfall = "1 min"\ndoor = "yes"',
+     "scenarios[0].ambient.events[0].door", "expected"),
+    (DAILY, DAILY + ''.join('\n[[scenarios.ambient.events]]\nstart = "1 min"\nchange = "-30 K"\nfall = "1 min"'
+                            for _ in range(2)), "scenarios[0].ambient.events", "outside the plausible room air"),
 ]
 
 
@@ -117,6 +138,38 @@ def test_a_bad_spec_is_one_clear_error_and_nothing_is_written(tmp_path, capsys, 
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"error: {spec}: {field}: ") and message in err, err
     assert not out.exists()
+
+
+def test_a_generator_room_from_a_csv_with_drawn_door_events(tmp_path, capsys):
+    """``kind = "csv"`` in a generator: the record (relative to the spec) is the room of every case,
+    held in the case as a table (the dataset does not depend on the file beside the spec); each
+    event's start is drawn per case within its range; the draws repeat; a missing or short record
+    is one error naming it and the field."""
+    from twin.scenario import scenario_from_dict
+    (tmp_path / "room.csv").write_text("time [min],air [degC]\n0,18\n5,21\n10,19\n", encoding="utf-8")
+    room = ('kind = "csv"\nfile = "room.csv"\n[[scenarios.ambient.events]]\nstart = ["2 min", "8 min"]\n'
+            'change = "-5 K"\nfall = "1 min"\nrecovery = "2 min"\ndoor = true')
+    path = write_spec(tmp_path, SPEC.replace(DAILY, room))
+    cases = [c for c in plan(load_spec(path)) if c.info["family"] == "duty"]
+    assert [c.hash for c in cases] == [c.hash for c in plan(load_spec(path)) if c.info["family"] == "duty"]
+    starts = []
+    for c in cases:
+        ambient = c.record["scenario"]["ambient"]
+        assert ambient["kind"] == "table" and "file" not in ambient
+        sc = scenario_from_dict(c.record["scenario"], "case")
+        (event,) = sc.ambient.events
+        assert event.door and event.change == -5.0 and 120.0 <= event.start <= 480.0
+        assert sc.ambient.base([0.0, 300.0, 450.0]).tolist() == [18.0, 21.0, 20.0]
+        starts.append(event.start)
+    assert starts[0] != starts[1]
+    for text, field, message in (("room.csv", "scenarios[0].ambient.file", "ends at 0.15 h, before"),
+                                 ("none.csv", "scenarios[0].ambient.file", "no such")):
+        (tmp_path / "room.csv").write_text("time [min],air [degC]\n0,18\n9,19\n", encoding="utf-8")
+        spec = write_spec(tmp_path, SPEC.replace(DAILY, room.replace("room.csv", text)))
+        assert main(["dataset", str(spec), "-o", str(tmp_path / "out")]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and f": {field}: " in err and message in err, err
+        assert not (tmp_path / "out").exists()
 
 
 def test_spec_errors_name_the_file_in_library_use():

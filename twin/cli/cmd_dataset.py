@@ -45,7 +45,8 @@ def run(args) -> int:
     spec = load_spec(spec_path)
     for i, f in enumerate(spec.families):      # the families keep the order of [[scenarios]]
         if f.path:
-            files.input(f.path, f"scenarios[{i}].file", "scenario file")
+            files.input(f.path, f"scenarios[{i}].{f.path_field}", "scenario file" if f.path_field == "file"
+                        else "room record")
     folder = files.folder(args.output, "-o", INDEX_FILES)
     cases = plan(spec)
     chosen = cases if args.max_cases is None else cases[:args.max_cases]

@@ -18,9 +18,13 @@ from twin.errors import InputError
 from twin.io.paths import read_toml
 from twin.motion_checks import check_motions
 from twin.scenario import SCENARIO_DIR, scenario_from_dict
+from twin.ambient import EVENT_KEYS, ambient_from_toml, check_air_covers
+from twin.units import parse_quantity
 
 # the keys of a [[scenarios]] family: a scenario file, or a duty-cycle generator
 FAMILY_KEYS = ("family", "cases", "file", "duration", "sample_interval", "spindle", "ambient", "axis")
+GENERATOR_AMBIENT_KEYS = ("kind", "temperature", "mean", "amplitude", "coldest_at", "start_time_of_day", "times",
+                          "temperatures", "file", "events")
 
 
 @dataclass(frozen=True)
@@ -48,6 +52,9 @@ class DutyCycle:
     ambient_kind: str
     ambient: dict   # field -> Dist (SI: degC, K, s)
     axes: tuple = ()   # AxisDuty, one per commanded axis
+    room: dict | None = None   # a fixed room record ("table" or "csv"): {"times": [...], "temperatures": [...]}
+    events: tuple = ()         # per [[scenarios.ambient.events]]: field -> Dist, and "door" (bool)
+    room_file: str = ""        # the CSV the room was read from (an input of the command)
 
 
 @dataclass(frozen=True)
@@ -61,6 +68,7 @@ class Family:
     file: str = ""
     path: str = ""      # the scenario file read (an input of the command)
     generator: DutyCycle | None = None
+    path_field: str = "file"    # the spec's key that named ``path``
 
 
 def read_families(items: list, source: str, folder: Path, machines: dict) -> list[Family]:
@@ -83,9 +91,9 @@ def read_families(items: list, source: str, folder: Path, machines: dict) -> lis
             r.finish()
             out.append(_file_family(name, cases, file, source, folder, r.field("file"), machines))
             continue
-        gen = _duty_cycle(r, source, machines)
+        gen = _duty_cycle(r, source, machines, folder)
         r.finish(("file",))
-        out.append(Family(name, cases, generator=gen))
+        out.append(Family(name, cases, generator=gen, path=gen.room_file, path_field="ambient.file"))
     return out
 
 
@@ -105,7 +113,7 @@ def _file_family(name, cases, file, source, folder, field, machines) -> Family:
     return Family(name, cases, data=data, file=file, path=str(path))
 
 
-def _duty_cycle(r: TableReader, source: str, machines: dict) -> DutyCycle:
+def _duty_cycle(r: TableReader, source: str, machines: dict, folder: Path) -> DutyCycle:
     duration = quantity(r.get("duration", required=True), "time", source, r.field("duration"))
     dt = quantity(r.get("sample_interval", default="10 s"), "time", source, r.field("sample_interval"))
     if dt <= 0 or duration <= 0:
@@ -131,13 +139,15 @@ def _duty_cycle(r: TableReader, source: str, machines: dict) -> DutyCycle:
     if not 0 <= idle <= 1:
         raise InputError(source, s.field("idle_probability"), f"must be from 0 to 1, got {idle}")
     s.finish()
-    a = TableReader(r.get("ambient", required=True, kind=dict), source, r.field("ambient."),
-                    known=("kind", "temperature", "mean", "amplitude", "coldest_at", "start_time_of_day"))
+    raw = r.get("ambient", required=True, kind=dict)
+    a = TableReader(raw, source, r.field("ambient."), known=GENERATOR_AMBIENT_KEYS)
     kind = a.get("kind", default="constant", kind=str)
     lo_air, hi_air = limits.AIR_RANGE
+    room, room_file, amb = None, "", {}
     if kind == "constant":
         amb = {"temperature": distribution(a.get("temperature", required=True), "temperature", source,
                                            a.field("temperature"), lo_air, hi_air)}
+        air = (amb["temperature"].low, amb["temperature"].high)
     elif kind == "daily":
         amb = {"mean": distribution(a.get("mean", required=True), "temperature", source, a.field("mean"), lo_air, hi_air),
                "amplitude": distribution(a.get("amplitude", default="0 K"), "temperature_difference", source,
@@ -146,14 +156,81 @@ def _duty_cycle(r: TableReader, source: str, machines: dict) -> DutyCycle:
                                           0.0, 86400.0),
                "start_time_of_day": distribution(a.get("start_time_of_day", default="0 h"), "time", source,
                                                  a.field("start_time_of_day"), 0.0, 86400.0)}
-        if amb["mean"].low - amb["amplitude"].high < lo_air or amb["mean"].high + amb["amplitude"].high > hi_air:
+        air = (amb["mean"].low - amb["amplitude"].high, amb["mean"].high + amb["amplitude"].high)
+        if air[0] < lo_air or air[1] > hi_air:
             raise InputError(source, a.field("amplitude"), f"mean +/- amplitude may leave the plausible room air "
                                                            f"range ({lo_air:g} to {hi_air:g} degC)")
+    elif kind in ("table", "csv"):
+        room, room_file = _fixed_room(raw, duration, source, a, folder)
+        temps = [parse_quantity(v, "temperature") for v in room["temperatures"]]
+        air = (min(temps), max(temps))
     else:
-        raise InputError(source, a.field("kind"), f"unknown kind {kind!r}; known for a generator: constant, daily")
+        raise InputError(source, a.field("kind"), f"unknown kind {kind!r}; known for a generator: constant, daily, "
+                                                  "table, csv")
+    events = _air_events(a.get("events", default=[], kind=list), duration, air, source, a.field("events"))
     a.finish()
+    if kind in ("table", "csv"):
+        kind = "table"          # a case holds the record itself, not the path of a file beside the spec
     axes = _axis_duties(r.get("axis", default=[], kind=list), source, r.field("axis"), machines)
-    return DutyCycle(duration, dt, step, speed, quantum, float(idle), kind, amb, axes)
+    return DutyCycle(duration, dt, step, speed, quantum, float(idle), kind, amb, axes, room, events, room_file)
+
+
+def _fixed_room(raw: dict, duration: float, source: str, a: TableReader, folder: Path) -> tuple[dict, str]:
+    """A generator's fixed room, ``kind = "table"`` (times, temperatures) or ``"csv"`` (a file
+    relative to the spec, :mod:`twin.io.room_csv`), read and checked by the scenario reader
+    (covering the family's ``duration``): the same air in every case, events drawn on top.
+    Returns ({"times": [...], "temperatures": [...]} as quantity texts, the CSV's path or "")."""
+    for key in ("times", "temperatures", "file"):
+        a.get(key)                        # read here: known to the reader, checked below
+    keys = {"table": ("times", "temperatures"), "csv": ("file",)}[raw["kind"]]
+    stray = [k for k in ("times", "temperatures", "file") if k in raw and k not in keys]
+    if stray:
+        raise InputError(source, a.field(stray[0]), f"is not read by kind {raw['kind']!r} (it takes "
+                                                    f"{', '.join(keys)})")
+    here = str(folder / "spec")          # a csv file is read relative to the spec's folder
+    try:
+        room = ambient_from_toml({k: raw[k] for k in ("kind", *keys) if k in raw}, here)
+        check_air_covers(room, duration, here)
+    except InputError as err:            # the scenario reader's "ambient.KEY" is this family's
+        if not err.field.startswith("ambient."):
+            raise                        # a CSV's own error: its file and column
+        raise InputError(source if err.source == here else err.source, a.field(err.field[len("ambient."):]),
+                         err.message) from None
+    return ({"times": [f"{float(t)!r} s" for t in room.times],
+             "temperatures": [f"{float(v)!r} degC" for v in room.temperatures]}, room.file)
+
+
+def _air_events(items: list, duration: float, air: tuple, source: str, prefix: str) -> tuple:
+    """The generator's ``[[scenarios.ambient.events]]``: each time or change a value, a range or
+    a distribution (drawn per case, like the room's fields), ``door`` true or false; a start
+    before the family's end, and the room with every event at its extreme within the plausible
+    room air."""
+    out = []
+    for i, raw in enumerate(items):
+        if not isinstance(raw, dict):
+            raise InputError(source, f"{prefix}[{i}]", "expected a table with start, change, fall (hold, recovery, "
+                                                       "door optional)")
+        e = TableReader(raw, source, f"{prefix}[{i}].", known=EVENT_KEYS)
+        event = {"change": distribution(e.get("change", required=True), "temperature_difference", source,
+                                        e.field("change"), -40.0, 40.0, what="[-40 .. 40 K]")}
+        for key in ("start", "fall", "hold", "recovery"):
+            value = e.get(key, required=key in ("start", "fall"), default="0 s")
+            event[key] = distribution(value, "time", source, e.field(key), 0.0, duration if key == "start" else 30 * 86400.0,
+                                      what=f"[0 .. {duration:g} s] (the family's duration)" if key == "start"
+                                      else "[0 .. 30 d]")
+        if event["start"].high >= duration:
+            raise InputError(source, e.field("start"), f"may fall at or after the end of the family's "
+                                                       f"{duration / 3600:g} h")
+        event["door"] = e.get("door", default=False, kind=bool)
+        e.finish()
+        out.append(event)
+    lo_air, hi_air = limits.AIR_RANGE
+    low = air[0] + sum(min(ev["change"].low, 0.0) for ev in out)
+    high = air[1] + sum(max(ev["change"].high, 0.0) for ev in out)
+    if out and (low < lo_air or high > hi_air):
+        raise InputError(source, prefix, f"the room with every event at its extreme spans {low:g} .. {high:g} degC, "
+                                         f"outside the plausible room air ({lo_air:g} to {hi_air:g} degC)")
+    return tuple(out)
 
 
 def _axis_duties(items: list, source: str, prefix: str, machines: dict) -> tuple[AxisDuty, ...]:

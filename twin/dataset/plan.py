@@ -86,10 +86,13 @@ def duty_cycle(gen: DutyCycle, name: str, r: np.random.Generator) -> dict:
             speed = min(round(speed / gen.speed_step) * gen.speed_step, gen.speed.upper)
         steps.append({"speed": _q(0.0 if idle else max(speed, 0.0), "speed"), "duration": _q(n * dt, "time")})
         done += n
-    ambient = {"kind": gen.ambient_kind}
+    ambient = {"kind": gen.ambient_kind, **(gen.room or {})}
     for key in sorted(gen.ambient):
         dist = gen.ambient[key]
         ambient[key] = _q(dist.sample(r), dist.dimension)
+    if gen.events:   # drawn after the room, so families without events draw as before
+        ambient["events"] = [{key: value if key == "door" else _q(value.sample(r), value.dimension)
+                              for key, value in event.items()} for event in gen.events]
     data = {"name": name, "sample_interval": _q(dt, "time"), "ambient": ambient, "spindle": steps}
     if gen.axes:   # drawn after the spindle and the room, so families without axes draw as before
         data["axis"] = [axis_duty(a, steps, r) for a in gen.axes]

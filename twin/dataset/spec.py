@@ -41,6 +41,13 @@ Every quantity carries its unit (parsed by :mod:`twin.units`)::
     amplitude = ["0 K", "3 K"]
     coldest_at = ["0 h", "24 h"]        # the phase of the day
     start_time_of_day = "8 h"
+    # kind = "csv" with file = "room.csv" (relative to the spec), or kind = "table" with times and
+    # temperatures: a fixed room, the same in every case, held in each case as a table
+    [[scenarios.ambient.events]]        # optional, any kind: each time and change drawn per case
+    start = ["1 h", "3 h"]
+    change = "-8 K"
+    fall = "20 min"                     # hold, recovery (default 0 s) and door (default false)
+    door = true
     [[scenarios.axis]]                  # optional: an axis duty cycle, one table per axis
     name = "Y"                          # an axis with a feed drive on every machine of the spec
     range = ["0 mm", "280 mm"]          # where the drawn stroke ends fall (within the travel)
