@@ -11,7 +11,7 @@ import pytest
 from geometries.regions import DIRECTIONS, Facing, Parts, partition, region_by_name
 from twin.effects import EFFECTS
 from twin.model import ModelSpec, model_spec
-from twin.scenario import Ambient, Scenario
+from twin.scenario import AirEvent, Ambient, Scenario
 from validate.fit import BoundedFitter, gauss_newton
 from validate.search import Fit
 from validate.candidates import Candidate
@@ -224,6 +224,26 @@ def test_added_heat_responses_on_the_iterative_solver(machine, mm):
 UNCERTAIN = [(e, u.name) for e in sorted(EFFECTS) for u in EFFECTS[e].uncertain]
 
 
+def test_candidates_whose_effect_cannot_act_are_left_out(machine):
+    """The door stream acts only while a scenario's door is open (Effect.acts): on records
+    without one its parameters are no candidates (their responses would be zero), with one they
+    are; the swing's growth with height is a candidate on any record (zero only in a constant
+    room, which the fit then shows); a missing effect named by the user is kept regardless."""
+    from twin.model import model_spec
+    from validate.candidates import candidate_pool
+    spec = model_spec(machine)
+    calm = Scenario("calm", ((3600.0, 0.0),), Ambient("constant", mean=20.0), 60.0)
+    door = Scenario("door", ((3600.0, 0.0),), Ambient("constant", mean=20.0, events=(
+        AirEvent(start=600.0, change=-9.0, fall=600.0, recovery=1200.0, door=True),)), 60.0)
+    names = lambda *scs, **kw: {c.name for c in candidate_pool(machine, spec, scenarios=scs, **kw)}  # noqa: E731
+    stream = {"door_stream.h", "door_stream.temperature_difference"}
+    assert "door_stream" in spec.effects and "stratified_swing.growth" in names(calm)
+    assert not stream & names(calm) and stream <= names(door) and stream <= names(calm, door)
+    less = model_spec(machine, "-door_stream")
+    assert "door_stream" not in {c.name for c in candidate_pool(machine, less, scenarios=(calm,))}
+    assert "door_stream" in {c.name for c in candidate_pool(machine, less, ["door_stream"], scenarios=(calm,))}
+
+
 @pytest.mark.parametrize("effect,name", UNCERTAIN)
 def test_uncertain_parameters_are_declared_linear_or_not_truthfully(machine, mm, effect, name):
     """Every declared uncertain parameter lies in its parameter's bounds with the default inside,
@@ -237,8 +257,9 @@ def test_uncertain_parameters_are_declared_linear_or_not_truthfully(machine, mm,
     assert par.lower <= u.lower <= par.default <= u.upper <= par.upper and u.why
     if not eff.applies_to(machine):
         return
+    door = (AirEvent(start=900.0, change=-9.0, fall=600.0, recovery=1200.0, door=True),)   # door_stream's trigger
     sc = Scenario("u", ((1800.0, 6000.0), (1800.0, 0.0)), Ambient("daily", mean=20.0, amplitude=2.0,
-                                                                   start_time_of_day=11 * 3600.0), 300.0)
+                                                                   start_time_of_day=11 * 3600.0, events=door), 300.0)
     t = sc.times()
     p = {**eff.defaults(), "start": 600.0} if effect == "door_draft" else eff.defaults()
     zero, a, b = (eff.loads(mm, sc, {**p, name: k * u.upper / 2}) for k in (0, 1, 2))

@@ -115,15 +115,20 @@ def wrong_parameters(spec: ModelSpec) -> list[Candidate]:
 
 
 def candidate_pool(machine, spec: ModelSpec, effects: list[str] | None = None, parameters: bool = True,
-                   custom: tuple[str, ...] = ()) -> list[Candidate]:
+                   custom: tuple[str, ...] = (), scenarios: tuple = ()) -> list[Candidate]:
     """The candidates of a diagnosis: every applicable library effect missing from ``spec`` and the
     ``custom`` effects this diagnosis was given (an effects file's; a custom effect left
     registered by an earlier call in the process is no candidate: it once "explained" a test's
     outside source), or exactly ``effects``; then (``parameters``) every uncertain parameter of
-    the model's effects."""
+    the model's effects; with ``scenarios`` (the measurements'), of those (not of the ``effects``
+    named) none whose effect acts in none of them (:meth:`twin.effects.base.Effect.acts`: a door
+    stream without a door event)."""
     from twin.effects.custom import CUSTOM
 
     names = effects if effects is not None else [e for e in applicable_effects(machine)
                                                  if e not in spec.effects and (e not in CUSTOM or e in custom)]
+    def acting(cands):
+        return [c for c in cands if not scenarios or any(EFFECTS[c.effect].acts(sc) for sc in scenarios)]
+
     out = [c for c in (missing_effect(n) for n in names) if c is not None]
-    return out + (wrong_parameters(spec) if parameters else [])
+    return (out if effects is not None else acting(out)) + (acting(wrong_parameters(spec)) if parameters else [])

@@ -268,7 +268,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
         check_prepared(twin, machine, SOURCE, "twin")
         check_beside_prepared(twin, SOURCE, mm, resolution)
     spec = spec or default_spec(machine)
-    pool = candidate_pool(machine, spec, candidates, parameters, custom)
+    pool = candidate_pool(machine, spec, candidates, parameters, custom, tuple(sc for _, _, sc in measurements))
     stage = Stages(progress, 1 + len(measurements) + len(pool))
     twin = twin or PreparedTwin(machine, mm, coarse_unless_given(mm, resolution))
     evidence = Evidence([rec for lab, ds, sc in measurements for rec in make_records(lab, ds, sc, machine, twin)])

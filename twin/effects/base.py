@@ -140,6 +140,12 @@ class Effect:
         """The declared :class:`Uncertain` range of parameter ``name`` (None if it is not declared)."""
         return next((u for u in self.uncertain if u.name == name), None)
 
+    def acts(self, scenario) -> bool:
+        """False only where this effect certainly puts no load into a run of ``scenario``
+        (the door stream without a door event): the diagnosis then offers neither it nor its
+        parameters as candidates, whose responses would be zero."""
+        return True
+
     def loads(self, mm, scenario, params: dict[str, float]) -> list:
         raise NotImplementedError
 

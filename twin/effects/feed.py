@@ -195,6 +195,8 @@ class FeedScrewGap(_AxisEffect):
     reference = "VDI Heat Atlas (2010) E2/K1 (gas gap conduction, radiation between surfaces)"
     role_keys = ("screw_gap", "structure_side")
     parameters = (Parameter("conductance", "heat_transfer_coefficient", 10.0, 0.1, 1000.0, "gap conductance per area"),)
+    uncertain = (Uncertain("conductance", 3.0, 30.0, "the gap's width (5-20 mm of air) and the surfaces' "
+                                                     "emissivity: conduction k_air / gap plus radiation"),)
 
     def loads(self, mm, scenario, p):
         h = p["conductance"]

@@ -124,7 +124,11 @@ class StratifiedSwing(LayeredAir):
         Parameter("reference_height", "length", 0.5, 0.0, 3.0, "height z_ref where the air swings as the room's"),
         SKIN_H,
     )
-    # no Uncertain range: with constant room air (most diagnosis scenarios) s leaves no trace
+    uncertain = (
+        Uncertain("growth", 0.0, 1.5, "a well-mixed hall (0) to one heated under its roof by day; the default is "
+                                      "chosen near the top of that range to meet the seed's ETVE magnitudes, and "
+                                      "with constant room air it leaves no trace", linear=True),
+    )
 
     def layer(self, scenario, p):
         """s (z - z_ref) (T_air(t) - T_air(0)), the door events left out (:func:`layered_swing`)."""

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import numpy as np
 
 from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, Uncertain, constant,
                                register_effect, speed_power_law)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from twin.effects.base import Convection, Effect, Parameter, register_effect
+from twin.effects.base import Convection, Effect, Parameter, Uncertain, register_effect
 from twin.fem.regions import role_facets
 
 
@@ -52,10 +52,19 @@ class DoorStream(Effect):
         Parameter("temperature_difference", "temperature_difference", -12.0, -40.0, 40.0,
                   "stream minus mixed room air dT"),
     )
-    # no Uncertain range: the diagnosis's scenarios open no door, where h_d leaves no trace
+    uncertain = (      # they leave no trace in a record without a door event (scenario door = true)
+        Uncertain("h", 6.0, 40.0, "a 1-4 m/s stream: 6-11 W/(m2 K) on the castings' plates, 15-30 round the "
+                                  "test bar (Hilpert); how far it reaches the machine depends on the door"),
+        Uncertain("temperature_difference", -25.0, 0.0, "the outside air in winter, mixed on its way in: from the "
+                                                        "room's own air to 25 K below it"),
+    )
+
+    def acts(self, scenario) -> bool:
+        """Only while a door of the scenario is open."""
+        return any(e.door for e in getattr(scenario.ambient, "events", ()))
 
     def loads(self, mm, scenario, p):
-        if not any(e.door for e in getattr(scenario.ambient, "events", ())):
+        if not self.acts(scenario):
             return []   # no door in this scenario: no load (and no input for a reduced model)
         facets = np.union1d(role_facets(mm, "structure.open_front"), role_facets(mm, "spindle.rotating"))
         h, dT = p["h"], p["temperature_difference"]
