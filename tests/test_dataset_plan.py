@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.dataset_files import SPEC, write_spec
+from tests.dataset_files import REF, SPEC, write_spec
 
 DAILY = 'kind = "daily"\nmean = ["18 degC", "22 degC"]\namplitude = ["0 K", "3 K"]\ncoldest_at = ["0 h", "24 h"]'
 
@@ -170,6 +170,32 @@ def test_a_generator_room_from_a_csv_with_drawn_door_events(tmp_path, capsys):
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and f": {field}: " in err and message in err, err
         assert not (tmp_path / "out").exists()
+
+
+def test_a_scenario_files_room_record_is_read_beside_it_and_held_by_the_case(tmp_path, monkeypatch):
+    """A file family whose scenario reads ``ambient.file``: the record is found beside the scenario
+    (not in the folder the command runs from, where a file of the same name must not be used)
+    and the case holds its values as a table, so a changed record is a changed case (its hash)."""
+    sub = tmp_path / "scenarios"
+    sub.mkdir()
+    (sub / "room.csv").write_text("time [h],air [degC]\n0,20\n1,21\n", encoding="utf-8")
+    (sub / "ref.toml").write_text(REF.replace('kind = "constant"\ntemperature = "20 degC"',
+                                              'kind = "csv"\nfile = "room.csv"'), encoding="utf-8")
+    path = write_spec(tmp_path, SPEC.replace('file = "ref.toml"', 'file = "scenarios/ref.toml"'))
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "room.csv").write_text("time [h],air [degC]\n0,30\n1,30\n", encoding="utf-8")
+    monkeypatch.chdir(elsewhere)
+
+    def reference():
+        (case,) = [c for c in plan(load_spec(path)) if c.info["family"] == "reference"]
+        return case
+    first = reference()
+    ambient = first.record["scenario"]["ambient"]
+    assert ambient["kind"] == "table" and "file" not in ambient
+    assert [float(v.split()[0]) for v in ambient["temperatures"]] == [20.0, 21.0]
+    (sub / "room.csv").write_text("time [h],air [degC]\n0,20\n1,22\n", encoding="utf-8")
+    assert reference().hash != first.hash
 
 
 def test_spec_errors_name_the_file_in_library_use():

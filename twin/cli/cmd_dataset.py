@@ -44,9 +44,8 @@ def run(args) -> int:
     spec_path = files.input(bundled_or_path(args.spec), "spec", "dataset spec")
     spec = load_spec(spec_path)
     for i, f in enumerate(spec.families):      # the families keep the order of [[scenarios]]
-        if f.path:
-            files.input(f.path, f"scenarios[{i}].{f.path_field}", "scenario file" if f.path_field == "file"
-                        else "room record")
+        for path, key, what in f.inputs:
+            files.input(path, f"scenarios[{i}].{key}", what)
     folder = files.folder(args.output, "-o", INDEX_FILES)
     cases = plan(spec)
     chosen = cases if args.max_cases is None else cases[:args.max_cases]

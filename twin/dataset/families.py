@@ -66,9 +66,8 @@ class Family:
     cases: int
     data: dict | None = None
     file: str = ""
-    path: str = ""      # the scenario file read (an input of the command)
     generator: DutyCycle | None = None
-    path_field: str = "file"    # the spec's key that named ``path``
+    inputs: tuple = ()  # (path, the family's key that names it, what it is): files the command reads
 
 
 def read_families(items: list, source: str, folder: Path, machines: dict) -> list[Family]:
@@ -93,7 +92,8 @@ def read_families(items: list, source: str, folder: Path, machines: dict) -> lis
             continue
         gen = _duty_cycle(r, source, machines, folder)
         r.finish(("file",))
-        out.append(Family(name, cases, generator=gen, path=gen.room_file, path_field="ambient.file"))
+        room = ((gen.room_file, "ambient.file", "room record"),) if gen.room_file else ()
+        out.append(Family(name, cases, generator=gen, inputs=room))
     return out
 
 
@@ -110,7 +110,20 @@ def _file_family(name, cases, file, source, folder, field, machines) -> Family:
     for m in machines.values():
         limits.check_scenario(sc, m)
         check_motions(sc, m)
-    return Family(name, cases, data=data, file=file, path=str(path))
+    inputs = ((str(path), "file", "scenario file"),)
+    if sc.ambient.kind == "csv":     # the case holds the record, read relative to the scenario file
+        data = {**data, "ambient": {**data["ambient"], **room_table(sc.ambient)}}
+        del data["ambient"]["file"]
+        inputs += ((sc.ambient.file, "file", "room record (the scenario's ambient.file)"),)
+    return Family(name, cases, data=data, file=file, inputs=inputs)
+
+
+def room_table(room) -> dict:
+    """A room record or table (:class:`twin.ambient.Ambient`) as a scenario's ``[ambient]`` keys
+    of kind ``table`` (times [s] and temperatures [degC] as exact quantity texts): a dataset's case
+    holds the record itself, so its hash covers the values and it needs no file beside the spec."""
+    return {"kind": "table", "times": [f"{float(t)!r} s" for t in room.times],
+            "temperatures": [f"{float(v)!r} degC" for v in room.temperatures]}
 
 
 def _duty_cycle(r: TableReader, source: str, machines: dict, folder: Path) -> DutyCycle:
@@ -196,8 +209,8 @@ def _fixed_room(raw: dict, duration: float, source: str, a: TableReader, folder:
             raise                        # a CSV's own error: its file and column
         raise InputError(source if err.source == here else err.source, a.field(err.field[len("ambient."):]),
                          err.message) from None
-    return ({"times": [f"{float(t)!r} s" for t in room.times],
-             "temperatures": [f"{float(v)!r} degC" for v in room.temperatures]}, room.file)
+    table = room_table(room)
+    return {k: table[k] for k in ("times", "temperatures")}, room.file
 
 
 def _air_events(items: list, duration: float, air: tuple, source: str, prefix: str) -> tuple:
