@@ -28,7 +28,7 @@ import numpy as np
 
 from learners._checks import VALUE_LIMIT, is_constant as _is_constant
 from twin.errors import InputError
-from twin.io.measurement import NETCDF_UNITS, stated_units
+from twin.io.results import result_unit, stated_units
 from twin.io.paths import input_file, read_text
 from twin.limits import check_displacements, check_strains, check_temperatures
 from twin.units import UnitError, parse_quantity
@@ -37,10 +37,6 @@ __all__ = ["Table", "load_table", "check_problem", "MIN_ROWS"]
 
 MIN_ROWS = 3
 _NETCDF_EXT = (".nc", ".nc4", ".netcdf", ".cdf", ".h5", ".hdf5")
-# the units a twin result gives its variables (its ``*_true`` twins alike): a NetCDF table is read
-# as one, so a variable it uses states its unit, and a variable of these names states this one
-RESULT_UNITS = {**NETCDF_UNITS, "drift": "um", "probe_drift": "um", "tilt": "urad", "laser_tilt": "urad",
-                "heat_power": "W"}
 # what a value in these units must be (a machine's temperatures, errors and strains: twin.limits)
 _PLAUSIBLE = {"degC": lambda v, src, f: check_temperatures(v, src, f, "structure"),
               "um": lambda v, src, f: check_displacements(v * 1e-6, src, f),
@@ -224,11 +220,11 @@ def _finite(path, column, values):
 
 def variable_unit(path, ds, var: str, address: str) -> str:
     """The unit ``var`` states (its ``units`` attribute): required, and a variable a twin result
-    holds (:data:`RESULT_UNITS`) must state the result's unit (a drift in mm read as um would be
+    holds (:func:`twin.io.results.result_unit`) must state the result's unit (a drift in mm read as um would be
     1000 times too small), else an :class:`InputError` naming the file and ``address``."""
     stated = stated_units(ds, var)
     stated = "" if stated is None else str(stated).strip()
-    expected = RESULT_UNITS.get(var.removesuffix("_true"))
+    expected = result_unit(var)
     if not stated:
         raise InputError(path, address, f"{var!r} states no units"
                          + (f" (a twin result holds it in {expected!r})" if expected else "")

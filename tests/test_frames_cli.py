@@ -157,6 +157,20 @@ def test_a_nan_pixel_is_refused_with_its_frame_time(capsys, work):
     assert not (work / "fr3").exists()
 
 
+@pytest.mark.parametrize("var,unit", [("thermogram", "K"), ("frame_time", "min")])
+def test_a_camera_variable_in_another_unit_is_refused(capsys, work, var, unit):
+    """A thermogram in K (exported as degC it was 273 K too warm) or frame times in minutes (the
+    sidecars said seconds): ``error: u.nc: VAR: in 'UNIT'``, no output folder."""
+    ds = xr.load_dataset(work / "x.nc")
+    ds[var].attrs["units"] = unit
+    if var == "frame_time":          # xarray decodes a time unit it knows; keep the number as written
+        ds[var].encoding.pop("units", None)
+    ds.to_netcdf(work / "u.nc")
+    err = _error(capsys, ["frames", "u.nc", "-o", "fr5", "--tiff"])
+    assert err.startswith(f"error: u.nc: {var}: in '{unit}'"), err
+    assert not (work / "fr5").exists()
+
+
 def test_an_input_that_is_not_a_netcdf_result_or_is_a_folder(capsys, work):
     """A scenario as the result: one short line (no xarray URLs); a folder: "is a directory"."""
     err = _error(capsys, ["frames", "s.toml", "-o", "f"])

@@ -196,7 +196,7 @@ def test_a_log_from_its_own_clock_is_reported_on_that_clock(tmp_path, capsys):
     assert spindle[0]["start_s"] == 28800.0 and spindle[0]["end_s"] == 28800.0 + 600.0
 
 
-def test_a_measurement_of_another_machine_or_unit_or_span_is_refused(tmp_path):
+def test_a_measurement_of_another_machine_or_unit_or_span_is_refused(tmp_path, capsys):
     """API audit: a NetCDF measurement is read as a twin result, so a variable in another unit
     (probes in mm were read as um) is refused; compare refuses a model of another machine or
     one shorter than the measurement (it held the model flat past its end); diagnose refuses a
@@ -212,6 +212,23 @@ def test_a_measurement_of_another_machine_or_unit_or_span_is_refused(tmp_path):
     with pytest.raises(InputError, match="probe: in 'mm'"):
         read_measurement(tmp_path / "mm.nc")
     ds["probe"].attrs["units"] = "um"
+    # every variable a result writes, read by every command that reads a result (it reported a
+    # drift in mm and a tilt in mrad 1000 times too small, a temperature in K as degC)
+    from twin.cli import main
+    for var, unit in (("probe_drift", "mm"), ("drift", "mm"), ("tilt", "mrad"), ("tilt_true", "mrad"),
+                      ("temperature", "K")):
+        bad = ds.copy(deep=True)
+        bad[var].attrs["units"] = unit
+        bad.to_netcdf(tmp_path / "u.nc")
+        with pytest.raises(InputError, match=f"{var}: in '{unit}'"):
+            read_measurement(tmp_path / "u.nc")
+        for argv in (["report", "iso230-3", str(tmp_path / "u.nc"), "-o", str(tmp_path / "rep")],
+                     ["plot", str(tmp_path / "u.nc"), "-o", str(tmp_path / "u.png")],
+                     ["compare", str(tmp_path / "u.nc"), "--mesh", "coarse"]):
+            assert main(argv) == 2
+            err = capsys.readouterr().err
+            assert err.count("\n") == 1 and f"u.nc: {var}: in '{unit}'" in err, (argv, err)
+        assert not (tmp_path / "rep").exists() and not (tmp_path / "u.png").exists()
     other = ds.assign_attrs(machine="belt-vmc")
     with pytest.raises(InputError, match="the measurement is of machine 'belt-vmc', the model of 'cframe-vmc'"):
         compare(other, ds)

@@ -29,14 +29,23 @@ def add_parser(sub) -> None:
 
 
 def open_result(path: Path, field: str = "result"):
-    """The NetCDF result ``path`` opened lazily (frames are read one by one); anything xarray
-    cannot open is one :class:`InputError`."""
+    """The NetCDF result ``path`` opened lazily (frames are read one by one), each variable the
+    twin writes in the twin's unit (:func:`twin.io.results.check_result_units`: a thermogram in K
+    exported as degC would be 273 K off); anything xarray cannot open is one :class:`InputError`."""
     import xarray as xr
 
+    from twin.io.results import check_result_units
+
     try:
-        return xr.open_dataset(path)
+        ds = xr.open_dataset(path)
     except Exception:  # noqa: BLE001 - any reader failure is a bad file for the user
         raise InputError(str(path), field, "not a NetCDF result file") from None
+    try:
+        check_result_units(ds, str(path))
+    except InputError:
+        ds.close()
+        raise
+    return ds
 
 
 def declare_output(files, output: str, layout: list[str], field: str = "-o", cameras: dict | None = None) -> Path:

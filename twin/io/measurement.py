@@ -79,7 +79,7 @@ from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml, same_file
-from twin.io.results import read_result
+from twin.io.results import check_result_units, read_result
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
@@ -152,34 +152,10 @@ def _with_channels(ds: xr.Dataset, src: str) -> xr.Dataset:
 
 # the units of a twin result's variables, which a NetCDF measurement must use (it is read as is;
 # a CSV with its mapping converts any unit)
-NETCDF_UNITS = {"time": "s", "temperature": "degC", "ambient_temperature": "degC", "probe": "um", "laser": "um",
-                "strain": "um/m", "strain_raw": "um/m", "spindle_speed": "rpm", "c_axis_speed": "rpm",
-                "axis_position": "mm", "positioning_error": "um"}
-
-
-def stated_units(ds: xr.Dataset, var: str) -> str | None:
-    """The unit variable ``var`` of ``ds`` states: its ``units`` attribute, or the one xarray moved
-    into its encoding while decoding (None when it states none)."""
-    return ds[var].attrs.get("units", ds[var].encoding.get("units"))
-
-
-def _check_netcdf_units(ds: xr.Dataset, src: str) -> None:
-    """Each variable of :data:`NETCDF_UNITS` that states a unit states the twin's (probes in mm
-    were read as um, 1000 times too small)."""
-    for var, unit in NETCDF_UNITS.items():
-        if var not in ds.variables:
-            continue
-        stated = stated_units(ds, var)
-        if stated is not None and str(stated).strip() != unit:
-            raise InputError(src, var, f"in {str(stated)!r}; a NetCDF measurement is read as a twin result, which holds "
-                                       f"{var} in {unit!r}: convert it, or give a CSV with a column mapping "
-                                       "(which takes any unit)")
-
-
 def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
     """Units and physical limits of a NetCDF measurement's inputs and sensors (the CSV reader
     checks its columns as it reads them)."""
-    _check_netcdf_units(ds, src)
+    check_result_units(ds, src)
     if "spindle_speed" in ds:
         limits.check_speeds(ds.spindle_speed.values, mach, src, "spindle_speed", logged=True)
     if "ambient_temperature" in ds:

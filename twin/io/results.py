@@ -146,11 +146,49 @@ def check_finite(ds: xr.Dataset, source: str) -> None:
         raise InputError(source, str(name), f"holds NaN or infinite values{where}")
 
 
+# the unit each variable of a twin result is written in (its ``*_true`` twin alike); a NetCDF file
+# the twin reads (a result, a measurement, a learner's table) must state these where it states one
+RESULT_UNITS = {"time": "s", "temperature": "degC", "ambient_temperature": "degC", "probe": "um", "laser": "um",
+                "strain": "um/m", "strain_raw": "um/m", "spindle_speed": "rpm", "c_axis_speed": "rpm",
+                "axis_position": "mm", "positioning_error": "um", "drift": "um", "probe_drift": "um", "tilt": "urad",
+                "laser_tilt": "urad", "heat_power": "W"}
+# a camera's variables, ``<name>`` or ``<name>_<camera>`` (twin.io.thermography)
+CAMERA_UNITS = {"thermogram": "degC", "surface_temperature": "degC", "frame_time": "s", "camera_lut": "degC"}
+
+
+def result_unit(var: str) -> str | None:
+    """The unit a twin result holds variable ``var`` in (None for one it does not write)."""
+    base = str(var).removesuffix("_true")
+    if base in RESULT_UNITS:
+        return RESULT_UNITS[base]
+    return next((unit for name, unit in CAMERA_UNITS.items() if base == name or base.startswith(name + "_")), None)
+
+
+def stated_units(ds: xr.Dataset, var: str) -> str | None:
+    """The unit variable ``var`` of ``ds`` states: its ``units`` attribute, or the one xarray moved
+    into its encoding while decoding (None when it states none)."""
+    return ds[var].attrs.get("units", ds[var].encoding.get("units"))
+
+
+def check_result_units(ds: xr.Dataset, source: str) -> None:
+    """Every variable of ``ds`` a twin result writes (:func:`result_unit`) that states a unit
+    states the twin's, else one :class:`InputError` naming ``source`` and the variable: a drift in
+    mm or a tilt in mrad read as um and urad would be 1000 times too small, a thermogram in K
+    273 K too warm."""
+    for var in ds.variables:
+        expected, stated = result_unit(str(var)), stated_units(ds, var)
+        if expected is not None and stated is not None and str(stated).strip() != expected:
+            raise InputError(source, str(var), f"in {str(stated)!r}; a NetCDF file is read as a twin result, which "
+                                               f"holds {var} in {expected!r}: convert it, or give a CSV with a "
+                                               "column mapping (which takes any unit)")
+
+
 def read_result(path: str | os.PathLike, field: str = "file", required: tuple[str, ...] = (),
                 min_samples: int = 2) -> xr.Dataset:
     """Load a NetCDF result or measurement, checked: a readable regular file
     (:func:`twin.io.paths.input_file`), a strictly increasing ``time`` coordinate with at least
-    ``min_samples`` samples, every ``required`` variable present, no NaN or inf anywhere
+    ``min_samples`` samples, every ``required`` variable present, every variable the twin writes in
+    the twin's unit where it states one (:func:`check_result_units`), no NaN or inf anywhere
     (:class:`twin.errors.InputError` naming file and variable)."""
     if isinstance(required, str) or not all(isinstance(v, str) for v in required):
         raise InputError("command line", "required", f"expected a tuple of variable names, got {required!r}")
@@ -173,5 +211,6 @@ def read_result(path: str | os.PathLike, field: str = "file", required: tuple[st
     missing = [v for v in required if v not in ds]
     if missing:
         raise InputError(str(path), missing[0], "missing variable; is this a twin result?")
+    check_result_units(ds, str(path))
     check_finite(ds, str(path))
     return ds
