@@ -97,6 +97,9 @@ SCENARIO_EDITS = [
     ("event-door-not-bool", edited(AMBIENT, AMBIENT + EVENT + 'door = "yes"\n'), "ambient.events[0].door"),
     ("event-unknown-key", edited(AMBIENT, AMBIENT + EVENT + 'colour = "red"\n'), "ambient.events[0].colour"),
     ("event-below-absolute-zero", edited(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-400 K"')), "ambient.events"),
+    # a spike without hold or recovery jumps back at its peak: the air just before it is checked
+    ("event-spike-below-plausible-air", edited(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-100 K"')
+                                               .replace('"30 min"', '"9.5 s"')), "ambient.events"),
     ("events-not-tables", edited(AMBIENT, AMBIENT + '\nevents = 3'), "ambient.events"),
     ("csv-file-not-a-string", edited(AMBIENT, '[ambient]\nkind = "csv"\nfile = 3'), "ambient.file"),
     ("csv-file-missing-key", edited(AMBIENT, '[ambient]\nkind = "csv"'), "ambient.file"),

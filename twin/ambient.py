@@ -169,10 +169,12 @@ def check_ambient(a: Ambient, source: str) -> None:
         if not isinstance(e.door, bool):
             raise InputError(source, f"{where}.door", f"expected true or false, got {describe(e.door)}")
     if a.events:
-        # the extremes of base + events: at every event's corners (the events are piecewise linear)
-        # and on a fine grid for the base (events apart from each other do not add up)
-        corners = [t for e in a.events for t in (e.start, e.start + e.fall, e.start + e.fall + e.hold, e.end)]
-        t = np.union1d(np.linspace(0.0, max(corners) + 86400.0, 8001), corners)
+        # the extremes of base + events: at every event's corners, from both sides (the events are
+        # piecewise linear, and one without hold and recovery jumps back at its peak) and on a
+        # fine grid for the base (events apart from each other do not add up)
+        corners = np.array([t for e in a.events for t in (e.start, e.start + e.fall, e.start + e.fall + e.hold, e.end)])
+        sides = np.concatenate([corners, np.nextafter(corners, -np.inf), np.nextafter(corners, np.inf)])
+        t = np.union1d(np.linspace(0.0, corners.max() + 86400.0, 8001), sides[sides >= 0])
         air = a(t)
         limits.check_temperatures([air.min(), air.max()], source, "ambient.events")
 
