@@ -20,7 +20,6 @@ increasing, fewer than ``min_rows`` rows.
 from __future__ import annotations
 
 import csv
-import io
 import math
 from typing import NamedTuple
 
@@ -28,6 +27,7 @@ import numpy as np
 
 from learners._checks import VALUE_LIMIT, is_constant as _is_constant
 from twin.errors import InputError
+from twin.io.csv_rows import cell_number, data_rows
 from twin.io.results import result_unit, stated_units
 from twin.io.paths import input_file, read_text
 from twin.limits import check_displacements, check_strains, check_temperatures
@@ -119,9 +119,7 @@ def _is_netcdf(path):
 
 def _parse(path, column, line, text):
     try:
-        if "_" in text:             # Python reads 6_0 as 60; a measurement file means no such number
-            raise ValueError(text)
-        value = float(text)
+        value = cell_number(text)   # plain ASCII numbers: float() also reads 6_0 and Unicode digits
     except ValueError:
         raise InputError(path, column, f"line {line}: non-numeric value {text.strip()!r}") from None
     if math.isnan(value) or math.isinf(value):
@@ -134,13 +132,14 @@ def _parse(path, column, line, text):
 
 def _load_csv(path, target, inputs, time_column, field="file"):
     try:
-        rows = list(csv.reader(io.StringIO(read_text(path, field, "table"), newline="")))
+        lines, rows = data_rows(read_text(path, field, "table"))
     except csv.Error as exc:
         raise InputError(path, "file", f"cannot read CSV: {exc}") from None
-    rows = [r for r in rows if any(cell.strip() for cell in r)]
     if not rows:
         raise InputError(path, "header", "empty file")
     header = [h.strip() for h in rows[0]]
+    if "" in header:
+        raise InputError(path, "header", f"column {header.index('') + 1} has no name; name every column")
     if len(set(header)) != len(header):
         dup = sorted({h for h in header if header.count(h) > 1})
         raise InputError(path, dup[0], "duplicate column name")
@@ -155,8 +154,7 @@ def _load_csv(path, target, inputs, time_column, field="file"):
     used = [time_column, target, *inputs]
     index = [header.index(c) for c in used]
     data = np.empty((len(rows) - 1, len(used)))
-    for i, row in enumerate(rows[1:]):
-        line = i + 2
+    for i, (line, row) in enumerate(zip(lines[1:], rows[1:])):
         if len(row) != len(header):
             raise InputError(path, f"line {line}", f"{len(row)} fields, header has {len(header)}")
         for k, (name, j) in enumerate(zip(used, index)):

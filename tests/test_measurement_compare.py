@@ -196,8 +196,8 @@ GANTRY_MAP = ('machine = "gantry-ram"\n[columns.min]\nrole = "time"\nunit = "min
     # a missing key in words, not "got None"
     (GANTRY_CSV, GANTRY_MAP, "m.toml", 'columns.F1.reading: missing; expected "compensated"'),
     # an infinite cell is not finite, not "missing/NaN"
-    (SMALL_CSV.replace("20.1", "inf"), SMALL_MAP, "m.csv", "T: data row 2: not finite (inf)"),
-    (SMALL_CSV.replace("20.1", "nan"), SMALL_MAP, "m.csv", "T: 1 missing/NaN value(s), first at data row 2"),
+    (SMALL_CSV.replace("20.1", "inf"), SMALL_MAP, "m.csv", "T: line 3: not finite (inf)"),
+    (SMALL_CSV.replace("20.1", "nan"), SMALL_MAP, "m.csv", "T: 1 missing/NaN value(s), first at line 3"),
 ])
 def test_mapping_and_cell_errors_name_the_key_in_words(tmp_path, csv, mapping, source, message):
     (tmp_path / "m.csv").write_text(csv)

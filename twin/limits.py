@@ -281,9 +281,10 @@ def check_acceleration(value: float, source: str, field: str) -> float:
 
 
 def plain_int(text) -> int:
-    """``text`` as an integer written in plain digits with an optional sign (Python's int() also
-    reads 1_0 as 10, which no user means), else ValueError."""
-    if not re.fullmatch(r"\s*[+-]?\d+\s*", str(text)):
+    """``text`` as an integer written in plain ASCII digits with an optional sign (Python's int()
+    also reads 1_0 as 10 and Arabic-Indic or full-width digits, which no user means), else
+    ValueError."""
+    if not re.fullmatch(r"\s*[+-]?[0-9]+\s*", str(text)):
         raise ValueError(f"not a whole number: {text!r}")
     return int(text)
 

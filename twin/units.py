@@ -48,7 +48,7 @@ _EXAMPLES = {"time": "10 s", "speed": "6000 rpm", "temperature": "20 degC", "tem
              "heat_flux": "100 W/m2", "length": "150 mm", "velocity": "20 mm/s", "acceleration": "100 mm/s2",
              "strain": "50 um/m", "thermal_strain": "11.5 um/m/K", "angle": "10 deg", "dimensionless": "0.5"}
 
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_NUMBER = r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?"   # ASCII digits: a "٩٠٠٠ rpm" is no number
 _PATTERN = re.compile(rf"^\s*({_NUMBER})\s*(.*?)\s*$")
 
 

@@ -228,7 +228,8 @@ def _air_events(items: list, duration: float, air: tuple, source: str, prefix: s
                                         e.field("change"), -40.0, 40.0, what="[-40 .. 40 K]")}
         for key in ("start", "fall", "hold", "recovery"):
             value = e.get(key, required=key in ("start", "fall"), default="0 s")
-            event[key] = distribution(value, "time", source, e.field(key), 0.0, duration if key == "start" else 30 * 86400.0,
+            top = duration if key == "start" else 30 * 86400.0
+            event[key] = distribution(value, "time", source, e.field(key), 0.0, top,
                                       what=f"[0 .. {duration:g} s] (the family's duration)" if key == "start"
                                       else "[0 .. 30 d]")
         if event["start"].high >= duration:

@@ -48,7 +48,6 @@ Plausible limits (one effect on a machine tool; a value beyond them is a unit sl
 from __future__ import annotations
 
 import csv
-import io
 import re
 from pathlib import Path
 
@@ -387,57 +386,52 @@ def _table(spec, src: str, where: str, folder: Path) -> tuple[Path, tuple[np.nda
         scale = parse_quantity(f"1 {unit}", "time")
     except UnitError as err:
         raise InputError(src, where + ".time_unit", str(err)) from None
+    from twin.io.csv_rows import NUMBER, cell_number, data_rows
     from twin.io.paths import read_text
 
     path = folder / name
     csv_src = str(path)
     try:
-        rows = [row for row in csv.reader(io.StringIO(read_text(path, "file", "schedule table"), newline=""))
-                if row and any(c.strip() for c in row)]
+        lines, rows = data_rows(read_text(path, "file", "schedule table"))
     except csv.Error as err:
         raise InputError(csv_src, "table", f"not a readable CSV file ({err})") from None
     if len(rows) < 3:
         raise InputError(csv_src, "table", "needs a header row (e.g. 'time,factor') and at least two data rows")
-    for i, row in enumerate(rows, start=1):
+    for line, row in zip(lines, rows):
         if len(row) != 2:
-            raise InputError(csv_src, f"line {i}", f"has {len(row)} fields; expected two columns: time, factor")
-    if all(_is_number(c) for c in rows[0]):
+            raise InputError(csv_src, f"line {line}", f"has {len(row)} fields; expected two columns: time, factor")
+    if all(NUMBER.fullmatch(c.strip()) for c in rows[0]):
         raise InputError(csv_src, "header", f"the first row {','.join(rows[0])!r} is numbers; the table needs a "
                                             "header row such as 'time,factor'")
     values = np.empty((len(rows) - 1, 2))
-    for i, row in enumerate(rows[1:]):
+    for i, (line, row) in enumerate(zip(lines[1:], rows[1:])):
         for j, cell in enumerate(row):
             what = ("time", "factor")[j]
             try:
-                values[i, j] = float(cell)
+                values[i, j] = cell_number(cell)
             except ValueError:
-                raise InputError(csv_src, what, f"line {i + 2}: {cell.strip()!r} is not a number") from None
+                raise InputError(csv_src, what, f"line {line}: {cell.strip()!r} is not a number") from None
             if not np.isfinite(values[i, j]):
-                raise InputError(csv_src, what, f"line {i + 2}: {cell.strip()!r} is not a finite number")
+                raise InputError(csv_src, what, f"line {line}: {cell.strip()!r} is not a finite number")
     times, factors = values[:, 0] * scale, values[:, 1]
     if times[0] != 0:
-        raise InputError(csv_src, "time", f"line 2: the table starts at {rows[1][0].strip()} {unit}; it must start "
+        raise InputError(csv_src, "time", f"line {lines[1]}: the table starts at {rows[1][0].strip()} {unit}; it "
+                                          "must start "
                                           "at 0, the run's start (times count from it; nothing is extrapolated)")
     step = np.diff(times)
     if np.any(step <= 0):
         i = int(np.flatnonzero(step <= 0)[0])
-        raise InputError(csv_src, "time", f"must increase strictly (line {i + 3}: {rows[i + 2][0].strip()} after "
+        raise InputError(csv_src, "time", f"must increase strictly (line {lines[i + 2]}: {rows[i + 2][0].strip()} "
+                                          "after "
                                           f"{rows[i + 1][0].strip()} {unit})")
     bad = np.flatnonzero((factors < 0) | (factors > MAX_FACTOR))
     if bad.size:
         i = int(bad[0])
-        raise InputError(csv_src, "factor", f"line {i + 2}: {factors[i]:g} is outside 0 to {MAX_FACTOR:g} (the "
+        raise InputError(csv_src, "factor", f"line {lines[i + 1]}: {factors[i]:g} is outside 0 to {MAX_FACTOR:g} (the "
                                             "factor multiplies the effect's strength; a sink has a negative "
                                             "strength, not a negative factor)")
     return path, (times, factors)
 
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def register_custom(effects: list[CustomEffect]) -> list[str]:

@@ -66,7 +66,6 @@ are changes from a zero-strain start); time is kept as logged. Every problem rai
 from __future__ import annotations
 
 import csv
-import io
 import os
 from pathlib import Path
 
@@ -79,6 +78,7 @@ from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml, same_file
+from twin.io.csv_rows import cell_number, data_rows
 from twin.io.results import check_result_units, read_result
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
@@ -216,10 +216,11 @@ def _machine(machine, spec: dict, src: str, named_by: str = "the mapping names")
         raise InputError(src, "machine", err.message) from None
 
 
-def _read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
+def _read_csv(path: Path) -> tuple[list[str], list[int], list[list[str]]]:
+    """(header, the data rows' line numbers, the data rows) of a measurement CSV."""
     text = read_text(path, "measurement", "measurement file")
     try:
-        rows = [r for r in csv.reader(io.StringIO(text, newline="")) if r and any(c.strip() for c in r)]
+        lines, rows = data_rows(text)
     except csv.Error as err:
         raise InputError(str(path), "file", f"not a readable CSV file ({err})") from None
     if len(rows) < 3:
@@ -228,28 +229,28 @@ def _read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
     twice = [h for h in header if header.count(h) > 1]
     if twice:
         raise InputError(str(path), twice[0], "two columns have this name")
-    for i, r in enumerate(rows[1:], start=2):
+    for line, r in zip(lines[1:], rows[1:]):
         if len(r) != len(header):
-            raise InputError(str(path), f"line {i}", f"has {len(r)} fields, the header has {len(header)}")
-    return header, rows[1:]
+            raise InputError(str(path), f"line {line}", f"has {len(r)} fields, the header has {len(header)}")
+    return header, lines[1:], rows[1:]
 
 
-def _column(path: Path, rows, j: int, name: str) -> np.ndarray:
+def _column(path: Path, lines: list[int], rows, j: int, name: str) -> np.ndarray:
     out = np.empty(len(rows))
     for i, r in enumerate(rows):
         text = r[j].strip()
         try:
-            out[i] = float(text) if text else np.nan
+            out[i] = cell_number(text) if text else np.nan
         except ValueError:
-            raise InputError(str(path), name, f"row {i + 1}: {text!r} is not a number") from None
+            raise InputError(str(path), name, f"line {lines[i]}: {text!r} is not a number") from None
     infinite = np.flatnonzero(np.isinf(out))
     if len(infinite):   # "inf", "-Infinity", "1e999": a value, but not a finite one
         i = int(infinite[0])
-        raise InputError(str(path), name, f"data row {i + 1}: not finite ({rows[i][j].strip()})"
+        raise InputError(str(path), name, f"line {lines[i]}: not finite ({rows[i][j].strip()})"
                                           + (f"; {len(infinite)} such value(s)" if len(infinite) > 1 else ""))
     bad = np.flatnonzero(np.isnan(out))
     if len(bad):
-        raise InputError(str(path), name, f"{len(bad)} missing/NaN value(s), first at data row {bad[0] + 1}")
+        raise InputError(str(path), name, f"{len(bad)} missing/NaN value(s), first at line {lines[bad[0]]}")
     return out
 
 
@@ -310,7 +311,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     cols = spec.get("columns")
     if not isinstance(cols, dict) or not cols:
         raise InputError(msrc, "columns", "expected [columns.NAME] tables naming each CSV column's role and unit")
-    header, rows = _read_csv(path)
+    header, lines, rows = _read_csv(path)
     missing = [c for c in cols if c not in header]
     if missing:
         raise InputError(msrc, f"columns.{missing[0]}", f"no such column in {path.name} (columns: {', '.join(header)})")
@@ -348,7 +349,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
         if role == "c_axis_speed" and not (getattr(mach, "parameters", None) or {}).get("c_axis_max_speed"):
             raise InputError(msrc, key, "a C-axis speed needs a machine with a C axis (top-level machine = "
                                         f"\"...\"; {'none named' if mach is None else mach.name + ' has none'})")
-        values = _column(path, rows, header.index(name), name) * factor
+        values = _column(path, lines, rows, header.index(name), name) * factor
         check_values(values, role, mach, src, name)
         if role in SINGLE:
             if role in single:

@@ -19,7 +19,6 @@ temperature below absolute zero or outside the plausible range of room air
 from __future__ import annotations
 
 import csv
-import io
 import re
 from pathlib import Path
 
@@ -27,6 +26,7 @@ import numpy as np
 
 from twin import limits
 from twin.errors import InputError
+from twin.io.csv_rows import cell_number, data_rows
 from twin.io.paths import read_text
 from twin.units import UnitError, parse_quantity
 
@@ -39,7 +39,7 @@ def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.nda
     src = str(path)
     text = read_text(path, field, "room-air CSV file")
     try:
-        rows = [r for r in csv.reader(io.StringIO(text, newline="")) if r and any(c.strip() for c in r)]
+        lines, rows = data_rows(text)
     except csv.Error as err:
         raise InputError(src, field, f"not a readable CSV file ({err})") from None
     if len(rows) < 3:
@@ -47,15 +47,15 @@ def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.nda
     if len(rows[0]) != 2:
         raise InputError(src, "header", f"expected two columns, 'time [h]' and 'air [degC]', got {len(rows[0])}")
     (t_name, t_unit), (a_name, a_unit) = (_unit(src, h, k) for k, h in enumerate(rows[0]))
-    for i, r in enumerate(rows[1:], start=2):
+    for line, r in zip(lines[1:], rows[1:]):
         if len(r) != 2:
-            raise InputError(src, f"line {i}", f"has {len(r)} fields, the header has 2")
-    t = _values(src, rows, 0, t_name, t_unit, "time")
-    air = _values(src, rows, 1, a_name, a_unit, "temperature")
+            raise InputError(src, f"line {line}", f"has {len(r)} fields, the header has 2")
+    t = _values(src, lines, rows, 0, t_name, t_unit, "time")
+    air = _values(src, lines, rows, 1, a_name, a_unit, "temperature")
     step = np.diff(t)
     if np.any(step <= 0):
         i = int(np.flatnonzero(step <= 0)[0])
-        raise InputError(src, t_name, f"time does not increase at line {i + 3} ({rows[i + 2][0].strip()} after "
+        raise InputError(src, t_name, f"time does not increase at line {lines[i + 2]} ({rows[i + 2][0].strip()} after "
                                       f"{rows[i + 1][0].strip()} {t_unit})")
     limits.check_temperatures(air, src, a_name)
     return t - t[0], air
@@ -69,19 +69,20 @@ def _unit(src: str, header: str, k: int) -> tuple[str, str]:
     return m["name"] or f"column {k + 1}", m["unit"].strip()
 
 
-def _values(src: str, rows, j: int, name: str, unit: str, dimension: str) -> np.ndarray:
-    """The column's SI values; each cell is parsed as '<cell> <unit>' by :func:`parse_quantity`."""
+def _values(src: str, lines: list[int], rows, j: int, name: str, unit: str, dimension: str) -> np.ndarray:
+    """The column's SI values: each cell a plain number (:func:`twin.io.csv_rows.cell_number`)
+    times the header unit's factor (:func:`parse_quantity`)."""
     try:
         factor = parse_quantity(f"1 {unit}", dimension)
     except UnitError as err:
         raise InputError(src, name, f"header unit [{unit}]: {err}") from None
     out = np.empty(len(rows) - 1)
-    for i, r in enumerate(rows[1:]):
+    for i, (line, r) in enumerate(zip(lines[1:], rows[1:])):
         cell = r[j].strip()
         try:
-            out[i] = float(cell) * factor   # the unit lives in the header; every unit here is offset-free
+            out[i] = cell_number(cell) * factor   # the unit lives in the header; every unit here is offset-free
         except ValueError:
-            raise InputError(src, name, f"line {i + 2}: {cell!r} is not a number") from None
+            raise InputError(src, name, f"line {line}: {cell!r} is not a number") from None
         if not np.isfinite(out[i]):
-            raise InputError(src, name, f"line {i + 2}: {cell!r} is not a finite number")
+            raise InputError(src, name, f"line {line}: {cell!r} is not a finite number")
     return out
