@@ -29,6 +29,9 @@ def _refused(field, match, **camera):
 
 @pytest.mark.parametrize("camera,field,match", [
     ({**FRONT, "up": [0, 0, 0]}, "camera.up", "no direction"),
+    ({"name": "a/b"}, "camera.name", "cannot name a file"),      # its export's folder would be a/b
+    ({"name": ".."}, "camera.name", "cannot name a file"),
+    ({"name": "tab\there"}, "camera.name", "cannot name a file"),
     ({**FRONT, "up": [0, 2, 0]}, "camera.up", "along the line of sight"),
     ({**FRONT, "up": [0, -1e-9, 0]}, "camera.up", "along the line of sight"),
     ({**FRONT, "up": [0, float("nan"), 1]}, "camera.up", "not a finite direction"),

@@ -146,6 +146,17 @@ def test_a_malformed_camera_attribute_is_one_error(capsys, work):
     assert not (work / "fr2").exists()
 
 
+def test_two_cameras_of_one_name_are_refused(capsys, work):
+    """Two camera attributes naming the same camera (an edited file): the second's frames would
+    replace the first's in one folder; one error, no output folder."""
+    ds = xr.load_dataset(work / "x.nc")
+    ds.attrs["camera_again"] = ds.attrs["camera"]
+    ds.to_netcdf(work / "two.nc")
+    err = _error(capsys, ["frames", "two.nc", "-o", "fr6"])
+    assert err.startswith("error: two.nc: camera_again: a second camera named ") and "replace" in err
+    assert not (work / "fr6").exists()
+
+
 def test_a_nan_pixel_is_refused_with_its_frame_time(capsys, work):
     """A NaN pixel in frame 3 (t = 180 s) is refused naming the file, ``thermogram`` and the
     time; no folder, no PNG is written."""

@@ -289,6 +289,14 @@ def plain_int(text) -> int:
     return int(text)
 
 
+def is_file_name(name) -> bool:
+    """Whether ``name`` can name a file or folder by itself: text, not blank, not ``.`` or ``..``,
+    no path separator, NUL or other control character (a camera's name names its export's
+    folder and files)."""
+    return (isinstance(name, str) and bool(name.strip()) and name not in (".", "..")
+            and not any(c in "/\\" or ord(c) < 32 for c in name))
+
+
 def check_seed(text) -> int:
     """A noise seed: an integer from 0 to :data:`MAX_SEED` (raises ValueError otherwise)."""
     try:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from twin.errors import InputError
+from twin.limits import is_file_name
 from twin.io.atomic import atomic_write, atomic_write_text
 
 KINDS = ("tiff", "png", "gif")
@@ -47,9 +48,11 @@ def camera_names(ds, source: str = "result") -> list[tuple[str, str]]:
             if missing:
                 raise InputError(source, key, f"malformed camera attribute, no {missing[0]!r}")
             name, suffix = info["name"], info["suffix"]
-            if not (isinstance(name, str) and name.strip() and name not in (".", "..")
-                    and not any(c in name for c in "/\\\0")):
+            if not is_file_name(name):
                 raise InputError(source, key, f"camera name {name!r} cannot name a file")
+            if any(name == other for other, _ in out):
+                raise InputError(source, key, f"a second camera named {name!r}: its frames would replace the "
+                                              "first's")
             if not isinstance(suffix, str):
                 raise InputError(source, key, f"variable suffix {suffix!r} is not text")
             out.append((name, suffix))

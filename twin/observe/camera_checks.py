@@ -43,6 +43,9 @@ def check_camera_values(c) -> None:
     src, f = c.source, c.field
     if not isinstance(c.pose, str) or not c.pose.strip():
         raise InputError(src, f("pose"), f"expected a pose name, got {c.pose!r}")
+    if c.name and not limits.is_file_name(c.name):
+        raise InputError(src, f("name"), f"{c.name!r} cannot name a file: the camera's frames are exported into a "
+                                         "folder of its name (no '/', '\\', '.', '..' or control characters)")
     if (c.position is None) != (c.target is None):
         raise InputError(src, f("target" if c.target is None else "position"), "position and target go together")
     if c.position is not None:
