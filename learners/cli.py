@@ -43,12 +43,13 @@ import numpy as np
 
 from learners.leaderboard import COLUMNS, as_input_error, check_segments, leaderboard, notes, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
-from learners.runs import check_one_interval, dataset_runs, is_time_ordered, resample, select_runs
+from learners.runs import (check_one_interval, dataset_runs, is_time_ordered, refuse_training_on_test, resample,
+                           select_runs)
 from learners.table import Table, check_problem, load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity_value, whole_number
 from twin.limits import plain_int
 from twin.errors import InputError
-from twin.io.paths import Files, same_file, within
+from twin.io.paths import Files, within
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
 
@@ -204,7 +205,7 @@ def run_learn(args) -> int:
         train_paths += [files.input(p, "--train", "table", once=True) for p in dataset_runs(args.dataset, args.train_split)]
         runs = [files.input(p, "--test", "table", once=True) for p in dataset_runs(args.dataset, args.split)]
         test_sets.append((f"{args.dataset} [{args.split}: {len(runs)} runs]", runs))
-    _refuse_training_on_test(train_paths, test_sets)
+    refuse_training_on_test(train_paths, test_sets)
     first = load_table(train_paths[0], args.target, inputs=inputs, time_column=args.time_column, field="--train")
     runs = [first] + [load_table(path, args.target, inputs=first.input_names, time_column=args.time_column,
                                  field="--train") for path in train_paths[1:]]
@@ -242,19 +243,6 @@ def run_learn(args) -> int:
         else:
             write_csv(path, rows)
     return 0
-
-
-def _refuse_training_on_test(train_paths, test_sets) -> None:
-    """A test run that is also a training run (the same file by any spelling: ``--train a.nc
-    --test a.nc``, a dataset's test case given by hand with ``--train``, ``--split`` equal to
-    ``--train-split``) would score a model on its own training data, which says nothing of its
-    error on new runs: refused, naming the file."""
-    for label, paths in test_sets:
-        for path in paths:
-            for train in train_paths:
-                if same_file(path, train):
-                    raise InputError(str(path), "--test", f"is also a training run ({train}): scores on a model's own "
-                                                          "training data say nothing of its error on new runs")
 
 
 def _interval(text):

@@ -31,7 +31,7 @@ import numpy as np
 
 from learners.table import MIN_ROWS, Table
 from twin.errors import InputError
-from twin.io.paths import read_text
+from twin.io.paths import read_text, same_file
 
 __all__ = ["is_time_ordered", "fit_runs", "select_runs", "resample", "check_one_interval", "dataset_runs"]
 
@@ -131,3 +131,17 @@ def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> li
         raise InputError(str(index), "split", f"split {split!r} has no built case yet; build the dataset first "
                                               "(twin dataset SPEC -o DIR)")
     return files
+
+
+def refuse_training_on_test(train_paths, test_sets, field: str = "--test") -> None:
+    """A test run that is also a training run (the same file by any spelling: ``--train a.nc
+    --test a.nc``, a dataset's test case given by hand with ``--train``, ``--split`` equal to
+    ``--train-split``) would score a model on its own training data, which says nothing of its
+    error on new runs: refused, naming the file (``field``: the option that named the test runs).
+    ``test_sets``: [(label, [path, ...])]."""
+    for label, paths in test_sets:
+        for path in paths:
+            for train in train_paths:
+                if same_file(path, train):
+                    raise InputError(str(path), field, f"is also a training run ({train}): scores on a model's own "
+                                                          "training data say nothing of its error on new runs")

@@ -244,6 +244,7 @@ def csv_dataset(tmp_path):
     (["--interval", "-60 s"], "command line: --interval: must be positive"),
     (["--split", "bogus"], "no split 'bogus'"),
     (["--target", "bogus"], "a.csv: bogus: missing target column"),
+    (["--split", "train"], "a.csv: --split: is also a training run"),     # scored on its own training data
     (["--select", "gm0n-fcm:1", "--learners", "mlr", "--no-placement"],
      "--segments: 4 segments leave 2 row(s) in a segment of test: all 1 runs; a scored segment needs at least 3: "
      "give --segments 3 or fewer"),
@@ -252,6 +253,20 @@ def test_dataset_study_checks_everything_before_its_folder(csv_dataset, argv, ne
     out = tmp_path / "out"
     assert dataset_learners.main([str(csv_dataset), "-o", str(out), *argv]) == 2
     one_error(capsys, needle)
+    assert not out.exists()
+
+
+def test_dataset_study_refusal_by_a_selector_names_the_split_and_leaves_no_folder(csv_dataset, tmp_path, capsys):
+    """A constant target makes the selector refuse the training runs after the checks: the error
+    names the dataset's split and the target (it named the selector), and no empty folder stays."""
+    for name in ("a", "b"):
+        path = csv_dataset / f"{name}.csv"
+        rows = path.read_text().splitlines()
+        path.write_text("\n".join([rows[0]] + [",".join(r.split(",")[:3] + ["1.0"]) for r in rows[1:]]) + "\n")
+    out = tmp_path / "out"
+    assert dataset_learners.main([str(csv_dataset), "-o", str(out), "--select", "gm0n-fcm:1", "--learners", "mlr",
+                                  "--no-placement", "--segments", "1"]) == 2
+    one_error(capsys, f"{csv_dataset} (split train): drift:Z: the target is constant")
     assert not out.exists()
 
 

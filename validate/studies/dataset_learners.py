@@ -35,7 +35,7 @@ import numpy as np
 
 from learners.leaderboard import check_segments, leaderboard, unit_heading, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_selector
-from learners.runs import dataset_runs, resample, select_runs
+from learners.runs import dataset_runs, refuse_training_on_test, resample, select_runs
 from learners.table import load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity, whole_number
 from twin.errors import InputError
@@ -92,11 +92,15 @@ def _pick(X_runs, method: str, k: int, seed: int) -> list[int]:
 
 
 def run_leaderboard(train, tests, names, learner_names, select: str, split: str, segments: int, seed: int,
-                    progress=None):
+                    progress=None, source: str = "training runs", target: str = "y"):
     """Leaderboard rows of ``learner_names`` on the inputs ``select`` ("METHOD:K") picks, in the
-    target's unit (the rows' ``unit``)."""
+    target's unit (the rows' ``unit``). A selector refusing the training runs (a constant target)
+    is an :class:`InputError` naming ``source`` and ``target`` (or the inputs)."""
     method, _, k = select.partition(":")
-    cols = _pick([(t.X, t.y) for _, t in train], method, int(k or 4), seed)
+    try:
+        cols = _pick([(t.X, t.y) for _, t in train], method, int(k or 4), seed)
+    except InputError as err:
+        raise InputError(source, {"y": target, "X": "inputs"}.get(err.field, err.field), err.message) from None
     sub = lambda t: (t.X[:, cols], t.y)   # noqa: E731
     learners = {name: preset(name, seed) for name in learner_names}
     return leaderboard(learners, [sub(t) for _, t in train],
@@ -226,6 +230,8 @@ def _run(args) -> int:
         raise InputError(args.output, "-o", f"lies in the input dataset {args.dataset}: write the study elsewhere")
     out = check_output_folder(args.output, OUTPUTS if not args.no_placement else OUTPUTS[:2], default=DEFAULT_OUTPUT,
                               files=files)
+    refuse_training_on_test(dataset_runs(args.dataset, args.train_split, "dataset"),
+                            [(args.split, dataset_runs(args.dataset, args.split, "dataset"))], "--split")
     print(f"reading {args.dataset} ...", flush=True)
     train = load_split(args.dataset, args.train_split, args.target, interval)
     names = train[0][1].input_names
@@ -238,7 +244,6 @@ def _run(args) -> int:
     if method != ALL_SENSORS and k > len(names):
         raise InputError("command line", "--select", f"asks for {k} inputs, the dataset's runs have {len(names)} sensors")
     check_segments(_test_sets(tests, args.split), args.segments, f"{args.dataset} (every run thinned to {interval:g} s)")
-    out.mkdir(parents=True, exist_ok=True)
     print(f"{len(train)} training runs ({sum(len(t.y) for _, t in train)} rows), {len(tests)} test runs "
           f"({sum(len(t.y) for _, t in tests)} rows), {len(names)} sensors", flush=True)
 
@@ -246,11 +251,12 @@ def _run(args) -> int:
         print(f"  {done}/{total}", flush=True)
 
     rows, _ = run_leaderboard(train, tests, names, learner_names, args.select, args.split, args.segments, args.seed,
-                              progress)
+                              progress, f"{args.dataset} (split {args.train_split})", args.target)
     note = (f"Dataset `{args.dataset}`: trained on the {len(train)} runs of split `{args.train_split}`, scored against "
             f"the noise-free `{args.target}` of the {len(tests)} runs of split `{args.split}` (each run predicted from "
             f"its own start); inputs: the measured temperatures [degC] that `{args.select}` picks on the training "
             f"runs; every run thinned to {interval:g} s. Plausible, not a measured machine.")
+    out.mkdir(parents=True, exist_ok=True)      # after the fits: a learner refusing the data leaves no folder
     write_csv(out / "leaderboard.csv", rows)
     write_markdown(out / "leaderboard.md", rows, title=f"Leaderboard: {args.target}", note=note)
     print(f"wrote {out / 'leaderboard.md'}, leaderboard.csv", flush=True)
