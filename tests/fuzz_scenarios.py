@@ -98,6 +98,7 @@ SCENARIO_EDITS = [
     ("event-unknown-key", edited(AMBIENT, AMBIENT + EVENT + 'colour = "red"\n'), "ambient.events[0].colour"),
     ("event-below-absolute-zero", edited(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-400 K"')), "ambient.events"),
     # a spike without hold or recovery jumps back at its peak: the air just before it is checked
+    ("step-shorter-than-a-sample", edited(DURATION, 'duration = "1e-5 s"'), "spindle[0].duration"),
     ("event-spike-below-plausible-air", edited(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-100 K"')
                                                .replace('"30 min"', '"9.5 s"')), "ambient.events"),
     ("events-not-tables", edited(AMBIENT, AMBIENT + '\nevents = 3'), "ambient.events"),

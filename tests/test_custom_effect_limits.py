@@ -157,6 +157,8 @@ SCENARIO = ('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 
      'exponent = -3\n', "effects.pump.exponent"),
     ('kind = "heat_source"\nregion = "saddle"\npower = "80 W"\nschedule = "table"\n'
      'table = { file = "f.csv", time_unit = "min" }\n', "effects.pump.table"),     # ends at 5 min of 10
+    ('kind = "heat_source"\nregion = "saddle"\npower = "80 W"\nschedule = "windows"\n'
+     'windows = [["2 min", "4 min"], ["10 h", "11 h"]]\n', "effects.pump.windows[1]"),  # opens after the 10 min run
 ])
 def test_cli_refuses_with_exit_2_and_no_output(tmp_path, capsys, effect, field):
     (tmp_path / "s.toml").write_text(SCENARIO)

@@ -31,8 +31,8 @@ def _one(machine, **spec):
     ("constant", {}, lambda t: np.ones_like(t)),
     ("spindle_on", {}, lambda t: (t < 5400).astype(float)),
     ("speed", {"reference_speed": "9000 rpm", "exponent": 2}, lambda t: np.where(t < 3600, 1.0, np.where(t < 5400, (6000 / 9000) ** 2, 0.0))),
-    ("windows", {"windows": [["10 min", "30 min"], ["2 h", "2.5 h"]]},
-     lambda t: (((t >= 600) & (t < 1800)) | ((t >= 7200) & (t < 9000))).astype(float)),
+    ("windows", {"windows": [["10 min", "30 min"], ["1.5 h", "1.75 h"]]},
+     lambda t: (((t >= 600) & (t < 1800)) | ((t >= 5400) & (t < 6300))).astype(float)),
 ])
 def test_heat_source_power_is_strength_times_schedule(machine, mm, schedule, extra, expected):
     """A heat source puts P s(t) watts into its region's cells: the load's power signal is exactly

@@ -159,9 +159,12 @@ def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool =
 
 def check_whole_samples(duration: float, sample_interval: float, source: str, field: str) -> None:
     """A step of ``duration`` [s] spans a whole number of ``sample_interval`` [s] (to 1e-6 of a
-    sample): else the run's grid ends before it or holds it past its end."""
-    if abs(duration / sample_interval - round(duration / sample_interval)) > 1e-6:
-        raise InputError(source, field, f"must be a multiple of the sample interval ({sample_interval:g} s)")
+    sample), at least one: else the run's grid ends before it or holds it past its end (a step
+    of 1e-5 s at 10 s samples would vanish from the run)."""
+    samples = duration / sample_interval
+    if abs(samples - round(samples)) > 1e-6 or round(samples) < 1:
+        raise InputError(source, field, f"must be a multiple of the sample interval ({sample_interval:g} s), at "
+                                        f"least one, got {duration:g} s")
 
 
 def check_steps(duration: float, sample_interval: float, source: str, field: str) -> int:

@@ -110,7 +110,7 @@ class CustomEffect(Effect):
 
     def loads(self, mm, scenario, p):
         value = p[self.strength]
-        self.schedule.check_reach(scenario, self.source, f"effects.{self.name}.table")
+        self.schedule.check_reach(scenario, self.source, f"effects.{self.name}")
         shape = self.schedule.signal(scenario)
         if self.kind == "heat_source":
             cells = region_cells(mm, self.region)
@@ -150,15 +150,24 @@ class Schedule:
         return 1.0
 
     def check_reach(self, scenario, source: str, field: str) -> None:
-        """A table must reach the end of ``scenario`` (like a room-air record); raise
-        :class:`InputError` naming ``source`` and ``field`` otherwise."""
+        """A table must reach the end of ``scenario`` (like a room-air record), and every window
+        must open before it (a window after the run would do nothing, as a scenario's event after
+        its end, which is refused too); raise :class:`InputError` naming ``source`` and
+        ``field``'s key otherwise (``field``: ``effects.NAME``)."""
+        total = float(scenario.duration)
+        if self.kind == "windows":
+            for i, (start, _) in enumerate(self.windows):
+                if start >= total * (1 - 1e-9):
+                    raise InputError(source, f"{field}.windows[{i}]", f"opens at {start / 3600:g} h, at or after the "
+                                                                      f"end of the scenario's {total / 3600:g} h: it "
+                                                                      "would do nothing")
         if self.kind != "table":
             return
-        end, total = float(self.table[0][-1]), float(scenario.duration)
+        end = float(self.table[0][-1])
         if end < total * (1 - 1e-9):
-            raise InputError(source, field, f"the schedule table {self.file} ends at {end / 3600:g} h, before the "
-                                            f"scenario's {total / 3600:g} h; it must cover the whole run (nothing "
-                                            "is extrapolated)")
+            raise InputError(source, f"{field}.table", f"the schedule table {self.file} ends at {end / 3600:g} h, "
+                                                       f"before the scenario's {total / 3600:g} h; it must cover the "
+                                                       "whole run (nothing is extrapolated)")
 
     @property
     def describe(self) -> str:
