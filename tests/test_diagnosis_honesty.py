@@ -227,7 +227,7 @@ def test_json_numbers_carry_their_units(cabinet_at_95, machine, mm):
     assert units["temperature:motor"] == "K" and units["probe:Z"] == "um"
     for c in doc["candidates"]:
         assert c["rmse_after_units"] == units and set(c["rmse_after"]) == set(units)
-        assert all(v.endswith((" W", " W/m2K", " W/K", " K/m")) for vals in c["model_parameters"].values()
+        assert all(v.endswith((" W", " W/m2K", " W/K", " K/m", " 1/m")) for vals in c["model_parameters"].values()
                    for v in vals.values())
     assert doc["candidates"][0]["model_parameters"] == {"electrical_cabinet": {"power": "95 W"}}
     assert doc["calibration"]["units"] == units and doc["calibration"]["expansion_unit"] == "fraction of alpha"
