@@ -227,18 +227,23 @@ UNCERTAIN = [(e, u.name) for e in sorted(EFFECTS) for u in EFFECTS[e].uncertain]
 def test_candidates_whose_effect_cannot_act_are_left_out(machine):
     """The door stream acts only while a scenario's door is open (Effect.acts): on records
     without one its parameters are no candidates (their responses would be zero), with one they
-    are; the swing's growth with height is a candidate on any record (zero only in a constant
-    room, which the fit then shows); a missing effect named by the user is kept regardless."""
+    are; the room swing's growth with height acts only where the room air moves, door events
+    aside (a daily room, a holiday); a missing effect named by the user is kept regardless."""
     from twin.model import model_spec
     from validate.candidates import candidate_pool
     spec = model_spec(machine)
     calm = Scenario("calm", ((3600.0, 0.0),), Ambient("constant", mean=20.0), 60.0)
     door = Scenario("door", ((3600.0, 0.0),), Ambient("constant", mean=20.0, events=(
         AirEvent(start=600.0, change=-9.0, fall=600.0, recovery=1200.0, door=True),)), 60.0)
+    daily = Scenario("daily", ((3600.0, 0.0),), Ambient("daily", mean=20.0, amplitude=2.0), 60.0)
+    holiday = Scenario("holiday", ((3600.0, 0.0),), Ambient("constant", mean=20.0, events=(
+        AirEvent(start=0.0, change=-4.0, fall=0.0, hold=1800.0),)), 60.0)
     names = lambda *scs, **kw: {c.name for c in candidate_pool(machine, spec, scenarios=scs, **kw)}  # noqa: E731
     stream = {"door_stream.h", "door_stream.temperature_difference"}
-    assert "door_stream" in spec.effects and "stratified_swing.growth" in names(calm)
+    assert "door_stream" in spec.effects and "stratified_swing" in spec.effects
     assert not stream & names(calm) and stream <= names(door) and stream <= names(calm, door)
+    growth = "stratified_swing.growth"
+    assert growth not in names(calm) | names(door) and growth in names(daily) and growth in names(holiday)
     less = model_spec(machine, "-door_stream")
     assert "door_stream" not in {c.name for c in candidate_pool(machine, less, scenarios=(calm,))}
     assert "door_stream" in {c.name for c in candidate_pool(machine, less, ["door_stream"], scenarios=(calm,))}

@@ -130,6 +130,12 @@ class StratifiedSwing(LayeredAir):
                                       "with constant room air it leaves no trace", linear=True),
     )
 
+    def acts(self, scenario) -> bool:
+        """Only where the room air moves (door events aside, :func:`layered_swing`): a constant
+        room without other events gives it nothing to act on."""
+        a = scenario.ambient
+        return a.kind != "constant" or any(not e.door for e in a.events)
+
     def layer(self, scenario, p):
         """s (z - z_ref) (T_air(t) - T_air(0)), the door events left out (:func:`layered_swing`)."""
         return p["growth"], p["reference_height"], lambda t: layered_swing(scenario, t)
