@@ -122,9 +122,11 @@ def markdown(rows: list[dict], command: str, quick: bool) -> str:
     md += ["", "## Why these cases", ""]
     seen = set()
     for c in all_cases(build_machine(first.get("machine", "cframe-vmc"))) if rows else []:
-        if (c.cls, c.label) in seen or not any(r["case"] == c.label and r["class"] == c.cls for r in rows):
+        ran = any(r["case"] == c.label and r["class"] == c.cls and str(r["scenario"]).startswith(c.scenario)
+                  for r in rows)              # the scenario too: "(none)" runs on several (quick names add a suffix)
+        if (c.cls, c.label, c.scenario) in seen or not ran:
             continue
-        seen.add((c.cls, c.label))
+        seen.add((c.cls, c.label, c.scenario))
         md.append(f"- **{c.cls}: {c.label}** ({c.scenario}): {c.why}")
     return "\n".join(md) + "\n"
 
