@@ -270,6 +270,15 @@ def test_dataset_study_refusal_by_a_selector_names_the_split_and_leaves_no_folde
     assert not out.exists()
 
 
+def test_an_empty_option_value_is_refused_not_read_as_not_given(csv_dataset, capsys, tmp_path, monkeypatch):
+    """``-o ""`` wrote the study into the current folder (argparse's empty string read as "not
+    given"): refused, and nothing is written where the command runs."""
+    monkeypatch.chdir(tmp_path)
+    assert dataset_learners.main([str(csv_dataset), "-o", ""]) == 2
+    one_error(capsys, "command line: -o/--output: is empty: give a value, or leave the option out")
+    assert list(tmp_path.iterdir()) == [csv_dataset]
+
+
 def test_dataset_study_leaderboard_on_every_sensor(csv_dataset, tmp_path):
     """``--select all`` (the registry's selector without a count) puts every sensor into the
     leaderboard's inputs."""

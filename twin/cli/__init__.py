@@ -5,7 +5,8 @@ imports them.
 
 Bad input prints one line ``error: <file>: <field>: <message>`` on stderr and exits with code 2;
 no partial output file is left behind (results are written to a temporary file, then renamed).
-An option that takes one value refuses a second one (argparse would silently keep the last).
+An option that takes one value refuses a second one (argparse would silently keep the last) and an
+empty one (it read as "not given").
 Ctrl-C and SIGTERM stop the command, remove its temporary file and say in one line which outputs
 are complete (exit code 130 and 143).
 """
@@ -29,12 +30,15 @@ class Terminated(KeyboardInterrupt):
 
 
 class _Once(argparse._StoreAction):
-    """``store`` that refuses a second value: ``--seed 1 --seed 2`` is an error, not seed 2."""
+    """``store`` that refuses a second value (``--seed 1 --seed 2`` is an error, not seed 2) and
+    an empty one (``--json ""`` read as "not given" wrote nothing and said nothing)."""
 
     def __call__(self, parser, namespace, values, option_string=None):
         seen = namespace.__dict__.setdefault("_options_given", set())
         if option_string is not None and self.dest in seen:
             raise argparse.ArgumentError(self, f"given more than once (again as {values!r}); give it once")
+        if option_string is not None and isinstance(values, str) and not values.strip():
+            raise argparse.ArgumentError(self, "is empty: give a value, or leave the option out")
         seen.add(self.dest)
         super().__call__(parser, namespace, values, option_string)
 
