@@ -27,7 +27,8 @@ def add_diagnose_parser(subparsers) -> None:
     p.add_argument("--machine", help="the measured machine (default: the one the measurements name)")
     p.add_argument("--scenario", help="drive the twin by this scenario instead of the measured inputs (one measurement)")
     add_model_options(p, mesh_default="coarse", mesh_help="mesh of the diagnosing model (coarse: it makes many runs)",
-                      effects_help="the diagnosing model's effects: '+a,-b' edits the default set, 'a,b' replaces it")
+                      effects_help="the diagnosing model's effects: '+a,-b' edits the default set, 'a,b' replaces it",
+                      seed=False)     # the diagnosing model reads true values: a noise seed would change nothing
     p.add_argument("--error-mesh", default="auto", choices=["auto", "none", "coarse", "default", "fine"],
                    help="mesh on which the baseline is rerun once to estimate the diagnosing model's discretisation "
                         "error per channel: a finer one estimates it, a coarser one usually overestimates it (default auto: the next "

@@ -67,15 +67,18 @@ def add_seed_option(p: argparse.ArgumentParser, help: str = "seed of the instrum
 
 def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default", mesh_help: str = "mesh resolution",
                       effects_help: str = "+name,-name to change the default set (write --effects=-name when it "
-                                          "starts with -), or a,b,c for an exact set", solvers: bool = False) -> None:
-    """--effects, --set, --mesh, --seed; with ``solvers`` also --solver and --device (for the
-    commands that pass them on: :func:`solver_options`)."""
+                                          "starts with -), or a,b,c for an exact set", solvers: bool = False,
+                      seed: bool = True) -> None:
+    """--effects, --set, --mesh, --seed (unless ``seed`` is False: a command whose model runs
+    carry no instrument noise, where a seed would change nothing); with ``solvers`` also
+    --solver and --device (for the commands that pass them on: :func:`solver_options`)."""
     p.add_argument("--effects", help=effects_help)
     p.add_argument("--set", action="append", default=[], metavar="EFFECT.PARAM=VALUE",
                    help="set a parameter with its unit, e.g. spindle_motor.power=120W (repeatable, once per parameter)")
     p.add_argument("--mesh", default=mesh_default, choices=["coarse", "default", "fine"],
                    help=f"{mesh_help} (default {mesh_default})")
-    add_seed_option(p)
+    if seed:
+        add_seed_option(p)
     p.add_argument("--effects-file", metavar="FILE",
                    help="TOML file of effects the library lacks (twin.effects.custom): simulate and compare switch "
                         "them on, diagnose offers them as candidates")
