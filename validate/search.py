@@ -160,7 +160,8 @@ class Search:
         x, _, _ = self.fitter.solve(cols, [lo for *_, (lo, _), _ in lines], [hi for *_, (_, hi), _ in lines],
                                     self.fitter.r - offset)
         g = offset + cols @ x
-        values = tuple(float(back(xi)) for (*_, back), xi in zip(lines, x))
+        # back to each parameter, within its bounds (1 / (1/p_0 + x) at the bound is a rounding off it)
+        values = tuple(min(max(float(back(xi)), c.lower), c.upper) for c, (*_, back), xi in zip(cands, lines, x))
         if any(not c.linear for c in cands):   # the linearisation is approximate: evaluate it
             g = self.response(cands, values)
         return Fit(cands, values, g, self.fitter.sse(g), tuple(f.slopes[0] for f in (a, b)))
