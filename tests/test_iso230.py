@@ -156,14 +156,20 @@ def test_cli_writes_both_reports_with_the_ranges_and_the_warning(tmp_path, capsy
 
 def test_evaluate_from_python_names_a_bad_record_or_segment():
     """API audit: a path for the Dataset, a NaN or text segment, backwards or NaN time, room air
-    below absolute zero and a NaN drift are each one InputError naming it, never a numpy error
-    or a report of NaN ranges."""
+    below absolute zero, a NaN drift or spindle speed and a drift in mm are each one InputError
+    naming it (as the command names them in a file), never a numpy error, a NaN speed step or a
+    report of ranges 1000 times too small."""
     ds = result_dataset()
     nan_drift = ds.copy(deep=True)
     nan_drift.probe_drift[4, 2] = np.nan
     cold = ds.copy(deep=True)
     cold.ambient_temperature[3] = -380.0
-    for args, field in ((("r.nc", "etve"), "ds"), ((ds, "spindle", float("nan")), "--segment"),
+    nan_speed = ds.copy(deep=True)
+    nan_speed.spindle_speed[2] = np.nan
+    in_mm = ds.copy(deep=True)
+    in_mm.probe_drift.attrs["units"] = "mm"
+    for args, field in ((("r.nc", "etve"), "ds"), ((nan_speed, "spindle"), "spindle_speed"),
+                        ((in_mm, "etve"), "probe_drift"), ((ds, "spindle", float("nan")), "--segment"),
                         ((ds, "spindle", "1 h"), "--segment"), ((ds, "spindle", -60.0), "--segment"),
                         ((ds.isel(time=slice(None, None, -1)), "spindle"), "time"),
                         ((ds.assign_coords(time=np.r_[np.nan, ds.time.values[1:]]), "spindle"), "time"),

@@ -181,6 +181,9 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
         raise InputError(source or "evaluate", "ds", f"expected a result or measurement (an xarray.Dataset with a time "
                                                      f"axis), got {describe(ds)}")
     source = source or ds.attrs.get("source", "result")
+    from twin.io.results import check_finite, check_result_units
+    check_result_units(ds, source)       # as a file is read: a drift in mm is no drift in um
+    check_finite(ds[[v for v in ("spindle_speed", "c_axis_speed") if v in ds]], source)   # a NaN speed step
     if not isinstance(test, str) or test not in TESTS:
         raise InputError(source, "--test", f"unknown test {test!r}; known: {', '.join(TESTS)}")
     if segment is not None and (not is_finite_number(segment) or segment <= 0):
