@@ -162,6 +162,7 @@ BAD_ARGUMENTS = [
     ("theta-2", {"theta": 2.0}, "theta"),
     ("theta-nan", {"theta": float("nan")}, "theta"),
     ("theta-text", {"theta": "0.5"}, "theta"),
+    ("progress-a-number", {"progress": 5}, "progress"),       # failed with a TypeError after the mesh
     ("scenario-a-dict", {"scenario": {"name": "x"}}, "scenario"),
     ("resolution-a-list", {"resolution": ["coarse"]}, "--mesh"),
 ]

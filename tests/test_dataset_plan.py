@@ -209,6 +209,7 @@ def test_the_python_api_names_a_wrong_argument_before_any_work(tmp_path):
     write_index refuses the cases of another spec and writes nothing when one of its four files
     cannot be written (index.csv was left alone before)."""
     from twin.dataset import estimate, executor, write_index
+    from twin.dataset.runner import build_case
     from twin.dataset.spec import spec_path
     from twin.errors import InputError
 
@@ -223,7 +224,9 @@ def test_the_python_api_names_a_wrong_argument_before_any_work(tmp_path):
                         (lambda: write_index(spec, plan(other), out), "cases"),
                         (lambda: write_index(spec, plan(spec), out), "index"),
                         (lambda: executor(5), "--scheduler"), (lambda: load_spec(None), "spec"),
-                        (lambda: spec_path(5), "spec")):
+                        (lambda: spec_path(5), "spec"),
+                        (lambda: build_case(plan(spec)[0].record, plan(spec)[0].hash, 5), "folder"),
+                        (lambda: build_case(plan(spec)[0].record, plan(spec)[0].hash, tmp_path / "none"), "folder")):
         with pytest.raises(InputError) as err:
             call()
         assert err.value.field == field, str(err.value)

@@ -73,6 +73,10 @@ BAD = [
     ("pair-pool-negative", {"pair_pool": -1}, "pair_pool"),
     ("pair-pool-a-float", {"pair_pool": 2.5}, "pair_pool"),
     ("localise-steps-0", {"localise_steps": 0}, "localise_steps"),
+    ("progress-a-number", {"progress": 5}, "progress"),
+    ("parameters-a-text", {"parameters": "no"}, "parameters"),          # "no" is true in Python
+    ("localise-regions-a-text", {"localise_regions": "no"}, "localise_regions"),
+    ("calibrate-expansion-a-number", {"calibrate_expansion": 0}, "calibrate_expansion"),
     ("resolution-unknown", {"resolution": "ultra"}, "resolution"),
     ("error-resolution-unknown", {"error_resolution": "ultra"}, "error_resolution"),
     ("twin-a-text", {"twin": "coarse"}, "twin"),

@@ -61,6 +61,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
     maximum, the sensors' positions and the run's size (:mod:`twin.limits`)."""
     seed = limits.seed_value(seed, CLI, "seed")
     theta = limits.theta_value(theta, CLI)
+    limits.check_progress(progress, CLI)
     m = machine_by_name(machine)
     if prepared is not None:
         check_prepared(prepared, m, CLI)

@@ -37,7 +37,7 @@ import re
 
 import numpy as np
 
-from twin.errors import InputError
+from twin.errors import InputError, describe
 
 ABSOLUTE_ZERO = -273.15                 # degC
 AIR_RANGE = (-40.0, 60.0)               # degC: room air round a machine tool
@@ -290,6 +290,20 @@ def plain_int(text) -> int:
     if not re.fullmatch(r"\s*[+-]?[0-9]+\s*", str(text)):
         raise ValueError(f"not a whole number: {text!r}")
     return int(text)
+
+
+def check_flag(value, source: str, field: str) -> bool:
+    """``value`` a boolean (a text such as "no" is true in Python, and was taken as yes)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(source, field, f"expected True or False, got {describe(value)}")
+    return bool(value)
+
+
+def check_progress(progress, source: str, field: str = "progress") -> None:
+    """``progress`` None or a callable (it is called as progress(done, total) once the work runs,
+    where a number failed with a TypeError after the mesh was built)."""
+    if progress is not None and not callable(progress):
+        raise InputError(source, field, f"expected None or a function progress(done, total), got {describe(progress)}")
 
 
 def is_file_name(name) -> bool:

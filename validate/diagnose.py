@@ -263,7 +263,9 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     measurements = check_arguments(measurements, machine, spec, candidates, custom,
                                    {"min_explained": min_explained, "pair_threshold": pair_threshold}, bic_margin,
                                    {"pair_pool": pair_pool, "localise_steps": localise_steps},
-                                   {"resolution": resolution, "error_resolution": error_resolution}, model_error)
+                                   {"resolution": resolution, "error_resolution": error_resolution}, model_error,
+                                   {"parameters": parameters, "calibrate_expansion": calibrate_expansion,
+                                    "localise_regions": localise_regions}, progress)
     if twin is not None:
         check_prepared(twin, machine, SOURCE, "twin")
         check_beside_prepared(twin, SOURCE, mm, resolution)

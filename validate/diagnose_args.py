@@ -16,7 +16,7 @@ from geometries.base import Machine
 from twin.effects import EFFECTS
 from twin.errors import InputError, describe
 from twin.io.measurement import check_measurement, check_named_machine
-from twin.limits import is_finite_number, is_whole
+from twin.limits import check_flag, check_progress, is_finite_number, is_whole
 from twin.model import ModelSpec
 from twin.physics.prepared import check_resolution
 from twin.scenario import Scenario
@@ -26,7 +26,7 @@ SOURCE = "diagnose"
 
 
 def check_arguments(measurements, machine, spec, candidates, custom, shares: dict, bic_margin, counts: dict,
-                    resolutions: dict, model_error) -> list:
+                    resolutions: dict, model_error, flags: dict | None = None, progress=None) -> list:
     """Raise :class:`InputError` for the first bad argument; return ``measurements`` as a list.
 
     ``measurements``: one or more ``(label, Dataset, Scenario)``, each Dataset a measurement of
@@ -37,7 +37,7 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
     ``shares`` (name: value) from 0 (excluded) to 1 and ``bic_margin`` >= 0, each finite; ``counts``
     integers >= 1; ``resolutions`` (name: None or a mesh of the machine); ``model_error`` None or one
     array per measurement (its per-channel shape is checked once the channels are known,
-    :func:`check_model_error`)."""
+    :func:`check_model_error`); ``flags`` (name: value) booleans; ``progress`` None or callable."""
     if not isinstance(machine, Machine):
         raise InputError(SOURCE, "machine", f"expected a built machine (twin.api.machine_by_name), got {describe(machine)}")
     if not isinstance(measurements, (list, tuple)) or not measurements:
@@ -77,6 +77,9 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
     for name, value in resolutions.items():
         if value is not None:
             check_resolution(machine, value, SOURCE, name)
+    for name, value in (flags or {}).items():
+        check_flag(value, SOURCE, name)
+    check_progress(progress, SOURCE)
     if model_error is not None and (not isinstance(model_error, (list, tuple)) or len(model_error) != len(measurements)):
         raise InputError(SOURCE, "model_error", f"expected one per-channel array per measurement ({len(measurements)}), "
                                                 f"got {describe(model_error)}")

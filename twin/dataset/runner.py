@@ -26,7 +26,7 @@ from twin import limits
 from twin.dataset.plan import Case, check_cases
 from twin.dataset.plan import case_hash as hash_of
 from twin.errors import InputError, describe
-from twin.io.paths import output_folder
+from twin.io.paths import as_path, output_folder
 
 CASES = "cases"   # the folder of the case files inside a dataset folder
 MAX_JOBS = 1024   # the most workers a build takes (as the command's --jobs)
@@ -160,6 +160,9 @@ def build_case(record: dict, case_hash: str, folder: str) -> dict:
     if not isinstance(record, dict) or not isinstance(case_hash, str) or case_hash != hash_of(record):
         raise InputError("build_case", "case_hash", f"{describe(case_hash)} is not the hash of the record "
                                                     "(twin.dataset.plan.case_hash): a case's file is named by it")
+    folder = as_path(folder, "folder")          # before the run: a number here failed after it
+    if not folder.is_dir():
+        raise InputError(str(folder), "folder", "is not a folder: give the dataset's cases folder")
     t0 = time.perf_counter()
     ds, result = simulate_case(record, case_hash)
     path = write_netcdf(ds, Path(folder) / f"{case_hash}.nc", "case")
