@@ -78,9 +78,17 @@ def test_scores_and_rates_follow_the_numbers():
     (["--truth", "coarse", "--model", "default"], "coarser than --model"),
     (["--effects", "nonsense"], "unknown effects: nonsense"),
     (["--classes", "hidden,weird"], "unknown class 'weird'"),
-    (["--classes", "none", "--scenarios", "no-such-test"], "--scenarios: no planned case runs on 'no-such-test'"),
+    (["--classes", "none", "--scenarios", "no-such-test"], "--scenarios: no case of the classes none matches "
+                                                           "'no-such-test'"),
+    # a text that matches nothing is refused even beside one that matches (it was dropped)
+    (["--classes", "none", "--cases", "(none),zzz"], "--cases: no case of the classes none matches 'zzz'"),
+    (["--classes", "none", "--scenarios", "etve,nosuch"], "--scenarios: no case of the classes none matches 'nosuch'"),
+    # --analyse runs no case: the options that choose cases or meshes would be ignored
+    (["--analyse", "--classes", "bogus"], "--analyse: re-renders an existing table and runs no case"),
+    (["--analyse", "--jobs", "8"], "leave out --jobs"),
 ])
-def test_bad_options_are_one_clear_error(capsys, argv, needle):
+def test_bad_options_are_one_clear_error(capsys, argv, needle, tmp_path):
+    argv = argv + ["-o", str(tmp_path / "he")]
     with pytest.raises(SystemExit) as e:
         study.main(argv)
     assert e.value.code == 2

@@ -211,8 +211,16 @@ def main(argv=None) -> int:
 
 
 def _analyse(a) -> int:
-    """--analyse: hidden_effect.md re-rendered from the hidden_effect.csv beside it."""
+    """--analyse: hidden_effect.md re-rendered from the hidden_effect.csv beside it; it runs no
+    case, so an option that chooses cases or meshes would be ignored: refused."""
     from twin.io.paths import input_file, output_file, read_text
+
+    defaults = {"classes": ",".join(CLASSES), "effects": None, "cases": None, "scenarios": None, "quick": False,
+                "jobs": 1, "truth": "fine", "model": "default", "error_mesh": "coarse"}
+    given = [k for k, v in defaults.items() if getattr(a, k) != v]
+    if given:
+        raise InputError("command line", "--analyse", f"re-renders an existing table and runs no case: it takes "
+                                                      f"-o and --machine only; leave out --{given[0].replace('_', '-')}")
 
     out = Path(a.out or f"validate-out/hidden_effect/{a.machine}")
     table = input_file(out / "hidden_effect.csv", "--output", "study table (hidden_effect.csv)")
@@ -276,17 +284,16 @@ def _study(a) -> int:
                                                     "least as fine")
     error = None if a.error_mesh == "none" else a.error_mesh
     plan = all_cases(machine, classes, hidden)
-    if a.cases:
-        wanted = [w.strip() for w in a.cases.split(",") if w.strip()]
-        plan = [c for c in plan if any(w in c.label for w in wanted)]
-        if not plan:
-            raise InputError("command line", "--cases", f"no case of the classes {', '.join(classes)} matches "
-                                                        f"{a.cases!r}")
-    if a.scenarios:
-        wanted = [w.strip() for w in a.scenarios.split(",") if w.strip()]
-        plan = [c for c in plan if any(w in c.scenario for w in wanted)]
-        if not plan:
-            raise InputError("command line", "--scenarios", f"no planned case runs on {a.scenarios!r}")
+    for option, text, key in (("--cases", a.cases, lambda c: c.label), ("--scenarios", a.scenarios, lambda c: c.scenario)):
+        if not text:
+            continue
+        wanted = [w.strip() for w in text.split(",") if w.strip()]
+        unmatched = [w for w in wanted if not any(w in key(c) for c in plan)]
+        if unmatched or not wanted:      # a text that matches nothing is a typo, even beside one that matches
+            raise InputError("command line", option, f"no case of the classes {', '.join(classes)}"
+                                                     f"{' on the cases chosen' if option == '--scenarios' and a.cases else ''}"
+                                                     f" matches {', '.join(map(repr, unmatched or [text]))}")
+        plan = [c for c in plan if any(w in key(c) for w in wanted)]
     work = [(c, a.quick, a.truth, a.model, error, machine.name) for c in plan]
     cmd = (f"python -m validate.studies.hidden_effect --machine {machine.name} --classes {','.join(classes)}"
            + (" --quick" if a.quick else "") + (f" --effects {a.effects}" if a.effects else "")
