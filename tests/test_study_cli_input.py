@@ -128,6 +128,14 @@ def test_camera_benchmark_checks_the_scenario_against_the_machine(fast_scenario,
     (["--solver", "rom", "--heat-start", "projection"], "--heat-start: starts iterative heat steps; --solver rom"),
     (["--mesh", "coarse", "--heat-start", "reduced"], "--heat-start: starts iterative heat steps; --solver auto "
                                                       "factorises this mesh"),
+    (["--mesh", "coarse", "--seed", "5"], "command line: --seed: seeds the factors of batched cases"),
+    (["--mesh", "coarse", "--elastic-coarsening", "2", "--heat-only"], "--elastic-coarsening: coarsens the elastic "
+                                                                       "mesh; --heat-only solves no elasticity"),
+    (["--mesh", "coarse", "--solver", "rom", "--cases", "3", "--prepare-only"], "command line: --cases: acts on the "
+                                                                                "time steps; --prepare-only"),
+    # a batch beyond the memory a batch may hold, before the mesh (it ran for minutes, then a MemoryError)
+    (["--mesh", "coarse", "--solver", "rom", "--cases", "100000000"], "command line: --cases: 100000000 cases of "
+                                                                       "1441 samples each"),
 ])
 def test_benchmark_refuses_bad_options(argv, needle, capsys):
     assert benchmark.main(argv) == 2

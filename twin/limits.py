@@ -46,6 +46,7 @@ UNDECLARED_MAX_SPEED = 60000.0          # rpm: the fastest spindles in machine t
 LOGGED_SPEED_MARGIN = 0.05              # a measured speed may exceed the maximum by 5 %
 MAX_STEPS = 1_000_000                   # time steps of one run
 MAX_NODE_STEPS = 2e10                   # steps x temperature nodes of one run
+MAX_CASE_STEPS = 2e7                    # cases x samples of one batch (its readings: ~30 outputs x 8 B each)
 PROBE_RANGE = 0.01                      # m: the measuring range of a displacement probe (10 mm)
 STRAIN_RANGE = 5e-3                     # m/m: beyond any strain a machine structure survives
 AIR_REACH = 10.0                        # m: how far from the machine an air sensor may sit
@@ -175,6 +176,16 @@ def check_steps(duration: float, sample_interval: float, source: str, field: str
                                         f"sample interval {sample_interval:.6g} s); at most {MAX_STEPS:.0e} are "
                                         "affordable: shorten the run or lengthen sample_interval")
     return int(round(steps))
+
+
+def check_batch_size(cases: int, samples: int, source: str, field: str) -> None:
+    """A batch of ``cases`` runs of ``samples`` samples each holds every reading of every case at
+    once: refused beyond :data:`MAX_CASE_STEPS` case-samples (a billion cases ran for minutes
+    before failing with a memory error)."""
+    if cases * samples > MAX_CASE_STEPS:
+        raise InputError(source, field, f"{cases} cases of {samples} samples each are {cases * samples:.3g} "
+                                        f"case-samples; a batch holds at most {MAX_CASE_STEPS:.0e}: run fewer cases "
+                                        f"(here at most {int(MAX_CASE_STEPS // samples)}) or in several batches")
 
 
 def check_run_size(scenario, nodes: int, field: str = "duration") -> None:

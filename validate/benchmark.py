@@ -127,6 +127,7 @@ def _run(args) -> int:
     machine = machine_by_name(args.machine)
     scenario = load_scenario(args.scenario)
     limits.check_scenario(scenario, machine)
+    limits.check_batch_size(args.cases, len(scenario.times()), "command line", "--cases")   # before the mesh
     tol = {"heat_tol": args.heat_tol} if args.heat_tol is not None else {}
     options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order or 48,
                             elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
@@ -217,6 +218,17 @@ def _check_combination(args) -> None:
         raise InputError("command line", "--gpu-kernels", "chooses the GPU's kernels: it needs --device gpu")
     if args.rom_order is not None and args.solver == "direct":
         raise InputError("command line", "--rom-order", "sets a reduced basis; --solver direct has none")
+    given = getattr(args, "_options_given", set())       # the options typed (twin.cli.Parser)
+    if "seed" in given and args.cases == 1:
+        raise InputError("command line", "--seed", "seeds the factors of batched cases: it needs --cases N > 1")
+    if args.elastic_coarsening > 1 and args.heat_only:
+        raise InputError("command line", "--elastic-coarsening", "coarsens the elastic mesh; --heat-only solves no "
+                                                                 "elasticity")
+    if args.prepare_only:
+        stepped = [o for o, on in (("--cases", args.cases > 1), ("--no-bound", args.no_bound),
+                                   ("--no-reference", args.no_reference), ("--seed", "seed" in given)) if on]
+        if stepped:
+            raise InputError("command line", stepped[0], "acts on the time steps; --prepare-only stops before them")
 
 
 def _elastic_reference(args) -> bool:

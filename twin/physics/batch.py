@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from twin import limits
 from twin.errors import InputError
 from twin.observe.base import error_units
 from twin.physics.heat import integrate
@@ -47,6 +48,7 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
         raise InputError("command line", "cases", "run_batch needs at least one (scenario, spec)")
     sc0, spec0 = cases[0]
     times, T0 = sc0.times(), sc0.start_temperature
+    limits.check_batch_size(len(cases), len(times), "command line", "cases")
     for i, (sc, _) in enumerate(cases):
         if len(sc.times()) != len(times) or not np.allclose(sc.times(), times) or sc.start_temperature != T0:
             raise InputError("command line", f"cases[{i}]", "batched cases share the first case's time grid (duration "
