@@ -41,7 +41,7 @@ def _parser():
     from twin.cli.options import whole_number
     from validate.studies.common import cli_parser
 
-    ap = cli_parser("python -m validate.camera_benchmark", __doc__.splitlines()[0])
+    ap = cli_parser("python -m validate.camera_benchmark", __doc__)
     ap.add_argument("--machine", default="cframe-vmc", help="machine (default: %(default)s)")
     ap.add_argument("--scenario", default="spindle-heat-cool-9000", help="scenario name or file (default: %(default)s)")
     ap.add_argument("--mesh", default="default", choices=["coarse", "default", "fine"],

@@ -30,7 +30,7 @@ def _parser():
     from twin.cli.options import positive_quantity, whole_number
     from validate.studies.common import cli_parser
 
-    ap = cli_parser("python -m validate.gpu_step_benchmark", __doc__.splitlines()[0])
+    ap = cli_parser("python -m validate.gpu_step_benchmark", __doc__)
     ap.add_argument("--machine", default="cframe-vmc")
     ap.add_argument("--scenario", default="etve-day-night")
     ap.add_argument("--spacing", type=positive_quantity("length"), default="23mm",

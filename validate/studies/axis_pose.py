@@ -125,7 +125,7 @@ def poses_mm(text: str) -> list[float]:
 
 
 def main(argv=None) -> int:
-    p = cli_parser("python -m validate.studies.axis_pose", __doc__.splitlines()[0])
+    p = cli_parser("python -m validate.studies.axis_pose", __doc__)
     p.add_argument("--quick", action="store_true", help="coarse mesh (default: the default mesh)")
     p.add_argument("--poses", type=poses_mm, default="60 mm,340 mm",
                    help="Y poses, each with its unit, to compare with the reference, within the Y travel "

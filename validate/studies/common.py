@@ -32,10 +32,12 @@ PRESETS = {
 
 def cli_parser(prog: str, description: str) -> argparse.ArgumentParser:
     """An argument parser with the twin CLI's usage errors (one line naming the option, exit code 2)
-    that refuses a single-valued option given twice (``twin.cli``)."""
+    that refuses a single-valued option given twice (``twin.cli``); its description is the first
+    paragraph of ``description`` (a module docstring), whole (its first line alone stopped
+    mid-sentence)."""
     from twin.cli import Parser
 
-    return Parser(prog=prog, description=description)
+    return Parser(prog=prog, description=" ".join((description or "").strip().split("\n\n")[0].split()))
 
 
 def whole_numbers(what: str, lower: int = 1):
@@ -116,7 +118,7 @@ def parse_args(name: str, doc: str, argv=None, camera: bool = False, seed: bool 
     line, like the twin CLI."""
     from twin.cli.options import seed as seed_type
 
-    p = cli_parser(f"python -m validate.studies.{name}", doc.splitlines()[0])
+    p = cli_parser(f"python -m validate.studies.{name}", doc)
     p.add_argument("--quick", action="store_true", help="coarse mesh (smoke run); default: the default mesh")
     folder = folder or name
     p.add_argument("-o", "--output", help=f"output folder (default validate-out/{folder}"

@@ -171,7 +171,7 @@ OUTPUTS = ("leaderboard.csv", "leaderboard.md", "placement.csv", "placement.md")
 
 
 def _parser():
-    p = cli_parser(f"python -m validate.studies.{NAME}", __doc__.splitlines()[0])
+    p = cli_parser(f"python -m validate.studies.{NAME}", __doc__)
     p.add_argument("dataset", help="a twin dataset folder (twin dataset SPEC -o DIR)")
     p.add_argument("-o", "--output", default=DEFAULT_OUTPUT,
                    help=f"output folder (default validate-out/{NAME})")

@@ -103,7 +103,7 @@ def signals(scenario: str, causes, resolution: str = "default", error_mesh: str 
 
 
 def main(argv=None) -> int:
-    ap = cli_parser("python -m validate.studies.diagnosis_signals", __doc__.splitlines()[0])
+    ap = cli_parser("python -m validate.studies.diagnosis_signals", __doc__)
     ap.add_argument("--resolution", default="default", choices=MESHES, help="the model's mesh (default: %(default)s)")
     ap.add_argument("--error-mesh", default="coarse", choices=MESHES,
                     help="the model-error estimate's mesh, another than --resolution (default: %(default)s)")

@@ -43,7 +43,7 @@ def correlation(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def main(argv=None) -> int:
-    p = cli_parser("python -m validate.studies.feed_signatures", __doc__.splitlines()[0])
+    p = cli_parser("python -m validate.studies.feed_signatures", __doc__)
     p.add_argument("--mesh", default="coarse", choices=["coarse", "default", "fine"],
                    help="mesh resolution (default: %(default)s)")
     p.add_argument("--full", action="store_true", help="the whole 390 min scenario (default: the study's quick one)")

@@ -173,7 +173,7 @@ DEFAULT_OUTPUT = f"validate-out/{NAME}"
 def _parser():
     from twin.cli.options import whole_number
 
-    p = cli_parser(f"python -m validate.studies.{NAME}", __doc__.splitlines()[0])
+    p = cli_parser(f"python -m validate.studies.{NAME}", __doc__)
     p.add_argument("--spacing", type=positive_quantity("length"), help="cell size with its unit (default 40mm)")
     p.add_argument("--steps", type=whole_number("steps", 1, 1440), help="steps solved by each variant, 1 to 1440 "
                                                                         "(default 300)")

@@ -178,7 +178,7 @@ def _typed(row: dict) -> dict:
 def _parser():
     from twin.cli.options import whole_number
 
-    ap = cli_parser("python -m validate.studies.hidden_effect", __doc__.splitlines()[0])
+    ap = cli_parser("python -m validate.studies.hidden_effect", __doc__)
     ap.add_argument("--machine", default="cframe-vmc", help="machine (default: %(default)s)")
     ap.add_argument("--classes", default=",".join(CLASSES), help=f"comma-separated classes (default: all: {', '.join(CLASSES)})")
     ap.add_argument("--effects", help="hidden class: comma-separated hidden effects (default: spindle_motor and every "
