@@ -228,7 +228,8 @@ def test_candidates_whose_effect_cannot_act_are_left_out(machine):
     """The door stream acts only while a scenario's door is open (Effect.acts): on records
     without one its parameters are no candidates (their responses would be zero), with one they
     are; the room swing's growth with height acts only where the room air moves, door events
-    aside (a daily room, a holiday); a missing effect named by the user is kept regardless."""
+    aside (a daily room, a holiday); a door draft only if it opens within the record; a missing
+    effect named by the user is kept regardless."""
     from twin.model import model_spec
     from validate.candidates import candidate_pool
     spec = model_spec(machine)
@@ -244,6 +245,9 @@ def test_candidates_whose_effect_cannot_act_are_left_out(machine):
     assert not stream & names(calm) and stream <= names(door) and stream <= names(calm, door)
     growth = "stratified_swing.growth"
     assert growth not in names(calm) | names(door) and growth in names(daily) and growth in names(holiday)
+    # a door draft whose first opening (1 h by default) is not within the record
+    longer = Scenario("longer", ((7200.0, 0.0),), Ambient("constant", mean=20.0), 60.0)
+    assert "door_draft" not in names(calm) and "door_draft" in names(longer)
     less = model_spec(machine, "-door_stream")
     assert "door_stream" not in {c.name for c in candidate_pool(machine, less, scenarios=(calm,))}
     assert "door_stream" in {c.name for c in candidate_pool(machine, less, ["door_stream"], scenarios=(calm,))}

@@ -9,6 +9,7 @@ from geometries import build_machine
 from twin.api import simulate
 from twin.effects import EFFECTS
 from twin.fem.regions import facet_centres, facing
+from twin.errors import InputError
 from twin.model import ModelSpec
 from twin.physics.loads import build_loads
 from twin.scenario import Ambient, Scenario
@@ -120,6 +121,15 @@ def test_stratification_split_above_and_below_z_ref_gives_each_side_its_moment(g
     # with z_ref at the floor nothing cancels: one load of the whole moment h g A_skin c / 2
     one = EFFECTS["ambient_stratification"].loads(mm, scenario(0.0), {**p, "reference_height": 0.0})
     assert len(one) == 1 and one[0].power(t)[0] == pytest.approx(h * g * skin_area * c / 2, rel=1e-12)
+
+
+def test_a_door_draft_opening_after_the_run_is_refused(mm, heat):
+    """Switched on with its first opening at or after the run's end it would do nothing: one error
+    naming door_draft.start (the result listed the effect and was identical to one without)."""
+    sc = Scenario("short", ((1800.0, 0.0),), Ambient("constant", mean=20.0), 60.0)
+    with pytest.raises(InputError) as err:
+        build_loads(mm, sc, ModelSpec(("door_draft",), {"door_draft": {"start": 1800.0}}), heat)
+    assert err.value.field == "door_draft.start" and "would do nothing" in err.value.message
 
 
 def test_door_draft_active_only_in_event_window(mm, heat):

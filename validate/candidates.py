@@ -127,8 +127,9 @@ def candidate_pool(machine, spec: ModelSpec, effects: list[str] | None = None, p
 
     names = effects if effects is not None else [e for e in applicable_effects(machine)
                                                  if e not in spec.effects and (e not in CUSTOM or e in custom)]
-    def acting(cands):
-        return [c for c in cands if not scenarios or any(EFFECTS[c.effect].acts(sc) for sc in scenarios)]
+    def acting(cands):      # at the model's parameters (a missing effect: its defaults)
+        return [c for c in cands if not scenarios
+                or any(EFFECTS[c.effect].acts(sc, spec.params.get(c.effect)) for sc in scenarios)]
 
     out = [c for c in (missing_effect(n) for n in names) if c is not None]
     return (out if effects is not None else acting(out)) + (acting(wrong_parameters(spec)) if parameters else [])

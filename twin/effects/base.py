@@ -140,10 +140,11 @@ class Effect:
         """The declared :class:`Uncertain` range of parameter ``name`` (None if it is not declared)."""
         return next((u for u in self.uncertain if u.name == name), None)
 
-    def acts(self, scenario) -> bool:
-        """False only where this effect certainly puts no load into a run of ``scenario``
-        (the door stream without a door event): the diagnosis then offers neither it nor its
-        parameters as candidates, whose responses would be zero."""
+    def acts(self, scenario, params: dict | None = None) -> bool:
+        """False only where this effect, at ``params`` (default: its defaults), certainly puts no
+        load into a run of ``scenario`` (the door stream without a door event, a door draft
+        opening after the run's end): the diagnosis then offers neither it nor its parameters as
+        candidates, whose responses would be zero."""
         return True
 
     def loads(self, mm, scenario, params: dict[str, float]) -> list:

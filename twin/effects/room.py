@@ -11,6 +11,7 @@ import numpy as np
 
 from twin.effects.base import (Convection, Effect, Parameter, SurfaceHeatFlux, Uncertain, constant, first_order_lag,
                                register_effect)
+from twin.errors import InputError
 from twin.fem.regions import facet_centres, role_facets
 
 
@@ -130,7 +131,7 @@ class StratifiedSwing(LayeredAir):
                                       "with constant room air it leaves no trace", linear=True),
     )
 
-    def acts(self, scenario) -> bool:
+    def acts(self, scenario, params: dict | None = None) -> bool:
         """Only where the room air moves (door events aside, :func:`layered_swing`): a constant
         room without other events gives it nothing to act on."""
         a = scenario.ambient
@@ -208,7 +209,17 @@ class DoorDraft(Effect):
         Uncertain("h", 5.0, 40.0, "draft speed 0.5-4 m/s on a plate (flat-plate forced convection)"),
     )
 
+    def acts(self, scenario, params: dict | None = None) -> bool:
+        """Only if the first opening falls within the run."""
+        return (params or self.defaults())["start"] < scenario.duration
+
     def loads(self, mm, scenario, p):
+        if not self.acts(scenario, p):     # switched on, it would do nothing: say so
+            raise InputError("command line", "door_draft.start", f"the first opening at {p['start'] / 3600:g} h lies at "
+                                                                 f"or after the end of the run "
+                                                                 f"({scenario.duration / 3600:g} h): the draft would do "
+                                                                 "nothing; set door_draft.start within the run, or "
+                                                                 "leave the effect out")
         facets = role_facets(mm, "structure.front")
         h, dT = p["h"], p["temperature_difference"]
         return [Convection(self.name, facets,

@@ -59,7 +59,7 @@ class DoorStream(Effect):
                                                         "room's own air to 25 K below it"),
     )
 
-    def acts(self, scenario) -> bool:
+    def acts(self, scenario, params: dict | None = None) -> bool:
         """Only while a door of the scenario is open."""
         return any(e.door for e in getattr(scenario.ambient, "events", ()))
 
