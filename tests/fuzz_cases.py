@@ -169,6 +169,7 @@ OPTION_CASES = [
     ("simulate:unknown-scenario", swap(SIM, "{d}/short.toml", "no-such-scenario"), CLI, "scenario"),
     ("simulate:unknown-effect", SIM + ["--effects", "+warp_drive"], CLI, "--effects warp_drive"),
     ("simulate:remove-absent-effect", SIM + ["--effects=-electrical_cabinet"], CLI, "--effects electrical_cabinet"),
+    ("simulate:add-effect-already-on", SIM + ["--effects", "+floor"], CLI, "--effects +floor"),   # changes nothing
     ("simulate:c-axis-beyond-machine", swap(SIM, "cframe-vmc", "gantry-ram"), "{d}/short.toml", "c_axis[0].speed"),
     ("simulate:fbg-cross-sensitivity-no-unit", swap(SIM, "cframe-vmc", "gantry-ram") + ["--set", "fbg.cross_sensitivity=8.64"],
      CLI, "--set fbg.cross_sensitivity"),

@@ -108,6 +108,9 @@ def parse_effects(text: str | None, base: tuple[str, ...], always: tuple[str, ..
         chosen = list(base)
         for item in items:
             sign, name = item[0], item[1:]
+            if sign == "+" and name in base and name not in always:     # as "-x" of an absent x is refused
+                raise InputError(CLI, f"--effects +{name}", f"{name} is already in the model (the machine's "
+                                                            "defaults): the edit would change nothing; leave it out")
             if sign == "+" and name not in chosen:
                 chosen.append(name)
             elif sign == "-":
