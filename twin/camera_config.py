@@ -44,8 +44,6 @@ above absolute zero.
 
 from __future__ import annotations
 
-
-
 from twin import limits
 from twin.errors import InputError
 from twin.io.table_reader import TableReader

@@ -301,8 +301,7 @@ def build(cases: list[Case], folder: Path, pool=None, progress=None) -> dict:
     check_cases(cases, "build")
     if pool is not None and not callable(getattr(pool, "submit", None)):
         raise InputError("build", "pool", f"expected an executor (twin.dataset.executor), got {describe(pool)}")
-    if progress is not None and not callable(progress):
-        raise InputError("build", "progress", f"expected a function progress(done, total), got {describe(progress)}")
+    limits.check_progress(progress, "build")
     folder = output_folder(folder, "folder")
     out_dir = folder / CASES
     if folder.is_dir():

@@ -425,14 +425,12 @@ def _table(spec, src: str, where: str, folder: Path) -> tuple[Path, tuple[np.nda
     times, factors = values[:, 0] * scale, values[:, 1]
     if times[0] != 0:
         raise InputError(csv_src, "time", f"line {lines[1]}: the table starts at {rows[1][0].strip()} {unit}; it "
-                                          "must start "
-                                          "at 0, the run's start (times count from it; nothing is extrapolated)")
+                                          "must start at 0, the run's start (times count from it; nothing is extrapolated)")
     step = np.diff(times)
     if np.any(step <= 0):
         i = int(np.flatnonzero(step <= 0)[0])
         raise InputError(csv_src, "time", f"must increase strictly (line {lines[i + 2]}: {rows[i + 2][0].strip()} "
-                                          "after "
-                                          f"{rows[i + 1][0].strip()} {unit})")
+                                          f"after {rows[i + 1][0].strip()} {unit})")
     bad = np.flatnonzero((factors < 0) | (factors > MAX_FACTOR))
     if bad.size:
         i = int(bad[0])

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 from twin.effects.base import (ContactConductance, Convection, Effect, HeatSource, Parameter, Uncertain, constant,
                                register_effect, speed_power_law)
 from twin.fem.regions import role_cells, role_facets, role_parts

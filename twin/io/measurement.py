@@ -150,8 +150,6 @@ def _with_channels(ds: xr.Dataset, src: str) -> xr.Dataset:
     return ds
 
 
-# the units of a twin result's variables, which a NetCDF measurement must use (it is read as is;
-# a CSV with its mapping converts any unit)
 def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
     """Units and physical limits of a NetCDF measurement's inputs and sensors (the CSV reader
     checks its columns as it reads them)."""
