@@ -19,7 +19,6 @@ from twin.io.paths import read_toml
 from twin.motion_checks import check_motions
 from twin.scenario import SCENARIO_DIR, scenario_from_dict
 from twin.ambient import EVENT_KEYS, ambient_from_toml, check_air_covers
-from twin.units import parse_quantity
 
 # the keys of a [[scenarios]] family: a scenario file, or a duty-cycle generator
 FAMILY_KEYS = ("family", "cases", "file", "duration", "sample_interval", "spindle", "ambient", "axis")
@@ -174,25 +173,25 @@ def _duty_cycle(r: TableReader, source: str, machines: dict, folder: Path) -> Du
             raise InputError(source, a.field("amplitude"), f"mean +/- amplitude may leave the plausible room air "
                                                            f"range ({lo_air:g} to {hi_air:g} degC)")
     elif kind in ("table", "csv"):
-        room, room_file = _fixed_room(raw, duration, source, a, folder)
-        temps = [parse_quantity(v, "temperature") for v in room["temperatures"]]
-        air = (min(temps), max(temps))
+        record = _fixed_room(raw, duration, source, a, folder)
+        room, room_file = room_table(record), record.file
+        air = (min(record.temperatures), max(record.temperatures))
     else:
         raise InputError(source, a.field("kind"), f"unknown kind {kind!r}; known for a generator: constant, daily, "
                                                   "table, csv")
     events = _air_events(a.get("events", default=[], kind=list), duration, air, source, a.field("events"))
     a.finish()
-    if kind in ("table", "csv"):
-        kind = "table"          # a case holds the record itself, not the path of a file beside the spec
+    if room is not None:
+        kind = room.pop("kind")     # "table": a case holds the record itself, not a file beside the spec
     axes = _axis_duties(r.get("axis", default=[], kind=list), source, r.field("axis"), machines)
     return DutyCycle(duration, dt, step, speed, quantum, float(idle), kind, amb, axes, room, events, room_file)
 
 
-def _fixed_room(raw: dict, duration: float, source: str, a: TableReader, folder: Path) -> tuple[dict, str]:
+def _fixed_room(raw: dict, duration: float, source: str, a: TableReader, folder: Path):
     """A generator's fixed room, ``kind = "table"`` (times, temperatures) or ``"csv"`` (a file
     relative to the spec, :mod:`twin.io.room_csv`), read and checked by the scenario reader
     (covering the family's ``duration``): the same air in every case, events drawn on top.
-    Returns ({"times": [...], "temperatures": [...]} as quantity texts, the CSV's path or "")."""
+    Returns the record (:class:`twin.ambient.Ambient`; ``file``: the CSV's path, or "")."""
     for key in ("times", "temperatures", "file"):
         a.get(key)                        # read here: known to the reader, checked below
     keys = {"table": ("times", "temperatures"), "csv": ("file",)}[raw["kind"]]
@@ -209,8 +208,7 @@ def _fixed_room(raw: dict, duration: float, source: str, a: TableReader, folder:
             raise                        # a CSV's own error: its file and column
         raise InputError(source if err.source == here else err.source, a.field(err.field[len("ambient."):]),
                          err.message) from None
-    table = room_table(room)
-    return {k: table[k] for k in ("times", "temperatures")}, room.file
+    return room
 
 
 def _air_events(items: list, duration: float, air: tuple, source: str, prefix: str) -> tuple:
