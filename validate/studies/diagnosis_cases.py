@@ -22,6 +22,7 @@ first hidden effect is the C-axis drive, truths that need the spindle turning ar
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass, field, replace
 
@@ -79,9 +80,6 @@ HIDDEN = {
     "c_axis_drive": (DUTY, None, "the C axis's motor and bearing heat the ram's end while it turns: the C-axis test "
                                  "(gantry-ram); 300 W motor losses at 2500 rpm is the default."),
 }
-# effects that act only during a scenario's door event (``door = true``): no study scenario has one
-# (the seed's 160 h winter ETVE does, too long for the study), so hiding them leaves nothing to find
-NEEDS_DOOR_EVENT = {"door_stream"}
 FEED_DRIVE_HIDDEN = ("feed_nut_y", "feed_motor_y", "feed_guideways_y", "feed_bearings_y")
 # the hidden effect every machine's study starts with (a default effect the model then lacks)
 FIRST_HIDDEN = {"gantry-ram": "c_axis_drive"}
@@ -189,16 +187,26 @@ def hidden_case(machine, effect: str) -> Case:
     return Case("hidden", effect, scenario, f"+{effect}", setting, None, ((effect, value),), why=why)
 
 
+@functools.lru_cache(maxsize=None)
+def acts_in(effect: str, scenario: str) -> bool:
+    """Whether ``effect`` at its defaults can act in the bundled ``scenario``
+    (:meth:`twin.effects.base.Effect.acts`): hiding it or moving its parameters there would leave
+    nothing to find (the door stream: no study scenario opens a door; the seed's 160 h winter
+    ETVE does, too long for the study; ``tests/test_diagnose.py`` diagnoses a door event's)."""
+    return EFFECTS[effect].acts(load_scenario(scenario))
+
+
 def parameter_cases(machine) -> list[Case]:
-    """Every declared uncertain parameter of the machine's default effects, on its scenarios;
-    not those of effects that act only while a scenario's door is open (:data:`NEEDS_DOOR_EVENT`:
-    no study scenario opens one; ``tests/test_diagnose.py`` diagnoses a door event's stream)."""
+    """Every declared uncertain parameter of the machine's default effects, on those of its
+    scenarios where the effect can act (:func:`acts_in`)."""
     out = []
-    for effect in (e for e in machine.default_effects if e not in NEEDS_DOOR_EVENT):
+    for effect in machine.default_effects:
         eff = EFFECTS[effect]
         for u in eff.uncertain:
             name = f"{effect}.{u.name}"
             for scenario, factor in PARAMETERS.get(name, DEFAULT_PARAMETER_CASES):
+                if not acts_in(effect, scenario):
+                    continue
                 value = eff.parameter(u.name).default * factor
                 out.append(Case("parameter", f"{name} x{factor:g}", scenario, None,
                                 (f"{name}={_quantity(effect, u.name, value)}",), None, ((name, value),),
@@ -247,9 +255,10 @@ def all_cases(machine, classes=CLASSES, hidden: list[str] | None = None) -> list
     if "hidden" in classes:
         drives = with_feed_drives(machine)
         first = FIRST_HIDDEN.get(machine.name, "spindle_motor")
-        skip = (SPINDLE_DRIVEN if machine.name in SPINDLE_AT_REST else set()) | NEEDS_DOOR_EVENT
+        skip = SPINDLE_DRIVEN if machine.name in SPINDLE_AT_REST else set()
         names = hidden or ([first] + [e for e in applicable_effects(machine)
-                                      if e not in machine.default_effects and e not in skip]
+                                      if e not in machine.default_effects and e not in skip
+                                      and acts_in(e, HIDDEN.get(e, (DUTY,))[0])]
                            + [e for e in FEED_DRIVE_HIDDEN if EFFECTS[e].applies_to(drives)])
         cases += [hidden_case(machine, e) for e in names]
     if "parameter" in classes:
