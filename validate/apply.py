@@ -10,15 +10,6 @@ from twin.errors import InputError, describe
 from validate.channels import residual_unit
 
 
-def top_spec(d):
-    """The diagnosing model with the top candidate(s) at the fitted values."""
-    f = d.fits[0]
-    spec = d.spec
-    for c, v in zip(f.candidates, f.values):
-        spec = c.spec(spec, v)
-    return spec
-
-
 def check_diagnosis(d, source: str, fitted: bool = False) -> None:
     """``d`` is a :class:`validate.diagnose.Diagnosis` (with a fitted candidate when ``fitted``)."""
     from validate.diagnose import Diagnosis
@@ -56,7 +47,7 @@ def apply_top(d):
     the printed arguments reproduce; the diagnosis's own records and prepared twin are used."""
     check_diagnosis(d, "apply_top", fitted=True)
     f = d.fits[0]
-    spec = top_spec(d)
+    spec = f.in_model(d.spec)
     coef = d.expansion_fit(f.response) if d.materials else {}
     after, responses = d.evidence.observe_with_expansion(spec, list(coef))
     # drift is linear in each alpha for the rerun's temperatures: the calibrated rerun is exact

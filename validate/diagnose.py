@@ -68,6 +68,7 @@ from validate.diagnosis_text import diagnosis_json, format_diagnosis, reasoning 
 from validate.evidence import Evidence, channel_weights, make_records, noise_levels
 from validate.fit import BoundedFitter
 from validate.fit_text import at_bound, bound_text, format_bounds, format_values, statement
+from validate.model_error import error_with, mesh_error
 from validate.search import Fit, Search
 from validate.signatures import DISPLACEMENT_GROUPS, Engine
 
@@ -102,6 +103,7 @@ class Diagnosis:
     model_error_flat: np.ndarray | None = None
     model_error_series_flat: np.ndarray | None = None   # signed estimate (flat), when from a mesh
     beyond_model_error: float | None = None
+    levels_after: dict = field(default_factory=dict)   # levels of the model with the named candidate, when re-estimated
     error_resolution: str | None = None
     runs: int = 0
     twin: object = None
@@ -184,14 +186,6 @@ class Diagnosis:
 
 def _first_row(block: np.ndarray) -> np.ndarray:
     return block[0]
-
-
-def mesh_error(record, machine, spec: ModelSpec, resolution: str, other: Engine | None = None) -> np.ndarray:
-    """(model on ``resolution``) - (model on the record's mesh) (times, channels), on the
-    record's grid: the estimate of the diagnosing model's discretisation error, signed
-    (``other``: an engine on ``resolution`` for the record's scenario and sensors, to reuse)."""
-    other = other or Engine(machine, record.scenario, resolution, sensors=record.sensor_points)
-    return record.interp(other.observe(spec)[:, record.columns]) - record.observe(spec)
 
 
 def finer_resolution(machine, resolution: str) -> str | None:
@@ -297,7 +291,8 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
                 error_twin = error_twin or PreparedTwin(machine, resolution=error_resolution)
                 others[id(rec.engine)] = Engine(machine, rec.scenario, error_resolution, sensors=rec.sensor_points,
                                                 prepared=error_twin)
-            rec.model_error_series = mesh_error(rec, machine, spec, error_resolution, others[id(rec.engine)])
+            rec.error_engine = others[id(rec.engine)]
+            rec.model_error_series = mesh_error(rec, machine, spec, error_resolution, rec.error_engine)
             rec.model_error = rms(rec.model_error_series, axis=0)
         if rec.counts_as is None:
             stage()
@@ -437,6 +432,19 @@ def _score(d: Diagnosis, fits: list[Fit], min_explained: float, bic_margin: floa
     d.significant = bool(top and top["significant"])
 
 
+def _error_after(d: Diagnosis, machine, after: np.ndarray, stage) -> None:
+    """The residual a named candidate leaves, held against the discretisation error of the model
+    *with* that candidate (:func:`validate.model_error.error_with`, one more run on each mesh):
+    ``levels_after`` and the factors after are re-estimated, and the verdict becomes ``explained``
+    when every group is then within ``WITHIN``."""
+    stage.grow(1)
+    flat = error_with(d.evidence, machine, d.fits[0].in_model(d.spec), d.error_resolution)
+    stage()
+    d.levels_after = V.group_levels(d.evidence, flat)
+    d.residual_factor_after = V.residual_factors(d.evidence, after, d.levels_after)
+    d.verdict = V.decide(d.residual_factor, d.significant, d.residual_factor_after, d.beyond_model_error)
+
+
 def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, stage) -> None:
     """Verdict, nuisance report, the region map when needed, the missing channels' cost, message."""
     from validate.channel_cost import missing_channels
@@ -448,6 +456,8 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     if top_fit is not None and d.model_error_series_flat is not None:
         d.beyond_model_error = V.beyond_model_error(fitter, top_fit, d.model_error_series_flat)
     d.verdict = V.decide(d.residual_factor, d.significant, d.residual_factor_after, d.beyond_model_error)
+    if d.verdict == "partly_explained" and d.error_resolution:
+        _error_after(d, machine, after, stage)
     bands = expansion_bands(machine)
     kept = d.named
     d.nuisance = nuisance_report(fitter, d.materials, bands, top_fit.response if kept else zero)
@@ -461,8 +471,8 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     d.missing_channels = missing_channels(d, machine)
     top = d.candidates[0] if d.candidates else None
     d.message = V.message(d.verdict, top, d.residual_factor, d.residual_factor_after, d.levels,
-                          V.worst_channels(ev, left, d.levels), V.worst_time(ev, left, d.weights_flat), d.regions,
-                          d.beyond_model_error, d.test)
+                          V.worst_channels(ev, left, d.levels_after if kept and d.levels_after else d.levels), V.worst_time(ev, left, d.weights_flat), d.regions,
+                          d.beyond_model_error, d.test, d.levels_after)
     bound = bound_text(top_fit) if top_fit is not None else ""
     if bound:   # a member within 0.1 % of its range's end: reported, not read as an interior optimum
         d.message += (f"; the {'named' if kept else 'best'} candidate's {bound}: it sits at the end of its "

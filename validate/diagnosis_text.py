@@ -90,8 +90,12 @@ def format_diagnosis(d, top: int = 8) -> str:
         after = d.residual_factor_after.get(g)
         envelope = (f"noise and model error (noise {noise:.2g} {_unit(g)}, model error {e:.2g} {_unit(g)})"
                     if e is not None else f"noise (noise {noise:.2g} {_unit(g)}, model error not estimated)")
+        again = ""
+        if after is not None and d.levels_after:
+            again = (f" (against the model error of the model with it, {d.levels_after[g][1]:.2g} {_unit(g)}, "
+                     "estimated again)")
         lines.append(f"  {g}: residual {f:.1f}x {envelope}"
-                     + (f"; {after:.1f}x after the top candidate" if after is not None else ""))
+                     + (f"; {after:.1f}x after the top candidate{again}" if after is not None else ""))
     if d.beyond_model_error is not None:
         lines.append(f"  top candidate's fitted change: {d.beyond_model_error:.1f}x what the model error alone "
                      f"produces along its signature")
@@ -156,6 +160,9 @@ def _reasoning_lines(c: dict, pad: str = " " * 6) -> list[str]:
 DIMENSIONLESS = {
     "residual_factor": "ratio: RMS of the group's residual / sqrt(noise^2 + model error^2); noise alone where "
                        "levels.<group>.model_error is null (not estimated)",
+    "residual_factor_after": "ratio, as residual_factor, of the residual the top candidate leaves; against "
+                             "levels_after when that is not null (the model error of the model with the "
+                             "candidate, estimated again), else against levels",
     "beyond_model_error": "ratio: the top candidate's fitted change / the change the model error alone produces "
                           "along its signature",
     "candidates[].explained": "fraction (0-1, 1 = 100 %) of the weighted residual of the groups above noise and "
@@ -168,6 +175,11 @@ DIMENSIONLESS = {
     "regions[].explained": "fraction (0-1) of the weighted residual of every group",
     "reasoning share, explained": "fractions (0-1) of the weighted residual",
 }
+
+
+def _levels_json(levels: dict) -> dict:
+    return {g: {"noise": n, "model_error": e, "model_error_estimated": e is not None, "unit": _unit(g)}
+            for g, (n, e) in levels.items()}
 
 
 def diagnosis_json(d) -> dict:
@@ -185,8 +197,8 @@ def diagnosis_json(d) -> dict:
         "residual_factor": d.residual_factor,
         "residual_factor_after": d.residual_factor_after,
         "beyond_model_error": d.beyond_model_error,
-        "levels": {g: {"noise": n, "model_error": e, "model_error_estimated": e is not None, "unit": _unit(g)}
-                   for g, (n, e) in d.levels.items()},
+        "levels": _levels_json(d.levels),
+        "levels_after": _levels_json(d.levels_after) if d.levels_after else None,
         "nuisance": d.nuisance,
         "nuisance_baseline": d.nuisance_baseline,
         "effective_samples": d.n_eff,

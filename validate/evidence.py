@@ -150,6 +150,7 @@ class Record:
     noise: dict = field(default_factory=dict)
     model_error: np.ndarray | None = None
     model_error_series: np.ndarray | None = None
+    error_engine: Engine | None = None   # the engine on the model-error mesh (when estimated from one)
     counts_as: int | None = None   # samples its groups weigh as (the interferometer's record), else n_t
 
     def __post_init__(self):

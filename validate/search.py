@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from twin.model import ModelSpec
 from validate.candidates import Candidate
 from validate.fit import BoundedFitter, gauss_newton
 
@@ -57,6 +58,12 @@ class Fit:
 
     def value_of(self, name: str) -> float:
         return next(v for c, v in zip(self.candidates, self.values) if c.name == name)
+
+    def in_model(self, spec: ModelSpec) -> ModelSpec:
+        """``spec`` with every member at its fitted value."""
+        for c, v in zip(self.candidates, self.values):
+            spec = c.spec(spec, v)
+        return spec
 
 
 class Search:

@@ -24,7 +24,9 @@ explained, of every group when none is above):
   model error was estimated, so that comparison could not be made);
 * ``explained``: a significant candidate leaves every group's factor <= ``WITHIN``;
 * ``partly_explained``: a significant candidate, but some group's factor stays above ``WITHIN``
-  after it (how much remains, and where, is stated);
+  after it (how much remains, and where, is stated); with a model error from a mesh, the factors
+  after it are held against the error of the model *with* the candidate, estimated again
+  (:mod:`validate.model_error`; ``levels_after``), and only then is the verdict settled;
 * ``unexplained``: some group's factor is above ``WITHIN`` and no library candidate explains it.
 
 A residual above ``WITHIN`` is never called noise: the factor is stated.
@@ -254,14 +256,18 @@ def _all_groups_text(top: dict, factors: dict) -> str:
 
 def message(verdict: str, top: dict | None, factors: dict, after: dict | None, levels: dict,
             where: list[tuple[str, float]], when: str, regions: list[dict], beyond: float | None = None,
-            test: tuple[float, float] = (10.0, 0.5)) -> str:
+            test: tuple[float, float] = (10.0, 0.5), levels_after: dict | None = None) -> str:
     """One paragraph saying the verdict with its numbers. ``test``: the significance test's BIC
     margin and share (:func:`validate.diagnose.diagnose_many`'s ``bic_margin``, ``min_explained``);
     ``top['significant']`` says whether the top candidate passes it. Every percentage states its
     base (the groups above noise, or all groups); only the groups whose factor exceeds ``WITHIN``
     are called above noise and model error; without a model-error estimate the text says the
-    comparison is with noise alone."""
+    comparison is with noise alone. ``levels_after``: the levels the factors after the candidate
+    were taken against, when the model error was estimated again with the candidate in the model
+    (:func:`validate.model_error.error_with`); ``levels`` otherwise."""
     fac = _factors_text(factors, levels)
+    after_levels = levels_after or levels
+    again = (" (the model error estimated again with the candidate in the model)" if levels_after else "")
     env = against(levels)
     along = (f"; along its signature the fitted change is {beyond:.1f}x what the model error alone produces"
              if beyond is not None else "")
@@ -289,9 +295,10 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
             return (head + f"; the residual before it was within {env} ({fac}), but{along[1:]}; "
                     f"after it: {_factors_text(after, levels)}")
         if verdict == "explained":
-            return head + f"; residual after it within {env} ({_factors_text(after, levels)}){along}"
+            return (head + f"; residual after it within {against(after_levels)}{again} "
+                    f"({_factors_text(after, after_levels)}){along}")
         left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
-        return (head + f"; what remains is {_above_text(after, levels, 'still above')}; worst at {left}"
+        return (head + f"; what remains is {_above_text(after, after_levels, 'still above')}{again}; worst at {left}"
                 + (f"; a heat input on {regions[0]['region']} would explain {regions[0]['explained']:.0%} of "
                    f"what remains (weighted, all groups)" if regions else ""))
     left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
