@@ -82,6 +82,74 @@ def test_each_drive_delivers_its_power_times_the_travelled_distance(cframe_all, 
     assert energy == pytest.approx(expect, rel=1e-12)
 
 
+# each split family: its share parameter and the roles the share and the rest go into
+SPLITS = {"feed_nut": ("screw_share", "screw", "nut_body"),
+          "feed_bearings": ("front_share", "front_bearing", "rear_bearing"),
+          "feed_guideways": ("rail_share", "guideways", "carriages")}
+
+
+@pytest.mark.parametrize("family", sorted(SPLITS))
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_each_split_drive_puts_its_share_where_it_belongs(cframe_all, family, axis):
+    """A split source's heat divides as its share says: over whole strokes the cells of the first
+    role (the screw, the fixed bearing, the rails) receive E_1 = s P_ref d / v_ref and those of
+    the second (the nut housing, the floating bearing, the carriages) E_2 = (1 - s) P_ref d / v_ref,
+    s the share; each exactly (the totals alone cannot tell a swapped share). The share is set
+    to 0.8 here, away from every default and from 1/2."""
+    from twin.fem.regions import role_cells
+    from geometries.regions import feed_drive_role
+    machine, mm, sc = cframe_all
+    share, first, second = SPLITS[family]
+    eff = EFFECTS[f"{family}_{axis.lower()}"]
+    p = {**eff.defaults(), share: 0.8}
+    t, dt = sc.times(), sc.sample_interval
+    energy = {first: 0.0, second: 0.0}
+    for s in eff.loads(mm, sc, p):
+        e = float(np.sum(s.power(t[:-1] + 0.5 * dt)) * dt)
+        into = [r for r in (first, second) if np.isin(s.cells, role_cells(mm, feed_drive_role(axis, r))).all()]
+        assert len(into) == 1, (s.label, into)
+        energy[into[0]] += e
+    total = p["power"] * 6 * STROKES[axis][2] / REFERENCE_FEED
+    assert energy[first] == pytest.approx(0.8 * total, rel=1e-12)
+    assert energy[second] == pytest.approx(0.2 * total, rel=1e-12)
+
+
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_the_screw_gap_couples_screw_and_structure_with_its_conductance(cframe_all, axis):
+    """feed_screw_gap_<axis>: q = h_gap (T_screw - T_structure) on the role's facets, so the
+    contact's signal is h_gap at every instant and its matrix the interface form on exactly those
+    facets. With the screw's nodes at 1 K and the structure's at 0, the heat through the gap is
+    h_gap u^T H u = h_gap int (jump)^2 dA: h_gap times the area of the facets whose nodes were all
+    split, plus a part of those a support bearing's bond leaves partly joined, so it lies between
+    h_gap A_split and h_gap A_gap."""
+    from twin.effects.base import ContactConductance
+    from twin.fem.assembly import assemble_interface
+    from twin.fem.regions import role_facets, role_parts
+    from twin.model import ModelSpec
+    from twin.physics.loads import build_loads
+    from geometries.regions import feed_drive_role
+    machine, mm, sc = cframe_all
+    name = f"feed_screw_gap_{axis.lower()}"
+    ls = build_loads(mm, sc, ModelSpec((name,), {name: {"conductance": 7.5}}))
+    (contact,) = ls.convections
+    facets = role_facets(mm, feed_drive_role(axis, "screw_gap"))
+    assert isinstance(contact, ContactConductance) and np.array_equal(contact.facets, facets)
+    h, _, _ = ls.signals(sc.times())
+    assert np.all(h[:, 0] == 7.5)
+    H = ls.system.H[0]
+    assert abs(H - assemble_interface(ls.mm, facets)).max() == 0.0
+    screw = np.unique(ls.mm.heat_t[:, mm.cells_of(f"{axis.lower()}_screw")])
+    u = np.zeros(ls.mm.nheat)
+    u[screw] = 1.0                          # the screw keeps the mesh's nodes; the structure got copies
+    structure = np.unique(ls.mm.heat_t[:, mm.cells_of(*role_parts(mm, feed_drive_role(axis, "structure_side")))])
+    split = np.setdiff1d(np.unique(mm.mesh.facets[:, facets]), structure)   # the structure holds a copy instead
+    assert ls.mm.nheat - mm.nheat == len(split) > 0
+    full = facets[np.all(np.isin(mm.mesh.facets[:, facets], split), axis=0)]
+    exchanged = 7.5 * float(u @ (H @ u))
+    assert 7.5 * mm.facet_area(full) * (1 - 1e-12) <= exchanged <= 7.5 * mm.facet_area(facets) * (1 + 1e-12)
+    assert mm.facet_area(full) > 0.5 * mm.facet_area(facets)
+
+
 def test_the_heat_integrator_stores_all_three_drives_heat(cframe_all):
     """Through the Crank-Nicolson run with the three drives' feed effects alone (no convection):
     the heat in equals the sum of the closed forms above, and all of it is stored."""

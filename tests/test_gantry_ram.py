@@ -137,12 +137,15 @@ def test_a_gantry_result_drives_the_twin_again_and_plots(c_axis_runs, tmp_path):
     assert (tmp_path / "r.png").stat().st_size > 1000
 
 
-def test_c_axis_powers_follow_their_own_speed_laws_below_the_reference_speed():
+def test_c_axis_powers_follow_their_own_speed_laws_below_the_reference_speed(machine):
     """Away from n_ref the two laws differ: at 1250 rpm (n/n_ref = 1/2), 10 s on / 10 s off
     (d = 1/2), P_motor = d P_m (1/2)^1 = 75 W and P_bearing = d P_b (1/2)^(5/3) = 62.996 W (the
-    default exponents, motor x_m = 1, bearing Palmgren 5/3), exactly; 0 after the last step."""
+    default exponents, motor x_m = 1, bearing Palmgren 5/3), exactly; 0 after the last step. The
+    effect's own loads carry each law to its region (the motor's to c_axis.motor, the bearing's
+    to c_axis.bearing)."""
     from twin.effects import EFFECTS
     from twin.effects.rotary import c_axis_power
+    from twin.fem.regions import role_cells
     from twin.scenario import scenario_from_dict
     sc = scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
                              "spindle": [{"speed": "0 rpm", "duration": "2 h"}],
@@ -155,3 +158,9 @@ def test_c_axis_powers_follow_their_own_speed_laws_below_the_reference_speed():
     np.testing.assert_allclose(motor[:3], 0.5 * 300.0 * 0.5, rtol=1e-14)
     np.testing.assert_allclose(bearing[:3], 0.5 * 400.0 * 0.5 ** (5.0 / 3.0), rtol=1e-14)
     assert np.all(motor[3:] == 0.0) and np.all(bearing[3:] == 0.0)
+    mm = mesh_machine(machine, "coarse")
+    loads = {s.label: s for s in EFFECTS["c_axis_drive"].loads(mm, sc, p)}
+    for what, power in (("motor", motor), ("bearing", bearing)):
+        source = loads[f"c_axis_drive.{what}"]
+        assert np.array_equal(source.cells, role_cells(mm, f"c_axis.{what}"))
+        np.testing.assert_array_equal(source.power(t), power)

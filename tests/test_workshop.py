@@ -149,6 +149,21 @@ def test_door_stream_blows_only_while_a_scenario_door_is_open(mm, heat):
     assert ls.areas[0] == pytest.approx(mm.facet_area(facets))
 
 
+def test_a_door_stays_open_through_its_hold_and_overlapping_doors_blow_once():
+    """w(t) = 1 on [start, start + fall + hold) of each door event, 0 elsewhere, and where two
+    doors' windows overlap w is still 1 (one stream, h = h_d, never 2 h_d): w = max over the
+    events, not their sum."""
+    from twin.effects.workshop import door_open
+    held = AirEvent(start=1000.0, change=-9.0, fall=600.0, hold=900.0, recovery=3600.0, door=True)
+    overlapping = AirEvent(start=2000.0, change=-5.0, fall=1200.0, recovery=3600.0, door=True)
+    sc = Scenario("doors", ((3 * 3600.0, 0.0),), Ambient("constant", mean=20.0, events=(held, overlapping)), 60.0)
+    t = np.array([999.0, 1000.0, 1599.0, 1600.0, 2499.0, 2000.0, 2400.0, 3199.0, 3200.0, 5000.0])
+    # held: open 1000 to 1000 + 600 + 900 = 2500; overlapping: 2000 to 3200
+    assert door_open(sc, t).tolist() == [0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0]
+    only_held = Scenario("held", sc.steps, Ambient("constant", mean=20.0, events=(held,)), 60.0)
+    assert door_open(only_held, np.array([2499.0, 2500.0])).tolist() == [1.0, 0.0]
+
+
 def test_door_stream_coefficient_and_bar_time_constant_from_their_closed_forms():
     """The stream's defaults against the correlations the effect cites, air at 20 degC (k 0.0257
     W/(m K), nu 1.51e-5 m2/s, Pr 0.71): Hilpert's cylinder in cross flow, Nu = C Re^m Pr^(1/3)
