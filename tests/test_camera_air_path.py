@@ -17,7 +17,7 @@ from twin.observe.base import RunContext
 from twin.observe.camera import ThermalCamera
 from twin.observe.camera_geometry import pixel_directions
 from twin.observe.microbolometer import SensorChain
-from twin.observe.radiometry import RadianceTable, air_transmission
+from twin.observe.radiometry import ObjectSettings, RadianceTable, air_transmission, scene_radiance
 from twin.scenario import Ambient, Scenario
 
 
@@ -73,4 +73,25 @@ def test_each_ray_is_transmitted_over_its_own_depth_through_colder_air():
     gain = SensorChain(cam.config.sensor, table, (1, 1), np.zeros(1), np.random.default_rng(0)).gain
     tol = 0.5 / (gain * table.slope(float(expected.min()))) + 1e-5     # L' grows with T: the widest step
     assert np.abs(thermo - expected[None]).max() <= tol
-    assert (35.0 - expected).min() > 10 * tol       # far from both readings a wrong path would give       # far from both readings a wrong path would give
+    assert (35.0 - expected).min() > 10 * tol       # far from both readings a wrong path would give
+
+
+def test_grey_surface_through_air_round_trips_with_matching_settings():
+    """Emissivity and air path together, e = 0.3, reflected surroundings at 60 degC, air at 18 degC and
+    40 % over 1.5 m (tau < 1): the scene radiance is W = tau (e L(T) + (1 - e) L(T_refl)) + (1 - tau)
+    L(T_atm), written out here with tau the two-band formula above and L the module's table (tested
+    against the band series, and the series against Planck's law, in tests/test_camera.py), and the
+    camera set to the truth inverts it, L^-1((W - tau (1 - e) L(T_refl) - (1 - tau) L(T_atm)) / (tau e))
+    = T, to round-off (the table's inverse undoes its linear interpolation)."""
+    table = RadianceTable(BAND)
+    L = table.radiance
+    e, t_refl, t_air, rh, d = 0.3, 60.0, 18.0, 0.4, 1.5
+    tau = flir_two_band(d, t_air, rh)
+    assert tau < 0.995
+    t = np.array([-12.34, 21.7, 47.123, 95.55])
+    w = scene_radiance(table, t, e, t_refl, tau, t_air)
+    np.testing.assert_allclose(w, tau * (e * L(t) + (1 - e) * L(t_refl)) + (1 - tau) * L(t_air), rtol=1e-14)
+    settings = ObjectSettings(emissivity=e, reflected_temperature=t_refl, distance=d, air_temperature=t_air,
+                              relative_humidity=rh)
+    # atol: np.arange places the table's nodes up to 6e-11 K off lo + i step (the forward look-up's grid)
+    np.testing.assert_allclose(settings.object_temperature(table, w), t, rtol=0, atol=1e-10)

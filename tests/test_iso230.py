@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from geometries.axes import LinearAxis
 from tests.fuzz_files import result_dataset
 from twin.errors import InputError
+from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
 from validate.iso230 import default_test, evaluate, segments_of
 
 
@@ -179,3 +181,33 @@ def test_evaluate_from_python_names_a_bad_record_or_segment():
             evaluate(*args)
         assert err.value.field == field, str(err.value)
     assert evaluate(ds, "spindle").channels
+
+
+class _OneAxis:
+    """The least a laser interferometer reads of a machine: its axis by name."""
+
+    name = "bench"
+
+    def __init__(self, axis):
+        self._axis = axis
+
+    def axis(self, name):
+        return self._axis
+
+
+def test_positioning_slope_is_the_least_squares_slope():
+    """positioning_slope of each run is the least-squares slope of its error against the targets,
+    sum (x - xbar)(e - ebar) / sum (x - xbar)^2 [um/mm], written out here, to round-off. The curves
+    are not symmetric about mid-travel (a cubic; a line with one interior point bumped), so the
+    end-point secant (e[-1] - e[0]) / (x[-1] - x[0]) gives other slopes."""
+    obs = LaserInterferometer(InterferometerConfig("Y", (0.0, 600.0, 1200.0)),
+                              _OneAxis(LinearAxis("Y", "y", (0.0, 0.4), "closed")))
+    x = obs.targets * 1e3                                   # [mm], 0 .. 400 every 10
+    cold = 3e-6 * np.sin(x / 70.0)                          # [m] the reference run's reading, subtracted
+    bumped = 0.02 * x
+    bumped[13] += 5.0                                       # at 130 mm
+    errors = np.array([10.0 * (x / 400.0) ** 3, bumped])   # [um]
+    data, _ = obs.data(np.vstack([cold, cold + errors * 1e-6]), None)
+    dx = x - x.mean()
+    expected = [0.0] + [np.sum(dx * (e - e.mean())) / np.sum(dx ** 2) for e in errors]
+    np.testing.assert_allclose(data["positioning_slope"][1], expected, rtol=1e-12, atol=1e-15)

@@ -231,3 +231,37 @@ def test_a_development_coefficient_pinned_at_its_search_range_is_reported():
     for name in ("gm1n", "gmc1n"):
         model = make_learner(name).fit(X, y)
         assert isinstance(model.at_bound_, str)
+
+
+@pytest.mark.parametrize("alpha", [1e-5, 0.1])
+def test_gm0n_ridge_is_the_normal_equations_with_lambda_alpha_trace_over_p(alpha):
+    """GM(0,N) with a ridge term: theta = (B^T B + lambda I)^-1 B^T z, lambda = alpha trace(B^T B) / p,
+    B rows [x_2^(1)(k) .. x_N^(1)(k)] and z(k) = (x_1^(1)(k-1) + x_1^(1)(k)) / 2 for k = 2..n (AGO by
+    cumulative sums, written out here); alpha = 1e-5 is GreySelection's default. To round-off."""
+    rng = np.random.default_rng(7)
+    X = rng.uniform(0.5, 2.0, (25, 3))
+    y = rng.uniform(-1.0, 3.0, 25)
+    B = np.cumsum(X, axis=0)[1:]
+    y1 = np.cumsum(y)
+    z = 0.5 * (y1[:-1] + y1[1:])
+    gram = B.T @ B
+    lam = alpha * np.trace(gram) / 3
+    expected = np.linalg.solve(gram + lam * np.eye(3), B.T @ z)
+    np.testing.assert_allclose(gm0n_coefficients(X, y, alpha=alpha), expected, rtol=1e-12)
+    assert not np.allclose(expected, np.linalg.lstsq(B, z, rcond=None)[0], rtol=1e-9, atol=0)  # the ridge acts
+
+
+def test_gmc1n_convolution_response_is_tiens_sum():
+    """Tien's GMC(1,N) response, summed term by term: f(k) = sum_j b_j x_j^(1)(k) + u on the AGO
+    drivers, x_1^(1)(k) = x_1^(1)(1) e^{-b1 (k-1)} + sum_{tau=2..k} e^{-b1 (k - tau + 1/2)}
+    (f(tau) + f(tau-1)) / 2 with x_1^(1)(1) = y0, then IAGO x_1^(0)(k) = x_1^(1)(k) - x_1^(1)(k-1).
+    To round-off."""
+    b1, b, u, y0 = 0.3, np.array([0.8, -0.5]), 0.05, 0.2
+    X1 = np.cumsum(drivers(), axis=0)
+    f = X1 @ b + u
+    x1 = np.empty(N)
+    for k in range(1, N + 1):                        # k, tau: 1-based sample numbers
+        x1[k - 1] = y0 * np.exp(-b1 * (k - 1)) + sum(np.exp(-b1 * (k - tau + 0.5)) * (f[tau - 1] + f[tau - 2]) / 2
+                                                     for tau in range(2, k + 1))
+    expected = np.r_[x1[0], x1[1:] - x1[:-1]]
+    np.testing.assert_allclose(gmc_simulate(b1, b, u, X1, y0), expected, rtol=1e-12)
