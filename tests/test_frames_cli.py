@@ -273,3 +273,24 @@ def test_an_export_of_another_camera_is_not_replaced_file_for_file(capsys, work)
         assert _tree(work) == before
         assert main(["frames", "x.nc", "-o", "fr", kind]) == 0
         shutil.rmtree("fr")
+
+
+def test_a_cameras_counts_from_python_name_the_suffix_of_each_camera(work):
+    """``camera_counts(ds)`` on a result of several cameras (variables ``thermogram_<name>``, no
+    camera at the suffix ``""``) is one InputError on ``suffix`` listing each camera and its
+    suffix, not a KeyError; with the suffix it gives that camera's counts, the same as a
+    one-camera result's."""
+    from twin.errors import InputError
+    from twin.io.thermography import camera_counts
+
+    with xr.open_dataset("x.nc") as ds:
+        one = ds.load()
+    info = json.loads(one.attrs["camera"])
+    camera_vars = [v for v in one.data_vars if "frame_time" in one[v].dims] + ["camera_lut", "frame_time"]
+    several = one.rename({v: f"{v}_carrier_front" for v in camera_vars})
+    del several.attrs["camera"]
+    several.attrs["camera_carrier_front"] = json.dumps({**info, "suffix": "_carrier_front"})
+    with pytest.raises(InputError) as err:
+        camera_counts(several)
+    assert err.value.field == "suffix" and "carrier-front (suffix '_carrier_front')" in str(err.value)
+    assert np.array_equal(camera_counts(several, "_carrier_front"), camera_counts(one))

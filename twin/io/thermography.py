@@ -110,14 +110,27 @@ def export_files(count: int, every: int, kinds, name: str, prefix: str = "frame"
     return files
 
 
+def check_suffix(ds, suffix: str, source: str = "result") -> str:
+    """``suffix`` when a camera of ``ds`` has it, else :class:`InputError` on ``suffix`` listing
+    the result's cameras and their suffixes (a run with several cameras has no camera at ``""``)."""
+    cameras = camera_names(ds, source)
+    if not any(s == suffix for _, s in cameras):
+        known = ", ".join(f"{n} (suffix {s!r})" for n, s in cameras) or "none"
+        raise InputError(source, "suffix", f"no camera with the variable suffix {suffix!r}; this result's cameras: "
+                                           f"{known}")
+    return suffix
+
+
 def camera_info(ds, suffix: str = "") -> dict:
     """The camera's attributes: pose, intrinsics, band, settings, scene, sensor (JSON decoded)."""
-    return json.loads(ds.attrs["camera" + suffix])
+    return json.loads(ds.attrs["camera" + check_suffix(ds, suffix)])
 
 
 def camera_counts(ds, suffix: str = "") -> np.ndarray:
-    """(frames, H, W) uint16 counts of the camera with ``suffix``: stored, or lut^-1(thermogram)
+    """(frames, H, W) uint16 counts of the camera with ``suffix`` (``""`` for a run's only camera,
+    ``"_<name>"`` for each of several, :func:`camera_names`): stored, or lut^-1(thermogram)
     (nearest look-up value; exact when the result says its counts are recoverable)."""
+    check_suffix(ds, suffix)
     if "counts" + suffix in ds:
         return ds["counts" + suffix].values
     lut = ds["camera_lut" + suffix].values.astype(float)
