@@ -215,6 +215,48 @@ def test_the_bundled_example_plans_100_cases():
     assert len(cases) == 100 and {c.split for c in cases} == {"train", "validation", "test"}
 
 
+def test_the_estimate_spreads_a_cases_own_set_up_over_a_cases_length(monkeypatch):
+    """The dry run times the first case cut to 600 steps (20 x 30, or the whole case when
+    shorter) after a 30-step warm-up: on a clock where preparing takes 2 s and a run of n steps
+    0.3 s + n 2 ms (the reduced model's own basis per case, then the steps), the rate is
+    t(n) / n = (0.3 + 0.002 n) / n, the plan costs prepare + rate sum_c n_c / workers, and the
+    preparation is the time before the timed run less the warm-up's 30 steps at that rate. (Timed
+    over 30 steps alone, the rate was 12 ms here: the 100-case example was estimated 3-5 times
+    too slow.)"""
+    import importlib
+
+    from twin.scenario import SCENARIO_DIR
+    E = importlib.import_module("twin.dataset.estimate")    # the package re-exports the function by this name
+
+    clock = [0.0]
+
+    class Clock:
+        @staticmethod
+        def perf_counter():
+            return clock[0]
+
+    def prepared(*key):
+        clock[0] += 2.0
+
+    def simulate_case(record, name, steps):
+        clock[0] += 0.3 + 0.002 * steps
+
+    monkeypatch.setattr(E, "time", Clock)
+    monkeypatch.setattr(E, "_prepared", prepared)
+    monkeypatch.setattr(E, "simulate_case", simulate_case)
+    cases = plan(load_spec(SCENARIO_DIR / "datasets" / "spindle-ambient-100.toml"))[:7]
+    steps = [E._steps(c) for c in cases]
+    n = min(600, steps[0])
+    rate = (0.3 + 0.002 * n) / n
+    e = E.estimate(cases, jobs=2)
+    (key,) = e["per_step_s"]
+    assert e["per_step_s"][key] == pytest.approx(rate, rel=1e-12)
+    prepare = 2.0 + 0.3 + 0.002 * 30 - 30 * rate
+    assert e["prepare_s"] == pytest.approx(prepare, rel=1e-12)
+    assert e["steps"] == sum(steps)
+    assert e["seconds"] == pytest.approx(prepare + rate * sum(steps) / 2, rel=1e-12)
+
+
 # --- learners on many runs -----------------------------------------------------------------------
 
 def test_learn_trains_on_several_runs_and_on_a_dataset_split(built, capsys):

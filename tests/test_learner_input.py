@@ -155,6 +155,8 @@ def test_dataset_api_refuses_bad_jobs_steps_and_folders(tmp_path):
 
     for steps in (0, -3, 2.5):
         _refused(lambda: estimate([], calibration_steps=steps), "calibration_steps")
+    for length in (10, 2.5, "600"):                  # fewer than the 30 calibration steps, not whole
+        _refused(lambda: estimate([], length_steps=length), "length_steps")
     for jobs in (0, -2, 2.5, True):
         _refused(lambda: executor(None, jobs), "jobs")
         _refused(lambda: estimate([], jobs=jobs), "jobs")

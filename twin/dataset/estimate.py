@@ -2,10 +2,14 @@
 
 Per (machine, mesh, solver) of the plan: prepare the twin (timed: the mesh, the matrices, the
 elastic factorisation and adjoints), then run the group's first case cut to ``calibration_steps``
-time steps (timed, after a warm-up of the same length, so the factorisations of its operators are
-done once): the cost of one step [s], which includes the observers and the packaging of the
-result. A case with more distinct spindle speeds than the calibration saw costs more (one
-factorisation per new operator on the direct solver); the estimate does not count them.
+time steps (a warm-up, so the factorisations of its operators are done once) and again cut to
+``length_steps`` (20 times as many by default, or the whole case when shorter), timed: the cost of
+one step [s], which includes the observers, the packaging of the result and the case's own
+set-up spread over its steps (the reduced model builds a basis for each case, 0.1-0.3 s on the
+coarse mesh: timed over 30 steps it read 2-3 ms a step where a 1000-step case spends 0.6 ms, and
+the bundled 100-case example was estimated 3-5 times too slow). A case with more distinct spindle
+speeds than the calibration saw costs more (one factorisation per new operator on the direct
+solver); the estimate does not count them.
 """
 
 from __future__ import annotations
@@ -24,10 +28,11 @@ def _steps(case: Case) -> int:
     return int(round(case.info["duration [s]"] / case.info["sample_interval [s]"]))
 
 
-def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30) -> dict:
+def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, length_steps: int | None = None) -> dict:
     """{"cases", "steps", "prepare_s" (per worker), "per_step_s" (by group), "seconds"} for
     building ``cases`` on ``jobs`` workers: each worker prepares every group it meets once,
-    the steps share the workers evenly. ``jobs`` is a whole number from 1 to
+    the steps share the workers evenly (module docstring; ``length_steps`` defaults to 20
+    ``calibration_steps``). ``jobs`` is a whole number from 1 to
     :data:`twin.dataset.runner.MAX_JOBS`, ``calibration_steps`` one >= 1 (an
     :class:`InputError` otherwise, before anything runs)."""
     cases = check_cases(cases, "estimate")
@@ -36,6 +41,10 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30) -> d
         raise InputError("estimate", "calibration_steps", f"must be a whole number of time steps >= 1, "
                                                           f"got {calibration_steps!r}")
     calibration_steps = int(calibration_steps)
+    length_steps = 20 * calibration_steps if length_steps is None else length_steps
+    if not is_whole(length_steps) or length_steps < calibration_steps:
+        raise InputError("estimate", "length_steps", f"must be a whole number of time steps >= calibration_steps "
+                                                     f"({calibration_steps}), got {length_steps!r}")
     groups: dict[tuple, list[Case]] = {}
     for c in cases:
         groups.setdefault((c.record["machine"], c.record["mesh"], c.record["solver"]), []).append(c)
@@ -46,11 +55,11 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30) -> d
             _prepared(*key)
         simulate_case(members[0].record, "calibration", calibration_steps)   # warm-up: adjoints, factorisations
         t1 = time.perf_counter()
-        simulate_case(members[0].record, "calibration", calibration_steps)
+        n = min(int(length_steps), _steps(members[0]))
+        simulate_case(members[0].record, "calibration", n)
         t2 = time.perf_counter()
-        n = min(calibration_steps, _steps(members[0]))
         per_step["/".join(key)] = (t2 - t1) / n
-        prepare += t1 - t0 - (t2 - t1)
+        prepare += t1 - t0 - min(calibration_steps, n) * (t2 - t1) / n     # less the warm-up's steps
         seconds += sum(_steps(c) for c in members) * per_step["/".join(key)]
     workers = max(1, min(jobs, len(cases)))
     return {"cases": len(cases), "steps": sum(_steps(c) for c in cases), "prepare_s": prepare,
