@@ -41,6 +41,9 @@ def test_units_parse_and_reject():
     (float("inf"), "time", "inf is not a finite number"),
     ("info", "time", "'info' is not a decimal number"),
     ("1_000 rpm", "speed", "'1_000 rpm': '1_000' is not a decimal number"),
+    ("6_0W", "power", "'6_0W': '6_0' is not a decimal number"),          # no space: the unit is still known
+    ("0x3cW", "power", "'0x3cW': '0x3c' is not a decimal number"),
+    ("1.5.2 mm", "length", "'1.5.2 mm': '1.5.2' is not a decimal number"),
     (80, "velocity", "80 has no unit; write it like '80 mm/s'"),
     ([1, 2], "length", "got a list of 2 values; expected a quantity with a unit such as '150 mm'"),
 ])
