@@ -174,6 +174,24 @@ def test_spindle_coolant_conductance_and_balance(mm, heat):
     assert ls0.signals(np.array([0.0]))[0][0, k] == 0.0
 
 
+def test_bar_contact_exchanges_its_conductance_per_kelvin_across_the_seat(mm, heat):
+    """test_bar_contact: Q = G (T_spindle - T_bar) with h_c = G / A_seat, so the signal times the
+    seat's area is G, and with the bar's side 1 K above the spindle's over the whole seat the
+    contact matrix exchanges h_c int (N_a - N_b)^2 dA = h_c A_seat = G per kelvin, exactly."""
+    from twin.fem.regions import role_facets, role_parts
+    ls = build_loads(mm, scenario(), ModelSpec(("test_bar_contact",), {"test_bar_contact": {"conductance": 20.0}}),
+                     heat)
+    k = ls.convection_effect.index("test_bar_contact")
+    seat = role_facets(mm, "test_bar.seat")
+    h = ls.signals(np.array([0.0, 3600.0]))[0][:, k]
+    assert np.all(h * mm.facet_area(seat) == pytest.approx(20.0, rel=1e-12))
+    bar = np.unique(ls.mm.heat_t[:, ls.mm.cells_of(*role_parts(mm, "test_bar.body"))])
+    u = np.zeros(ls.mm.nheat)
+    u[bar] = 1.0                              # the bar's side, its copies of the seat nodes included
+    assert ls.mm.nheat > mm.nheat             # the seat is split
+    assert h[0] * float(u @ (ls.system.H[k] @ u)) == pytest.approx(20.0, rel=1e-12)
+
+
 def test_floor_lag_follows_a_step_with_its_time_constant(mm, heat):
     """Air of the slow floor after a 1 K room rise over t_r = 60 s: the first-order lag of that
     ramp, exactly, 1 - exp(-t / tau) (tau / t_r) (exp(t_r / tau) - 1) for t >= t_r (the step's
@@ -187,6 +205,21 @@ def test_floor_lag_follows_a_step_with_its_time_constant(mm, heat):
     _, air, _ = ls.signals(t)
     exact = 1 - np.exp(-t / tau) * (tau / t_r) * np.expm1(t_r / tau)
     assert air[:, 0] - 20.0 == pytest.approx(exact, rel=1e-10)
+
+
+def test_the_floor_follows_the_room_with_its_own_lag_and_offset(mm, heat):
+    """floor: tau dT_floor/dt = T_air + offset - T_floor (tau 6 h by default); after a 1 K room
+    ramp over t_r = 60 s the foot's air is 20 + offset + 1 - exp(-t / tau) (tau / t_r)
+    (exp(t_r / tau) - 1) for t >= t_r, exactly, and its film is the conductance h_c."""
+    amb = Ambient("table", times=(0.0, 60.0, 1e7), temperatures=(20.0, 21.0, 21.0))
+    sc = Scenario("step", ((2 * 86400.0, 0.0),), amb, 600.0)
+    ls = build_loads(mm, sc, ModelSpec(("floor",), {"floor": {"offset": -1.5, "conductance": 35.0}}), heat)
+    tau, t_r = 6 * 3600.0, 60.0
+    t = np.array([tau / 3, tau, 3 * tau])
+    h, air, _ = ls.signals(t)
+    exact = 20.0 - 1.5 + 1 - np.exp(-t / tau) * (tau / t_r) * np.expm1(t_r / tau)
+    assert air[:, 0] == pytest.approx(exact, rel=1e-10)
+    assert np.all(h[:, 0] == 35.0)
 
 
 def test_run_heat_power_and_energy_with_all_new_effects():

@@ -94,6 +94,32 @@ def test_reciprocating_source_delivers_power_times_duty():
     assert convected == 0.0 and stored == pytest.approx(into, rel=1e-9)
 
 
+def test_time_weights_are_a_partition_of_unity_and_average_the_position_exactly():
+    """per="time": w_i = (1/dt) int phi_i(x(t)) dt over each sample interval. The hats are a
+    partition of unity and reproduce linear functions (sum_i phi_i = 1, sum_i s_i phi_i(x) = x on
+    the nodes' range), so sum_i w_i = 1 and sum_i s_i w_i = (1/dt) int x dt, which on a piece
+    x0 + v0 tau + a tau^2 / 2 is x0 T + v0 T^2 / 2 + a T^3 / 6: exact where the axis stands, moves
+    at constant speed and, with the 24-point Gauss rule on a quadratic, while it accelerates
+    (here 2 s ramps inside 10 s samples, and a slow ramp over whole samples)."""
+    for move in ({**RECIP, "count": 3}, {**RECIP, "acceleration": "0.5 mm/s2", "count": 1}):
+        sc = scenario([move], duration="20 min")
+        m = sc.axes[0]
+        nodes = path_nodes(0.0, 0.4, 0.01)
+        edges = sc.times()
+        w = path_weights(m, nodes, edges, "time")
+        np.testing.assert_allclose(w.sum(axis=1), 1.0, rtol=0, atol=1e-12)
+        exact = np.zeros(len(edges) - 1)
+        for t0, dur, x0, v0, a in zip(m.t0, m.dur, m.x0, m.v0, m.a):
+            for k in range(len(edges) - 1):        # the piece's share of each sample interval
+                lo, hi = max(edges[k], t0), min(edges[k + 1], t0 + dur)
+                if hi > lo:
+                    ta, tb = lo - t0, hi - t0
+                    exact[k] += (x0 * (tb - ta) + v0 * (tb ** 2 - ta ** 2) / 2 + a * (tb ** 3 - ta ** 3) / 6)
+        end = m.t0[-1] + m.dur[-1]
+        exact += m.x_end * np.clip(edges[1:] - np.maximum(edges[:-1], end), 0.0, None)   # standing at its end
+        np.testing.assert_allclose(w @ nodes, exact / np.diff(edges), rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize("feed, accel, stroke", [("20 mm/s", "10 mm/s2", 0.4), ("200 mm/s", "50 mm/s2", 0.4)])
 def test_motor_inertia_losses_integrate_the_squared_acceleration(feed, accel, stroke):
     """Copper losses of the inertia torque, P_a (a / a_ref)^2: per whole stroke the integral of
