@@ -26,6 +26,26 @@ def test_energy_balance_over_a_full_machine_run(machine_coarse_run):
         assert abs(heat_in + convected_in - stored) <= np.sqrt(capacity) * info["heat_residual_sum"] + 1e-9 * heat_in
 
 
+@pytest.mark.parametrize("theta", [1.0, 0.75])
+def test_energy_balance_closes_at_every_theta(theta):
+    """The first law holds for the theta-scheme at any theta, each step's convection at the
+    scheme's own T_theta = theta T^(n+1) + (1 - theta) T^n: heat in + convected in = stored, to
+    round-off, on the coarse C-frame with the spindle starting and stopping in a daily room
+    (theta 1/2 is the test above; there theta and 1 - theta weigh alike, so swapped weights would
+    pass it)."""
+    from geometries import build_machine
+    from twin.model import ModelSpec
+    from twin.observe import HeatBalance
+    from twin.scenario import Ambient, Scenario
+    from twin.simulate import run
+    sc = Scenario("on-off", ((1200.0, 9000.0), (1200.0, 0.0)), Ambient("daily", 20.0, 2.0), 60.0)
+    r = run(build_machine("cframe-vmc"), sc, ModelSpec(("spindle_bearings", "ambient_convection")),
+            resolution="coarse", theta=theta, observers=[HeatBalance()])
+    heat_in, convected_in, stored = r.step_energy()
+    assert heat_in > 1e5 and abs(convected_in) > 0.05 * heat_in
+    assert abs(heat_in + convected_in - stored) <= 1e-9 * heat_in
+
+
 def test_heat_power_reports_the_documented_source_powers(machine_coarse_run):
     """Bearing heat at 8000 rpm = (P_front + P_rear) (8000/9000)^(5/3) (Palmgren law)."""
     from twin.io.results import to_dataset

@@ -68,6 +68,22 @@ def test_consistent_mass_is_bounded_below_by_lumped_over_27():
     assert lam.min() < 1 / 27 * 1.5     # and 1/27 is nearly reached: the constant is not loose
 
 
+
+def test_the_bound_weights_bound_the_mass_inverse_norm_and_one_brick_attains_it():
+    """The weights W = diag(mass_weights(M)) = 27 M_L^-1 are what the verified bounds use:
+    r^T M^-1 r <= r^T W r for every r (the largest eigenvalue of W^-1/2 M^-1 W^-1/2 is at most
+    1), with equality on one trilinear brick, whose M_L^-1 M reaches 1/27 (so a smaller constant
+    would break the bound and a larger one would loosen it)."""
+    for dims, spacing in (((0.01, 0.01, 0.01), 0.01), ((0.06, 0.04, 0.03), 0.01)):
+        M = assemble_heat(box_body(dims, spacing)).M
+        w = mass_weights(M)
+        Mi = np.linalg.inv(M.toarray())
+        ratio = np.linalg.eigvalsh((Mi / np.sqrt(w)[:, None]) / np.sqrt(w)[None, :]).max()
+        assert ratio <= 1 + 1e-10
+        if M.shape[0] == 8:
+            assert ratio == pytest.approx(1.0, rel=1e-10)
+
+
 def test_pcg_steps_equal_direct_ones_within_the_verified_bound():
     """A slab cooled on one face: PCG with extrapolated start vs sparse LU, 200 CN steps. Each output
     errs by at most (27 w^T M_L^-1 w)^(1/2) sum_n rho_n (||A^-1 r||_M <= (r^T M^-1 r)^(1/2), M-contraction
@@ -260,6 +276,30 @@ def test_a_block_wider_than_the_order_still_gives_three_blocks():
     np.testing.assert_allclose(model.V.T @ (system.M @ model.V), np.eye(model.order), atol=1e-10)
     start = build_reduced(wide, [np.array([300.0])], order=6, gram=False, blocks=1)
     assert start.order == first
+
+
+def test_the_reduced_bound_sums_the_full_space_residual_of_each_step():
+    """The verified bound of a reduced run is ||w||_W sum_n rho_n with rho_n = (R_n^T W R_n)^(1/2),
+    R_n = M (u+ - u) + dt (K + h H) u_theta - dt (F s_n + h (T_air - T_0) r) the full-space
+    residual of step n for u = V z (W = 27 M_L^-1): rebuilt here from the reduced fields step by
+    step, it equals the Gram-matrix sum the run reports, up to that sum's round-off allowance
+    (1e-3 here; the allowance only adds)."""
+    from twin.physics.rom import build_reduced
+    _, system, n, (T0, dt, steps, h, air, s, rows) = _cooled_slab(20)
+    model = build_reduced(system, [np.array([300.0])], order=12).project_outputs(rows, mass_weights(system.M))
+    fields = [np.zeros(n)]
+    model.integrate(20.0, dt, steps, h, air, s, on_step=lambda k, T: fields.append(T - 20.0))
+    _, info = model.integrate(20.0, dt, steps, h, air, s)
+    w = mass_weights(system.M)
+    A = (system.K + 300.0 * system.H[0]).tocsr()
+    rho = 0.0
+    for k in range(steps):
+        u, v = fields[k], fields[k + 1]
+        R = system.M @ (v - u) + dt * (A @ (0.5 * (u + v))) - dt * (system.F[:, 0] * s[k, 0]
+                                                                     + h[k, 0] * (air[k, 0] - 20.0) * system.r[:, 0])
+        rho += np.sqrt(R @ (w * R))
+    reported = info["_bound"] / model.output_norms
+    assert np.all(reported >= rho * (1 - 1e-12)) and np.all(reported <= rho * (1 + 1e-3)), (reported[:3], rho)
 
 
 def test_residual_gram_is_the_weighted_norm_of_the_reduced_step_residual(monkeypatch):
