@@ -111,3 +111,39 @@ def test_checking_blocks_shrink_on_short_records():
 
     mask = _checking_rows(51, 0.2, 30)  # 51 rows: blocks of 5, two checking blocks
     assert mask.sum() == 10 and np.array_equal(np.flatnonzero(mask), np.r_[20:25, 45:50])
+
+
+def test_grid_neighbouring_mfs_cross_at_one_half():
+    """Grid MFs: centres evenly spaced over the training range, sigma = spacing / (2 sqrt(2 ln 2)), so
+    at the midpoint of two neighbouring centres exp(-(spacing/2)^2 / (2 sigma^2)) = 1/2 (epochs = 0: untrained)."""
+    rng = np.random.default_rng(0)
+    X = np.column_stack([20.0 + 5.0 * rng.random(20), 30.0 + 2.0 * rng.random(20)])
+    m = ANFISGrid(n_mfs=3, epochs=0).fit(X, X[:, 0] - X[:, 1])
+    for j in range(2):
+        centres = np.unique(m.rule_centers_[:, j])
+        np.testing.assert_allclose(centres, np.linspace(X[:, j].min(), X[:, j].max(), 3), rtol=0, atol=1e-12)
+        sigma = m.rule_sigmas_[:, j]
+        np.testing.assert_allclose(sigma, sigma[0], rtol=1e-15)
+        half = (centres[1] - centres[0]) / 2.0
+        assert np.exp(-half ** 2 / (2.0 * sigma[0] ** 2)) == pytest.approx(0.5, abs=1e-12)
+
+
+def test_fcm_rule_widths_are_membership_weighted_spreads():
+    """FCM rules (epochs = 0): sigma_rj = max(sqrt(sum_n u_nr^m (z_nj - c_rj)^2 / sum_n u_nr^m), 0.05) and
+    c_rj = FCM centre, from fuzzy c-means on the z-scored (ddof 1) inputs and output."""
+    from learners.fcm import fuzzy_cmeans
+
+    rng = np.random.default_rng(1)
+    X = np.column_stack([20.0 + 5.0 * rng.random(40), 30.0 + 2.0 * rng.random(40)])
+    y = np.sin(X[:, 0]) + 0.1 * X[:, 1]
+    fcm_m = 2.5
+    m = ANFISFCM(n_rules=3, epochs=0, fcm_m=fcm_m, random_state=0).fit(X, y)
+    Z = (X - X.mean(axis=0)) / X.std(axis=0, ddof=1)
+    t = (y - y.mean()) / y.std(ddof=1)
+    res = fuzzy_cmeans(np.column_stack([Z, t]), 3, m=fcm_m, random_state=0)
+    um = res.membership ** fcm_m
+    for j in range(2):
+        c = res.centers[:, j]
+        spread = np.sqrt(((Z[:, j, None] - c) ** 2 * um).sum(axis=0) / um.sum(axis=0))
+        np.testing.assert_allclose(m.mf_centers_[j], c, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(m.mf_sigmas_[j], np.maximum(spread, 0.05), rtol=1e-12)

@@ -19,6 +19,12 @@ def _seed_process(n, seed=0):
     return T[:, None], C0 + CS * T + r
 
 
+def _hand_series():
+    """x = 1..5, y = 3 + 2x + r with r = (1, -1, 0, -1, 1), orthogonal to 1 and x: r is the OLS residual."""
+    x = np.arange(1.0, 6.0)
+    return x[:, None], 3.0 + 2.0 * x + np.array([1.0, -1.0, 0.0, -1.0, 1.0])
+
+
 def test_recovers_seed_004_equation_34():
     X, y = _seed_process(50000)
     m = ARTemp().fit(X, y)
@@ -49,19 +55,36 @@ def test_free_run_is_the_recursive_equation_34():
     X, y = _seed_process(300, seed=1)
     m = ARTemp(initial_residual="last").fit(X[:200], y[:200])
     Xt = X[200:]
-    prev_x = m.intercept_ + X[199] @ m.coef_ + m.last_residual_   # = y[199]
-    prev_T = X[199]
+    prev_x, prev_T = y[199], X[199]   # the measured last training sample starts the recursion
     expect = []
     for row in Xt:
         x = m.arx_intercept_ + m.arx_lag_coef_ * prev_x + row @ m.arx_temp_coef_ + prev_T @ m.arx_temp_lag_coef_
         expect.append(x)
         prev_x, prev_T = x, row
-    assert prev_x == pytest.approx(expect[-1])
     assert np.allclose(m.predict(Xt), expect)
-    assert np.isclose(y[199], m.intercept_ + X[199] @ m.coef_ + m.last_residual_)
+    # hand series (see _hand_series): C0 = 3, Cs = 2, phi = -0.5, r_5 = 1, so Eq. (34) reads
+    # x_t = 4.5 - 0.5 x_{t-1} + 2 T_t + T_{t-1} from x_5 = 14, T_5 = 5: x_6 = 14.5, x_7 = 17.25
+    X5, y5 = _hand_series()
+    h = ARTemp(initial_residual="last").fit(X5, y5)
+    np.testing.assert_allclose(h.predict([[6.0], [7.0]]), [14.5, 17.25], rtol=0, atol=1e-12)
     # default "zero": the forecast is the temperature regression itself
     z = ARTemp().fit(X[:200], y[:200])
     assert np.allclose(z.predict(Xt), z.intercept_ + Xt @ z.coef_)
+
+
+def test_yule_walker_on_hand_series():
+    """Yule-Walker with divisor n (module docstring): gamma(k) = sum_t r_t r_{t-k} / n, phi_1 = gamma(1) / gamma(0),
+    sigma_a^2 = gamma(0) (1 - phi_1^2).
+
+    r = (1, -1, 0, -1, 1): gamma(0) = 4/5 = 0.8, gamma(1) = (-1 + 0 + 0 - 1)/5 = -0.4, phi_1 = -0.5,
+    sigma_a^2 = 0.8 * 0.75 = 0.6; C0 = 3, Cs = 2, r_n = 1.
+    """
+    m = ARTemp().fit(*_hand_series())
+    assert m.intercept_ == pytest.approx(3.0, abs=1e-12)
+    assert m.coef_[0] == pytest.approx(2.0, abs=1e-12)
+    assert m.phi_ == pytest.approx(-0.5, abs=1e-12)
+    assert m.innovation_variance_ == pytest.approx(0.6, abs=1e-12)
+    assert m.last_residual_ == pytest.approx(1.0, abs=1e-12)
 
 
 def test_rss_bookkeeping():

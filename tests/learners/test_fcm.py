@@ -65,3 +65,26 @@ def test_too_few_rows():
         fuzzy_cmeans(np.zeros((5, 2)), 2)
     with pytest.raises(ValueError):
         fuzzy_cmeans(np.arange(6.0), 2, m=1.0)
+
+
+def test_membership_exponent_for_m_other_than_two():
+    """Eq. (1) with m != 2: mu_i is proportional to d_i^(-2/(m-1)).
+
+    Point 1, centres 0 and 4 (d = 1, 3): m = 3 gives weights 1/d -> [3/4, 1/4]; m = 1.5 gives
+    d^-4 -> [81/82, 1/82]. (At m = 2, 2/(m-1) = 2(m-1), so only m != 2 tells the exponent apart.)
+    """
+    np.testing.assert_allclose(fcm_memberships([[1.0]], [[0.0], [4.0]], m=3.0), [[0.75, 0.25]], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(fcm_memberships([[1.0]], [[0.0], [4.0]], m=1.5), [[81 / 82, 1 / 82]],
+                               rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("m", [2.0, 3.0])
+def test_converged_centres_are_membership_weighted_means(m):
+    """Eq. (3) at the fixed point: c_i = sum_j u_ij^m x_j / sum_j u_ij^m with the returned memberships."""
+    x, _ = blobs(seed=4)
+    res = fuzzy_cmeans(x, 3, m=m, tol=1e-14, max_iter=1000, random_state=0)
+    assert res.n_iter < 1000
+    assert np.linalg.norm(res.centers[:, None, :] - TRUE_CENTRES[None], axis=2).min(axis=1).max() < 0.2
+    u = res.membership
+    weighted = np.array([(u[:, i] ** m) @ x / (u[:, i] ** m).sum() for i in range(3)])
+    np.testing.assert_allclose(res.centers, weighted, rtol=0, atol=1e-6)

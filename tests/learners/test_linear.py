@@ -58,3 +58,14 @@ def test_pcr_rejects_bad_fraction():
     X, y = _data()
     with pytest.raises(ValueError):
         PCR(n_components=1.5).fit(X, y)
+
+
+def test_ridge_one_feature_closed_form():
+    """Ridge on one centred feature, min ||yc - b xc||^2 + alpha b^2: b = Sxy / (Sxx + alpha), b0 = ybar - b xbar.
+
+    x = (-1, 0, 1), y = 2x + 5, alpha = 2: Sxx = 2, Sxy = 4, so b = 4 / 4 = 1 and b0 = 5.
+    """
+    x = np.array([-1.0, 0.0, 1.0])
+    m = MLR(alpha=2.0).fit(x[:, None], 2.0 * x + 5.0)
+    assert m.coef_[0] == pytest.approx(1.0, abs=1e-12)
+    assert m.intercept_ == pytest.approx(5.0, abs=1e-12)

@@ -4,6 +4,7 @@ on synthetic data."""
 
 import numpy as np
 import pytest
+import scipy.stats
 
 from twin.errors import InputError
 
@@ -115,3 +116,18 @@ def test_bad_count_and_constant_column():
     for selector in (CorrelationSelector(n_select=3), HierCorrSelector(n_select=3), FuzzyR2Selector(n_select=3)):
         with pytest.raises(InputError, match="column 0 is constant"):   # as twin learn refuses it: never picked
             selector.fit(Xc, y)
+
+
+def test_regression_f_test_of_one_predictor_is_the_slope_t_test():
+    """Eq. (8) with p = 1: F = (SSR/1) / (SSE/(n-2)) = t^2 of the slope, so its p-value equals
+    scipy.stats.linregress(x, y).pvalue and R^2 = r^2."""
+    from learners.selection_stats import _regression_test
+
+    rng = np.random.default_rng(4)
+    x = rng.normal(size=12)
+    y = 0.8 * x + rng.normal(size=12)
+    ref = scipy.stats.linregress(x, y)
+    r2, _, p_value = _regression_test(x[:, None], y)
+    assert 1e-3 < ref.pvalue < 0.5
+    assert p_value == pytest.approx(ref.pvalue, rel=1e-12)
+    assert r2 == pytest.approx(ref.rvalue ** 2, rel=1e-12)
