@@ -159,6 +159,23 @@ def test_partly_explained_names_only_what_stays_above():
     assert "BIC weight 1.00 among the candidates" in text and "confidence" not in text
 
 
+def test_factors_after_a_candidate_name_the_model_error_they_were_held_against():
+    """With the model error estimated again with the candidate in the model (levels_after), the
+    text says so and prints that estimate beside each factor after, not the baseline's."""
+    top = {"effect": "a", "explained": 0.99, "delta_bic": 300.0, "significant": True, "confidence": 1.0,
+           "statement": "a.p = 3 W"}
+    after_levels = {"temperature": (0.05, 0.5), "probe": (0.098, 0.9)}
+    text = message("partly_explained", top, {"temperature": 20.0, "probe": 2.0}, {"temperature": 5.0, "probe": 0.7},
+                   LEVELS, [("temperature:table", 6.0)], "", [], levels_after=after_levels)
+    assert ("what remains, against the model error estimated again with the candidate in the model, is still above "
+            "noise and model error: temperature 5.0x (noise 0.05 K, model error 0.5 K)") in text
+    assert "probe 0.7x (noise 0.098 um, model error 0.9 um)" in text
+    text = message("explained", top, {"temperature": 20.0, "probe": 2.0}, {"temperature": 1.0, "probe": 0.7},
+                   LEVELS, [], "", [], levels_after=after_levels)
+    assert ("within noise and model error, the model error estimated again with the candidate in the model "
+            "(temperature 1.0x (noise 0.05 K, model error 0.5 K)") in text
+
+
 # --- 7: the BIC weight is labelled as such; the table marks who passes the test -------------------
 
 def test_ranking_labels_the_bic_weight_and_marks_significance(cabinet_at_95):

@@ -267,7 +267,7 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
     (:func:`validate.model_error.error_with`); ``levels`` otherwise."""
     fac = _factors_text(factors, levels)
     after_levels = levels_after or levels
-    again = (" (the model error estimated again with the candidate in the model)" if levels_after else "")
+    again = "the model error estimated again with the candidate in the model" if levels_after else ""
     env = against(levels)
     along = (f"; along its signature the fitted change is {beyond:.1f}x what the model error alone produces"
              if beyond is not None else "")
@@ -295,10 +295,11 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
             return (head + f"; the residual before it was within {env} ({fac}), but{along[1:]}; "
                     f"after it: {_factors_text(after, levels)}")
         if verdict == "explained":
-            return (head + f"; residual after it within {against(after_levels)}{again} "
+            return (head + f"; residual after it within {against(after_levels)}{', ' + again if again else ''} "
                     f"({_factors_text(after, after_levels)}){along}")
         left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
-        return (head + f"; what remains is {_above_text(after, after_levels, 'still above')}{again}; worst at {left}"
+        return (head + f"; what remains{', against ' + again + ',' if again else ''} is "
+                f"{_above_text(after, after_levels, 'still above')}; worst at {left}"
                 + (f"; a heat input on {regions[0]['region']} would explain {regions[0]['explained']:.0%} of "
                    f"what remains (weighted, all groups)" if regions else ""))
     left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
