@@ -302,6 +302,31 @@ def test_the_reduced_bound_sums_the_full_space_residual_of_each_step():
     assert np.all(reported >= rho * (1 - 1e-12)) and np.all(reported <= rho * (1 + 1e-3)), (reported[:3], rho)
 
 
+def test_a_travelling_nut_runs_through_the_reduced_model_within_its_bound(machine):
+    """The Y axis reciprocating 20 min with its feed drive (the screws' path basis: a first block
+    of moments wider than the default order): the reduced model runs (three whole blocks) and every
+    output stays within its verified bound of the direct run."""
+    from twin.motion import machine_for
+    from twin.scenario import scenario_from_dict
+    sc = scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+                             "spindle": [{"speed": "0 rpm", "duration": "20 min"}],
+                             "axis": [{"name": "Y", "move": [{"kind": "reciprocate", "between": ["0 mm", "280 mm"],
+                                                              "feed": "20 mm/s", "acceleration": "10 mm/s2",
+                                                              "duration": "20 min"}]}]}, "y.toml")
+    moving = machine_for(machine, sc)
+    spec = model_spec(moving)
+    out = {}
+    for kind in ("direct", "rom"):
+        twin = PreparedTwin(moving, resolution="coarse", solver=kind)
+        _, out[kind] = twin.run(sc, spec, _observers(moving))
+        info = twin.run_info
+    assert info["rom_order"] > 48 and info["rom_estimate_order"] > 0
+    for key in out["direct"]:
+        err = np.abs(out["rom"][key] - out["direct"][key]).max(axis=0)
+        assert np.all(err <= np.asarray(info["rom_error_bound"][key])), key
+    assert np.abs(out["direct"]["drift"]).max() > 0
+
+
 def test_residual_gram_is_the_weighted_norm_of_the_reduced_step_residual(monkeypatch):
     """The verified bound's Gram matrix, summed over row blocks (three here), is G = Y^T W Y with
     Y = [M V, K V, H V, F, r] and W = 27 M_L^-1: for any coefficients c, c^T G c equals the
