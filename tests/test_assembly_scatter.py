@@ -97,3 +97,21 @@ def test_compiled_positions_equal_the_searchsorted_ones(split_mesh, layout):
     for ref_shape in ((3, rows.shape[0], cols.shape[0]), (3, rows.shape[0], cols.shape[0], 3, 1)):
         ref, group = rng.standard_normal(ref_shape), rng.integers(0, 3, rows.shape[1])
         assert (fast.assemble(ref, group) != slow.assemble(ref, group)).nnz == 0
+
+
+def test_volume_vector_integrates_constants_and_linear_fields_over_cells_of_many_sizes(split_mesh):
+    """b_i = int N_i dV: sum_i b_i = V and sum_i b_i x_i = int x dV = sum_c V_c xbar_c (a trilinear
+    interpolation reproduces linear fields, and the corners' mean is each brick's centroid), over
+    the C-frame's cells of many sizes, to round-off; the first moments see which corner got which
+    brick's volume, the total alone does not."""
+    from twin.fem.assembly import volume_vector
+    mm = split_mesh
+    cells = np.arange(mm.ncells)
+    b = volume_vector(mm, cells)
+    vol = np.prod(mm.cell_size[cells], axis=1)
+    assert len(np.unique(np.round(vol, 12))) > 3
+    assert b.sum() == pytest.approx(vol.sum(), rel=1e-12)
+    x = mm.mesh.p[:, mm.heat_node]                               # each temperature dof's position
+    centroids = mm.mesh.p[:, mm.mesh.t[:, cells]].mean(axis=1)   # (3, cells)
+    for d in range(3):
+        assert b @ x[d] == pytest.approx(vol @ centroids[d], rel=1e-12)

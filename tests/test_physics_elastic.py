@@ -114,3 +114,24 @@ def test_uniaxial_strain_and_thermal_forces_give_the_elastic_moduli():
     assert inside.any() and np.abs(f[inside]).max() < 1e-12 * sigma_xx * w * w
     thermal = (el.C @ np.full(mm.nheat, dT)).reshape(-1, 3)
     assert thermal[right, 0].sum() == pytest.approx(E / (1 - 2 * nu) * steel.expansion * dT * w * w, rel=1e-12)
+
+
+def test_simple_shear_gives_the_shear_modulus():
+    """Hooke's law in shear: u_x = gamma y gives sigma_xy = mu gamma, mu = E / (2 (1 + nu)), so the
+    face y = w carries the force mu gamma L w along x (and the face y = 0 the opposite), with no
+    force inside: exact for trilinear elements on a linear field, to round-off. (The uniaxial test
+    sees only lambda and lambda + 2 mu.)"""
+    from twin.fem.assembly import assemble_elastic
+    L, w, gamma = 0.3, 0.1, 1e-4
+    mm = box_body((L, w, w), 0.05)
+    steel = MATERIALS["steel"]
+    mu = steel.youngs_modulus / (2 * (1 + steel.poisson_ratio))
+    p = mm.mesh.p.T
+    u = np.zeros((mm.nnodes, 3))
+    u[:, 0] = gamma * p[:, 1]
+    f = (assemble_elastic(mm).K @ u.ravel()).reshape(-1, 3)
+    top, bottom = np.isclose(p[:, 1], w), np.isclose(p[:, 1], 0.0)
+    assert f[top, 0].sum() == pytest.approx(mu * gamma * L * w, rel=1e-12)
+    assert f[bottom, 0].sum() == pytest.approx(-mu * gamma * L * w, rel=1e-12)
+    inside = np.all((p > 1e-9) & (p < np.array([L, w, w]) - 1e-9), axis=1)
+    assert inside.any() and np.abs(f[inside]).max() < 1e-12 * mu * gamma * L * w

@@ -131,3 +131,25 @@ def test_fin_with_end_flux_matches_fin_equation():
     assert np.max(np.abs((T - 20.0) - exact)) < 0.005 * exact.max()
     # and the energy balance of the steady state: all of P leaves through the sides
     assert h * (conv.r @ T - 20.0 * conv.area) == pytest.approx(P, rel=1e-9)
+
+
+def test_capacity_and_conduction_on_cells_that_are_not_cubes():
+    """On bricks of three different edge lengths (0.05 x 0.05 x 0.035 m here): the capacity matrix
+    holds the body's whole heat capacity, 1^T M 1 = rho c V, and a linear field T = g . x drives
+    the conduction flux k g_d A_d out of the faces normal to each axis d (K T summed over the face
+    x_d = L_d's nodes; the faces at 0 take the opposite), exactly for trilinear elements on a linear
+    field: to round-off. (Every other closed-form heat test meshes cubes.)"""
+    size = np.array([0.3, 0.2, 0.07])
+    mm = box_body(tuple(size), 0.05)
+    steel = MATERIALS["steel"]
+    heat = assemble_heat(mm)
+    assert set(np.round(np.ptp(mm.mesh.p[:, mm.mesh.t[:, 0]], axis=1), 9)) == {0.05, 0.035}
+    assert heat.M.sum() == pytest.approx(steel.density * steel.specific_heat * size.prod(), rel=1e-12)
+    p = mm.mesh.p.T
+    g = np.array([3.0, -2.0, 5.0])                       # [K/m]
+    q = heat.K @ (p @ g)                                 # [W] heat leaving through each node
+    for d in range(3):
+        area = size.prod() / size[d]
+        at_end = np.isclose(p[:, d], size[d])
+        assert q[at_end].sum() == pytest.approx(steel.conductivity * g[d] * area, rel=1e-12)
+        assert q[np.isclose(p[:, d], 0.0)].sum() == pytest.approx(-steel.conductivity * g[d] * area, rel=1e-12)
