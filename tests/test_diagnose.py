@@ -285,6 +285,17 @@ def test_probes_only_and_what_the_missing_sensors_cost(machine, mm, truth):
     assert gap["group"] == "temperature" and gap["missing"] == 16 and gap["cost"] >= 1
     assert gap["runner_up"] and -1 <= gap["corr_present"] <= 1 and -1 <= gap["corr_full"] <= 1
     assert "no temperature sensors" in format_diagnosis(d)
+    # the correlation is a cosine: a runner-up whose response is the top one's, scaled, correlates
+    # 1 on the channels present and on the full set (Cauchy-Schwarz with equality), and the cost is
+    # SNR_full / SNR_present of the top fit alone, the same for any runner-up
+    from dataclasses import replace as replaced
+    from validate.channel_cost import _cost
+    same = replaced(d.fits[0], values=tuple(2.0 * v for v in d.fits[0].values), response=2.0 * d.fits[0].response)
+    d.fits = [d.fits[0], same]
+    twin_cost = _cost(d, machine)
+    assert twin_cost["corr_present"] == pytest.approx(1.0, rel=1e-12)
+    assert twin_cost["corr_full"] == pytest.approx(1.0, rel=1e-9)
+    assert twin_cost["cost"] == pytest.approx(gap["cost"], rel=1e-12)
     # temperatures only: no expansion to fit, the probes' absence stated; with no candidate to try
     # the verdict is unexplained, the residual factor stated
     temps = truth(None, ["spindle_bearings.front_power=210 W"])

@@ -45,15 +45,60 @@ def test_bounded_nuisance_recovers_or_sits_at_its_bound():
 
 def test_gauss_newton_finds_a_bounded_nonlinear_parameter():
     """y(p) = exp(-p t) - 1 sampled on t in [0, 1], truth p = 1.7: bounded Gauss-Newton from
-    p = 0.5 reaches it (noise-free), and with the upper bound at 1.2 stops at the bound."""
+    p = 0.5 reaches it (noise-free), from p = 5, its upper bound, too (the forward difference
+    turned backwards there, dy/dp = (y(p - dp) - y(p)) / (-dp)), and with the upper bound at 1.2
+    stops at the bound."""
     t = np.linspace(0, 1, 200)
     ev = lambda p: np.exp(-p[0] * t) - 1
     r = ev([1.7])
     f = BoundedFitter(r, np.ones_like(r))
-    p, g, sse, _ = gauss_newton(f, ev, np.array([0.5]), np.array([0.0]), np.array([5.0]), np.array([False]), {}, 8)
-    assert p[0] == pytest.approx(1.7, rel=1e-4) and sse < 1e-10
+    for start in (0.5, 5.0):
+        p, g, sse, _ = gauss_newton(f, ev, np.array([start]), np.array([0.0]), np.array([5.0]), np.array([False]),
+                                    {}, 8)
+        assert p[0] == pytest.approx(1.7, rel=1e-4) and sse < 1e-10, start
     p, *_ = gauss_newton(f, ev, np.array([0.5]), np.array([0.0]), np.array([1.2]), np.array([False]), {}, 8)
     assert p[0] == pytest.approx(1.2)
+
+
+def test_a_pinned_variable_is_held_at_its_value_and_the_rest_fit_what_it_leaves():
+    """r = 2 u + 3 v with x_u pinned by a zero-width bound [2, 2]: x = (2, 3) and the SSE vanishes
+    (the free variable fits r - 2 u); pinned at 1 instead, x_v is the least-squares fit to
+    r - u, v.(r - u) / v.v."""
+    u, v, _ = _problem()
+    r = 2 * u + 3 * v
+    f = BoundedFitter(r, np.ones_like(r))
+    x, _, sse = f.solve(np.column_stack([u, v]), [2.0, -10.0], [2.0, 10.0])
+    assert x == pytest.approx([2.0, 3.0], abs=1e-12) and sse < 1e-15
+    x, _, _ = f.solve(np.column_stack([u, v]), [1.0, -10.0], [1.0, 10.0])
+    assert x[0] == 1.0 and x[1] == pytest.approx(v @ (r - u) / (v @ v), rel=1e-12)
+
+
+def test_effective_samples_of_an_ar1_residual():
+    """N_eff = N (1 - rho) / (1 + rho), rho the pooled lag-1 autocorrelation of the centred
+    residual: four blocks of ten +1 / -1 (mean 0) have sum x_t x_(t-1) = 39 - 6 = 33 over
+    sum x^2 = 40, rho = 33/40, N_eff = 40 (7/40) / (73/40) = 280/73; white-ish alternation
+    (rho < 0, clipped to 0) counts every sample, as does a constant one (nothing to correlate)."""
+    from validate.evidence import effective_samples
+    blocks = np.repeat([1.0, -1.0, 1.0, -1.0], 10)[:, None]
+    assert effective_samples(blocks) == pytest.approx(280 / 73, rel=1e-12)
+    assert effective_samples(np.resize([1.0, -1.0], 40)[:, None]) == pytest.approx(40.0, rel=1e-12)
+    assert effective_samples(np.ones((40, 1))) == 40.0          # nothing varies: no correlation to discount
+    assert effective_samples(np.linspace(0.0, 1.0, 40)[:, None]) == 2.0   # a ramp: 40 (1 - rho) / (1 + rho) < 2, floored
+
+
+def test_instrument_noise_levels_of_the_missing_channels_cost():
+    """The noise each group's instruments would add (validate.channel_cost), in the channel's unit,
+    at least half the reading step: the defaults (twin list instruments) give temperature
+    max(0.05, 0.0625 / 2) = 0.05 K, probe max(0.05, 0.1 / 2) = 0.05 um, laser max(0.2, 0.05) =
+    0.2 um, FBG max(0.5, 0.8 / 2) = 0.5 um/m; a coarser temperature step of 0.25 K gives 0.125 K."""
+    from geometries import build_machine
+    from validate.channel_cost import _noise
+    machine = build_machine("cframe-vmc")
+    noise = _noise(model_spec(machine))
+    for group, value in (("temperature", 0.05), ("probe", 0.05), ("laser", 0.2), ("strain", 0.5)):
+        assert noise[group] == pytest.approx(value, rel=1e-12), group
+    coarse = _noise(model_spec(machine, settings=["temperature_sensor.quantisation=0.25 K"]))
+    assert coarse["temperature"] == pytest.approx(0.125, rel=1e-12)
 
 
 @pytest.mark.parametrize("factors,significant,after,expected", [
@@ -62,6 +107,8 @@ def test_gauss_newton_finds_a_bounded_nonlinear_parameter():
     ({"temperature": 20.0, "probe": 2.0}, True, {"temperature": 1.3, "probe": 0.7}, "explained"),
     ({"temperature": 20.0, "probe": 2.0}, True, {"temperature": 5.0, "probe": 0.7}, "partly_explained"),
     ({"temperature": 3.5}, False, {"temperature": 3.4}, "unexplained"),
+    ({"temperature": 3.0, "probe": 1.0}, False, None, "nothing_missing"),        # 3 is still within
+    ({"temperature": 20.0}, True, {"temperature": 3.0}, "explained"),
 ])
 def test_verdict_rule(factors, significant, after, expected):
     """The four verdicts from the residual factors (residual / sqrt(noise^2 + model error^2)) and
@@ -381,3 +428,22 @@ def test_unexplained_message_says_a_candidate_that_makes_the_loud_groups_worse_e
     text = message("unexplained", top, {"temperature": 2.6, "probe": 3.5}, None, levels, [("probe:Z", 4.0)],
                    "spindle on", [])
     assert "explains only 20%" in text
+
+
+def test_the_region_map_fits_a_missing_cooler_as_a_negative_power(monkeypatch):
+    """A generic heat input of either sign: with one region whose 1 W response is u, another's w
+    (nearly orthogonal) and the residual r = -3 u + 0.5 w, each region's power is its least-squares
+    one alone, x = u.r / u.u (about -3 W: a cooler, within the +-POWER_LIMIT bounds), explaining
+    1 - |r - x u|^2 / |r|^2, and the second's about 0.5 W."""
+    import validate.localise as L
+    u, w, _ = _problem()
+    r = -3 * u + 0.5 * w
+    monkeypatch.setattr(L, "region_columns", lambda *a, **k: (np.stack([u, w]), [("cooled", "part", "constant"),
+                                                                               ("warmed", "part", "constant")]))
+    regions = L.localise(None, BoundedFitter(r, np.ones_like(r)), None, None, twin=object())
+    by = {x["region"]: x for x in regions}
+    assert by["cooled"]["power_W"] == pytest.approx(u @ r / (u @ u), rel=1e-9)
+    assert by["warmed"]["power_W"] == pytest.approx(w @ r / (w @ w), rel=1e-9)
+    res = r - by["cooled"]["power_W"] * u
+    assert by["cooled"]["explained"] == pytest.approx(1 - res @ res / (r @ r), rel=1e-9)
+    assert by["cooled"]["power_W"] < -2.0
