@@ -27,11 +27,6 @@ class Spot:
     u0: int
     size: int
 
-    @property
-    def centre(self) -> tuple[float, float]:
-        """(v, u) of the group's centre [px]."""
-        return self.v0 + self.size / 2, self.u0 + self.size / 2
-
 
 def spot_layout(part_layer: np.ndarray, part: int, lines: int = 21, per_line: int = 25, size: int = 5) -> list[Spot]:
     """Spots on the pixels of ``part_layer`` (H, W) equal to ``part`` (module docstring);
