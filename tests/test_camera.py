@@ -453,3 +453,48 @@ def test_a_pixel_straddling_two_surfaces_reads_the_mean_radiance_not_the_mean_te
     for u, T in ((u_ab - 1, T_A), (u_ab + 1, T_B), (u_br - 1, T_B)):
         t_one, tol = reads(L(T))
         assert np.abs(thermo[:, rows, u] - t_one).max() <= tol and abs(t_one - T) < 1e-5
+
+
+def test_overview_front_frames_the_bounding_box_with_a_ten_percent_margin():
+    """overview-front stands on the box's centre line at -y, aimed at its centre (x_c, y_c, z_c), at
+    d = 1.1 max(L_x / (2 tan(fov_h/2)), L_z / (2 tan(fov_v/2))) + L_y / 2, so the front face
+    y = y_lo lies D = y_lo - y_cam = 1.1 max(...) ahead. The pinhole (right = +x, down = -z) maps
+    a front-face point to u = W/2 + (x - x_c) W / (2 D tan(fov_h/2)), v = H/2 - (z - z_c) H /
+    (2 D tan(fov_v/2)); the corners of a 2 x 1 x 0.5 m box then span max(du/W, dv/H) = 1/1.1, the
+    width binding (the height spans less). Default intrinsics; rounding only: rel 1e-14."""
+    from twin.observe.camera import OVERVIEW
+
+    lo, hi = np.array([0.3, 0.2, 0.1]), np.array([2.3, 1.2, 0.6])          # 2 x 1 x 0.5 m
+    m = _machine([Part("box", material("steel"), (Box(tuple(lo), tuple(hi)),))], [])
+    intr = Intrinsics()
+    pose = CameraConfig(pose=OVERVIEW).resolve_pose(m)
+    centre = 0.5 * (lo + hi)
+    assert np.array_equal(pose.target, centre)
+    assert (pose.position[0], pose.position[2]) == (centre[0], centre[2]) and pose.position[1] < lo[1]
+    D = lo[1] - pose.position[1]
+    tx, tz = math.tan(intr.fov_h / 2), math.tan(intr.fov_v / 2)
+    corners = np.array([[x, lo[1], z] for x in (lo[0], hi[0]) for z in (lo[2], hi[2])])
+    u = intr.width / 2 + (corners[:, 0] - centre[0]) * intr.width / (2 * D * tx)
+    v = intr.height / 2 - (corners[:, 2] - centre[2]) * intr.height / (2 * D * tz)
+    du, dv = np.ptp(u) / intr.width, np.ptp(v) / intr.height
+    assert max(du, dv) == pytest.approx(1 / 1.1, rel=1e-14)
+    assert du > dv
+    # the library's pinhole agrees with the one written out above
+    pu, pv = project(pose, intr, corners)
+    np.testing.assert_allclose(np.c_[pu, pv], np.c_[u, v], rtol=1e-14)
+
+
+def test_frames_every_frame_interval_that_is_a_whole_multiple_in_floating_point():
+    """A frame interval of 3.3 s at a 1.1 s sample interval is N = 3.3 / 1.1 = 3 samples, although
+    the float quotient is 2.9999999999999996 (N = round of the quotient, not its floor): over
+    9.9 s (samples 0..9 at 1.1 k s) the frames are the steps 0, 3, 6, 9, at times 3.3 k s (to
+    rounding, rel 1e-15)."""
+    assert 3.3 / 1.1 < 3                                     # the float quotient sits just below 3
+    sc = Scenario("static", ((9.9, 0.0),), Ambient("constant", mean=20.0), sample_interval=1.1)
+    cam = ThermalCamera(_plate(), _config(frame_interval=3.3))
+    cam.check(sc, cam.machine)                               # accepted as a whole multiple
+    times = sc.times()
+    assert len(times) == 10
+    steps = cam.sample_steps(times)
+    assert steps.tolist() == [0, 3, 6, 9]
+    np.testing.assert_allclose(times[steps], 3.3 * np.arange(4), rtol=1e-15)

@@ -283,3 +283,33 @@ def test_offsets_and_speed_laws_reach_the_loads(mm, heat):
     motor = s[:, ls.source_effect.index("spindle_motor")]
     assert motor[0] == pytest.approx(p_ref * 0.5 ** 1.5, rel=1e-14) and motor[1] == 0.0
     assert s[:, ls.source_effect.index("electrical_cabinet")].tolist() == [65.0, 40.0]
+
+
+def test_power_law_is_zero_at_rest_even_with_exponent_zero():
+    """power_law(n, n_ref, x) = (|n| / n_ref)^x for n != 0 (a reversed spindle heats as a forward
+    one: |n|) and 0 at n = 0, whatever x; for x = 0 (allowed for spindle_motor, the rotary motor,
+    forced convection) that is [0, 1, 1] at n = [0, 4500, -9000] rpm, n_ref = 9000 rpm, never
+    0^0 = 1 at rest. x = 5/3: [0, 0.5^(5/3), 1] to rounding (rel 1e-15)."""
+    from twin.effects.base import power_law
+
+    n = np.array([0.0, 4500.0, -9000.0])
+    assert power_law(n, 9000.0, 0.0).tolist() == [0.0, 1.0, 1.0]
+    assert power_law(np.array([0.0]), 9000.0, 0.0)[0] == 0.0
+    np.testing.assert_allclose(power_law(n, 9000.0, 5.0 / 3.0), [0.0, 0.5 ** (5.0 / 3.0), 1.0], rtol=1e-15, atol=0)
+
+
+def test_floor_lag_reaches_the_end_of_the_run(mm, heat):
+    """The lag is integrated on a grid that must cover the whole run: the floor's air after a 1 K
+    room ramp over t_r = 60 s (as in test_floor_lag_follows_a_step_with_its_time_constant), read
+    at the scenario's last instant t = t_end = 5 d, is 20 + 1 - exp(-t / tau) (tau / t_r)
+    expm1(t_r / tau), tau = 2 d, to rel 1e-10 (a grid stopping one 60 s step short reads
+    y(t_end - 60 s), 2.8e-5 K low)."""
+    amb = Ambient("table", times=(0.0, 60.0, 1e7), temperatures=(20.0, 21.0, 21.0))
+    sc = Scenario("step", ((5 * 86400.0, 0.0),), amb, 600.0)
+    ls = build_loads(mm, sc, ModelSpec(("floor_lag",)), heat)
+    tau, t_r = 2 * 86400.0, 60.0
+    t = np.array([sc.duration - 600.0, sc.duration])
+    assert sc.times()[-1] == sc.duration == 5 * 86400.0
+    _, air, _ = ls.signals(t)
+    exact = 1 - np.exp(-t / tau) * (tau / t_r) * np.expm1(t_r / tau)
+    assert air[:, 0] - 20.0 == pytest.approx(exact, rel=1e-10)

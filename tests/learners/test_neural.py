@@ -69,3 +69,43 @@ def test_pso_bpnn_hidden_search_stays_in_range():
     m = PSOBPNN(hidden_layer_sizes=(8,), hidden_search=(3, 6), n_iterations=10, epochs=50, random_state=1).fit(X, y)
     assert len(m.hidden_layer_sizes_) == 1 and 3 <= m.hidden_layer_sizes_[0] <= 6
     assert m.coefs_[0].shape == (2, m.hidden_layer_sizes_[0])
+
+
+def test_backprop_momentum_step_is_m_times_the_last_step_minus_lr_times_the_gradient():
+    """Gradient descent with momentum (traingdm): v_k = m v_(k-1) - lr grad E(w_(k-1)), w_k = w_(k-1) + v_k,
+    v_0 = 0, so w1 - w0 = -lr grad E(w0) and w_(k+1) - w_k = m (w_k - w_(k-1)) - lr grad E(w_k), with
+    m = 0.9, lr = 0.05 and E = 1/(2N) sum (o - t)^2 of a 3-4-3-1 tanh network written out here (weights
+    packed layer by layer, W row-major then b). grad E by the complex step, Im E(w + i h e_j) / h,
+    exact to rounding; the steps are read from runs of 1, 2 and 3 epochs. Rounding of the O(1) weights only: 1e-14."""
+    rng = np.random.default_rng(11)
+    X, t = rng.uniform(-1, 1, (15, 3)), rng.uniform(-1, 1, 15)
+    sizes = (3, 4, 3, 1)
+    shapes = _layer_shapes(3, (4, 3))
+    w0 = rng.normal(scale=0.5, size=_n_weights(shapes))
+    m, lr = 0.9, 0.05
+
+    def loss(w):
+        h, k = X.astype(w.dtype), 0
+        for i in range(len(sizes) - 1):
+            a, b = sizes[i], sizes[i + 1]
+            W, bias = w[k:k + a * b].reshape(a, b), w[k + a * b:k + a * b + b]
+            k += a * b + b
+            h = h @ W + bias
+            if i < len(sizes) - 2:
+                h = np.tanh(h)
+        return np.sum((h[:, 0] - t) ** 2) / (2 * len(t))
+
+    def grad(w):
+        step = 1e-30
+        return np.array([loss(w + 1j * step * e).imag / step for e in np.eye(w.size)])
+
+    def after(epochs):
+        params, curve = _backprop(_unpack(w0, shapes), X, t, "tanh", lr, epochs=epochs, goal=0.0, momentum=m)
+        assert len(curve) == epochs
+        return np.concatenate([np.concatenate([W.ravel(), b]) for W, b in params])
+
+    w1, w2, w3 = after(1), after(2), after(3)
+    np.testing.assert_allclose(w1 - w0, -lr * grad(w0), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(w2 - w1, m * (w1 - w0) - lr * grad(w1), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(w3 - w2, m * (w2 - w1) - lr * grad(w2), rtol=0, atol=1e-14)
+    assert np.abs(m * (w2 - w1)).max() > 1e-3                  # the momentum term is far above the tolerance
