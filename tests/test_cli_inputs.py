@@ -44,6 +44,9 @@ def test_units_parse_and_reject():
     ("6_0W", "power", "'6_0W': '6_0' is not a decimal number"),          # no space: the unit is still known
     ("0x3cW", "power", "'0x3cW': '0x3c' is not a decimal number"),
     ("1.5.2 mm", "length", "'1.5.2 mm': '1.5.2' is not a decimal number"),
+    ("3,5W", "power", "'3,5W': '3,5' is not a decimal number"),            # a decimal comma
+    ("5MW", "power", "'5MW' has the wrong unit"),                         # a prefix we do not take: the unit
+    ("-1 MW", "power", "'-1 MW' has the wrong unit"),
     (80, "velocity", "80 has no unit; write it like '80 mm/s'"),
     ([1, 2], "length", "got a list of 2 values; expected a quantity with a unit such as '150 mm'"),
 ])

@@ -103,11 +103,11 @@ def parse_quantity(text: str | int | float, dimension: str) -> float:
         hint = f" ({unit!r} is a {other[0].replace('_', ' ')} unit)" if other else ""
         if not unit:
             raise UnitError(f"{text!r} has no unit; expected {_spellings(dimension)}")
-        written = str(text).strip()
-        for known in sorted((u for u in table if u and written.endswith(u)), key=len, reverse=True):
-            head = written[:-len(known)].strip()     # "6_0W", "0x3cW": a known unit after no decimal number
-            if head and not re.fullmatch(_NUMBER, head):
-                raise UnitError(f"{text!r}: {head!r} is not a decimal number; write it like {example(dimension)!r}")
+        for known in sorted((u for u in table if u and unit.endswith(u)), key=len, reverse=True):
+            middle = unit[:-len(known)]   # "6_0W": "_0", "0x3cW": "x3c" between the number and a known unit
+            if middle and not middle.isalpha() and not re.search(r"\s", middle):   # not a prefix like "MW"'s "M"
+                raise UnitError(f"{text!r}: {match.group(1) + middle!r} is not a decimal number; write it like "
+                                f"{example(dimension)!r}")
         raise UnitError(f"{text!r} has the wrong unit{hint}; expected {_spellings(dimension)}")
     return _finite(value * table[unit], text)
 
