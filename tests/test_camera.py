@@ -498,3 +498,26 @@ def test_frames_every_frame_interval_that_is_a_whole_multiple_in_floating_point(
     steps = cam.sample_steps(times)
     assert steps.tolist() == [0, 3, 6, 9]
     np.testing.assert_allclose(times[steps], 3.3 * np.arange(4), rtol=1e-15)
+
+
+def test_the_outer_surface_normals_point_out_of_the_body():
+    """Each boundary rectangle's normal is the unit axis vector pointing away from its owner cell
+    (n . (facet centre - owner cell centre) > 0), so on an L-shaped body of two boxes every face
+    at the body's largest x has n = +x, every one at its smallest -x, and an inner corner's faces
+    point into the notch."""
+    from twin.observe.raycast import outer_surface
+    parts = [Part("a", material("steel"), (Box((0.0, 0.0, 0.0), (1.0, 0.5, 0.5)),)),
+             Part("b", material("steel"), (Box((0.0, 0.0, 0.5), (0.5, 0.5, 1.0)),))]
+    mm = build_mesh(_machine(parts, []), 0.25)
+    s = outer_surface(mm)
+    facet_centre = 0.5 * (s.lo + s.hi)
+    owner_centre = mm.mesh.p[:, mm.mesh.t[:, s.owner]].mean(axis=1).T
+    assert np.all(np.abs(s.normal).sum(axis=1) == 1.0)
+    assert np.all(np.einsum("ij,ij->i", s.normal, facet_centre - owner_centre) > 0)
+    x = facet_centre[:, 0]
+    assert np.all(s.normal[np.isclose(x, 1.0) & (s.axis == 0), 0] == 1.0)
+    assert np.all(s.normal[np.isclose(x, 0.0) & (s.axis == 0), 0] == -1.0)
+    notch = (s.axis == 0) & np.isclose(x, 0.5)             # the step face of b, above a's top
+    assert notch.any() and np.all(s.normal[notch, 0] == 1.0)
+    top_of_a = (s.axis == 2) & np.isclose(facet_centre[:, 2], 0.5)
+    assert top_of_a.any() and np.all(s.normal[top_of_a, 2] == 1.0)
