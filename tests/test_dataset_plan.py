@@ -4,6 +4,7 @@ nothing written (issue 14)."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from tests.dataset_files import REF, SPEC, write_spec
@@ -252,3 +253,32 @@ def test_a_changed_case_record_is_named_not_a_key_error(tmp_path):
     with pytest.raises(InputError) as err:
         spec_from_dict({"machines": [["cframe-vmc"]], "scenarios": []}, "x.toml")
     assert err.value.field == "machines[0]"
+
+
+def test_each_distribution_draws_what_its_name_says():
+    """A spec's draws, 20 000 each from one seeded generator (so the test is deterministic): uniform
+    (5, 12) fills the range with mean (lo + hi) / 2; log-uniform (5, 12) has log-values uniform on
+    [ln 5, ln 12], so its median is the geometric mean sqrt(5 x 12) = 7.746, not 8.5; a normal
+    (20, 2) truncated to [17, 21] stays inside with the truncated mean
+    mu + sigma (phi(a) - phi(b)) / (Phi(b) - Phi(a)), a = -1.5, b = 0.5 (= 19.246); fixed is its
+    value. Tolerances: 4 standard errors of each statistic."""
+    from scipy.stats import norm, truncnorm
+
+    from twin.dataset.fields import Dist
+    rng = np.random.default_rng(5)
+    n = 20_000
+    u = np.array([Dist("uniform", (5.0, 12.0), "heat_transfer_coefficient").sample(rng) for _ in range(n)])
+    assert 5.0 <= u.min() and u.max() <= 12.0
+    assert abs(u.mean() - 8.5) < 4 * 7.0 / np.sqrt(12 * n)
+    g = np.array([Dist("log_uniform", (5.0, 12.0), "heat_transfer_coefficient").sample(rng) for _ in range(n)])
+    width = np.log(12.0 / 5.0)
+    assert 5.0 <= g.min() and g.max() <= 12.0
+    assert abs(np.log(np.median(g)) - 0.5 * np.log(60.0)) < 4 * width / (2 * np.sqrt(n))
+    assert abs(np.log(g).std() - width / np.sqrt(12)) < 4 * width / np.sqrt(12) / np.sqrt(2 * n)
+    t = np.array([Dist("normal", (20.0, 2.0), "temperature", 17.0, 21.0).sample(rng) for _ in range(n)])
+    a, b = -1.5, 0.5
+    mean = 20.0 + 2.0 * (norm.pdf(a) - norm.pdf(b)) / (norm.cdf(b) - norm.cdf(a))
+    assert mean == pytest.approx(truncnorm(a, b, loc=20.0, scale=2.0).mean(), rel=1e-12)
+    assert 17.0 <= t.min() and t.max() <= 21.0
+    assert abs(t.mean() - mean) < 4 * truncnorm(a, b, loc=20.0, scale=2.0).std() / np.sqrt(n)
+    assert Dist("fixed", (7.0,), "power").sample(rng) == 7.0
