@@ -232,6 +232,10 @@ def test_frames_are_bit_identical_for_the_same_seed(tmp_path):
         assert "counts" not in back
         assert np.array_equal(camera_counts(back), counts)
         assert np.abs(back.thermogram.values - a.thermogram.values).max() < 0.006
+        # the true surface temperature is stored in centikelvin: back within half a step, 0.005 K
+        true = a.surface_temperature_true.values
+        assert back.surface_temperature_true.encoding["scale_factor"] == np.float32(0.01)
+        assert np.nanmax(np.abs(back.surface_temperature_true.values - true)) <= 0.005 + 1e-6
 
 
 def test_sampled_observer_records_the_dense_rows_at_its_steps():
@@ -521,3 +525,10 @@ def test_the_outer_surface_normals_point_out_of_the_body():
     assert notch.any() and np.all(s.normal[notch, 0] == 1.0)
     top_of_a = (s.axis == 2) & np.isclose(facet_centre[:, 2], 0.5)
     assert top_of_a.any() and np.all(s.normal[top_of_a, 2] == 1.0)
+
+
+def test_centikelvin_is_a_hundredth_of_a_kelvin_clipped_to_sixteen_bits():
+    """TIFF frames: value = round(100 (T + 273.15)), clipped to 0 .. 65535: 20 degC -> 29315,
+    absolute zero -> 0, 400 degC (67315) -> 65535, 35.004 degC -> 30815."""
+    from twin.io.thermography import centikelvin
+    assert centikelvin(np.array([20.0, -273.15, 400.0, 35.004])).tolist() == [29315, 0, 65535, 30815]

@@ -64,6 +64,17 @@ def test_daily_ambient_is_coldest_in_the_morning():
     assert t[np.argmin(temp)] == 6 * 3600 and temp.max() - temp.min() == pytest.approx(5.0)
 
 
+def test_a_daily_room_that_starts_at_8_h_is_read_at_its_time_of_day():
+    """T(t) = mean - A cos(2 pi (t_0 + t - t_cold) / 1 d), t_0 the time of day the run starts:
+    mean 20, A 3 K, coldest at 6 h, starting at 8 h: T(0) = 20 - 3 cos(2 pi 2 / 24) = 17.4019 degC,
+    coldest (17.0) at t = 22 h and warmest (23.0) at t = 10 h, to round-off. (Every bundled test
+    that a test reads starts at 0 h, where the sign of t_0 cannot show.)"""
+    from twin.scenario import Ambient
+    amb = Ambient("daily", mean=20.0, amplitude=3.0, coldest_at=6 * 3600.0, start_time_of_day=8 * 3600.0)
+    t = np.array([0.0, 22 * 3600.0, 10 * 3600.0])
+    np.testing.assert_allclose(amb(t), [20.0 - 3.0 * np.cos(2 * np.pi * 2 / 24), 17.0, 23.0], rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize("argv,needle", [
     (["simulate", "no-such-machine", "spindle-duty-cycle"], "machine"),
     (["simulate", "cframe-vmc", "no-such-scenario"], "scenario"),

@@ -164,3 +164,16 @@ def test_c_axis_powers_follow_their_own_speed_laws_below_the_reference_speed(mac
         source = loads[f"c_axis_drive.{what}"]
         assert np.array_equal(source.cells, role_cells(mm, f"c_axis.{what}"))
         np.testing.assert_array_equal(source.power(t), power)
+
+
+def test_c_axis_duty_is_its_on_time_over_its_cycle():
+    """d = on / (on + dwell): 10 s turning and 30 s dwelling is 1/4 (every other test turns as
+    long as it dwells, where on and dwell cannot be told apart); a stopped step turns at 0 rpm,
+    and after the last step the duty is 0."""
+    from twin.scenario import scenario_from_dict
+    sc = scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+                             "spindle": [{"speed": "0 rpm", "duration": "2 h"}],
+                             "c_axis": [{"speed": "2500 rpm", "duration": "1 h", "on": "10 s", "dwell": "30 s"},
+                                        {"speed": "0 rpm", "duration": "1 h"}]}, "c.toml")
+    np.testing.assert_array_equal(sc.c_axis.duty(np.array([60.0, 1800.0, 3540.0])), 0.25)
+    assert sc.c_axis.speed(np.array([3660.0]))[0] == 0.0 and sc.c_axis.duty(np.array([7300.0]))[0] == 0.0

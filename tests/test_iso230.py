@@ -41,6 +41,20 @@ def test_known_ranges_are_returned_exactly():
     assert [c.unit for c in ev.channels] == ["um"] * 3 + ["urad"] * 2
 
 
+def test_the_air_range_is_max_minus_min_wherever_the_extremes_fall():
+    """ETVE's air range is max - min over the test: a room 20 - 2 sin(2 pi t / t_end) + 0.5 sin
+    (4 pi t / t_end) neither starts nor ends at an extreme, and its range is read from the samples'
+    own max and min, exactly (the synthetic ramp above starts at its minimum, where max - first
+    would pass)."""
+    ds = synthetic()
+    t = ds.time.values
+    air = 20.0 - 2.0 * np.sin(2 * np.pi * t / t[-1]) + 0.5 * np.sin(4 * np.pi * t / t[-1])
+    ds["ambient_temperature"] = ("time", air, {"units": "degC"})
+    ev = evaluate(ds, "etve")
+    assert ev.air_range == air.max() - air.min()
+    assert air.max() - air[0] < ev.air_range - 1.0 and air[0] - air.min() < ev.air_range - 1.0
+
+
 def test_spindle_test_ranges_per_speed_step():
     """Steps found in the speed log, [0, 2 h) at 6000 rpm and [2 h, 4 h] stopped; Z ramps 12 um in
     the first (range 12 * 119/120: the last sample before 2 h) and jumps by 4 um in the second."""

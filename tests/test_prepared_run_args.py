@@ -116,6 +116,10 @@ def test_probing_and_interferometer_instants_start_at_zero_and_increase():
     for times in ((0.0, -60.0), (300.0, 600.0), (0.0, np.nan), (0.0, 60.0, 60.0), ()):
         refused("probing.times", check_on_grid, times, SHORT, "s", "probing.times")
     check_on_grid((0.0, 300.0, 600.0), SHORT, "s", "probing.times")
+    # on the sample grid but after the run's end (600 s): no output instant holds it
+    for late in ((0.0, 660.0), (0.0, 600.0, 1200.0)):
+        refused("probing.times", check_on_grid, late, SHORT, "s", "probing.times")
+    refused("probing.times", check_on_grid, (0.0, 330.0), SHORT, "s", "probing.times")   # between samples
     assert ProbingConfig((0.0, 60.0), ((0.1, 0.1, 0.1),)).times == (0.0, 60.0)
     assert InterferometerConfig("Y", (0.0, 60.0), spacing=0.01).spacing == 0.01
 
