@@ -282,3 +282,61 @@ def test_each_distribution_draws_what_its_name_says():
     assert 17.0 <= t.min() and t.max() <= 21.0
     assert abs(t.mean() - mean) < 4 * truncnorm(a, b, loc=20.0, scale=2.0).std() / np.sqrt(n)
     assert Dist("fixed", (7.0,), "power").sample(rng) == 7.0
+
+
+def test_split_counts_are_rounded_fractions_of_each_family(tmp_path):
+    """assign_splits: the first round(fraction n) ranked cases of a family go to the first split.
+    Splits 0.6 / 0.4 over 3 draws: round(0.6 x 3) = round(1.8) = 2 train, 3 - 2 = 1 test
+    (floor would give 1 train, 2 test); the 1-case reference family: round(0.6) = 1 train."""
+    text = SPEC.replace("cases = 2", "cases = 3").replace("train = 0.5\ntest = 0.5", "train = 0.6\ntest = 0.4")
+    cases = plan(load_spec(write_spec(tmp_path, text)))
+    duty = [c.split for c in cases if c.info["family"] == "duty"]
+    assert len(duty) == 3
+    n_train = int(np.floor(0.6 * 3 + 0.5))
+    assert n_train == 2
+    assert duty.count("train") == n_train and duty.count("test") == 3 - n_train
+    assert [c.split for c in cases if c.info["family"] == "reference"] == ["train"]
+
+
+def test_each_draw_of_a_family_has_its_own_noise_seed(tmp_path):
+    """Module docstring: the instrument-noise seed is drawn with key (f, i, "noise"), so draws 0
+    and 1 of one family get different seeds, and the record's seed is the index's seed."""
+    cases = plan(load_spec(write_spec(tmp_path)))
+    duty = [c for c in cases if c.info["family"] == "duty"]
+    assert [c.info["draw"] for c in duty] == [0, 1]
+    assert duty[0].info["seed"] != duty[1].info["seed"]
+    assert all(c.record["seed"] == c.info["seed"] for c in duty)
+
+
+def test_the_split_key_includes_the_machine(tmp_path):
+    """Split rank key (f, i, machine, grid point, "split"): with two machines and 20 draws, the
+    split vectors of the two machines over the draws differ (with the machine left out of the key
+    both machines would get identical vectors); each machine's vector is a fixed function of its key."""
+    text = (SPEC.replace('machines = ["cframe-vmc"]', 'machines = ["cframe-vmc", "belt-vmc"]')
+            .replace("cases = 2", "cases = 20").replace('"9000 rpm"]', '"8000 rpm"]'))
+    cases = plan(load_spec(write_spec(tmp_path, text)))
+    vec = {m: [c.split for c in sorted((c for c in cases if c.info["family"] == "duty" and c.info["machine"] == m),
+                                       key=lambda c: c.info["draw"])]
+           for m in ("cframe-vmc", "belt-vmc")}
+    assert len(vec["cframe-vmc"]) == len(vec["belt-vmc"]) == 20
+    assert vec["cframe-vmc"] != vec["belt-vmc"]
+    duty = [c.split for c in cases if c.info["family"] == "duty"]
+    assert duty.count("train") == duty.count("test") == 20   # round(0.5 x 40) per family
+
+
+def test_scenario_summary_is_weighted_by_duration(tmp_path):
+    """A case's index row: mean_speed = sum_k d_k v_k / sum_k d_k and running_fraction =
+    sum_{v_k > 0} d_k / sum_k d_k. Steps 600 s at 1000 rpm then 1800 s at 0 rpm:
+    mean = 600 x 1000 / 2400 = 250 rpm (not the step mean 500), running = 600 / 2400 = 0.25
+    (not 1 of 2 steps = 0.5)."""
+    path = write_spec(tmp_path)
+    (tmp_path / "ref.toml").write_text(REF.replace(
+        '[[spindle]]\nspeed = "6000 rpm"\nduration = "10 min"',
+        '[[spindle]]\nspeed = "1000 rpm"\nduration = "600 s"\n[[spindle]]\nspeed = "0 rpm"\nduration = "1800 s"'))
+    (case,) = [c for c in plan(load_spec(path)) if c.info["family"] == "reference"]
+    d, v = np.array([600.0, 1800.0]), np.array([1000.0, 0.0])
+    assert case.info["steps"] == 2 and case.info["duration [s]"] == pytest.approx(2400.0)
+    assert case.info["mean_speed [rpm]"] == pytest.approx(np.sum(d * v) / np.sum(d), rel=1e-12)
+    assert case.info["mean_speed [rpm]"] == pytest.approx(250.0, rel=1e-12)
+    assert case.info["running_fraction"] == pytest.approx(0.25, rel=1e-12)
+    assert case.info["max_speed [rpm]"] == pytest.approx(1000.0, rel=1e-12)

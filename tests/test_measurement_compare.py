@@ -239,3 +239,52 @@ def test_compare_table_stays_aligned_with_long_channel_names():
     assert len({row.index(" K ") for row in rows}) == 1
     ranked = [ln for ln in format_compare(r).splitlines() if ln.startswith("  1.") or ln.startswith("  2.")]
     assert len(ranked) == 2 and len({len(ln) for ln in ranked}) == 1
+
+
+def _noise_free(ds):
+    """``ds`` with its measured temperatures replaced by the noise-free ones (exact offsets)."""
+    out = ds.copy(deep=True)
+    out["temperature"] = out.temperature_true.copy()
+    return out
+
+
+def test_residual_sign_is_measured_minus_model(sim):
+    """Module docstring: r_i = m_i - y_i (measured minus model). A model that reads every
+    temperature 0.3 K above the measurement gives r = m - (m + 0.3) = -0.3 K at every instant."""
+    measured = _noise_free(sim)
+    model = sim.copy(deep=True)
+    model["temperature_true"] = model.temperature_true + 0.3
+    r = compare(measured, model)
+    res = r.residuals.residual.sel(channel="temperature:motor").values
+    np.testing.assert_allclose(res, np.full(res.size, -0.3), rtol=0, atol=1e-9)
+    assert r.channel("temperature:motor").stats.rmse == pytest.approx(0.3, rel=1e-9)
+
+
+def test_spread_is_population_std_and_normalises_the_rmse(sim):
+    """spread = std(m) with ddof 0: sqrt(sum (m_i - mean m)^2 / n); normalised RMSE = RMSE / spread,
+    here 0.3 / spread for a constant 0.3 K offset."""
+    measured = _noise_free(sim)
+    model = sim.copy(deep=True)
+    model["temperature_true"] = model.temperature_true + 0.3
+    c = compare(measured, model).channel("temperature:motor")
+    m = measured.temperature.sel(sensor="motor").values.astype(float)
+    spread = np.sqrt(np.sum((m - m.sum() / m.size) ** 2) / m.size)
+    assert c.spread == pytest.approx(spread, rel=1e-12)
+    assert c.normalised_rmse == pytest.approx(0.3 / spread, rel=1e-9)
+
+
+def test_a_measurement_logged_from_a_later_start_compares_the_same(sim):
+    """Both axes count from their first sample: t_model = t - t[0] + t_model[0]. A measurement whose
+    clock starts at 3600 s (every time + 3600 s) gives the same residuals and statistics as the
+    same measurement from 0 s, and no error (its span equals the model's)."""
+    measured = _noise_free(sim)
+    model = sim.copy(deep=True)
+    model["temperature_true"] = model.temperature_true + 0.3
+    late = measured.assign_coords(time=("time", measured.time.values + 3600.0, measured.time.attrs))
+    a, b = compare(measured, model), compare(late, model)
+    np.testing.assert_allclose(b.residuals.residual.values, a.residuals.residual.values, rtol=0, atol=1e-12)
+    for ca, cb in zip(a.channels, b.channels):
+        assert cb.name == ca.name
+        assert cb.stats.rmse == pytest.approx(ca.stats.rmse, rel=1e-12, abs=1e-15)
+        assert cb.spread == pytest.approx(ca.spread, rel=1e-12)
+    assert b.channel("temperature:motor").stats.rmse == pytest.approx(0.3, rel=1e-9)

@@ -166,3 +166,17 @@ def test_gm0n_on_two_runs_recovers_its_influence_coefficients():
     rises = [(X - X[0], y) for X, y in runs]
     sel = GM0NFCMSelector(n_select=2, alpha=0.0).fit_runs(runs)
     np.testing.assert_allclose(sel.scores_, np.abs(gm0n_coefficients_runs(rises)), rtol=1e-12)
+
+
+def test_gnnmci_start_value_of_several_runs_is_the_mean_first_value():
+    """fit_runs docstring: y0_ and w21_ use the mean first value of the runs: runs starting at
+    y(1) = 1 and 3 give y0_ = (1 + 3) / 2 = 2 and w21_ = -x_1^(1)(1) = -2; predict starts there
+    (the network output at k = 0 is x_1^(1)(1) = y0_)."""
+    X = two_runs(n=(8, 10), p=1)
+    runs = [(X[0], 1.0 + 0.1 * np.arange(8)), (X[1], 3.0 - 0.2 * np.arange(10))]
+    model = GNNMCI(n_particles=4, n_iterations=0, random_state=0).fit_runs(runs)
+    expected = (runs[0][1][0] + runs[1][1][0]) / 2
+    assert expected == 2.0
+    assert model.y0_ == pytest.approx(2.0, abs=1e-15)
+    assert model.w21_ == pytest.approx(-2.0, abs=1e-15)
+    assert model.predict(X[1])[0] == pytest.approx(2.0, abs=1e-12)

@@ -72,3 +72,19 @@ def test_representatives_fill_up_and_column_names():
     assert GM0NFCMSelector(n_select=2).fit(tab, y).selected_names_ == ["T01", "T02"]
     with pytest.raises(InputError, match="n_select"):   # more sensors than there are: refused, never cut down
         GM0NFCMSelector(n_select=20).fit(X, y)
+
+
+def test_similitude_degree_four_samples_by_hand():
+    """Liu's similitude degree (module docstring, thesis Eq. (4.1)) with zero-initial images
+    x^0(k) = x(k) - x(1): |s_0 - s_m| = |sum_{k=2..n-1} (x_0^0(k) - x_m^0(k)) + 0.5 (x_0^0(n) - x_m^0(n))|,
+    eps = 1 / (1 + |s_0 - s_m|). ref (5, 6, 8, 9) -> (0, 1, 3, 4); sensor (1, 3, 3, 6) -> (0, 2, 2, 5);
+    differences (0, -1, 1, -1): inner sum k = 2..3 is -1 + 1 = 0, end term 0.5 (-1) = -0.5,
+    so eps = 1 / 1.5 = 2/3 (the last sample counted in full as well would give 1 / 2.5 = 0.4)."""
+    ref = np.array([5.0, 6.0, 8.0, 9.0])
+    sensor = np.array([1.0, 3.0, 3.0, 6.0])
+    z0, zm = ref - ref[0], sensor - sensor[0]
+    diff = z0 - zm
+    s = diff[1] + diff[2] + 0.5 * diff[3]
+    assert s == -0.5
+    np.testing.assert_allclose(similitude_degree(ref, sensor[:, None]), [1.0 / (1.0 + abs(s))], rtol=1e-14)
+    np.testing.assert_allclose(similitude_degree(ref, sensor[:, None]), [2.0 / 3.0], rtol=1e-14)
