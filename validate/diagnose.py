@@ -471,8 +471,9 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
     d.missing_channels = missing_channels(d, machine)
     top = d.candidates[0] if d.candidates else None
     d.message = V.message(d.verdict, top, d.residual_factor, d.residual_factor_after, d.levels,
-                          V.worst_channels(ev, left, d.levels_after if kept and d.levels_after else d.levels), V.worst_time(ev, left, d.weights_flat), d.regions,
-                          d.beyond_model_error, d.test, d.levels_after)
+                          V.worst_channels(ev, left, d.levels_after or d.levels),   # set only with a named candidate
+                          V.worst_time(ev, left, d.weights_flat), d.regions, d.beyond_model_error, d.test,
+                          d.levels_after)
     bound = bound_text(top_fit) if top_fit is not None else ""
     if bound:   # a member within 0.1 % of its range's end: reported, not read as an interior optimum
         d.message += (f"; the {'named' if kept else 'best'} candidate's {bound}: it sits at the end of its "

@@ -50,6 +50,7 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, leng
         groups.setdefault((c.record["machine"], c.record["mesh"], c.record["solver"]), []).append(c)
     prepare, per_step, seconds = 0.0, {}, 0.0
     for key, members in groups.items():
+        name = "/".join(key)
         t0 = time.perf_counter()
         with threadpool_limits(limits=1):
             _prepared(*key)
@@ -58,9 +59,9 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, leng
         n = min(int(length_steps), _steps(members[0]))
         simulate_case(members[0].record, "calibration", n)
         t2 = time.perf_counter()
-        per_step["/".join(key)] = (t2 - t1) / n
-        prepare += t1 - t0 - min(calibration_steps, n) * (t2 - t1) / n     # less the warm-up's steps
-        seconds += sum(_steps(c) for c in members) * per_step["/".join(key)]
+        per_step[name] = (t2 - t1) / n
+        prepare += t1 - t0 - min(calibration_steps, n) * per_step[name]     # less the warm-up's steps
+        seconds += sum(_steps(c) for c in members) * per_step[name]
     workers = max(1, min(jobs, len(cases)))
     return {"cases": len(cases), "steps": sum(_steps(c) for c in cases), "prepare_s": prepare,
             "per_step_s": per_step, "seconds": (prepare if cases else 0.0) + seconds / workers}

@@ -165,7 +165,7 @@ def build_case(record: dict, case_hash: str, folder: str) -> dict:
         raise InputError(str(folder), "folder", "is not a folder: give the dataset's cases folder")
     t0 = time.perf_counter()
     ds, result = simulate_case(record, case_hash)
-    path = write_netcdf(ds, Path(folder) / f"{case_hash}.nc", "case")
+    path = write_netcdf(ds, folder / f"{case_hash}.nc", "case")
     return {"hash": case_hash, "bytes": path.stat().st_size, "seconds": time.perf_counter() - t0,
             "steps": int(result.timings["steps"])}
 

@@ -215,9 +215,8 @@ def _analyse(a) -> int:
     case, so an option that chooses cases or meshes would be ignored: refused."""
     from twin.io.paths import input_file, output_file, read_text
 
-    defaults = {"classes": ",".join(CLASSES), "effects": None, "cases": None, "scenarios": None, "quick": False,
-                "jobs": 1, "truth": "fine", "model": "default", "error_mesh": "coarse"}
-    given = [k for k, v in defaults.items() if getattr(a, k) != v]
+    defaults = vars(_parser().parse_args([]))       # the parser's own, not a copy that could drift
+    given = [k for k, v in defaults.items() if k not in ("machine", "out", "analyse") and getattr(a, k) != v]
     if given:
         raise InputError("command line", "--analyse", f"re-renders an existing table and runs no case: it takes "
                                                       f"-o and --machine only; leave out --{given[0].replace('_', '-')}")
