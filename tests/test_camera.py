@@ -381,3 +381,35 @@ def test_centikelvin_is_a_hundredth_of_a_kelvin_clipped_to_sixteen_bits():
     absolute zero -> 0, 400 degC (67315) -> 65535, 35.004 degC -> 30815."""
     from twin.io.thermography import centikelvin
     assert centikelvin(np.array([20.0, -273.15, 400.0, 35.004])).tolist() == [29315, 0, 65535, 30815]
+
+
+def test_thermogram_encoding_holds_cold_scenes_and_recovers_every_count():
+    """The thermogram's uint16 encoding (``thermogram_encoding``): offset floor(min lut) - 1, so a
+    look-up table reaching -40.3 degC stores at offset -42 and no value falls below integer 0;
+    step 0.9 x the smallest look-up difference over the counts that occur (here counts 100-200 of
+    lut_k = -40.3 + 0.01 k + 1e-6 k^2: 0.9 (0.01 + 201e-6) = 0.0091809 degC to the float32 table's
+    rounding, coarser than the span / 65534), so decoding ints x step + offset lands within half a step and the nearest look-up value
+    gives back each count. A table whose finest step is far below span / 65534 (lut_k = 1e-4 k^2
+    - 40.3 over all 16384 counts) cannot be exact, and says so (its counts are then stored)."""
+    from twin.observe.camera_output import UINT16_TOP, thermogram_encoding
+
+    k = np.arange(16384, dtype=float)
+    lut = (-40.3 + 0.01 * k + 1e-6 * k ** 2).astype(np.float32)
+    counts = np.arange(100, 201).repeat(3).reshape(3, -1)
+    enc, exact = thermogram_encoding(lut, counts, (1, 3, 101))
+    assert exact and enc["dtype"] == "uint16" and enc["_FillValue"] == 65535
+    assert enc["add_offset"] == np.float32(-42.0)
+    # the float32 table's values near -39 degC are rounded to 3.8e-6 (half an ulp), so its
+    # differences to 7.6e-6: the step is 0.9 x the hand value within 0.9 x 7.6e-6
+    assert float(enc["scale_factor"]) == pytest.approx(0.9 * (0.01 + 201e-6), abs=0.9 * 7.6e-6)
+    q, off = float(enc["scale_factor"]), float(enc["add_offset"])
+    ints = np.rint((lut.astype(np.float64) - off) / q)
+    assert ints.min() >= 0 and ints.max() <= UINT16_TOP
+    decoded = off + q * ints[counts]
+    assert np.abs(decoded - lut[counts]).max() <= q / 2 + 1e-6
+    nearest = np.abs(decoded[..., None] - lut[None, None, 90:211]).argmin(axis=-1) + 90
+    assert np.array_equal(nearest, counts)
+    fine = (1e-4 * k ** 2 - 40.3).astype(np.float32)
+    enc, exact = thermogram_encoding(fine, np.arange(16384).reshape(1, 128, 128), (1, 128, 128))
+    span = np.ceil(fine.max()) + 1.0 - (np.floor(fine.min()) - 1.0)
+    assert not exact and enc["scale_factor"] == np.float32(span / UINT16_TOP)
