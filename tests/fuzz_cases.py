@@ -128,6 +128,16 @@ RESULT_EDITS = [
     ("axis-log-too-fast", _nc(lambda ds: _axis_log(lambda t: 100.0 + 200.0 * (np.arange(len(t)) % 2))(
         ds.assign_coords(time=("time", ds.time.values * 1e-3, {"units": "s"})))), None, "axis_position:Y"),
     ("axis-log-unknown-axis", _nc(_axis_log(lambda t: np.full(len(t), 100.0), "W")), None, "axis_position:W"),
+    # the sensors placed in part (compare used to fail on the missing coordinate with a traceback)
+    ("sensor-position-partial", _nc(lambda ds: ds.drop_vars("x")), None, "x"),
+    # temperatures without sensor names (compare used to drop them without a word)
+    ("temperature-unnamed", _nc(lambda ds: ds.drop_vars(["x", "y", "z", "part", "sensor"])), "temperature",
+     "temperature"),
+    # a probe the machine lacks (compare used to drop it, and the machine's Z with it, without a word)
+    ("probe-unknown", _nc(lambda ds: ds.assign_coords(probe_id=["X1", "X2", "Y1", "Y2", "Q"])), None, "probe:Q"),
+    # a drift with a third dimension (plot used to fail with a traceback, compare and report to pass)
+    ("drift-third-dimension", _nc(lambda ds: ds.assign(drift=ds.drift.expand_dims(extra=[0, 1]).transpose(
+        "time", "axis", "extra"))), "drift", "drift"),
 ]
 
 # ------------------------------------------------------------------------- bad learning tables

@@ -69,3 +69,24 @@ def test_model_for_checks_the_measurement_and_its_machine_before_simulating():
     err = refused("machine", model_for, ds, build_machine("cframe-vmc"))
     assert "pass its name, 'cframe-vmc'" in err.message and "parts=" not in err.message
     refused("temperature:", model_for, with_nan("temperature"), "cframe-vmc")
+
+
+def test_a_measured_channel_the_model_lacks_is_refused_not_dropped():
+    """Every measured channel is compared: one the model lacks (here probe Z and the sensor
+    bed_front, taken out of the model) is an InputError naming it, never left out of the table."""
+    ds = result_dataset()
+    err = refused("probe:Z", compare, ds, ds.drop_sel(probe_id="Z"))
+    assert "X1, X2, Y1, Y2" in err.message and "1 of the measurement's" in err.message
+    refused("temperature:bed_front", compare, ds, ds.drop_sel(sensor="bed_front"))
+
+
+def test_readings_compare_does_not_hold_are_named_in_the_table():
+    """The interferometer's runs and the probing cycles are not compared here: the result says so
+    (``not_compared``) and the table's last line names each, and a measurement without them names none."""
+    ds = result_dataset()
+    assert compare(ds, ds).not_compared == [] and "not compared" not in format_compare(compare(ds, ds))
+    runs = ds.assign({"positioning_error": (("run_time", "target", "direction"), np.zeros((2, 3, 2)), {"units": "um"})}
+                     ).assign_coords(run_time=[0.0, 600.0], target=[0.0, 100.0, 200.0], direction=["forward", "backward"])
+    result = compare(runs, ds)
+    assert len(result.not_compared) == 1 and result.not_compared[0].startswith("positioning_error")
+    assert format_compare(result).splitlines()[-1].startswith("not compared here: positioning_error")

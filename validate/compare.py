@@ -1,7 +1,10 @@
 """Model vs measurement: residuals per channel, RMSE / max |r| / NSE per channel and per phase.
 
 Channels (:mod:`validate.channels`): every temperature sensor (``temperature:<sensor>``, K), every
-probe (``probe:<id>``, um) and the derived tilts (``tilt:<A|B>``, urad) present in both datasets.
+probe (``probe:<id>``, um), the derived tilts (``tilt:<A|B>``, urad), lasers and strain gauges of the
+measurement; each must be one the model has (a measured channel is never dropped silently). The
+interferometer's runs (``positioning_error``) are not compared here (a diagnosis and the ISO 230-3
+report read them): the result names them in ``not_compared``.
 The model is read at the measured instants (linear interpolation in time), using its noise-free
 variables (``*_true``) when present.
 For a channel with measured values m_i and residuals r_i = m_i - y_i (y the model):
@@ -24,8 +27,16 @@ import xarray as xr
 from learners.metrics import max_abs_residual, nse, rmse
 from twin.errors import InputError, describe
 from twin.io.measurement import check_measurement, check_named_machine, check_times
+from twin.io.results import dataset_source
 from twin.limits import is_whole
 from validate.channels import Phase, input_phases, stack
+
+
+# readings a measurement may hold that compare does not hold against the model: (variable, what, where)
+READ_ELSEWHERE = (("positioning_error", "the laser interferometer's runs", "twin diagnose and twin report iso230-3 "
+                                                                           "--test axis read them"),
+                  ("probing_error", "the probing cycles' datum errors", "no command holds them against the "
+                                                                          "model yet: read them from the files"))
 
 
 @dataclass
@@ -54,6 +65,7 @@ class CompareResult:
     channels: list[ChannelResult]
     phases: list[Phase]
     residuals: xr.Dataset   # residual(time, channel) = measured - model, with a unit per channel
+    not_compared: list[str] = field(default_factory=list)   # the measurement's readings read elsewhere, and where
 
     def channel(self, name: str) -> ChannelResult:
         """The result of channel ``name`` (``temperature:<sensor>``, ``probe:<id>``, ...)."""
@@ -97,7 +109,7 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
     values, two or more increasing times), ``model`` is a twin result (a Dataset with increasing
     times) whose compared channels are finite; at least one channel must be in both.
     """
-    source = str(getattr(measured, "attrs", {}).get("source", "measurement"))
+    source = dataset_source(measured)
     modelled = getattr(model, "attrs", {}).get("machine")
     if modelled is not None:
         check_named_machine(measured, str(modelled), source, "the model of")
@@ -122,6 +134,13 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
         raise InputError(source, "channels", f"no channel in common with the model: measured "
                                              f"{', '.join(meas.names[:6]) or 'none'}; modelled {', '.join(mod.names[:6])}"
                                              f"{' ...' if len(mod.names) > 6 else ''}")
+    lacking = [c for c in meas.names if c not in mod.names]
+    if lacking:     # a measured channel is never dropped without a word
+        kind = lacking[0].split(":", 1)[0]
+        alike = [c.split(":", 1)[1] for c in mod.names if c.startswith(kind + ":")]
+        raise InputError(source, lacking[0], f"the model has no such channel ({len(lacking)} of the measurement's "
+                                             f"{len(meas.names)} channels are not in it; the model's {kind} channels: "
+                                             f"{', '.join(alike) or 'none'})")
     bad = [n for n in names if not np.all(np.isfinite(mod.values[:, mod.names.index(n)]))]
     if bad:
         raise InputError("model", bad[0], "is not finite (NaN or inf) in the model")
@@ -141,7 +160,8 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
         {"residual": (("time", "channel"), data, {"long_name": "measured minus model"})},
         coords={"time": ("time", t, {"units": "s"}), "channel": ("channel", names),
                 "unit": ("channel", [meas.units[meas.names.index(n)] for n in names])})
-    return CompareResult(results, phases, residuals)
+    elsewhere = [f"{var} ({what}; {where})" for var, what, where in READ_ELSEWHERE if var in measured]
+    return CompareResult(results, phases, residuals, elsewhere)
 
 
 def _named_machine(measured, model):
@@ -176,6 +196,8 @@ def format_compare(result: CompareResult, top: int = 8) -> str:
         lines += ["", "worst phases (channel, phase, RMSE / std):"]
         lines += [f"  {f'{i + 1}.':<3} {c.name:<{w}} {p.label:<{pw}} {v:7.3f} (RMSE {s.rmse:.3g} {c.unit})"
                   for i, (c, p, s, v) in enumerate(cells)]
+    if result.not_compared:
+        lines += ["", "not compared here: " + "; ".join(result.not_compared)]
     return "\n".join(lines)
 
 
@@ -189,11 +211,11 @@ def model_for(measured: xr.Dataset, machine: str, scenario=None, effects: str | 
     from twin.api import machine_by_name, simulate
     from twin.io.measured_inputs import scenario_from_measurement, sensors_of
 
-    source = str(getattr(measured, "attrs", {}).get("source", "measurement"))
+    source = dataset_source(measured)
     mach = machine_by_name(machine)
     check_named_machine(measured, mach.name, source)
     check_measurement(measured, mach, source)
     sc = scenario if scenario is not None else scenario_from_measurement(measured)
-    sensors = sensors_of(measured) or None
+    sensors = sensors_of(measured, mach, source) or None
     return simulate(machine, sc, effects, settings, resolution, seed, progress=progress, sensors=sensors,
                     effects_file=effects_file, prepared=prepared)

@@ -15,12 +15,12 @@ import xarray as xr
 from geometries.base import Machine
 from twin.effects import EFFECTS
 from twin.errors import InputError, describe
+from twin.io.measured_inputs import sensors_of
 from twin.io.measurement import check_measurement, check_named_machine
 from twin.limits import check_flag, check_progress, is_finite_number, is_whole
 from twin.model import ModelSpec
 from twin.physics.prepared import check_resolution
 from twin.scenario import Scenario
-from validate.evidence import sensor_points
 
 SOURCE = "diagnose"
 
@@ -54,7 +54,7 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
                                                    f"got {describe(ds)}")
         check_named_machine(ds, machine.name, label, "the diagnosing model of")
         check_measurement(ds, machine, label)
-        sensor_points(ds, machine, label)     # every temperature sensor a site or placed by x, y, z
+        sensors_of(ds, machine, label)     # every temperature sensor a site or placed by x, y, z
         if not isinstance(scenario, Scenario):
             raise InputError(label, "scenario", f"expected a twin.scenario.Scenario (the measured inputs: "
                                                 f"twin.io.measured_inputs.scenario_from_measurement), got {describe(scenario)}")

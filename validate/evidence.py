@@ -36,6 +36,7 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.errors import InputError
+from twin.io.measured_inputs import sensors_of
 from twin.io.measurement import check_named_machine
 from twin.model import ModelSpec
 from validate.channels import RUN_GROUPS, input_phases, resampler, stack, stack_runs
@@ -58,28 +59,6 @@ def diagnosed_groups(ds) -> tuple[str, ...]:
     the compensated ``strain`` (each gauge counted once); the interferometer's group, read at its
     runs, has a record of its own (:func:`make_records`)."""
     return tuple(g for g in GROUPS if not (g == "strain_raw" and "strain" in ds) and g not in RUN_GROUPS)
-
-
-def sensor_points(ds, machine, label: str = "measurement") -> list:
-    """Sensor sites of a measurement: the machine's named points, or the Dataset's x, y, z [m]
-    (an :class:`InputError` for a sensor that is neither)."""
-    from geometries.base import Point
-    if "temperature" not in ds:
-        return []
-    names = {p.name for p in machine.points}
-    placed = {"x", "y", "z"} <= set(ds.coords)
-    out = []
-    for i, s in enumerate(ds["sensor"].values):
-        s = str(s)
-        if s in names and "x" not in ds.coords:
-            out.append(machine.point(s))
-        elif not placed:
-            raise InputError(label, f"sensor {s}", f"is no site of machine {machine.name} and the measurement gives no "
-                                                   "position (coordinates x, y, z [m] along sensor)")
-        else:
-            part = str(ds["part"].values[i]) if "part" in ds.coords else ""
-            out.append(Point(s, (float(ds["x"].values[i]), float(ds["y"].values[i]), float(ds["z"].values[i])), part))
-    return out
 
 
 def noise_levels(y: np.ndarray, groups: list[str], spec: ModelSpec) -> dict[str, float]:
@@ -184,7 +163,7 @@ def make_records(label: str, ds, scenario, machine, twin) -> list[Record]:
                                             "gauge or interferometer run to diagnose")
     t = np.asarray(ds["time"].values, float)
     t0 = t[0]
-    engine = Engine(machine, scenario, mm=twin.mm, sensors=sensor_points(ds, machine, label), prepared=twin)
+    engine = Engine(machine, scenario, mm=twin.mm, sensors=sensors_of(ds, machine, label), prepared=twin)
     if runs is not None and engine.positioning is None:
         raise InputError(label, "positioning_error", "the measurement has laser-interferometer runs but the scenario "
                                                      "driving the twin has no [interferometer]: give --scenario with it")

@@ -9,18 +9,35 @@ import numpy as np
 import xarray as xr
 
 from twin.errors import InputError
+from twin.io.results import dataset_source, placed_sensors
 from twin.motion import logged_motion
 from twin.scenario import Ambient, Scenario
 
 
-def sensors_of(ds: xr.Dataset) -> list:
-    """The temperature-sensor sites of a measurement as :class:`geometries.base.Point` s."""
+def sensors_of(ds: xr.Dataset, machine, src: str = "measurement") -> list:
+    """The temperature-sensor sites of a measurement as :class:`geometries.base.Point` s: placed
+    by the Dataset's coordinates x, y, z [m] along ``sensor`` (with ``part`` when it names one),
+    or, without them, the named points of ``machine`` (a :class:`geometries.base.Machine`); an
+    :class:`InputError` naming ``src`` for a sensor that is neither, or for positions given in
+    part (x and z but no y). Empty without temperatures."""
     from geometries.base import Point
 
-    if "sensor" not in ds.coords:
+    if "temperature" not in ds:
         return []
-    return [Point(str(n), (float(x), float(y), float(z)), str(p)) for n, x, y, z, p in
-            zip(ds.sensor.values, ds.x.values, ds.y.values, ds.z.values, ds.part.values)]
+    given = placed_sensors(ds, src)
+    names = {p.name for p in machine.points}
+    out = []
+    for i, s in enumerate(ds["sensor"].values):
+        s = str(s)
+        if given:
+            part = str(ds["part"].values[i]) if "part" in ds.coords else ""
+            out.append(Point(s, (float(ds["x"].values[i]), float(ds["y"].values[i]), float(ds["z"].values[i])), part))
+        elif s in names:
+            out.append(machine.point(s))
+        else:
+            raise InputError(src, f"sensor {s}", f"is no site of machine {machine.name} and the measurement gives no "
+                                                 "position (coordinates x, y, z [m] along sensor)")
+    return out
 
 
 def speed_steps(t: np.ndarray, speed: np.ndarray, tolerance: float = 50.0) -> list[tuple[float, float, float]]:
@@ -55,7 +72,7 @@ def scenario_from_measurement(ds: xr.Dataset, sample_interval: float | None = No
     scenario is marked ``extra["logged"]``: its speeds are a log's, with a log's tolerance over the
     machine's maximum (:func:`twin.limits.check_scenario`).
     """
-    src = ds.attrs.get("source") or ds.encoding.get("source") or "measurement"
+    src = dataset_source(ds)
     moved = ds.attrs.get("moved_axes") or ("an axis" if "probing_error" in ds or "positioning_error" in ds else "")
     if moved and "axis_position" not in ds:
         # a twin result of a scenario with axis motion: the moves (strokes faster than the samples)

@@ -79,7 +79,7 @@ from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_na
                                      instrument, sensor)
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml, same_file
 from twin.io.csv_rows import cell_number, data_rows
-from twin.io.results import check_result_units, read_result
+from twin.io.results import check_result_layout, check_result_units, placed_sensors, read_result
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
@@ -154,10 +154,22 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
     """Units and physical limits of a NetCDF measurement's inputs and sensors (the CSV reader
     checks its columns as it reads them)."""
     check_result_units(ds, src)
+    check_result_layout(ds, src)
     if "spindle_speed" in ds:
         limits.check_speeds(ds.spindle_speed.values, mach, src, "spindle_speed", logged=True)
     if "ambient_temperature" in ds:
         limits.check_temperatures(ds.ambient_temperature.values, src, "ambient_temperature")
+    if mach is not None:    # every named instrument one the machine has (a reader would drop the rest)
+        gauges = [g.name for g in mach.strain_gauges]
+        for var, dim, what, known in (("probe", "probe_id", "probes", probe_names(mach)),
+                                      ("laser", "laser_id", "lasers", [s.name for s in mach.lasers]),
+                                      ("strain", "gauge", "strain gauges", gauges),
+                                      ("strain_raw", "gauge", "strain gauges", gauges)):
+            if var in ds and dim in ds.coords:
+                unknown = [str(n) for n in ds[dim].values if str(n) not in known]
+                if unknown:
+                    raise InputError(src, f"{var}:{unknown[0]}", f"machine {mach.name} has no such instrument; its "
+                                                                 f"{what}: {', '.join(known) or 'none'}")
     for var, dim in (("probe", "probe_id"), ("laser", "laser_id")):
         if var in ds and dim in ds.coords:
             um = ds[var].transpose("time", dim).values
@@ -184,9 +196,10 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
         from geometries.axes import with_feed_drives
         placed = with_feed_drives(mach) if mach is not None else None   # sensors on the feed drives' parts too
         temp = ds.temperature.transpose("time", "sensor").values
+        located = placed_sensors(ds, src)
         for i, name in enumerate(ds.sensor.values):
             limits.check_temperatures(temp[:, i], src, f"temperature:{name}", "structure")
-            if placed is not None and {"x", "y", "z"} <= set(ds.coords):
+            if placed is not None and located:
                 part = str(ds.part.values[i]) if "part" in ds.coords else ""
                 xyz = (float(ds.x.values[i]), float(ds.y.values[i]), float(ds.z.values[i]))
                 limits.check_position(placed, xyz, part, src, f"sensor {name}")
@@ -373,7 +386,8 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             known = probe_names(mach)
             if pid not in known:
                 raise InputError(msrc, key + ".probe", ("missing" if pid is None else f"unknown probe {describe(pid)}")
-                                 + f"; known: {', '.join(known)}")
+                                 + (f"; known: {', '.join(known)}" if known else
+                                    f"; machine {mach.name} has no displacement probes"))
             if pid in probes:
                 raise InputError(msrc, key + ".probe", f"probe {pid} mapped twice")
             probes[pid] = (values - values[0]) * 1e6  # m -> um, nulled at the start

@@ -152,6 +152,20 @@ RESULT_UNITS = {"time": "s", "temperature": "degC", "ambient_temperature": "degC
                 "strain": "um/m", "strain_raw": "um/m", "spindle_speed": "rpm", "c_axis_speed": "rpm",
                 "axis_position": "mm", "positioning_error": "um", "drift": "um", "probe_drift": "um", "tilt": "urad",
                 "laser_tilt": "urad", "heat_power": "W"}
+# the dimensions a twin result gives each variable it writes (its ``_true`` twin the same): the
+# readers count on them (a drift with a third dimension is not a drift); positioning_error's
+# ``direction`` (forward, backward) is optional in a measurement
+RESULT_DIMS = {"spindle_speed": ("time",), "ambient_temperature": ("time",), "c_axis_speed": ("time",),
+               "c_axis_duty": ("time",), "temperature": ("time", "sensor"), "probe": ("time", "probe_id"),
+               "laser": ("time", "laser_id"), "strain": ("time", "gauge"), "strain_raw": ("time", "gauge"),
+               "drift": ("time", "axis"), "probe_drift": ("time", "axis"), "tilt": ("time", "rotation"),
+               "laser_tilt": ("time",), "axis_position": ("time", "axis_name"), "heat_power": ("time", "effect"),
+               "positioning_error": ("run_time", "target", "direction")}
+OPTIONAL_DIMS = {"positioning_error": ("direction",)}
+# dimensions that name their channels: a variable along them needs the coordinate (its names)
+NAMED_DIMS = ("sensor", "probe_id", "laser_id", "gauge", "axis", "rotation", "axis_name", "target")
+
+
 # a camera's variables, ``<name>`` or ``<name>_<camera>`` (twin.io.thermography)
 CAMERA_UNITS = {"thermogram": "degC", "surface_temperature": "degC", "frame_time": "s", "camera_lut": "degC"}
 
@@ -183,12 +197,54 @@ def check_result_units(ds: xr.Dataset, source: str) -> None:
                                                "column mapping (which takes any unit)")
 
 
+def check_result_layout(ds: xr.Dataset, source: str) -> None:
+    """Every variable of ``ds`` a twin result writes has the result's dimensions (:data:`RESULT_DIMS`,
+    in any order), and each of its channel dimensions its coordinate (the channels' names), else one
+    :class:`InputError` naming ``source`` and the variable: a reader would otherwise drop it, or
+    fail on it, without a word."""
+    for var in ds.data_vars:
+        base = str(var).removesuffix("_true")
+        if base not in RESULT_DIMS:
+            continue
+        dims, expected = set(ds[var].dims), RESULT_DIMS[base]
+        required = set(expected) - set(OPTIONAL_DIMS.get(base, ()))
+        if not required <= dims <= set(expected):
+            raise InputError(source, str(var), f"has dimensions ({', '.join(ds[var].dims)}); a twin result holds it "
+                                               f"along ({', '.join(expected)})"
+                                               + (f", {' and '.join(OPTIONAL_DIMS[base])} optional" if base in OPTIONAL_DIMS
+                                                  else ""))
+        unnamed = [d for d in ds[var].dims if d in NAMED_DIMS and d not in ds.coords]
+        if unnamed:
+            raise InputError(source, str(var), f"its dimension {unnamed[0]!r} has no coordinate: the channels need "
+                                               f"their names (a coordinate {unnamed[0]} of labels)")
+
+
+def dataset_source(ds, default: str = "measurement") -> str:
+    """The file a Dataset came from, for messages: its ``source`` attribute (a measurement read
+    from a CSV), the path xarray read it from, else ``default`` (a Dataset built in Python)."""
+    attrs, encoding = getattr(ds, "attrs", {}), getattr(ds, "encoding", {})
+    return str(attrs.get("source") or encoding.get("source") or default)
+
+
+def placed_sensors(ds: xr.Dataset, source: str) -> bool:
+    """Whether ``ds`` places its temperature sensors by coordinates x, y, z [m] along ``sensor``
+    (all three; a result always does); an :class:`InputError` naming ``source`` for one or two of
+    them without the rest."""
+    given = [c for c in ("x", "y", "z") if c in ds.coords]
+    if given and len(given) < 3:
+        lacking = next(c for c in ("x", "y", "z") if c not in given)
+        raise InputError(source, lacking, f"missing: the sensors' positions need all three coordinates x, y, z [m] "
+                                          f"along sensor (the file gives {', '.join(given)})")
+    return bool(given)
+
+
 def read_result(path: str | os.PathLike, field: str = "file", required: tuple[str, ...] = (),
                 min_samples: int = 2) -> xr.Dataset:
     """Load a NetCDF result or measurement, checked: a readable regular file
     (:func:`twin.io.paths.input_file`), a strictly increasing ``time`` coordinate with at least
     ``min_samples`` samples, every ``required`` variable present, every variable the twin writes in
-    the twin's unit where it states one (:func:`check_result_units`), no NaN or inf anywhere
+    the twin's unit where it states one (:func:`check_result_units`) and along the twin's
+    dimensions with named channels (:func:`check_result_layout`), no NaN or inf anywhere
     (:class:`twin.errors.InputError` naming file and variable)."""
     if isinstance(required, str) or not all(isinstance(v, str) for v in required):
         raise InputError("command line", "required", f"expected a tuple of variable names, got {required!r}")
@@ -212,5 +268,6 @@ def read_result(path: str | os.PathLike, field: str = "file", required: tuple[st
     if missing:
         raise InputError(str(path), missing[0], "missing variable; is this a twin result?")
     check_result_units(ds, str(path))
+    check_result_layout(ds, str(path))
     check_finite(ds, str(path))
     return ds
