@@ -121,6 +121,7 @@ RESULT_EDITS = [
     ("sensor-outside-machine", _nc(_shift_sensor), None, "sensor motor"),
     ("probe-unit-mistake", _nc(_put("probe", 5e4)), None, "probe:X1"),
     ("not-netcdf", lambda: b"time,T\n0,20\n", "result", "measurement"),
+    ("netcdf-3-classic", lambda: result_dataset().to_netcdf(engine="scipy"), "result", "measurement"),
     ("sensor-name-with-at", _nc(_sensor_names(["motor@1", "column_side", "bed_front"])), None, "sensor[0]"),
     ("sensor-name-twice", _nc(_sensor_names(["motor", "motor", "bed_front"])), None, "sensor"),
     ("axis-log-outside-travel", _nc(_axis_log(lambda t: np.full(len(t), 900.0))), None, "axis_position:Y"),

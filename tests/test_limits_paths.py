@@ -139,6 +139,45 @@ def test_text_inputs_are_utf8_with_or_without_a_bom(tmp_path):
         read_text(p, "scenario")
 
 
+def test_a_path_whose_bytes_are_not_utf8_is_refused_before_any_work(tmp_path, capsys):
+    """A file name with bytes that are not UTF-8 (Python holds them as surrogate escapes) is one
+    error naming the option, exit 2, before the run: a simulation used to run whole and then fail
+    with a traceback writing the scenario's name into the result, and a diagnosis wrote the
+    escape into its JSON."""
+    from tests.fuzz_files import SCENARIO
+    from twin.cli import main
+    from twin.io.paths import as_path
+
+    bad = os.fsdecode(b"\xff.toml")
+    with pytest.raises(InputError) as err:
+        as_path(bad, "scenario")
+    assert err.value.field == "scenario" and "not valid UTF-8" in err.value.message
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(SCENARIO)
+    for argv, field in ((["simulate", "cframe-vmc", str(tmp_path / bad), "-o", str(tmp_path / "r.nc")], "scenario"),
+                        (["simulate", "cframe-vmc", str(scenario), "-o", str(tmp_path / os.fsdecode(b"\xfe.nc"))], "-o")):
+        capsys.readouterr()
+        assert main(argv + ["--mesh", "coarse"]) == 2
+        assert f"{field}: the path" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_a_netcdf3_file_is_named_as_such(tmp_path):
+    """A NetCDF-3 classic file (magic bytes CDF 1, 2 or 5; what xarray's scipy engine writes) is
+    readable NetCDF, but not the NetCDF-4 the twin reads: the error says which, and how to convert."""
+    from tests.fuzz_files import result_dataset
+    from twin.io.results import read_result
+
+    path = tmp_path / "classic.nc"
+    result_dataset().to_netcdf(path, engine="scipy")
+    assert path.read_bytes()[:3] == b"CDF"
+    with pytest.raises(InputError, match="a NetCDF-3 \\(classic\\) file; the twin reads NetCDF-4"):
+        read_result(path, "result")
+    path.write_bytes(b"CDF\x09 not netcdf at all")
+    with pytest.raises(InputError, match="not a readable NetCDF file"):
+        read_result(path, "result")
+
+
 def test_a_made_folder_is_removed_when_the_command_fails_and_kept_when_it_existed(tmp_path):
     made = tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):

@@ -42,12 +42,18 @@ def _kind(mode: int) -> str:
 
 
 def as_path(path, field: str = "file") -> Path:
-    """``path`` (a text or an ``os.PathLike``, not empty) as a Path; anything else (a number,
-    None) is an :class:`InputError` naming ``field``, not pathlib's TypeError."""
+    """``path`` (a text or an ``os.PathLike``, not empty, valid UTF-8) as a Path; anything else (a
+    number, None, a name whose bytes are not UTF-8) is an :class:`InputError` naming ``field``, not
+    pathlib's TypeError or a UnicodeEncodeError when the name is written into a result."""
     if isinstance(path, os.PathLike):
         path = os.fspath(path)
     if not isinstance(path, str) or not path.strip():
         raise InputError("command line", field, f"expected a file path, got {describe(path)}")
+    try:
+        path.encode("utf-8")
+    except UnicodeEncodeError:     # bytes the file system gave that are not UTF-8 (surrogate escapes)
+        raise InputError("command line", field, f"the path {ascii(path)} is not valid UTF-8: rename it (a result "
+                                                "records its inputs' names as text)") from None
     return Path(path)
 
 

@@ -255,6 +255,12 @@ def read_result(path: str | os.PathLike, field: str = "file", required: tuple[st
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             ds = ds.load()
     except Exception as err:  # noqa: BLE001 - any reader failure is a bad file for the user
+        with open(path, "rb") as f:
+            magic = f.read(4)
+        if magic in (b"CDF\x01", b"CDF\x02", b"CDF\x05"):
+            raise InputError(str(path), field, "a NetCDF-3 (classic) file; the twin reads NetCDF-4 (HDF5): convert it, "
+                                               "e.g. xarray.open_dataset(path).to_netcdf(new_path, engine='h5netcdf')"
+                             ) from None
         raise InputError(str(path), field, f"not a readable NetCDF file ({type(err).__name__})") from None
     if "time" not in ds.coords or "time" not in ds.dims:
         raise InputError(str(path), "time", "missing time coordinate; is this a twin result?")
