@@ -87,9 +87,13 @@ def test_a_killed_and_resumed_run_equals_an_uninterrupted_one(built, tmp_path):
         build(cases, out, progress=stop_after_first)
     left = list((out / "cases").iterdir())
     assert len(left) == 1 and is_whole(left[0], left[0].stem)      # whole files only, no temporary
-    (out / "cases" / ".twin-abc.nc").write_bytes(b"half")          # what a SIGKILL could leave
+    (out / "cases" / ".twin-k3x9_q2a.nc").write_bytes(b"half")     # what a SIGKILL could leave
+    (out / "cases" / ".twin-notes.toml").write_text("a user's file")  # not ours: kept (an input, perhaps)
     (out / "cases" / cases[1].file).write_bytes(b"not a netcdf")   # a corrupt file is rebuilt
     assert len(build(cases, out)) == 2
+    assert not (out / "cases" / ".twin-k3x9_q2a.nc").exists()
+    assert (out / "cases" / ".twin-notes.toml").read_text() == "a user's file"
+    (out / "cases" / ".twin-notes.toml").unlink()
     assert_same_cases(out, reference)
 
 

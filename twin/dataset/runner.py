@@ -186,10 +186,17 @@ def is_whole(path: Path, case_hash: str) -> bool:
     return str(value) == case_hash
 
 
+# the temporary name an interrupted case write leaves (twin.io.atomic: mkstemp's ".twin-" + 8
+# characters + the case file's suffix); nothing else in the folder is a leftover of ours
+TEMPORARY = re.compile(r"^\.twin-[a-z0-9_]{8}\.nc$")
+
+
 def remove_temporaries(folder: Path) -> list[Path]:
-    """Remove the ``.twin-*`` files an interrupted run left in the cases folder (one run per
-    dataset folder at a time); returns them."""
-    gone = sorted(folder.glob(".twin-*")) if folder.is_dir() else []
+    """Remove the temporary case files (:data:`TEMPORARY`) an interrupted run left in the cases
+    folder (one run per dataset folder at a time); returns them. Any other file, such as a
+    user's own ``.twin-notes.toml`` that the spec may even read, is kept."""
+    gone = sorted(p for p in folder.iterdir() if TEMPORARY.match(p.name) and p.is_file()
+                  and not p.is_symlink()) if folder.is_dir() else []
     for p in gone:
         p.unlink(missing_ok=True)
     return gone
