@@ -154,6 +154,11 @@ SCENARIO_EDITS += [
     ("interferometer-not-cold-first", _ax("", "", LASER.replace('"0 min", ', '')), "interferometer.runs"),
     ("interferometer-unknown-axis", _ax("", "", LASER.replace('axis = "Y"', 'axis = "W"')), "interferometer.axis"),
     ("interferometer-spacing-below-a-millimetre", _ax("", "", LASER + 'spacing = "1e-6 mm"\n'), "interferometer.spacing"),
+    # the last target 0.5 mm after the one before it: [0, 0.5 mm], and [0, 10, 10.5 mm] at 10 mm spacing
+    ("interferometer-targets-half-a-millimetre", _ax("", "", LASER + 'targets = ["0 mm", "0.5 mm"]\n'),
+     "interferometer.targets"),
+    ("interferometer-last-target-too-close", _ax("", "", LASER + 'targets = ["0 mm", "10.5 mm"]\n'),
+     "interferometer.targets"),
     ("probing-not-cold-first", _ax("", "", PROBE.replace('"0 min", ', '')), "probing.times"),
     ("probing-off-grid", _ax("", "", PROBE.replace('"10 min"', '"90 s"')), "probing.times"),
     ("probing-datum-outside-travel", _ax("", "", PROBE.replace('[["100 mm"', '[["600 mm"')), "probing.datums[0]"),

@@ -152,6 +152,13 @@ def check_interferometer(config: InterferometerConfig, scenario, machine) -> Non
     if t[0] < axis.travel[0] - 1e-9 or t[-1] > axis.travel[1] + 1e-9:
         raise InputError(src, "interferometer.targets", f"outside the {axis.name} travel "
                                                         f"{axis.travel[0] * 1e3:g} .. {axis.travel[1] * 1e3:g} mm")
+    gap = float(np.min(np.diff(t))) if len(t) > 1 else np.inf
+    if gap < MIN_SPACING - 1e-12:     # the last target, appended after first + k spacing, too close to it
+        raise InputError(src, "interferometer.targets", f"the last target, {t[-1] * 1e3:g} mm, lies {gap * 1e3:g} mm "
+                                                        f"after the one before it (first + a multiple of the "
+                                                        f"{config.spacing * 1e3:g} mm spacing): targets closer than "
+                                                        f"{MIN_SPACING * 1e3:g} mm are refused; make last - first a "
+                                                        "multiple of the spacing, or move the last target")
     check_on_grid(config.runs, scenario, src, "interferometer.runs", "the cold reference run")
 
 
