@@ -43,6 +43,12 @@ _PLAUSIBLE = {"degC": lambda v, src, f: check_temperatures(v, src, f, "structure
               "um/m": lambda v, src, f: check_strains(v * 1e-6, src, f)}
 
 
+# [the unit] a target in a twin unit varying by no more than this is constant: a millionth of the
+# finest instrument step (0.01 K sensors, 0.1 um probes, 0.5 um/m gratings), far above the solvers'
+# round-off (a result at rest varies by about 1e-12 um)
+ROUND_OFF = {"degC": 1e-6, "K": 1e-6, "um": 1e-6, "um/m": 1e-6, "urad": 1e-6}
+
+
 class Table(NamedTuple):
     """A loaded table: ``time`` (n,) s, ``X`` (n, p), ``y`` (n,), ``input_names`` (p names),
     ``target_unit`` (the target variable's ``units`` attribute in a NetCDF file; "" for a CSV
@@ -92,8 +98,11 @@ def check_problem(table: Table, path, target: str, *, training: bool = True, n_s
     var, _, label = str(target).partition(":")
     if target in names or (var == "temperature" and label in names):
         raise InputError("command line", "--inputs", f"the target {target} is also an input")
-    if _is_constant(table.y):
-        raise InputError(str(path), target, f"the target is constant ({table.y[0]:g}): nothing to learn, and "
+    spread = float(np.ptp(table.y))
+    if _is_constant(table.y) or (table.target_unit in ROUND_OFF and spread <= ROUND_OFF[table.target_unit]):
+        what = (f"{table.y[0]:g}" if spread == 0 else f"{table.y[0]:g}, varying by {spread:.2g} {table.target_unit}"
+                + (": round-off" if table.target_unit in ROUND_OFF else ""))
+        raise InputError(str(path), target, f"the target is constant ({what}): nothing to learn, and "
                                             "NSE and R are undefined")
     if not training:
         return
@@ -274,10 +283,12 @@ def _load_netcdf(path, target, inputs, time_column):
     sensors = []
     if "temperature" in ds.data_vars and "sensor" in ds["temperature"].dims:
         sensors = [str(v) for v in ds["temperature"]["sensor"].values]
-    if inputs is None:
-        if not sensors:
-            raise InputError(path, "temperature", "no temperature(time, sensor) variable to use as inputs")
-        inputs = sensors
+    if inputs is None:      # every sensor but the target (a temperature may be the target)
+        var, _, label = str(target).partition(":")
+        inputs = [s for s in sensors if not (var == "temperature" and s == label)]
+        if not inputs:
+            raise InputError(path, "temperature", "no temperature(time, sensor) variable to use as inputs"
+                             + (f" besides the target {target}" if sensors else ""))
     columns = []
     for name in inputs:
         if name in sensors:

@@ -270,3 +270,40 @@ def test_a_file_given_twice_by_another_spelling_or_a_link_and_two_outputs_of_one
             run_learn(_args("--train", train, "--test", test, *common, "-o", outputs[0], "-o", outputs[1]))
         assert err.value.field == "-o"
     assert not any(tmp_path.glob("s[12].*"))
+
+
+def test_a_target_that_varies_by_round_off_only_is_constant(tmp_path):
+    """A machine at rest gives a drift that varies by about 1e-12 um, the solvers' round-off:
+    scored as a test target it gave NSE -7e22. A target in a twin unit (um, K, um/m, urad) varying
+    by no more than 1e-6 of it is constant, and refused naming the file and the target; one that
+    varies by 1e-3 um (a hundredth of a probe's step) is kept."""
+    from learners.table import check_problem
+
+    xr = pytest.importorskip("xarray")
+    path = _write_netcdf(tmp_path / "still.nc")
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    wobble = np.sin(np.arange(ds.sizes["time"]))
+    for spread, refused in ((2e-12, True), (1e-3, False)):
+        ds["drift"].values[:, 2] = 3.0 + 0.5 * spread * wobble
+        ds.to_netcdf(path)
+        table = load_table(path, "drift:Z")
+        if refused:
+            with pytest.raises(InputError, match="round-off") as err:
+                check_problem(table, path, "drift:Z", training=False)
+            assert err.value.source == path and err.value.field == "drift:Z"
+        else:
+            check_problem(table, path, "drift:Z", training=False)
+
+
+def test_a_temperature_target_is_left_out_of_the_default_inputs(tmp_path):
+    """The default inputs are every sensor but the target: with a temperature as the target the
+    command refused its own default ('the target temperature:S2 is also an input')."""
+    from learners.table import check_problem
+
+    path = _write_netcdf(tmp_path / "t.nc")
+    table = load_table(path, "temperature:S2")
+    assert table.input_names == ["S1", "S3", "S4"]
+    check_problem(table, path, "temperature:S2")
+    with pytest.raises(InputError, match="also an input"):
+        check_problem(load_table(path, "temperature:S2", inputs=["S1", "S2"]), path, "temperature:S2")
