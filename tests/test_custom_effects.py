@@ -144,6 +144,14 @@ def test_an_effects_file_effect_is_always_on_in_simulate(tmp_path, capsys):
     assert err == ("error: command line: --effects -pump: pump comes from --effects-file, whose effects are always "
                    "on; leave the file out to run without pump\n"), err
     assert not out.exists()
+    # twin demo takes the same options and says the same, before its folder (it said "pump: unknown
+    # effect" for +pump and "cannot remove an effect that is not in the model" for -pump)
+    demo = tmp_path / "demo"
+    assert main(["demo", "-o", str(demo), "--no-story", "--mesh", "coarse", "--effects-file",
+                 str(tmp_path / "e.toml"), "--effects=-pump"]) == 2
+    assert capsys.readouterr().err == err and not demo.exists()
+    from twin.api import machine_by_name, model_from_options
+    assert "pump" in model_from_options(machine_by_name("cframe-vmc"), "+pump", None, str(tmp_path / "e.toml")).effects
 
 
 def test_library_names_and_empty_regions_are_refused(machine, mm):

@@ -38,6 +38,18 @@ def machine_by_name(name: str):
     return build_machine(name)
 
 
+def model_from_options(machine, effects: str | None = None, settings: list[str] | None = None,
+                       effects_file: str | None = None) -> ModelSpec:
+    """The model of the built ``machine`` from the command line's model options: ``--effects``,
+    ``--set`` and the custom effects of ``--effects-file`` (registered, and always on:
+    ``+name`` of one is accepted, ``-name`` refused with the reason)."""
+    extra = ()
+    if effects_file:
+        from twin.effects.custom import load_effects_file
+        extra = tuple(load_effects_file(effects_file, machine))
+    return model_spec(machine, effects, settings, extra)
+
+
 def simulate(machine: str, scenario: str | Scenario, effects: str | None = None, settings: list[str] | None = None,
              resolution: str | None = None, seed: int = 0, theta: float = 0.5, progress=None,
              sensors: list | None = None, materials: dict | None = None, solver=None,
@@ -80,11 +92,7 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
                                           f"{', '.join(p.name for p in prepared.machine.parts)}; scenario {sc.name} "
                                           f"runs on {', '.join(p.name for p in m.parts)} (the feed drives of its axes): "
                                           "prepare the twin with twin.motion.machine_for(machine, scenario)")
-    extra = ()
-    if effects_file:
-        from twin.effects.custom import load_effects_file
-        extra = tuple(load_effects_file(effects_file, m))
-    spec: ModelSpec = model_spec(m, effects, settings, extra)
+    spec = model_from_options(m, effects, settings, effects_file)
     limits.check_scenario(sc, m)
     part_materials(m, materials, CLI, "materials")      # checked before the mesh is built
     options = as_options(solver)

@@ -27,11 +27,11 @@ def add_demo_parser(sub) -> None:
 
 
 def run_demo(args) -> int:
-    from twin.api import machine_by_name
+    from twin.api import machine_by_name, model_from_options
     from twin.cli.options import declare_effects_file
-    from twin.model import model_spec
 
-    model_spec(machine_by_name(MACHINE), args.effects, args.set)   # bad --effects / --set: before any folder
+    # bad --effects / --set / --effects-file: before any folder, as twin simulate checks them
+    model_from_options(machine_by_name(MACHINE), args.effects, args.set, getattr(args, "effects_file", None))
     files = Files()
     if getattr(args, "effects_file", None):
         declare_effects_file(files, args.effects_file)     # never replaced by what the demo writes
