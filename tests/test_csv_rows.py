@@ -61,6 +61,27 @@ def test_a_measurement_names_the_line_and_refuses_odd_digits(tmp_path):
     assert _error(lambda: read_measurement(tmp_path / "m.csv")).field == "line 6"
 
 
+def test_a_value_beyond_its_limit_is_named_by_its_line(tmp_path):
+    """A number that parses but breaks a physical limit is named by the line an editor shows
+    (blank lines counted), as a syntax error is: the limits said "value #6" for line 7."""
+    from twin.io.measurement import read_measurement
+    from twin.io.room_csv import read_room_csv
+
+    lines = measurement_csv().splitlines()
+    (tmp_path / "m.toml").write_text(MAPPING, encoding="utf-8")
+    blank = lines[:3] + [""] + lines[3:]          # a blank line before the third data row: it is line 5
+    cells = blank[4].split(",")
+    speed = blank[0].split(",").index("spindle_rpm")
+    cells[speed] = "12000"                        # beyond the C-frame's 9000 rpm (and a log's margin)
+    (tmp_path / "m.csv").write_text("\n".join(blank[:4] + [",".join(cells)] + blank[5:]) + "\n", encoding="utf-8")
+    err = _error(lambda: read_measurement(tmp_path / "m.csv"))
+    assert err.field == "spindle_rpm" and err.message.startswith("line 5: 12000 rpm is beyond"), err.message
+    path = tmp_path / "room.csv"
+    path.write_text("time [h],air [degC]\n0,20\n\n1,21\n2,-300\n", encoding="utf-8")
+    err = _error(lambda: read_room_csv(path))
+    assert err.field == "air" and err.message.startswith("line 5: -300 degC is below absolute zero"), err.message
+
+
 def test_a_learners_table_names_the_line_refuses_odd_digits_and_unnamed_columns(tmp_path):
     from learners.table import load_table
     path = tmp_path / "run.csv"

@@ -57,7 +57,7 @@ MAX_ACCELERATION = 50.0                 # m/s2: about 5 g, beyond linear motors 
 MAX_MOTION_PIECES = 4_000_000           # pieces of constant acceleration of one axis (a million strokes with dwells)
 
 
-def check_temperatures(values, source: str, field: str, kind: str = "air") -> np.ndarray:
+def check_temperatures(values, source: str, field: str, kind: str = "air", lines=None) -> np.ndarray:
     """``values`` [degC] (a number or an array) checked: finite, above absolute zero, within
     :data:`AIR_RANGE` (``kind="air"``) or :data:`STRUCTURE_RANGE` (``kind="structure"``)."""
     v = np.asarray(values, dtype=float)
@@ -65,22 +65,27 @@ def check_temperatures(values, source: str, field: str, kind: str = "air") -> np
     what = "room air" if kind == "air" else "a machine-tool structure"
     bad = np.flatnonzero(~np.isfinite(v.ravel()))
     if bad.size:
-        raise InputError(source, field, f"{_where(v, bad[0])}is not a finite number")
+        raise InputError(source, field, f"{_where(v, bad[0], lines)}is not a finite number")
     flat = v.ravel()
     below = np.flatnonzero(flat < ABSOLUTE_ZERO)
     if below.size:
-        raise InputError(source, field, f"{_where(v, below[0])}{flat[below[0]]:g} degC is below absolute zero "
+        raise InputError(source, field, f"{_where(v, below[0], lines)}{flat[below[0]]:g} degC is below absolute zero "
                                         f"({ABSOLUTE_ZERO} degC)")
     out = np.flatnonzero((flat < lo) | (flat > hi))
     if out.size:
         x = flat[out[0]]
         hint = (" (it looks like kelvin: convert to degC)" if 233.15 <= x <= 473.15 else "")
-        raise InputError(source, field, f"{_where(v, out[0])}{x:g} degC is outside the plausible range of {what} "
+        raise InputError(source, field, f"{_where(v, out[0], lines)}{x:g} degC is outside the plausible range of {what} "
                                         f"({lo:g} to {hi:g} degC){hint}")
     return v
 
 
-def _where(v: np.ndarray, i: int) -> str:
+def _where(v: np.ndarray, i: int, lines=None) -> str:
+    """Where value ``i`` of ``v`` stands: ``lines`` (a file's line number of each value, as an
+    editor counts them) when given, else its place in the list; nothing for a single value.
+    Every check below takes ``lines`` for the values of a file's column."""
+    if lines is not None:
+        return f"line {lines[i]}: "
     return f"value #{i + 1}: " if v.ndim and v.size > 1 else ""
 
 
@@ -91,17 +96,17 @@ def max_speed(machine) -> float:
     return float(declared) if declared else UNDECLARED_MAX_SPEED
 
 
-def check_speeds(values, machine, source: str, field: str, logged: bool = False) -> np.ndarray:
+def check_speeds(values, machine, source: str, field: str, logged: bool = False, lines=None) -> np.ndarray:
     """Spindle speeds [rpm] checked: finite, not negative, at most the machine's maximum (plus
     :data:`LOGGED_SPEED_MARGIN` for a measured log, ``logged=True``)."""
     v = np.asarray(values, dtype=float)
     flat = v.ravel()
     bad = np.flatnonzero(~np.isfinite(flat))
     if bad.size:
-        raise InputError(source, field, f"{_where(v, bad[0])}is not a finite number")
+        raise InputError(source, field, f"{_where(v, bad[0], lines)}is not a finite number")
     neg = np.flatnonzero(flat < 0)
     if neg.size:
-        raise InputError(source, field, f"{_where(v, neg[0])}{flat[neg[0]]:g} rpm: a spindle speed is not "
+        raise InputError(source, field, f"{_where(v, neg[0], lines)}{flat[neg[0]]:g} rpm: a spindle speed is not "
                                         "negative (give the magnitude for reverse rotation)")
     top = max_speed(machine)
     limit = top * (1 + LOGGED_SPEED_MARGIN) if logged else top
@@ -109,35 +114,36 @@ def check_speeds(values, machine, source: str, field: str, logged: bool = False)
     if fast.size:
         name = getattr(machine, "name", None)
         whose = f"machine {name}'s maximum of {top:g} rpm" if name else f"the limit of {top:g} rpm"
-        raise InputError(source, field, f"{_where(v, fast[0])}{flat[fast[0]]:g} rpm is beyond {whose}")
+        raise InputError(source, field, f"{_where(v, fast[0], lines)}{flat[fast[0]]:g} rpm is beyond {whose}")
     return v
 
 
-def _within(values, limit: float, source: str, field: str, beyond) -> np.ndarray:
+def _within(values, limit: float, source: str, field: str, beyond, lines=None) -> np.ndarray:
     """``values`` checked: finite and within ``limit`` of zero; ``beyond(x)`` says why x is not."""
     v = np.asarray(values, dtype=float)
     flat = v.ravel()
     bad = np.flatnonzero(~np.isfinite(flat) | (np.abs(flat) > limit))
     if bad.size:
         x = flat[bad[0]]
-        raise InputError(source, field, f"{_where(v, bad[0])}{'is not a finite number' if not np.isfinite(x) else beyond(x)}")
+        raise InputError(source, field, f"{_where(v, bad[0], lines)}{'is not a finite number' if not np.isfinite(x) else beyond(x)}")
     return v
 
 
-def check_displacements(values, source: str, field: str) -> np.ndarray:
+def check_displacements(values, source: str, field: str, lines=None) -> np.ndarray:
     """Displacement-probe readings [m] checked: finite and within :data:`PROBE_RANGE` of zero."""
     return _within(values, PROBE_RANGE, source, field, lambda x: f"{x * 1e3:g} mm is beyond a displacement probe's "
-                                                                  f"range of +-{PROBE_RANGE * 1e3:g} mm (check the unit)")
+                                                                  f"range of +-{PROBE_RANGE * 1e3:g} mm (check the unit)",
+                   lines)
 
 
-def check_strains(values, source: str, field: str) -> np.ndarray:
+def check_strains(values, source: str, field: str, lines=None) -> np.ndarray:
     """Strain readings [m/m] checked: finite and within :data:`STRAIN_RANGE` of zero."""
     return _within(values, STRAIN_RANGE, source, field, lambda x: f"{x * 1e6:g} um/m is beyond +-{STRAIN_RANGE * 1e6:g} "
                                                                    "um/m, more than a machine structure survives "
-                                                                   "(check the unit)")
+                                                                   "(check the unit)", lines)
 
 
-def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool = False) -> np.ndarray:
+def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool = False, lines=None) -> np.ndarray:
     """C-axis speeds [rpm] checked: finite, not negative, within the machine's C-axis maximum
     (``parameters["c_axis_max_speed"]``; plus :data:`LOGGED_SPEED_MARGIN` for a log); without a
     machine (None) finite and not negative only."""
@@ -148,12 +154,12 @@ def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool =
         raise InputError(source, field, f"machine {getattr(machine, 'name', '?')} has no C axis")
     bad = np.flatnonzero(~np.isfinite(flat) | (flat < 0))
     if bad.size:
-        raise InputError(source, field, f"{_where(v, bad[0])}{flat[bad[0]]:g} rpm: a C-axis speed is finite and not "
+        raise InputError(source, field, f"{_where(v, bad[0], lines)}{flat[bad[0]]:g} rpm: a C-axis speed is finite and not "
                                         "negative (give the magnitude)")
     limit = top * (1 + LOGGED_SPEED_MARGIN) if logged else top
     fast = np.flatnonzero(flat > limit)
     if fast.size:
-        raise InputError(source, field, f"{_where(v, fast[0])}{flat[fast[0]]:g} rpm is beyond machine "
+        raise InputError(source, field, f"{_where(v, fast[0], lines)}{flat[fast[0]]:g} rpm is beyond machine "
                                         f"{machine.name}'s C-axis maximum of {top:g} rpm")
     return v
 

@@ -34,22 +34,25 @@ def duty_fraction(value, msrc: str, key: str) -> float:
     return float(value)
 
 
-def check_values(values: np.ndarray, role: str, mach, src: str, column: str) -> None:
-    """Physical limits of one CSV column in SI units (:mod:`twin.limits`)."""
-    if not np.all(np.isfinite(values)):
-        raise InputError(src, column, "a value overflows its unit's range")
+def check_values(values: np.ndarray, role: str, mach, src: str, column: str, lines=None) -> None:
+    """Physical limits of one CSV column in SI units (:mod:`twin.limits`); ``lines``: the file's
+    line number of each value, which an error names."""
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        where = f"line {lines[bad[0]]}: " if lines is not None else ""
+        raise InputError(src, column, f"{where}a value overflows its unit's range")
     if role == "spindle_speed":
-        limits.check_speeds(values, mach, src, column, logged=True)
+        limits.check_speeds(values, mach, src, column, logged=True, lines=lines)
     elif role == "ambient_temperature":
-        limits.check_temperatures(values, src, column, "air")
+        limits.check_temperatures(values, src, column, "air", lines=lines)
     elif role == "temperature":
-        limits.check_temperatures(values, src, column, "structure")
+        limits.check_temperatures(values, src, column, "structure", lines=lines)
     elif role in ("probe", "laser"):
-        limits.check_displacements(values, src, column)
+        limits.check_displacements(values, src, column, lines=lines)
     elif role == "strain":
-        limits.check_strains(values, src, column)
+        limits.check_strains(values, src, column, lines=lines)
     elif role == "c_axis_speed":
-        limits.check_c_axis_speeds(values, mach, src, column, logged=True)
+        limits.check_c_axis_speeds(values, mach, src, column, logged=True, lines=lines)
 
 
 BAD_NAME_CHARACTERS = "@:,"   # '@' suffixes a channel with its measurement, ':' parts group from name, ',' lists names

@@ -361,7 +361,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             raise InputError(msrc, key, "a C-axis speed needs a machine with a C axis (top-level machine = "
                                         f"\"...\"; {'none named' if mach is None else mach.name + ' has none'})")
         values = _column(path, lines, rows, header.index(name), name) * factor
-        check_values(values, role, mach, src, name)
+        check_values(values, role, mach, src, name, lines)
         if role in SINGLE:
             if role in single:
                 raise InputError(msrc, key, f"a second column with role {role}")

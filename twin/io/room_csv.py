@@ -57,7 +57,7 @@ def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.nda
         i = int(np.flatnonzero(step <= 0)[0])
         raise InputError(src, t_name, f"time does not increase at line {lines[i + 2]} ({rows[i + 2][0].strip()} after "
                                       f"{rows[i + 1][0].strip()} {t_unit})")
-    limits.check_temperatures(air, src, a_name)
+    limits.check_temperatures(air, src, a_name, lines=lines[1:])
     return t - t[0], air
 
 
