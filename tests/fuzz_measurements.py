@@ -45,6 +45,8 @@ MAPPING_EDITS = [
     ("position-no-unit", _map(MOTOR, _at("0", "0 m", "0.2 m")), "columns.T_motor"),
     ("probe-unknown", _map('probe = "X1"', 'probe = "W1"'), "columns.probe_X1_um.probe"),
     ("probe-twice", _map('probe = "X2"', 'probe = "X1"'), "columns.probe_X2_um.probe"),
+    # two columns of one sensor name: the error names the second column (and its message the first)
+    ("sensor-name-twice", _map(MOTOR, MOTOR + '\nname = "column_side"'), "columns.T_column_side"),
     ("column-not-in-csv", MAPPING + '[columns.ghost]\nrole = "temperature"\nsite = "motor"\nunit = "degC"\n',
      "columns.ghost"),
     ("second-time-column", _map('role = "ambient_temperature"\nunit = "degC"', 'role = "time"\nunit = "s"'),

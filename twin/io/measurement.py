@@ -333,6 +333,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
 
     single: dict[str, np.ndarray] = {}
     sensors: list[tuple[str, tuple[float, float, float], str, np.ndarray]] = []
+    sensor_columns: list[str] = []      # the mapping key of each sensor's column
     probes: dict[str, np.ndarray] = {}
     positions: dict[str, np.ndarray] = {}
     position_columns: dict[str, str] = {}                       # axis -> its position column
@@ -398,6 +399,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
             feeds[axis_name(entry, {**positions, **feeds}, mach, msrc, key)] = (values, entry, key, name)
         else:
             sensors.append(sensor(entry, name, values, mach, msrc, key))
+            sensor_columns.append(key)
     if "time" not in single:
         raise InputError(msrc, "columns", "no column has role = \"time\"")
     t = single["time"]
@@ -407,8 +409,11 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     for axis, (feed, entry, key, column) in feeds.items():
         positions[axis] = integrated_feed(t, feed, entry, mach, msrc, src, key, column)
     names = [s[0] for s in sensors]
-    if len(set(names)) != len(names):
-        raise InputError(msrc, "columns", "two temperature columns have the same sensor name")
+    twice = next((n for n in names if names.count(n) > 1), None)
+    if twice is not None:
+        keys = [k for k, n in zip(sensor_columns, names) if n == twice]
+        raise InputError(msrc, keys[-1], f"gives sensor name {twice!r}, as {keys[0]} does: two temperature columns "
+                                         "have the same sensor name (give one of them name = \"...\")")
     if strains["strain"] and strains["strain_raw"] and set(strains["strain"]) != set(strains["strain_raw"]):
         raise InputError(msrc, "columns", "FBG gauges given both compensated and raw must be the same gauges "
                                           f"(compensated: {', '.join(strains['strain'])}; raw: "
