@@ -71,6 +71,9 @@ CONV = {"kind": "convection", "region": "saddle"}
      "effects.pump.windows[0]", "before the run's start"),
     ({**SOURCE, "power": "80 W", "doc": 3}, "effects.pump.doc", "expected text"),
     ({"kind": ["heat_source"], "region": "saddle", "power": "80 W"}, "effects.pump.kind", "unknown kind"),
+    # a region named twice: the union holds it once, not the doubled power the list seems to ask
+    ({**SOURCE, "region": ["saddle", "table", "saddle"], "power": "80 W"}, "effects.pump.region",
+     "'saddle' named more than once"),
 ])
 def test_implausible_values_are_refused(machine, spec, field, match):
     _refused(machine, field, match, **spec)

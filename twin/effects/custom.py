@@ -287,6 +287,9 @@ def _region(value, machine, surface: bool, src: str, where: str):
     names = value if isinstance(value, list) else [value]
     if not names or not all(isinstance(n, str) for n in names):
         raise InputError(src, where + ".region", "expected a part name, 'part.+x', or a list of them")
+    twice = next((n for n in names if names.count(n) > 1), None)
+    if twice is not None:       # the union would hold it once: a doubled power it does not give
+        raise InputError(src, where + ".region", f"{twice!r} named more than once; name each region once")
     regions = []
     for n in names:
         try:
