@@ -200,9 +200,10 @@ def run_learn(args) -> int:
     train_paths = list(args.train)
     test_sets = [(str(path), [path]) for path in args.test]
     if args.dataset:
+        cases = dataset_runs(args.dataset, args.train_split)    # a folder with its index, named as such when not
         files.input(Path(args.dataset) / "index.csv", "--dataset", "dataset index (index.csv)")
         # the splits' cases as --train and --test runs: a case also given by hand is one run, not two
-        train_paths += [files.input(p, "--train", "table", once=True) for p in dataset_runs(args.dataset, args.train_split)]
+        train_paths += [files.input(p, "--train", "table", once=True) for p in cases]
         runs = [files.input(p, "--test", "table", once=True) for p in dataset_runs(args.dataset, args.split)]
         test_sets.append((f"{args.dataset} [{args.split}: {len(runs)} runs]", runs))
     refuse_training_on_test(train_paths, test_sets)

@@ -115,6 +115,9 @@ def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> li
     """The built case files of ``split`` in the dataset ``folder`` (its ``index.csv``), in index
     order; an unknown split or a split without built cases is an :class:`InputError`."""
     folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(str(folder), field, "is a file, not a dataset folder (the folder twin dataset -o writes, "
+                                             "with its index.csv and cases/)")
     index = folder / "index.csv"
     reader = csv.DictReader(read_text(index, field, "dataset index (index.csv)").splitlines())
     rows = list(reader)

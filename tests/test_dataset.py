@@ -285,6 +285,9 @@ def test_learn_trains_on_several_runs_and_on_a_dataset_split(built, capsys):
     assert all(name in text for name in ("gm11", "gmc1n", "combination")), text
     assert main(["learn", "--dataset", str(out), "--split", "nope", *common]) == 2
     assert "no split 'nope'" in capsys.readouterr().err
+    index = out / "index.csv"       # a file given as the dataset is named as one, not as a missing index
+    assert main(["learn", "--dataset", str(index), "--split", "test", *common]) == 2
+    assert capsys.readouterr().err.startswith(f"error: {index}: --dataset: is a file, not a dataset folder")
 
 
 def test_learn_writes_the_leaderboard_as_markdown(built, capsys):
