@@ -131,6 +131,9 @@ RESULT_EDITS = [
     ("axis-log-unknown-axis", _nc(_axis_log(lambda t: np.full(len(t), 100.0), "W")), None, "axis_position:W"),
     # the sensors placed in part (compare used to fail on the missing coordinate with a traceback)
     ("sensor-position-partial", _nc(lambda ds: ds.drop_vars("x")), None, "x"),
+    # a sensor that is neither placed nor a site: refused when read, naming the file as typed
+    ("sensor-unplaced", _nc(lambda ds: ds.drop_vars(["x", "y", "z"]).assign_coords(
+        sensor=["s1", "column_side", "bed_front"])), None, "sensor s1"),
     # temperatures without sensor names (compare used to drop them without a word)
     ("temperature-unnamed", _nc(lambda ds: ds.drop_vars(["x", "y", "z", "part", "sensor"])), "temperature",
      "temperature"),

@@ -77,6 +77,7 @@ from twin.errors import InputError, describe, refuse_unknown_keys
 from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
+from twin.io.measured_inputs import sensors_of
 from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml, same_file
 from twin.io.csv_rows import cell_number, data_rows
 from twin.io.results import check_result_layout, check_result_units, placed_sensors, read_result
@@ -197,6 +198,8 @@ def _check_netcdf_values(ds: xr.Dataset, mach, src: str) -> None:
         placed = with_feed_drives(mach) if mach is not None else None   # sensors on the feed drives' parts too
         temp = ds.temperature.transpose("time", "sensor").values
         located = placed_sensors(ds, src)
+        if mach is not None:
+            sensors_of(ds, mach, src)       # each sensor placed by x, y, z or a site of the machine
         for i, name in enumerate(ds.sensor.values):
             limits.check_temperatures(temp[:, i], src, f"temperature:{name}", "structure")
             if placed is not None and located:
