@@ -137,6 +137,9 @@ def _gmap(old: str, new: str) -> str:
 GANTRY_MAPPING_EDITS = [
     ("laser-unknown", _gmap('laser = "Y"', 'laser = "X"'), "columns.laser_Y_um.laser"),
     ("laser-twice", _gmap('laser = "Z"', 'laser = "Y"'), "columns.laser_Z_um.laser"),
+    # a probe column on a machine without probes: said so (it listed "known: " and nothing)
+    ("probe-on-machine-without", _gmap('role = "laser"\nlaser = "Y"', 'role = "probe"\nprobe = "X1"'),
+     "columns.laser_Y_um.probe"),
     ("laser-unit-not-length", _gmap('laser = "Y"\nunit = "um"', 'laser = "Y"\nunit = "um/m"'), "columns.laser_Y_um.unit"),
     ("laser-on-machine-without", _gmap('"gantry-ram"', '"cframe-vmc"'), "columns.c_rpm"),
     ("gauge-unknown", _gmap('gauge = "FBG-1"', 'gauge = "FBG-9"'), "columns.FBG-1_comp.gauge"),
