@@ -87,6 +87,9 @@ def test_readings_compare_does_not_hold_are_named_in_the_table():
     assert compare(ds, ds).not_compared == [] and "not compared" not in format_compare(compare(ds, ds))
     runs = ds.assign({"positioning_error": (("run_time", "target", "direction"), np.zeros((2, 3, 2)), {"units": "um"})}
                      ).assign_coords(run_time=[0.0, 600.0], target=[0.0, 100.0, 200.0], direction=["forward", "backward"])
+    runs = runs.assign(probing_error=(("probe_time", "datum", "axis"), np.zeros((2, 1, 3)), {"units": "um"}))
     result = compare(runs, ds)
-    assert len(result.not_compared) == 1 and result.not_compared[0].startswith("positioning_error")
+    assert len(result.not_compared) == 2 and result.not_compared[0].startswith("positioning_error")
+    assert result.not_compared[1] == ("probing_error (the probing cycles' datum errors): no command holds it against "
+                                      "the model yet")
     assert format_compare(result).splitlines()[-1].startswith("not compared here: positioning_error")

@@ -271,6 +271,7 @@ def test_nothing_hidden_is_nothing_missing(nothing):
     assert all(f <= 3 for f in d.residual_factor.values())
     assert d.model_error_rms is not None and "model error (given)" in format_diagnosis(d)   # passed in, not a mesh run
     assert d.message.startswith("nothing_missing")
+    assert d.not_used == [] and "Not used" not in format_diagnosis(d)
 
 
 def test_probes_only_and_what_the_missing_sensors_cost(machine, mm, truth):
@@ -278,7 +279,12 @@ def test_probes_only_and_what_the_missing_sensors_cost(machine, mm, truth):
     is diagnosed from the probes alone, and the diagnosis states what the missing sensors cost."""
     ds = truth(None, ["spindle_bearings.front_power=210 W"])
     ds = ds.drop_vars([v for v in ds.variables if "sensor" in ds[v].dims])
+    # probing cycles no diagnosis holds yet: named in the text and the JSON, not dropped silently
+    ds = ds.assign(probing_error=(("probe_time", "datum", "axis"), np.zeros((2, 1, 3)), {"units": "um"}))
     d = diagnose(ds, machine, SHORT, model_spec(machine), mm=mm, **FAST)
+    assert d.not_used == ["measurement: probing_error (the probing cycles' datum errors)"]
+    assert "Not used (no diagnosis holds them against the model yet): measurement: probing_error" in format_diagnosis(d)
+    assert diagnosis_json(d)["not_used"] == d.not_used
     assert d.groups == ["probe"] * 5
     assert d.candidates[0]["effect"] == "spindle_bearings.front_power", format_diagnosis(d)
     gap = d.missing_channels[0]

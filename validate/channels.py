@@ -37,6 +37,16 @@ NO_TRUE = ("strain", "strain_raw")   # groups whose *_true variable is not the s
 RUN_GROUPS: dict[str, tuple[str, str, str, str]] = {"positioning": ("positioning_error", "target", "run_time", "um")}
 
 
+# readings a measurement may hold that neither a comparison nor a diagnosis holds against the model
+# yet: variable -> what it is (each command names them, never drops them without a word)
+NOT_HELD = {"probing_error": "the probing cycles' datum errors"}
+
+
+def not_held(ds) -> list[str]:
+    """The :data:`NOT_HELD` readings of ``ds``, each as 'variable (what it is)'."""
+    return [f"{var} ({what})" for var, what in NOT_HELD.items() if var in ds]
+
+
 def residual_unit(group: str) -> str:
     """The unit of a residual of channel ``group`` (:data:`GROUPS` and :data:`RUN_GROUPS`)."""
     return GROUPS[group][1] if group in GROUPS else RUN_GROUPS[group][3]

@@ -29,14 +29,12 @@ from twin.errors import InputError, describe
 from twin.io.measurement import check_measurement, check_named_machine, check_times
 from twin.io.results import dataset_source
 from twin.limits import is_whole
-from validate.channels import Phase, input_phases, stack
+from validate.channels import Phase, input_phases, not_held, stack
 
 
-# readings a measurement may hold that compare does not hold against the model: (variable, what, where)
+# readings a measurement may hold that compare does not hold against the model, and who reads them
 READ_ELSEWHERE = (("positioning_error", "the laser interferometer's runs", "twin diagnose and twin report iso230-3 "
-                                                                           "--test axis read them"),
-                  ("probing_error", "the probing cycles' datum errors", "no command holds them against the "
-                                                                          "model yet: read them from the files"))
+                                                                           "--test axis read them"),)
 
 
 @dataclass
@@ -160,7 +158,8 @@ def compare(measured: xr.Dataset, model: xr.Dataset, phases: list[Phase] | None 
         {"residual": (("time", "channel"), data, {"long_name": "measured minus model"})},
         coords={"time": ("time", t, {"units": "s"}), "channel": ("channel", names),
                 "unit": ("channel", [meas.units[meas.names.index(n)] for n in names])})
-    elsewhere = [f"{var} ({what}; {where})" for var, what, where in READ_ELSEWHERE if var in measured]
+    elsewhere = ([f"{var} ({what}; {where})" for var, what, where in READ_ELSEWHERE if var in measured]
+                 + [f"{r}: no command holds it against the model yet" for r in not_held(measured)])
     return CompareResult(results, phases, residuals, elsewhere)
 
 

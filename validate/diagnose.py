@@ -63,6 +63,7 @@ from twin.physics.prepared import PreparedTwin, check_beside_prepared, check_pre
 from validate import verdict as V
 from validate.verdict import Share
 from validate.candidates import candidate_pool
+from validate.channels import not_held
 from validate.diagnose_args import SOURCE, check_arguments, check_model_error
 from validate.diagnosis_text import diagnosis_json, format_diagnosis, reasoning  # noqa: F401  (re-exported)
 from validate.evidence import Evidence, channel_weights, make_records, noise_levels
@@ -100,6 +101,7 @@ class Diagnosis:
     nuisance_baseline: dict = field(default_factory=dict)
     regions: list = field(default_factory=list)
     missing_channels: list = field(default_factory=list)
+    not_used: list = field(default_factory=list)     # readings of the measurements no diagnosis holds (channels.NOT_HELD)
     model_error_flat: np.ndarray | None = None
     model_error_series_flat: np.ndarray | None = None   # signed estimate (flat), when from a mesh
     beyond_model_error: float | None = None
@@ -469,6 +471,7 @@ def _judge(d: Diagnosis, machine, localise_regions: bool, localise_steps: int, s
         d.regions = localise(ev, target, d.spec, machine, max_steps=localise_steps)
         stage()
     d.missing_channels = missing_channels(d, machine)
+    d.not_used = [f"{r.label}: {reading}" for r in ev.records for reading in not_held(r.ds)]
     top = d.candidates[0] if d.candidates else None
     d.message = V.message(d.verdict, top, d.residual_factor, d.residual_factor_after, d.levels,
                           V.worst_channels(ev, left, d.levels_after or d.levels),   # set only with a named candidate

@@ -105,6 +105,8 @@ def format_diagnosis(d, top: int = 8) -> str:
             lines.append("  with the top candidate: " + nuisance_text(d.nuisance))
     for gap in d.missing_channels:
         lines.append("Channels: " + gap["note"])
+    if d.not_used:
+        lines.append("Not used (no diagnosis holds them against the model yet): " + "; ".join(d.not_used))
     lines.append("")
     w = max([44] + [len(c["effect"]) for c in d.candidates[:top]])   # long names keep the columns aligned
     margin, share = getattr(d, "test", (10.0, 0.5))
@@ -208,6 +210,7 @@ def diagnosis_json(d) -> dict:
                             {"resolution": d.error_resolution, "rmse": {c: float(v) for c, v in zip(names, err)},
                              "units": units}),
         "missing_channels": d.missing_channels,
+        "not_used": d.not_used,
         "phases": [{"measurement": r.label, "kind": p.kind, "phase": p.label, "start_s": p.start + r.t0,
                     "end_s": p.end + r.t0} for r in d.evidence.records for p in r.phases],
         "candidates": [_candidate_json(c, units) for c in d.candidates],
