@@ -188,7 +188,8 @@ def unit_heading(unit: str) -> str:
 
 def markdown(rows, title: str = "Leaderboard", note: str = "") -> str:
     """A Markdown page: ``title``, ``note``, then one table per test set (its whole runs first,
-    then its segments), learners sorted by RMSE of the whole runs; the inputs listed once, the
+    then its segments), each table's learners sorted by their RMSE in it (a segment's table by
+    the segment's RMSE: the best learner of a segment may not be the best overall); the inputs listed once, the
     target's unit in the headings (the rows' ``unit``)."""
     lines = [f"# {title}", ""]
     if note:
