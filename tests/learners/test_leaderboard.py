@@ -53,8 +53,9 @@ def test_leaderboard_fits_time_ordered_learners_on_runs_and_refuses_divergence()
         def predict(self, X):
             return np.full(len(X), np.inf)
 
-    with pytest.raises(InputError, match="not finite"):
+    with pytest.raises(InputError, match="not finite") as err:
         leaderboard({"inf": Inf()}, runs, [("t", runs[:1])])
+    assert (err.value.source, err.value.field) == ("t", "inf")     # the test set and the learner, not "data"
 
 
 def test_markdown_has_one_table_per_test_set_sorted_by_rmse_and_escapes_bars():
