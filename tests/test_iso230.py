@@ -225,3 +225,19 @@ def test_positioning_slope_is_the_least_squares_slope():
     dx = x - x.mean()
     expected = [0.0] + [np.sum(dx * (e - e.mean())) / np.sum(dx ** 2) for e in errors]
     np.testing.assert_allclose(data["positioning_slope"][1], expected, rtol=1e-12, atol=1e-15)
+
+
+def test_segment_statistics_table_row_reads_min_max_mean_band_low_to_high():
+    """Z over the last segment (3-4 h, segment = 3600 s) of synthetic(): the sample at t = 3 h is
+    -12 (t > 3 h is false), the 60 after it -8, so values [-12, -8 x 60]: min -12, max -8,
+    mean -492/61 = -8.066, population std 4 sqrt(60)/61 = 0.5079, mean -/+ 2 std = -9.081 .. -7.050
+    (low .. high), 95th percentile of |value| (linear, index 0.95 * 60 = 57 of the sorted 61) = 8."""
+    from validate.iso230_report import sections
+
+    ds = synthetic()
+    z = ds.probe_drift.sel(axis="Z").values[180:]
+    assert z[0] == -12.0 and np.all(z[1:] == -8.0) and z.size == 61
+    lines = dict(sections(evaluate(ds, "etve", segment=3600.0)))["Segment statistics"]
+    start = lines.index("**Z** [um]")
+    z_rows = [ln for ln in lines[start:] if ln.startswith("| 3-4 h")]
+    assert z_rows[0] == "| 3-4 h | -12.000 | -8.000 | -8.066 | -9.081 .. -7.050 | 8.000 |"

@@ -288,3 +288,25 @@ def test_a_measurement_logged_from_a_later_start_compares_the_same(sim):
         assert cb.stats.rmse == pytest.approx(ca.stats.rmse, rel=1e-12, abs=1e-15)
         assert cb.spread == pytest.approx(ca.spread, rel=1e-12)
     assert b.channel("temperature:motor").stats.rmse == pytest.approx(0.3, rel=1e-9)
+
+
+def test_tilt_residuals_are_in_microradians():
+    """GROUPS["tilt"] = ("rotation", "urad"): a tilt residual's unit is urad, and stacking a result's
+    tilt (rotations A, B) gives two channels, each in urad (not um, the probes' unit)."""
+    from tests.fuzz_files import result_dataset
+    from validate.channels import residual_unit, stack
+
+    assert residual_unit("tilt") == "urad"
+    ch = stack(result_dataset(), ("tilt",))
+    assert ch.names == ["tilt:A", "tilt:B"]
+    assert ch.units == ["urad", "urad"]
+
+
+def test_ambient_flat_after_a_rise_is_steady_not_falling():
+    """Room air rising 1 K/h (2.8e-4 K/s > 0.1 K/h threshold) for 3 h, then flat (rate 0) for 3 h,
+    sampled every 60 s: rate 0 is neither above 0.1 K/h nor below -0.1 K/h, so the phases are
+    ["ambient rising", "ambient steady"] (no "falling": the flat stretch's rate is not < -0.1 K/h)."""
+    t = np.arange(0, 6 * 3600 + 1, 60.0)
+    amb = 20.0 + np.minimum(t, 3 * 3600) / 3600.0
+    ph = detect_phases(t, None, amb)
+    assert [p.label for p in ph if p.kind == "ambient"] == ["ambient rising", "ambient steady"]

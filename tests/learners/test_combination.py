@@ -129,3 +129,14 @@ def test_predicted_weights_are_the_clipped_gm11_forecast_of_the_training_weights
     alpha, beta = c.predict_weights(X[n:])
     np.testing.assert_allclose(alpha, exact, rtol=1e-12)
     np.testing.assert_allclose(beta, 1.0 - exact, rtol=0, atol=1e-12)     # 1 - alpha: alpha's rounding
+
+
+def test_predict_is_alpha_times_first_member_plus_beta_times_second():
+    """predict = alpha x1 + beta x2 with x1 = X[:, 0], x2 = X[:, 1] (stub members) and y = x1: the
+    constrained fit gives alpha = 1, beta = 0 at every window, so predict(X_test) = X_test[:, 0]
+    (swapping the members' roles, beta x1 + alpha x2, would give X_test[:, 1])."""
+    rng = np.random.default_rng(11)
+    X = rng.normal(20.0, 3.0, (40, 2))
+    c = Combination(members=(_Column(0), _Column(1))).fit(X[:30], X[:30, 0])
+    np.testing.assert_allclose(c.alpha_train_, 1.0, atol=1e-9)
+    np.testing.assert_allclose(c.predict(X[30:]), X[30:, 0], atol=1e-8)

@@ -102,3 +102,12 @@ def test_leaderboard_rows_carry_the_unit_and_no_wall_time_so_repeats_write_the_s
         files.append(write_csv(tmp_path / f"b{k}.csv", rows))
     assert (tmp_path / "b0.csv").read_bytes() == (tmp_path / "b1.csv").read_bytes()
     assert "unit" in (tmp_path / "b0.csv").read_text().splitlines()[0].split(",")
+
+
+def test_resample_refuses_an_interval_just_off_a_whole_multiple():
+    """60 s samples thinned to 61 s: k = 61/60 = 1.0167, |k - round(k)| = 0.0167 > 1e-6 k, so not a
+    whole multiple and refused (a loose 0.1 k tolerance would let it pass as k = 1)."""
+    t = np.arange(30) * 60.0
+    tab = Table(t, np.arange(60.0).reshape(30, 2), np.arange(30.0), ["a", "b"])
+    with pytest.raises(InputError, match="whole multiple"):
+        resample(tab, 61.0, "run.nc")

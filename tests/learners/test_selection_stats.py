@@ -131,3 +131,23 @@ def test_regression_f_test_of_one_predictor_is_the_slope_t_test():
     assert 1e-3 < ref.pvalue < 0.5
     assert p_value == pytest.approx(ref.pvalue, rel=1e-12)
     assert r2 == pytest.approx(ref.rvalue ** 2, rel=1e-12)
+
+
+def test_choose_level_uses_the_bic_ln_n_penalty_not_aic():
+    """BIC = n ln(1 - R^2) + (k + 1) ln n, n = 1000, both levels significant (p = 1e-5):
+    level 1: 1000 ln 0.1 + 2 ln 1000 = -2288.77; level 2: 1000 ln 0.0995 + 3 ln 1000 = -2286.87,
+    so level 1. An AIC-like penalty 2 (k + 1) would give -2298.59 vs -2301.61 and pick level 2."""
+    assert choose_level([0.9, 0.9005], [1e-5, 1e-5], n_samples=1000) == 1
+
+
+def test_hier_corr_distance_is_one_minus_abs_r_so_anticorrelated_columns_share_a_group():
+    """d_ij = 1 - |r_ij|: column 1 = -a + 0.05 noise has r ~ -1 with column 0 = a, so d ~ 0 and the
+    two share a cluster; b (independent) is the other cluster (d ~ 1). y = a + b: the chosen sensors
+    are one of {0, 1} plus column 2. With d = 1 - r, columns 0 and 1 would be ~2 apart (different groups)."""
+    rng = np.random.default_rng(7)
+    a, b, noise = rng.normal(size=(3, 300))
+    X = np.column_stack([a, -a + 0.05 * noise, b])
+    sel = HierCorrSelector(n_select=2).fit(X, a + b)
+    assert sel.labels_[0] == sel.labels_[1]
+    assert sel.labels_[2] != sel.labels_[0]
+    assert 2 in sel.selected_ and len(sel.selected_) == 2

@@ -307,3 +307,15 @@ def test_a_temperature_target_is_left_out_of_the_default_inputs(tmp_path):
     check_problem(table, path, "temperature:S2")
     with pytest.raises(InputError, match="also an input"):
         check_problem(load_table(path, "temperature:S2", inputs=["S1", "S2"]), path, "temperature:S2")
+
+
+def test_a_repeated_time_is_not_strictly_increasing(tmp_path):
+    """Times 0, 60, 60, 120: diff = [60, 0, 60], the first diff <= 0 is between data rows 2 and 3,
+    so load_table refuses on the time column 'not strictly increasing at row 3' (a repeat, diff = 0,
+    is refused as well as a step back)."""
+    path = tmp_path / "repeat.csv"
+    path.write_text("time,T1,drift\n0,20.0,0.0\n60,20.5,1.0\n60,21.0,2.5\n120,21.4,3.1\n")
+    with pytest.raises(InputError) as err:
+        load_table(str(path), "drift")
+    assert err.value.field == "time"
+    assert "not strictly increasing at row 3" in err.value.message
