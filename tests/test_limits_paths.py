@@ -271,3 +271,33 @@ def test_a_late_failure_says_which_outputs_were_written_whole(tmp_path, monkeypa
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "the disk is full" in err[0]
     assert err[0].endswith(f"(written before the error, each whole: {tmp_path / 'rep' / 'report.md'})")
+
+
+def test_files_refuses_a_path_that_is_no_path_naming_the_field(tmp_path):
+    """Audit: Files.output, check_output and folder raised pathlib's TypeError for None or a number
+    (their clash check built a Path before the path was checked), and check_output took ""."""
+    files = Files()
+    for declare in (files.output, files.check_output, files.folder):
+        for bad in (None, 5, "", "   "):
+            with pytest.raises(InputError) as err:
+                declare(bad, "--out")
+            assert err.value.field == "--out" and "expected a file path" in err.value.message
+    assert files.outputs == [] and files.folders == []
+
+
+def test_a_measurement_pair_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
+    """Audit: write_measurement wrote run.csv, then run.toml; a full disk at the second left the
+    CSV without its mapping. Both are now written to temporaries and renamed only when both are
+    whole: the failure leaves neither (nor a temporary file), and a pair written before stays."""
+    from tests.fuzz_files import result_dataset
+    from twin.io import atomic
+    from twin.io.measurement_writer import write_measurement
+
+    csv, toml = write_measurement(result_dataset(), tmp_path, "old", "cframe-vmc")
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    free = iter([10 ** 12, 10])                     # the CSV fits, the disk is full after the mapping
+    monkeypatch.setattr(atomic, "free_space", lambda folder: next(free))
+    with pytest.raises(InputError, match="the disk is full") as err:
+        write_measurement(result_dataset(), tmp_path, "run", "cframe-vmc")
+    assert err.value.source.endswith("run.toml")
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before

@@ -51,42 +51,66 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], object], field:
     written (HDF5 crashes the process when the disk fills under it), and after writing at least
     :data:`RESERVE` must be left (some writers stop short without an error); the file is synced
     to the disk before it is renamed."""
-    path = output_file(path, field)
+    return atomic_write_all([(path, write)], field, size_hint)[0]
+
+
+def atomic_write_all(files, field: str = "output", size_hint: int | None = None) -> list[Path]:
+    """Write several files that belong together (a measurement's CSV and its mapping): each
+    ``(path, write)`` is written to its temporary file as :func:`atomic_write` does, and only when
+    every one is whole are they renamed to their targets, so a failure (a full disk at the second)
+    leaves none of them, not the first without the second. ``size_hint``: for all of them together."""
+    paths = [output_file(path, field) for path, _ in files]
     if size_hint is not None:
-        free = free_space(path.parent)
+        free = free_space(paths[0].parent)
         if free < size_hint + RESERVE:
-            raise InputError(str(path), field, f"not enough free space on its disk: about {_mb(size_hint + RESERVE)} "
-                                               f"needed, {_mb(free)} free")
-    tmp = None
+            raise InputError(str(paths[0]), field, f"not enough free space on its disk: about "
+                                                   f"{_mb(size_hint + RESERVE)} needed, {_mb(free)} free")
+    temps: list[str] = []
     try:
-        fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent)
-        os.close(fd)
-        write(tmp)
-        with open(tmp, "rb+") as handle:
-            os.fsync(handle.fileno())
-        if free_space(path.parent) < RESERVE:
-            raise InputError(str(path), field, f"the disk is full (less than {_mb(RESERVE)} left after writing it): "
-                                               "the file may be incomplete and was not kept; free some space")
-        os.chmod(tmp, 0o644)
-        output_file(path, field)   # still a regular file (or nothing) right before the rename
-        os.replace(tmp, path)
-        tmp = None
-    except OSError as err:
-        raise InputError(str(path), field, f"could not be written ({getattr(err, 'strerror', None) or err})") from None
+        for path, (_, write) in zip(paths, files):
+            try:
+                fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent)
+                os.close(fd)
+                temps.append(tmp)
+                write(tmp)
+                with open(tmp, "rb+") as handle:
+                    os.fsync(handle.fileno())
+                if free_space(path.parent) < RESERVE:
+                    raise InputError(str(path), field, f"the disk is full (less than {_mb(RESERVE)} left after "
+                                                       "writing it): the file may be incomplete and was not kept; "
+                                                       "free some space")
+                os.chmod(tmp, 0o644)
+                output_file(path, field)   # still a regular file (or nothing) right before the rename
+            except OSError as err:
+                raise InputError(str(path), field, f"could not be written ({getattr(err, 'strerror', None) or err})"
+                                 ) from None
+        for i, (path, tmp) in enumerate(zip(paths, temps)):
+            try:
+                os.replace(tmp, path)
+            except OSError as err:
+                raise InputError(str(path), field, f"could not be written ({getattr(err, 'strerror', None) or err})"
+                                 ) from None
+            temps[i] = None
+            _completed.append(path)
     finally:
-        if tmp is not None:
-            Path(tmp).unlink(missing_ok=True)
-    _completed.append(path)
-    return path
+        for tmp in temps:
+            if tmp is not None:
+                Path(tmp).unlink(missing_ok=True)
+    return paths
 
 
 def _mb(n: int) -> str:
     return f"{n / 1e6:.1f} MB"
 
 
+def text_writer(text: str) -> Callable[[str], object]:
+    """A ``write(tmp)`` for :func:`atomic_write` that writes ``text`` as UTF-8."""
+    return lambda tmp: Path(tmp).write_text(text, encoding="utf-8")
+
+
 def atomic_write_text(path: str | os.PathLike, text: str, field: str = "output") -> Path:
     """Write ``text`` (UTF-8) to ``path`` atomically."""
-    return atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"), field)
+    return atomic_write(path, text_writer(text), field)
 
 
 def completed() -> list[Path]:

@@ -23,7 +23,7 @@ import xarray as xr
 
 from geometries import MACHINES, build_machine
 from twin.errors import InputError, describe
-from twin.io.atomic import atomic_write_text, check_writable, output_folder
+from twin.io.atomic import atomic_write_all, output_folder, text_writer
 from twin.io.mapping_columns import check_sensor_name
 from twin.io.measurement import check_measurement, check_named_machine
 from twin.io.paths import output_folder as checked_folder
@@ -50,10 +50,8 @@ def write_measurement(ds, folder, stem: str, machine: str) -> tuple[Path, Path]:
     columns, mapping = _columns(ds, mach, stem)
     csv_path, toml_path = folder / f"{stem}.csv", folder / f"{stem}.toml"
     with output_folder(folder):                 # made for the writes, removed again if they fail empty
-        for path in (csv_path, toml_path):      # both checked before either is written: never half a pair
-            check_writable(path)
-        atomic_write_text(csv_path, _csv_text(columns, len(ds.time)))
-        atomic_write_text(toml_path, "\n".join(mapping) + "\n")
+        csv_text, toml_text = _csv_text(columns, len(ds.time)), "\n".join(mapping) + "\n"
+        atomic_write_all([(csv_path, text_writer(csv_text)), (toml_path, text_writer(toml_text))])  # never half a pair
     return csv_path, toml_path
 
 

@@ -240,7 +240,7 @@ class Files:
     def output(self, path: str | os.PathLike, field: str, suffixes: tuple[str, ...] | None = None,
                folder_may_be_created: bool = False) -> Path:
         """Declare a file the command writes; returns it checked (:func:`output_file`)."""
-        self._clash(Path(path), field, output=True)
+        self._clash(as_path(path, field), field, output=True)
         path = output_file(path, field, suffixes, folder_may_be_created)
         self.outputs.append((path, field))
         return path
@@ -250,12 +250,12 @@ class Files:
         output or folder) without recording it: for the many files of one kind whose first is
         declared (a camera's frames), where recording each would make every check compare with
         all the others."""
-        self._clash(Path(path), field, output=True)
+        self._clash(as_path(path, field), field, output=True)
 
     def folder(self, path: str | os.PathLike, field: str, contents: tuple[str, ...] = ()) -> Path:
         """Declare an output folder and the files (relative names, e.g. ``"report/index.html"``)
         the command writes into it; returns the folder checked (:func:`output_folder`)."""
-        self._clash(Path(path), field, output=True)
+        self._clash(as_path(path, field), field, output=True)
         folder = output_folder(path, field)
         self.folders.append((folder, field))
         for name in contents:
