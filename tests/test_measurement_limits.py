@@ -236,3 +236,28 @@ def test_a_measurement_of_another_machine_or_unit_or_span_is_refused(tmp_path, c
         compare(ds, ds.isel(time=slice(0, len(ds.time) // 2)))
     with pytest.raises(InputError, match="machine: the measurement is of machine 'belt-vmc'"):
         diagnose(other, build_machine("cframe-vmc"), None)
+
+
+def test_a_diagnosis_error_names_the_measurement_as_typed(tmp_path, csv_text, capsys, monkeypatch):
+    """The diagnosis names each measurement by its label (its file name, or the shortest tail of
+    its path that tells it from the others: ``a/m.csv``); an error raised inside it named that
+    label, not the file the user typed. The CLI names the path as given, and a plain ValueError
+    names every measurement."""
+    import validate.diagnose
+
+    a, b = _write(tmp_path / "x" / "a", csv_text), _write(tmp_path / "x" / "b", csv_text)
+
+    def fails(runs, *args, **kwargs):
+        assert [label for label, _, _ in runs] == ["a/m.csv", "b/m.csv"]
+        raise InputError("b/m.csv", "channels", "refused inside the diagnosis")
+
+    monkeypatch.setattr(validate.diagnose, "diagnose_many", fails)
+    assert main(["diagnose", str(a), str(b), "--mesh", "coarse", "--error-mesh", "none", "--no-parameters"]) == 2
+    assert capsys.readouterr().err.strip() == f"error: {b}: channels: refused inside the diagnosis"
+
+    def fails_plainly(runs, *args, **kwargs):
+        raise ValueError("measurement times lie outside the scenario's duration")
+
+    monkeypatch.setattr(validate.diagnose, "diagnose_many", fails_plainly)
+    assert main(["diagnose", str(a), str(b), "--mesh", "coarse", "--error-mesh", "none", "--no-parameters"]) == 2
+    assert capsys.readouterr().err.strip() == f"error: {a} {b}: time: measurement times lie outside the scenario's duration"

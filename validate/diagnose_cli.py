@@ -13,7 +13,7 @@ from twin.errors import InputError
 from twin.fem.mesh import mesh_machine
 from twin.io.atomic import atomic_write_text, output_folder
 from twin.io.paths import Files
-from validate.inputs import declare_inputs, load_measurements
+from validate.inputs import declare_inputs, load_measurements, measurement_labels, measurement_paths
 
 
 def add_diagnose_parser(subparsers) -> None:
@@ -81,13 +81,14 @@ def run_diagnose(args) -> int:
     for _, _, sc in runs:
         for n in sizes:
             limits.check_run_size(sc, n)
+    typed = dict(zip(measurement_labels(measurement_paths(args)), measurement_paths(args)))
     try:
         d = diagnose_many(runs, machine, spec, mm=mm, error_resolution=err_mesh, parameters=not args.no_parameters,
                           progress=progress_bar(f"diagnose {machine.name}", "fit"), custom=custom)
+    except InputError as err:    # the library names a measurement by its label: name the file as typed
+        raise InputError(typed.get(err.source, err.source), err.field, err.message) from None
     except ValueError as err:
-        if isinstance(err, InputError):
-            raise
-        raise InputError(" ".join(label for label, _, _ in runs), "time", str(err)) from None
+        raise InputError(" ".join(typed.values()), "time", str(err)) from None
     print(format_diagnosis(d))
     after = calibrated = None
     named = d.verdict in ("explained", "partly_explained")
