@@ -332,3 +332,33 @@ def test_a_bad_axis_duty_cycle_names_its_field(tmp_path, old, new, field):
     with pytest.raises(InputError) as err:
         load_spec(tmp_path / "s.toml")
     assert err.value.field == field
+
+
+def test_cframe_axes_have_the_seeds_travels_and_the_readmes_nut_positions():
+    """README "Axis motion" (seed 000, Machine A: X 500, Y 400, Z 330 mm, ball screws with rotary
+    encoders): X 0-500, Y 0-400, Z 0-330 mm, all semi-closed, meshed at X = 250, Y = 200, Z = 0 mm.
+    Where the nut is (nut_at_zero + p), from the README's thesis-duty-test1 paragraph: at X = 150 mm
+    the X nut is 0.40 m from its fixed bearing and at X = 350 mm half that; at Z = 100 mm the Z nut
+    is 0.45 m below its top (fixed) bearing; and (geometries/cframe_vmc.py) at the mesh's pose the
+    Y nut is under the saddle's centre and the X nut under the table's. Every nut stays on its
+    screw, between its two bearings, over the whole travel."""
+    m = build_machine("cframe-vmc")
+    assert [(a.name, a.direction, a.travel, a.feedback, a.p_ref) for a in m.axes] == [
+        ("X", "x", (0.0, 0.50), "semi-closed", 0.25), ("Y", "y", (0.0, 0.40), "semi-closed", 0.20),
+        ("Z", "z", (0.0, 0.33), "semi-closed", 0.0)]
+    x, y, z = m.axis("X"), m.axis("Y"), m.axis("Z")
+    assert x.drive.fixed_end - x.nut_coordinate(0.15) == pytest.approx(0.40, abs=1e-12)
+    assert x.drive.fixed_end - x.nut_coordinate(0.35) == pytest.approx(0.20, abs=1e-12)
+    assert z.drive.fixed_end - z.nut_coordinate(0.10) == pytest.approx(0.45, abs=1e-12)
+
+    def centre(part, k):
+        box = m.part(part).boxes[0]
+        return 0.5 * (box.lo[k] + box.hi[k])
+
+    assert y.nut_coordinate(y.p_ref) == pytest.approx(centre("saddle", 1), abs=1e-12)
+    assert x.nut_coordinate(x.p_ref) == pytest.approx(centre("table", 0), abs=1e-12)
+    for ax in m.axes:
+        k = "xyz".index(ax.direction)
+        screw = next(p for p in ax.drive.parts if p.name.endswith("_screw")).boxes[0]
+        for p in ax.travel:
+            assert screw.lo[k] <= ax.nut_coordinate(p) <= screw.hi[k], (ax.name, p)

@@ -267,3 +267,26 @@ def test_hollow_column_bends_as_a_thin_walled_beam():
     ends, mid = (node(z0), node(z1)), node((z0 + z1) / 2)
     bow = u[mid, 1] - 0.5 * (u[ends[0], 1] + u[ends[1], 1])
     assert bow == pytest.approx(kappa * (z1 - z0) ** 2 / 8, rel=0.02)  # bows towards the hot front (-y)
+
+
+def test_speed_range_travels_and_motor_place_are_the_documented_ones(machine):
+    """Seed 000, Machine B (../shared/notes/000_thesis.md section 1.2, thesis L4052): spindle
+    speed 60 to 8000 rpm, so 8000 rpm is the limit scenarios and logs are held to; linear scales
+    on every axis (closed loop). The seed gives no travels: README's machine list states the
+    chosen X 400, Y 300, Z 300 mm, and the DC motor on the carrier top 0.29 m behind the
+    spindle (the belt's centre distance, ``motor_offset``; y points to the column, the rear)."""
+    from twin import limits
+
+    assert machine.max_speed == 8000.0 and limits.max_speed(machine) == 8000.0
+    assert machine.parameters["min_speed"] == 60.0
+    limits.check_speeds([0.0, 8000.0], machine, "s", "f")
+    with pytest.raises(InputError, match="8000 rpm"):
+        limits.check_speeds(8001.0, machine, "s", "f")
+    assert [(a.name, a.travel, a.feedback) for a in machine.axes] == [
+        ("X", (0.0, 0.40), "closed"), ("Y", (0.0, 0.30), "closed"), ("Z", (0.0, 0.30), "closed")]
+    assert [machine.parameters[f"travel_{a}"] for a in "xyz"] == [0.40, 0.30, 0.30]
+    assert machine.parameters["motor_offset"] == 0.29
+    motor = machine.part("motor").boxes[0]
+    assert 0.5 * (motor.lo[0] + motor.hi[0]) == pytest.approx(0.0, abs=1e-12)
+    assert 0.5 * (motor.lo[1] + motor.hi[1]) == pytest.approx(0.29, abs=1e-12)
+    assert motor.lo[2] == pytest.approx(max(b.hi[2] for b in machine.part("carrier").boxes), abs=1e-12)  # on its top

@@ -413,3 +413,42 @@ def test_thermogram_encoding_holds_cold_scenes_and_recovers_every_count():
     enc, exact = thermogram_encoding(fine, np.arange(16384).reshape(1, 128, 128), (1, 128, 128))
     span = np.ceil(fine.max()) + 1.0 - (np.floor(fine.min()) - 1.0)
     assert not exact and enc["scale_factor"] == np.float32(span / UINT16_TOP)
+
+
+def test_ground_steel_is_the_flir_tables_freshly_emeried_steel():
+    """geometries/finishes.py cites FLIR's camera user's manual emissivity table for bare ground
+    steel: "Iron and steel, freshly worked with emery, 20 degC, T, 0.24" (and "polished, 0.07"
+    for polished steel); the README's Surfaces paragraph states 0.24 for the ground spindle nose
+    and test mandrel. The value, the figure its own source quotes and the README's agree."""
+    from geometries.finishes import FINISHES, GROUND_STEEL, POLISHED_STEEL
+
+    assert GROUND_STEEL.value == 0.24 and FINISHES["ground_steel"] is GROUND_STEEL
+    assert "FLIR" in GROUND_STEEL.source and "emery" in GROUND_STEEL.source
+    assert "0.24" in GROUND_STEEL.source
+    assert POLISHED_STEEL.value == 0.07 and "0.07" in POLISHED_STEEL.source
+
+
+def test_cframe_surfaces_are_the_readmes_paint_bare_steel_and_tape_band():
+    """README "Surfaces": on cframe-vmc painted castings and motor 0.90, the bare ground spindle
+    nose and test mandrel 0.24, masking tape 0.95 on the carrier's front face and on a band of the
+    mandrel 20-100 mm below the nose (seed 000 L4140: tape on the rotating test bar). Read at
+    points on the mandrel's front face half a millimetre inside and outside the band's edges, on
+    the carrier's front and side faces and on the spindle nose."""
+    from geometries import build_machine
+    from twin.observe.camera_geometry import surface_emissivity
+
+    m = build_machine("cframe-vmc")
+    names = [p.name for p in m.parts]
+    bar = m.part("test_bar").boxes[0]
+    nose, front = bar.hi[2], bar.lo[1]
+    below = [0.0195, 0.0205, 0.0995, 0.1005]                # m below the nose
+    points = [(0.0, front, nose - d) for d in below]
+    parts = ["test_bar"] * 4
+    carrier = m.part("carrier").boxes[0]
+    points += [(0.0, carrier.lo[1], 1.30), (carrier.lo[0], 0.0, 1.30)]   # front face (taped), side face
+    parts += ["carrier", "carrier"]
+    spindle = m.part("spindle").boxes[0]
+    points += [(0.06, 0.0, spindle.lo[2])]                   # the nose's annulus round the bar
+    parts += ["spindle"]
+    eps = surface_emissivity(m, names, np.array([names.index(p) for p in parts]), np.array(points))
+    assert eps.tolist() == [0.24, 0.95, 0.95, 0.24, 0.95, 0.90, 0.24]

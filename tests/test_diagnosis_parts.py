@@ -447,3 +447,45 @@ def test_the_region_map_fits_a_missing_cooler_as_a_negative_power(monkeypatch):
     res = r - by["cooled"]["power_W"] * u
     assert by["cooled"]["explained"] == pytest.approx(1 - res @ res / (r @ r), rel=1e-9)
     assert by["cooled"]["power_W"] < -2.0
+
+
+def test_the_region_maps_explained_share_is_of_the_nuisance_fitted_residual(monkeypatch):
+    """The baseline of the explained share is the residual with the material-expansion nuisance
+    already fitted, SSE_0 = min_c |r - c v|^2, not |r|^2: with r = 2 u + w + 3 v, the nuisance v
+    (band +-10, wide enough to be free) and one region of response u, the region explains
+    1 - SSE(u, v) / SSE_0 (about 0.8, its 2 u of the 2 u + w left after the nuisance), where a
+    baseline without the nuisance would credit it with the expansion's 3 v too (about 0.93)."""
+    import validate.localise as L
+    u, w, rng = _problem(1)
+    v = rng.standard_normal(len(u))
+    r = 2 * u + w + 3 * v
+    monkeypatch.setattr(L, "region_columns", lambda *a, **k: (u[None, :], [("heated", "part", "constant")]))
+    (region,) = L.localise(None, BoundedFitter(r, np.ones_like(r), v[None, :], [-10.0], [10.0]), None, None,
+                           twin=object())
+
+    def sse(cols):
+        res = r - cols @ np.linalg.lstsq(cols, r, rcond=None)[0]
+        return res @ res
+
+    sse0, sse1 = sse(v[:, None]), sse(np.column_stack([u, v]))
+    assert region["explained"] == pytest.approx(1 - sse1 / sse0, rel=1e-9)
+    assert 0.7 < region["explained"] < 0.85 < 0.9 < 1 - sse1 / (r @ r)
+    assert region["power_W"] == pytest.approx(np.linalg.lstsq(np.column_stack([u, v]), r, rcond=None)[0][0], rel=1e-9)
+
+
+def test_the_diagnosis_names_the_channels_furthest_above_their_groups_noise_worst_first():
+    """verdict.worst_channels (the channels the diagnosis message names): the residual RMS of each
+    channel over its group's envelope sqrt(noise^2 + model error^2); temperatures [0.3, 0.1] K over
+    sqrt(0.03^2 + 0.04^2) = 0.05 K give 6 and 2, probes [4, 1] um over 0.5 um (noise alone, no
+    estimate) 8 and 2: the top two are probe:Z (8) then temperature:a (6), not the largest raw
+    RMS alone nor the order of the channels."""
+    from types import SimpleNamespace as NS
+
+    from validate.verdict import worst_channels
+    names = ["temperature:a", "temperature:b", "probe:Y", "probe:Z"]
+    per = np.array([0.3, 0.1, 1.0, 4.0])
+    ev = NS(channel_names=lambda: names, per_channel=lambda r: per,
+            records=[NS(groups=["temperature", "temperature", "probe", "probe"])])
+    top = worst_channels(ev, np.zeros(4), {"temperature": (0.03, 0.04), "probe": (0.5, None)}, top=2)
+    assert [n for n, _ in top] == ["probe:Z", "temperature:a"]
+    assert [f for _, f in top] == pytest.approx([8.0, 6.0], rel=1e-12)

@@ -313,3 +313,24 @@ def test_floor_lag_reaches_the_end_of_the_run(mm, heat):
     _, air, _ = ls.signals(t)
     exact = 1 - np.exp(-t / tau) * (tau / t_r) * np.expm1(t_r / tau)
     assert air[:, 0] - 20.0 == pytest.approx(exact, rel=1e-10)
+
+
+def test_cframe_rear_is_its_plus_y_skin_and_the_cabinet_face_the_columns_left_side(mm):
+    """Where solar_load and electrical_cabinet act on cframe-vmc. README's effect table: sunlight on
+    "the rear faces" and cabinet losses "onto the column's left side face"; geometries/cframe_vmc.py:
+    y points towards the column (the rear: seed 000, "a column at the rear"), the operator and the
+    door in front (-y). So structure.rear is every skin face whose outward normal is +y (the
+    column's back among them, nothing facing the operator), and cabinet.face is the whole -x face
+    of the column (x = -0.25 m, 0.45 m deep from the column face, bed top 0.35 m to its top 1.90 m)."""
+    from twin.fem.regions import exterior_facets, role_facets
+
+    skin = mm.facets["skin"]
+    rear = role_facets(mm, "structure.rear")
+    assert len(rear) and np.array_equal(rear, facing(mm, skin, "+y"))
+    column = exterior_facets(mm, ("column",))
+    assert set(facing(mm, column, "+y")) <= set(rear)
+    assert not set(rear) & set(role_facets(mm, "structure.front"))
+    cabinet = role_facets(mm, "cabinet.face")
+    assert np.array_equal(np.sort(cabinet), facing(mm, column, "-x"))
+    assert np.allclose(facet_centres(mm, cabinet)[:, 0], -0.25)
+    assert mm.facet_area(cabinet) == pytest.approx(0.45 * (1.90 - 0.35), rel=1e-12)

@@ -98,8 +98,31 @@ def test_the_suite_is_large_and_covers_every_command():
     assert len({c.id for c in CASES}) == len(CASES)
 
 
+# seconds one in-process case may take: the slowest takes under 1 s (first imports included)
+CASE_TIMEOUT_S = 20
+
+
+@pytest.fixture
+def case_timeout():
+    """Fail a case that runs longer than :data:`CASE_TIMEOUT_S` instead of hanging the suite: a
+    pipe case (``:pipe``, a FIFO with no writer) blocks in open() for ever if a command ever
+    opens it before checking it is a regular file; SIGALRM interrupts the blocked call and the
+    handler's failure ends the case (pytest.fail's exception is no InputError or OSError, so
+    no handler of the command turns it into a clean refusal)."""
+    def expired(signum, frame):
+        pytest.fail(f"the case ran over {CASE_TIMEOUT_S} s (blocked opening a pipe or device?)", pytrace=False)
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.alarm(CASE_TIMEOUT_S)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
-def test_bad_input_is_refused_cleanly(case, tmp_path, good, no_simulation, capsys):
+def test_bad_input_is_refused_cleanly(case, tmp_path, good, no_simulation, capsys, case_timeout):
     if case.root_skip and os.geteuid() == 0:
         pytest.skip("root is not stopped by permission bits")
     argv = prepare(case, tmp_path, good)

@@ -177,3 +177,21 @@ def test_c_axis_duty_is_its_on_time_over_its_cycle():
                                         {"speed": "0 rpm", "duration": "1 h"}]}, "c.toml")
     np.testing.assert_array_equal(sc.c_axis.duty(np.array([60.0, 1800.0, 3540.0])), 0.25)
     assert sc.c_axis.speed(np.array([3660.0]))[0] == 0.0 and sc.c_axis.duty(np.array([7300.0]))[0] == 0.0
+
+
+def test_the_laser_tilt_pair_is_a_tenth_of_a_metre_apart(machine):
+    """README's result table: laser_tilt A (about X) = (A1 - A2) / 0.1 m from the laser pair;
+    geometries/gantry_ram.py puts A2 TILT_SPACING = 0.10 m above A1 on the test bar's front face.
+    The observer takes the spacing from the two sensors' heights, so two synthetic readings
+    10 um apart (A1 +4 um, A2 -6 um) give a tilt of 10 um / 0.1 m = 100 urad."""
+    from twin.observe.triangulation import LaserTriangulation
+
+    a1, a2 = machine.point("A1").xyz, machine.point("A2").xyz
+    assert a2[2] - a1[2] == pytest.approx(0.10, abs=1e-12) and a1[:2] == a2[:2]
+    assert machine.parameters["tilt_spacing"] == 0.10
+    names = [p.name for p in machine.lasers]
+    readings = np.zeros((2, len(names)))
+    readings[1, names.index("A1")], readings[1, names.index("A2")] = 4.0, -6.0
+    tilt, _ = LaserTriangulation().derived(readings, readings, names, machine)
+    assert tilt["laser_tilt"][1].tolist() == pytest.approx([0.0, 100.0], abs=1e-9)
+    assert tilt["laser_tilt"][2]["units"] == "urad"

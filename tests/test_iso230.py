@@ -241,3 +241,59 @@ def test_segment_statistics_table_row_reads_min_max_mean_band_low_to_high():
     start = lines.index("**Z** [um]")
     z_rows = [ln for ln in lines[start:] if ln.startswith("| 3-4 h")]
     assert z_rows[0] == "| 3-4 h | -12.000 | -8.000 | -8.066 | -9.081 .. -7.050 | 8.000 |"
+
+
+def test_segment_statistics_head_each_table_with_its_channels_own_unit():
+    """Each channel's segment-statistics table is headed by its name and its own unit, the drift
+    X, Y, Z in um and the tilts A, B in urad (a heading that wrote um for every channel, or no unit,
+    would pass a check on Z alone), and its columns read segment, min, max, mean, the 2-std band
+    and the 95th percentile of |value|; the speed-step table's note names each channel's unit."""
+    from validate.iso230_report import sections
+
+    secs = dict(sections(evaluate(synthetic(), "spindle", segment=3600.0)))
+    lines = secs["Segment statistics"]
+    assert [ln for ln in lines if ln.startswith("**")] == ["**X** [um]", "**Y** [um]", "**Z** [um]",
+                                                             "**A** [urad]", "**B** [urad]"]
+    i = lines.index("**B** [urad]")
+    assert lines[i + 2] == "| segment | min | max | mean | mean -/+ 2 std | 95th percentile of abs. value |"
+    assert lines[i + 4].startswith("| 0-1 h | -2.458 | -0.000 |")   # B = -5 t / 2 h: -5 * 59/120 at 59 min
+    assert secs["Range within each speed step"][-1] == "Units: X [um], Y [um], Z [um], A [urad], B [urad]."
+
+
+def test_the_reports_conditional_notes_appear_only_for_their_test():
+    """The ISO 230-3 caution (not for comparing machines) belongs to the ETVE alone: a spindle and
+    an axis evaluation of the same record carry neither the section nor the text; the room-air
+    line appears only when the record logs the air, the speed-step table and its units note only
+    for the spindle test."""
+    from validate.iso230_report import markdown, sections
+
+    ds = synthetic()
+    etve, spindle = dict(sections(evaluate(ds, "etve"))), dict(sections(evaluate(ds, "spindle")))
+    moved = evaluate(ds.assign_attrs(moved_axes="Z").drop_vars("spindle_speed"), "axis")
+    assert "Caution" in etve and "not to be used to compare machines" in etve["Caution"][0]
+    for other in (spindle, dict(sections(moved))):
+        assert "Caution" not in other
+        assert not any("compare machines" in ln for body in other.values() for ln in body)
+    assert "not to be used to compare machines" not in markdown(evaluate(ds, "spindle"))
+    assert "Range within each speed step" in spindle and "Range within each speed step" not in etve
+    assert any(ln.startswith("Room air range over the test: 2.500 K") for ln in spindle["Maximum range over the test"])
+    dry = dict(sections(evaluate(ds.drop_vars("ambient_temperature"), "spindle")))
+    assert not any("Room air" in ln for ln in dry["Maximum range over the test"])
+
+
+def test_a_segment_without_samples_has_no_row_and_the_later_ones_still_do():
+    """Interferometer runs at 0, 10, 20 min and 2 h 10, 2 h 20 min in 1 h segments: the segment
+    1-2 h holds no run and gets no row (no statistics of nothing), and the segment after it still
+    gets its own: rows '0-1 h' over the first three runs and '2-2.33 h' over the last two."""
+    from validate.iso230 import Channel, Evaluation
+    from validate.iso230_report import sections
+
+    t = np.array([0.0, 600.0, 1200.0, 7800.0, 8400.0])
+    ev = Evaluation("axis", "r.nc", t, [Channel("target 100 mm", "um", np.array([0.0, 1.0, 2.0, 5.0, 7.0]))],
+                    None, segments_of(t, 3600.0), runs=True)
+    assert len(ev.segments) == 3
+    stats = ev.segment_stats()["target 100 mm"]
+    assert [(s["start"], s["end"], s["min"], s["max"]) for s in stats] == [(0.0, 3600.0, 0.0, 2.0),
+                                                                             (7200.0, 8400.0, 5.0, 7.0)]
+    rows = [ln for ln in dict(sections(ev))["Segment statistics"] if ln.startswith("| ") and "h |" in ln]
+    assert [r.split(" | ")[0] for r in rows] == ["| 0-1 h", "| 2-2.33 h"]

@@ -301,3 +301,69 @@ def test_a_measurement_pair_is_written_whole_or_not_at_all(tmp_path, monkeypatch
         write_measurement(result_dataset(), tmp_path, "run", "cframe-vmc")
     assert err.value.source.endswith("run.toml")
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_a_written_file_is_readable_by_everyone_not_only_its_owner(tmp_path):
+    """atomic_write writes through ``tempfile.mkstemp``, which makes the file 0o600 (owner only);
+    it sets 0o644 before the rename, so a result in a shared folder reads like one ``open()``
+    would write under the usual umask 022 (others may read it), whatever the mkstemp default."""
+    import stat
+
+    from twin.io.atomic import atomic_write_text
+
+    path = atomic_write_text(tmp_path / "a.txt", "x")
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
+    (tmp_path / "b.txt").write_text("old")
+    os.chmod(tmp_path / "b.txt", 0o600)
+    assert stat.S_IMODE(atomic_write_text(tmp_path / "b.txt", "new").stat().st_mode) == 0o644
+
+
+def test_an_existing_read_only_output_is_refused_and_kept(tmp_path, monkeypatch):
+    """An output that exists and is not writable is refused ("exists and is read-only", naming
+    the field) before anything is written, and the file stays as it was; a writable one is
+    accepted. The suite runs as root, for whom os.access always says writable (the fuzz suite's
+    read-only cases are skipped as root), so os.access is made to say no for that one file."""
+    from twin.io import paths
+    from twin.io.atomic import atomic_write_text
+    from twin.io.paths import output_file
+
+    locked, free = tmp_path / "locked.csv", tmp_path / "free.csv"
+    locked.write_text("kept")
+    free.write_text("old")
+    real = os.access
+
+    def access(path, mode, *args, **kwargs):
+        if os.path.abspath(path) == str(locked) and mode & os.W_OK:
+            return False
+        return real(path, mode, *args, **kwargs)
+
+    monkeypatch.setattr(paths.os, "access", access)
+    with pytest.raises(InputError) as err:
+        output_file(locked, "-o")
+    assert (err.value.field, err.value.message) == ("-o", "exists and is read-only")
+    with pytest.raises(InputError, match="exists and is read-only"):
+        atomic_write_text(locked, "replaced")
+    assert locked.read_text() == "kept"
+    assert output_file(free, "-o") == free
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["free.csv", "locked.csv"]
+
+
+def test_a_result_whose_time_repeats_a_value_is_refused(tmp_path):
+    """read_result needs a strictly increasing time: a repeated time (a step of 0 s, as a logger
+    writes twice in one tick) is refused like a backwards one (diff <= 0, not only < 0): an
+    interpolation or a time step over it would divide by zero."""
+    from tests.fuzz_files import result_dataset
+    from twin.io.results import read_result
+
+    ds = result_dataset()
+    t = ds.time.values.copy()
+    t[2] = t[1]                                   # 0, 60, 60, 180 ...
+    path = tmp_path / "r.nc"
+    ds.assign_coords(time=("time", t, {"units": "s"})).to_netcdf(path, engine="h5netcdf")
+    with pytest.raises(InputError) as err:
+        read_result(path, "result")
+    assert err.value.field == "time"
+    assert err.value.message == "time is not increasing at sample 3 (60 -> 60 s)"
+    t[2] = t[1] + 1e-3                            # a millisecond later is increasing
+    ds.assign_coords(time=("time", t, {"units": "s"})).to_netcdf(tmp_path / "ok.nc", engine="h5netcdf")
+    assert read_result(tmp_path / "ok.nc", "result").sizes["time"] == ds.sizes["time"]

@@ -310,3 +310,56 @@ def test_ambient_flat_after_a_rise_is_steady_not_falling():
     amb = 20.0 + np.minimum(t, 3 * 3600) / 3600.0
     ph = detect_phases(t, None, amb)
     assert [p.label for p in ph if p.kind == "ambient"] == ["ambient rising", "ambient steady"]
+
+
+def test_probe_laser_and_strain_readings_are_nulled_at_the_first_sample(tmp_path):
+    """The module doc of twin/io/measurement.py: probe, laser and strain readings are zeroed at the
+    first sample (the probes are nulled at the start, as the twin's are; its strains are changes
+    from a zero-strain start). A log whose probe starts at 5 um reads 0, 0.5, 1.5 um: its changes,
+    not its offset, which would otherwise read as 5 um of drift at t = 0; likewise a laser from
+    2 mm and a gauge from 100 um/m."""
+    csv = "min,pX1,T\n0,5.0,20.0\n1,5.5,20.1\n2,6.5,20.2\n"
+    mapping = ('machine = "cframe-vmc"\n[columns.min]\nrole = "time"\nunit = "min"\n[columns.pX1]\n'
+               'role = "probe"\nprobe = "X1"\nunit = "um"\n[columns.T]\nrole = "temperature"\nsite = "motor"\n'
+               'unit = "degC"\n')
+    (tmp_path / "m.csv").write_text(csv)
+    (tmp_path / "m.toml").write_text(mapping)
+    meas = read_measurement(tmp_path / "m.csv")
+    np.testing.assert_allclose(meas.probe.sel(probe_id="X1").values, [0.0, 0.5, 1.5], atol=1e-12)
+    gantry_csv = "min,lz,F1\n0,2.0,100\n1,2.001,101\n2,2.003,103\n"
+    gantry_map = ('machine = "gantry-ram"\n[columns.min]\nrole = "time"\nunit = "min"\n[columns.lz]\n'
+                  'role = "laser"\nlaser = "Z"\nunit = "mm"\n[columns.F1]\nrole = "strain"\ngauge = "FBG-1"\n'
+                  'reading = "compensated"\nunit = "ppm"\n')
+    (tmp_path / "g.csv").write_text(gantry_csv)
+    (tmp_path / "g.toml").write_text(gantry_map)
+    meas = read_measurement(tmp_path / "g.csv")
+    np.testing.assert_allclose(meas.laser.sel(laser_id="Z").values, [0.0, 1.0, 3.0], atol=1e-9)
+    np.testing.assert_allclose(meas.strain.sel(gauge="FBG-1").values, [0.0, 1.0, 3.0], atol=1e-9)
+
+
+def test_a_time_gap_of_three_median_steps_is_kept_and_a_longer_one_refused():
+    """check_times (twin/io/measurement.py): a record may pause for up to three median sampling
+    intervals; a gap of more is refused (a logger that stopped). The boundary is inclusive: 1 s
+    sampling with a 3 s gap passes, a 3.01 s gap is refused, naming where and the median."""
+    from twin.io.measurement import check_times
+
+    check_times(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 7.0]), "m.csv", "t")          # exactly 3 x the median
+    check_times(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 6.99]), "m.csv", "t")
+    with pytest.raises(InputError) as err:
+        check_times(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 7.01]), "m.csv", "t")
+    assert err.value.field == "t"
+    assert err.value.message == "gap of 3.01 s after t = 4 s (more than 3 x the median interval 1 s)"
+
+
+def test_a_speed_within_the_tolerance_of_zero_is_a_stop():
+    """speed_steps: a step whose median speed lies within ``tolerance`` (50 rpm by default) of
+    0 is a stop, 0 rpm (a run-down residue or an encoder's jitter at rest is no spindle load);
+    the boundary is inclusive: 49.9 and 50 rpm are 0, 50.1 rpm is kept, and a larger tolerance
+    moves the boundary with it."""
+    t = np.arange(4) * 60.0
+    for n, expected in ((49.9, 0.0), (50.0, 0.0), (50.1, 50.1)):
+        assert speed_steps(t, np.full(4, n)) == [(0.0, 180.0, expected)]
+    assert speed_steps(t, np.full(4, 80.0), tolerance=100.0)[0][2] == 0.0
+    assert speed_steps(t, np.full(4, 80.0), tolerance=50.0)[0][2] == 80.0
+    run_down = np.array([0.0, 3000.0, 3000.0, 30.0])
+    assert [s[2] for s in speed_steps(t, run_down)] == [0.0, 3000.0, 0.0]

@@ -1,5 +1,6 @@
 """validate.report_map.region_map on stub inputs: a two-part machine of one box each, a diagnosis
-with two regions of fitted powers 80 W and -120 W, two temperature sensors and one probe."""
+with two regions of fitted powers 80 W and -120 W, two temperature sensors and one probe; and the
+report's measured-vs-model figure (validate.report._worst_channels), which channels it plots."""
 
 from __future__ import annotations
 
@@ -65,3 +66,27 @@ def test_region_map_power_scale_is_symmetric_and_sensors_show_the_residual_after
         assert sc.norm.vmin == 0 and sc.norm.vmax == 3.0
     finally:
         plt.close(fig)
+
+
+def test_measured_vs_model_figure_plots_the_six_worst_weighted_channels_worst_first(monkeypatch):
+    """The report's 'worst channels' figure: eight channels with constant residuals [1 .. 8] (RMSE
+    = the offset) and weights that reorder them (RMSE x weight = [4, 0.8, 6, 1, 7.5, 2.4, 3.5,
+    8]); the six panels, top to bottom, are the largest RMSE x weight first, channels 8, 5, 3, 1,
+    7, 6 (not the plain-RMSE order 8, 7, 6, 5, 4, 3, not the best ones, not the first six), each
+    titled with its own unweighted RMSE and unit."""
+    import validate.report as R
+
+    figs = []
+    monkeypatch.setattr(R, "_png", lambda fig: figs.append(fig) or "png")
+    n_t, offsets = 5, np.arange(1.0, 9.0)
+    weights = np.array([4.0, 0.4, 2.0, 0.25, 1.5, 0.4, 0.5, 1.0])
+    model = np.tile(np.linspace(20.0, 21.0, n_t)[:, None], (1, 8))
+    rec = NS(times=np.arange(n_t) * 600.0, t0=0.0, measured=model + offsets, model=model, weights=weights,
+             phases=[], groups=["temperature"] * 4 + ["probe"] * 4, channels=[f"c{k}" for k in range(1, 9)])
+    assert R._worst_channels(NS(candidates=[]), rec, None) == "png"
+    try:
+        titles = [ax.get_title(loc="left") for ax in figs[0].axes]
+        assert [t.split(":")[0] for t in titles] == ["c8", "c5", "c3", "c1", "c7", "c6"]
+        assert titles[0] == "c8: RMSE 8 um" and titles[3] == "c1: RMSE 1 K"
+    finally:
+        plt.close(figs[0])
