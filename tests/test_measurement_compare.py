@@ -312,27 +312,31 @@ def test_ambient_flat_after_a_rise_is_steady_not_falling():
     assert [p.label for p in ph if p.kind == "ambient"] == ["ambient rising", "ambient steady"]
 
 
+def _read_written(folder, stem, csv, mapping):
+    """The measurement ``stem.csv`` with its mapping ``stem.toml``, written into ``folder`` and read."""
+    (folder / f"{stem}.csv").write_text(csv)
+    (folder / f"{stem}.toml").write_text(mapping)
+    return read_measurement(folder / f"{stem}.csv")
+
+
 def test_probe_laser_and_strain_readings_are_nulled_at_the_first_sample(tmp_path):
     """The module doc of twin/io/measurement.py: probe, laser and strain readings are zeroed at the
     first sample (the probes are nulled at the start, as the twin's are; its strains are changes
     from a zero-strain start). A log whose probe starts at 5 um reads 0, 0.5, 1.5 um: its changes,
     not its offset, which would otherwise read as 5 um of drift at t = 0; likewise a laser from
     2 mm and a gauge from 100 um/m."""
-    csv = "min,pX1,T\n0,5.0,20.0\n1,5.5,20.1\n2,6.5,20.2\n"
-    mapping = ('machine = "cframe-vmc"\n[columns.min]\nrole = "time"\nunit = "min"\n[columns.pX1]\n'
-               'role = "probe"\nprobe = "X1"\nunit = "um"\n[columns.T]\nrole = "temperature"\nsite = "motor"\n'
-               'unit = "degC"\n')
-    (tmp_path / "m.csv").write_text(csv)
-    (tmp_path / "m.toml").write_text(mapping)
-    meas = read_measurement(tmp_path / "m.csv")
+    def column(name, role, unit, **keys):
+        extra = "".join(f'{k} = "{v}"\n' for k, v in keys.items())
+        return f'[columns.{name}]\nrole = "{role}"\nunit = "{unit}"\n{extra}'
+
+    time = column("min", "time", "min")
+    meas = _read_written(tmp_path, "m", "min,pX1,T\n0,5.0,20.0\n1,5.5,20.1\n2,6.5,20.2\n",
+                         'machine = "cframe-vmc"\n' + time + column("pX1", "probe", "um", probe="X1")
+                         + column("T", "temperature", "degC", site="motor"))
     np.testing.assert_allclose(meas.probe.sel(probe_id="X1").values, [0.0, 0.5, 1.5], atol=1e-12)
-    gantry_csv = "min,lz,F1\n0,2.0,100\n1,2.001,101\n2,2.003,103\n"
-    gantry_map = ('machine = "gantry-ram"\n[columns.min]\nrole = "time"\nunit = "min"\n[columns.lz]\n'
-                  'role = "laser"\nlaser = "Z"\nunit = "mm"\n[columns.F1]\nrole = "strain"\ngauge = "FBG-1"\n'
-                  'reading = "compensated"\nunit = "ppm"\n')
-    (tmp_path / "g.csv").write_text(gantry_csv)
-    (tmp_path / "g.toml").write_text(gantry_map)
-    meas = read_measurement(tmp_path / "g.csv")
+    meas = _read_written(tmp_path, "g", "min,lz,F1\n0,2.0,100\n1,2.001,101\n2,2.003,103\n",
+                         'machine = "gantry-ram"\n' + time + column("lz", "laser", "mm", laser="Z")
+                         + column("F1", "strain", "ppm", gauge="FBG-1", reading="compensated"))
     np.testing.assert_allclose(meas.laser.sel(laser_id="Z").values, [0.0, 1.0, 3.0], atol=1e-9)
     np.testing.assert_allclose(meas.strain.sel(gauge="FBG-1").values, [0.0, 1.0, 3.0], atol=1e-9)
 
