@@ -92,3 +92,17 @@ def test_only_command_modules_print():
                       and any(isinstance(n, ast.Call) and getattr(n.func, "id", None) == "print"
                               for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))))
     assert printing == []
+
+
+def test_a_script_guard_is_the_last_statement_of_its_module():
+    """``if __name__ == "__main__": raise SystemExit(main())`` runs ``main`` when the module is run
+    as a command (``python -m validate.studies...``); anything defined below it does not exist yet
+    then, while an import (as the tests do) defines it. ``machine_b_anfis`` kept a helper below its
+    guard and failed with a NameError as a command only."""
+    late = []
+    for name, path in modules().items():
+        body = ast.parse(path.read_text(encoding="utf-8")).body
+        for i, node in enumerate(body):
+            if isinstance(node, ast.If) and "__name__" in ast.unparse(node.test) and i != len(body) - 1:
+                late.append(f"{name}: line {node.lineno}")
+    assert not late, "statements after the script guard:\n" + "\n".join(late)

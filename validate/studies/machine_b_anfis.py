@@ -107,6 +107,17 @@ def plot(path: Path, runs, preds, label: str):
     plt.close(fig)
 
 
+SEED_PEAK_Y = {"I": 25.0, "II": 35.0, "III": 40.0, "IV": 39.0, "V": 64.0, "VI": 79.0}   # thesis Figs 5-x [um]
+
+
+def _y_against_seed(runs) -> str:
+    """'; the twin's Y is 0.2-0.4 of the seed's (README)' from the runs' peaks, for the tests both have."""
+    ratios = [float(np.abs(r.y).max()) / SEED_PEAK_Y[k] for k, r in runs.items() if k in SEED_PEAK_Y]
+    if not ratios:
+        return ""
+    return f"; the twin's Y is {min(ratios):.2g}-{max(ratios):.2g} of the seed's (README)"
+
+
 def main(argv=None) -> int:
     return study_main(NAME, __doc__, argv, _run, ("anfis.csv", "anfis.md", "anfis.png"))
 
@@ -156,14 +167,3 @@ def _run(args, out: Path) -> int:
 
 if __name__ == "__main__":
     raise SystemExit(main())
-
-
-SEED_PEAK_Y = {"I": 25.0, "II": 35.0, "III": 40.0, "IV": 39.0, "V": 64.0, "VI": 79.0}   # thesis Figs 5-x [um]
-
-
-def _y_against_seed(runs) -> str:
-    """'; the twin's Y is 0.2-0.4 of the seed's (README)' from the runs' peaks, for the tests both have."""
-    ratios = [float(np.abs(r.y).max()) / SEED_PEAK_Y[k] for k, r in runs.items() if k in SEED_PEAK_Y]
-    if not ratios:
-        return ""
-    return f"; the twin's Y is {min(ratios):.2g}-{max(ratios):.2g} of the seed's (README)"
