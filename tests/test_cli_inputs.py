@@ -22,6 +22,18 @@ def _error(capsys, argv):
     return err
 
 
+def test_version_and_a_bare_twin(capsys):
+    """``twin --version`` prints the installed version, the one every result records
+    (``package_version`` attribute); a bare ``twin`` names the commands in its one-line error."""
+    from importlib.metadata import version
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"thermal-twin {version('thermal-twin')}"
+    err = _error(capsys, [])
+    assert err.startswith("error: command line: twin: give a command: list, simulate, plot, frames, dataset, ")
+    assert all(c in err for c in ("compare", "demo", "diagnose", "learn", "report", "`twin -h`"))
+
+
 @pytest.mark.parametrize("what", ["machines", "scenarios", "effects", "instruments"])
 def test_list(capsys, what):
     assert main(["list", what]) == 0

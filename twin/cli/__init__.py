@@ -53,6 +53,9 @@ class Parser(argparse.ArgumentParser):
         self.register("action", "store", _Once)
 
     def error(self, message):
+        if message.endswith("required: command"):     # a bare ``twin``: say which commands there are
+            commands = next(a.choices for a in self._actions if isinstance(a, argparse._SubParsersAction))
+            message = f"give a command: {', '.join(commands)} (`twin -h` says what each does)"
         field, sep, rest = message.partition(": ") if message.startswith("argument ") else ("", "", message)
         field = field.removeprefix("argument ") if sep else self.prog
         self.exit(2, f"error: command line: {field}: {rest if sep else message}\n")
@@ -71,7 +74,10 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     start of ``twin simulate``; otherwise (``twin --help``, an unknown word) every command."""
     from twin.cli import cmd_dataset, cmd_frames, cmd_list, cmd_plot, cmd_simulate
 
+    from twin.version import package_version
+
     parser = Parser(prog="twin", description="thermal-twin: digital twin of CNC machine-tool thermal errors")
+    parser.add_argument("--version", action="version", version=f"thermal-twin {package_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     builtin = {"list": cmd_list, "simulate": cmd_simulate, "plot": cmd_plot, "frames": cmd_frames,
                "dataset": cmd_dataset}

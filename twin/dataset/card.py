@@ -21,7 +21,7 @@ from twin.dataset.runner import CASES, is_whole
 from twin.errors import InputError, describe
 from twin.io.atomic import atomic_write, atomic_write_text, check_writable
 from twin.io.paths import output_folder
-from twin.io.results import package_version
+from twin.version import package_version
 
 INDEX_FILES = ("index.csv", "index.parquet", "card.json", "README.md")
 INPUTS = ("spindle_speed", "ambient_temperature")

@@ -30,7 +30,7 @@ import numpy as np
 from twin.dataset.families import AxisDuty, DutyCycle
 from twin.dataset.spec import DatasetSpec
 from twin.errors import InputError, describe
-from twin.io.results import package_version
+from twin.version import package_version
 from twin.scenario import scenario_from_dict
 from twin.motion import stroke_time
 from twin.units import CANONICAL, parse_quantity

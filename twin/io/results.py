@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import json
 import os
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import numpy as np
@@ -29,13 +28,7 @@ from twin.errors import InputError, describe
 from twin.io.atomic import atomic_write
 from twin.io.paths import NETCDF_SUFFIXES, as_path, input_file
 from twin.observe.base import variable
-
-
-def package_version() -> str:
-    try:
-        return version("thermal-twin")
-    except PackageNotFoundError:  # running from a source tree
-        return "0+unknown"
+from twin.version import package_version
 
 
 def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "") -> xr.Dataset:
