@@ -340,3 +340,25 @@ def test_scenario_summary_is_weighted_by_duration(tmp_path):
     assert case.info["mean_speed [rpm]"] == pytest.approx(250.0, rel=1e-12)
     assert case.info["running_fraction"] == pytest.approx(0.25, rel=1e-12)
     assert case.info["max_speed [rpm]"] == pytest.approx(1000.0, rel=1e-12)
+
+
+def test_a_full_disk_while_the_index_is_written_leaves_the_old_set(tmp_path, monkeypatch):
+    """write_index's four files (index.csv, index.parquet, card.json, README.md) belong together:
+    a disk that fills after the third leaves the set written before, byte for byte, with no new
+    file beside it (each went to its temporary file; all four are renamed only when all are whole).
+    Before, index.csv and index.parquet were replaced and the card kept describing the old ones."""
+    from twin.dataset import write_index
+    from twin.errors import InputError
+    from twin.io import atomic
+
+    spec = load_spec(write_spec(tmp_path))
+    out = tmp_path / "out"
+    out.mkdir()
+    write_index(spec, plan(spec)[:1], out)
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    free = iter([10 ** 12, 10 ** 12, 10])              # index.csv and .parquet fit, card.json fills the disk
+    monkeypatch.setattr(atomic, "free_space", lambda folder: next(free))
+    with pytest.raises(InputError, match="the disk is full") as err:
+        write_index(spec, plan(spec), out)
+    assert err.value.source.endswith("card.json")
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before

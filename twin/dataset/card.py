@@ -19,7 +19,7 @@ from twin.dataset.plan import FORMAT, Case, check_cases, spec_key
 from twin.dataset.spec import DatasetSpec
 from twin.dataset.runner import CASES, is_whole
 from twin.errors import InputError, describe
-from twin.io.atomic import atomic_write, atomic_write_text, check_writable
+from twin.io.atomic import atomic_write_all, check_writable, text_writer
 from twin.io.paths import output_folder
 from twin.version import package_version
 
@@ -169,7 +169,8 @@ def write_index(spec, cases: list[Case], folder: Path, last_build: dict | None =
     """Write index.csv, index.parquet, card.json and README.md into ``folder`` (atomically, each);
     returns the index rows. ``cases`` are of ``spec``'s plan (:func:`twin.dataset.plan.plan`,
     all or some: a card never mixes a spec with another's cases); the four files are checked before any is
-    written, so a failure leaves the set as it was."""
+    written and renamed into place only when all four are whole (:func:`twin.io.atomic.atomic_write_all`),
+    so a failure (a full disk at the third) leaves the set as it was."""
     import pandas as pd
 
     cases = check_cases(cases, "write_index")
@@ -179,14 +180,13 @@ def write_index(spec, cases: list[Case], folder: Path, last_build: dict | None =
     if any(c.spec_key != key for c in cases):   # planned from this spec (replanning it took 3 ms a case)
         raise InputError("write_index", "cases", f"are not of the plan of spec {spec.name!r} (twin.dataset.plan.plan(spec))")
     folder = output_folder(folder, "folder")
-    names = ("index.csv", "index.parquet", "card.json", "README.md")
-    for name in names:
+    for name in ("index.csv", "index.parquet", "card.json", "README.md"):
         check_writable(folder / name, "index")
     rows = index_rows(cases, folder)
     c = card(spec, rows, folder, last_build)
     frame = pd.DataFrame(rows)
-    atomic_write(folder / "index.csv", lambda tmp: frame.to_csv(tmp, index=False), "index")
-    atomic_write(folder / "index.parquet", lambda tmp: frame.to_parquet(tmp, index=False, engine="pyarrow"), "index")
-    atomic_write_text(folder / "card.json", json.dumps(c, indent=2, sort_keys=False) + "\n", "card")
-    atomic_write_text(folder / "README.md", markdown(c), "card")
+    atomic_write_all([(folder / "index.csv", lambda tmp: frame.to_csv(tmp, index=False)),
+                      (folder / "index.parquet", lambda tmp: frame.to_parquet(tmp, index=False, engine="pyarrow")),
+                      (folder / "card.json", text_writer(json.dumps(c, indent=2, sort_keys=False) + "\n")),
+                      (folder / "README.md", text_writer(markdown(c)))], "index")
     return rows
