@@ -22,6 +22,14 @@ def _error(capsys, argv):
     return err
 
 
+def test_list_effects_names_its_machine_option(capsys):
+    """``twin list effects --machine nope`` names the option that gave the name (it said ``machine``,
+    the positional argument of ``twin simulate``)."""
+    err = _error(capsys, ["list", "effects", "--machine", "nope"])
+    assert err == ("error: command line: --machine: unknown machine 'nope'; known: belt-vmc, cframe-vmc, "
+                   "gantry-ram")
+
+
 def test_version_and_a_bare_twin(capsys):
     """``twin --version`` prints the installed version, the one every result records
     (``package_version`` attribute); a bare ``twin`` names the commands in its one-line error."""

@@ -115,7 +115,7 @@ def test_camera_benchmark_checks_the_scenario_against_the_machine(fast_scenario,
     (["--machine", "belt-vmc", "--machine", "cframe-vmc"], "command line: --machine: given more than once"),
     (["--spacing", "100"], "command line: --spacing: '100' has no unit"),
     (["--spacing", "20mm", "--mesh", "coarse"], "--spacing or --mesh, not both"),
-    (["--machine", "bogus"], "unknown machine 'bogus'"),
+    (["--machine", "bogus"], "command line: --machine: unknown machine 'bogus'"),
     # options that would do nothing in the run asked for (a silent no-op reads as a measurement)
     (["--solver", "direct", "--rom-order", "10"], "command line: --rom-order: sets a reduced basis"),
     (["--mesh", "coarse", "--rom-order", "10"], "--rom-order: sets the reduced basis of the reduced model or of "
@@ -146,7 +146,7 @@ def test_benchmark_refuses_bad_options(argv, needle, capsys):
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["--machine", "bogus"], "unknown machine 'bogus'"),
+    (["--machine", "bogus"], "command line: --machine: unknown machine 'bogus'"),
     (["--scenario", "bogus"], "unknown scenario 'bogus'"),
     (["--camera", "bogus"], "command line: --camera: machine cframe-vmc has no camera pose 'bogus'"),
     (["--mesh", "bogus"], "command line: --mesh: invalid choice"),

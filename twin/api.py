@@ -28,13 +28,14 @@ from twin.simulate import RunResult, run
 CLI = "command line"   # the source named in errors about the arguments (the CLI's, and Python's alike)
 
 
-def machine_by_name(name: str):
-    """Build a registered machine; unknown names raise InputError."""
+def machine_by_name(name: str, field: str = "machine"):
+    """Build a registered machine; unknown names raise InputError naming ``field`` (the argument
+    or option that gave the name: ``machine``, ``--machine``)."""
     if not isinstance(name, str):
         hint = f" (pass its name, {name.name!r})" if isinstance(getattr(name, "name", None), str) else ""
-        raise InputError("command line", "machine", f"expected a machine's name, got {describe(name)}{hint}")
+        raise InputError("command line", field, f"expected a machine's name, got {describe(name)}{hint}")
     if name not in MACHINES:
-        raise InputError("command line", "machine", f"unknown machine {name!r}; known: {', '.join(sorted(MACHINES))}")
+        raise InputError("command line", field, f"unknown machine {name!r}; known: {', '.join(sorted(MACHINES))}")
     return build_machine(name)
 
 

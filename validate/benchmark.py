@@ -124,7 +124,7 @@ def _run(args) -> int:
     if args.spacing is not None and args.mesh is not None:
         raise InputError("command line", "--spacing", "give --spacing or --mesh, not both")
     _check_combination(args)
-    machine = machine_by_name(args.machine)
+    machine = machine_by_name(args.machine, "--machine")
     scenario = load_scenario(args.scenario)
     limits.check_scenario(scenario, machine)
     limits.check_batch_size(args.cases, len(scenario.times()), "command line", "--cases")   # before the mesh

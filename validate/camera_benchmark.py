@@ -75,7 +75,7 @@ def _run(args) -> int:
     from twin.scenario import load_scenario
     from validate.studies.common import check_output_folder
 
-    m = machine_by_name(args.machine)
+    m = machine_by_name(args.machine, "--machine")
     files = Files()
     declare_scenario(files, args.scenario)
     sc = load_scenario(args.scenario)

@@ -80,7 +80,7 @@ def _run(args) -> int:
     except InputError:
         raise InputError("command line", "python -m validate.gpu_step_benchmark",
                          "needs CuPy (pip install cupy-cuda12x) and a CUDA GPU") from None
-    machine, scenario = machine_by_name(args.machine), load_scenario(args.scenario)
+    machine, scenario = machine_by_name(args.machine, "--machine"), load_scenario(args.scenario)
     limits.check_scenario(scenario, machine)
     mm = build_mesh(machine, args.spacing)
     limits.check_run_size(scenario, mm.nheat)

@@ -21,11 +21,15 @@ def measured_machine(meas, args, source: str | None = None):
     named = meas.attrs.get("machine")
     if args.machine and named and args.machine != named:
         raise InputError(source, "machine", f"the measurement is of {named!r}, --machine says {args.machine!r}")
-    name = args.machine or named
-    if not name:
+    if args.machine:
+        return machine_by_name(args.machine, "--machine")
+    if not named:
         raise InputError(source, "machine", "the measurement does not name its machine; give --machine "
                                             f"(known: {', '.join(sorted(MACHINES))})")
-    return machine_by_name(name)
+    try:
+        return machine_by_name(named)
+    except InputError as err:    # a result's attribute naming a machine this version does not have
+        raise InputError(source, "machine", err.message) from None
 
 
 def measurement_paths(args) -> list[str]:

@@ -62,7 +62,7 @@ def _effects(machine_name: str | None) -> None:
             show(name, f" (default on {', '.join(default)})" if default else "",
                  f"\n  applies to: {', '.join(on) or 'no bundled machine'}")
         return
-    base = machine_by_name(machine_name)
+    base = machine_by_name(machine_name, "--machine")
     m = with_feed_drives(base)
     refused = []
     for name in sorted(EFFECTS):
