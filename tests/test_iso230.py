@@ -297,3 +297,38 @@ def test_a_segment_without_samples_has_no_row_and_the_later_ones_still_do():
                                                                              (7200.0, 8400.0, 5.0, 7.0)]
     rows = [ln for ln in dict(sections(ev))["Segment statistics"] if ln.startswith("| ") and "h |" in ln]
     assert [r.split(" | ")[0] for r in rows] == ["| 0-1 h", "| 2-2.33 h"]
+
+
+def test_a_record_that_departs_from_the_tests_conditions_is_evaluated_and_says_so(tmp_path, capsys):
+    """An ETVE test keeps the machine idle over a room that varies (seed 000's ETVE tests:
+    "spindle stationary"); a spindle test moves no axis; an axis test turns no spindle. A record
+    that departs is still evaluated, and the report, its HTML and the command's output say how:
+    here the spindle turning in an ETVE evaluation, a room still to less than 0.1 K, axes moved in
+    a spindle evaluation, the spindle turning in an axis evaluation; an idle record in a varying
+    room departs from nothing."""
+    from twin.cli import main
+    from validate.iso230 import STILL_AIR_K
+    from validate.iso230_report import sections
+
+    ds = synthetic()
+    assert evaluate(synthetic(speed=False), "etve").departures == []
+    assert evaluate(ds, "spindle").departures == []
+    turning = evaluate(ds, "etve").departures
+    assert turning == ["The spindle turned (up to 6000 rpm): an ETVE test keeps the machine idle, so these ranges "
+                       "hold the spindle's own heat as well as the room's."]
+    still = ds.assign(ambient_temperature=("time", np.full(ds.sizes["time"], 20.0) + 0.99 * STILL_AIR_K
+                                           * (ds.time.values == ds.time.values[-1]), {"units": "degC"}))
+    assert [d.split(":")[0] for d in evaluate(still.assign(spindle_speed=0.0 * still.spindle_speed), "etve").departures] \
+        == ["The room air varied by 0.099 K only (less than 0.1 K)"]
+    assert evaluate(ds.assign_attrs(moved_axes="X,Z"), "spindle").departures == [
+        "Axes moved (X,Z): the ranges hold the feed drives' heat as well as the spindle's."]
+    assert evaluate(ds.assign_attrs(moved_axes="Z"), "axis").departures[0].startswith(
+        "The spindle turned (up to 6000 rpm) during the axis test")
+    assert dict(sections(evaluate(ds, "etve")))["Departures from the test's conditions"] == [f"- {turning[0]}"]
+    assert "Departures from the test's conditions" not in dict(sections(evaluate(ds, "spindle")))
+    path = tmp_path / "r.nc"
+    ds.to_netcdf(path, engine="h5netcdf")
+    assert main(["report", "iso230-3", str(path), "--test", "etve", "-o", str(tmp_path / "rep")]) == 0
+    assert f"  not as the test asks: {turning[0]}" in capsys.readouterr().out.splitlines()
+    html = (tmp_path / "rep" / "index.html").read_text()
+    assert "<h2>Departures from the test&#x27;s conditions</h2><p>&bull; The spindle turned" in html

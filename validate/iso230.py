@@ -61,6 +61,7 @@ class Evaluation:
     segments: list[tuple[float, float]]    # [start, end) s
     steps: list[tuple[float, float, float]] = field(default_factory=list)   # (start s, end s, rpm)
     conditions: list[tuple[str, str]] = field(default_factory=list)
+    departures: list[str] = field(default_factory=list)   # how the record departs from the test's conditions
     runs: bool = False                     # channels read at interferometer runs (the axis test)
 
     @property
@@ -225,7 +226,39 @@ def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: st
     runs = test == "axis" and "positioning_error" in ds
     ev = Evaluation(test, source, t, channels, air, segments_of(t, length), steps, runs=runs)
     ev.conditions = conditions(ds, ev)
+    ev.departures = departures(ds, ev)
     return ev
+
+
+# the least range of the room air [K] an ETVE evaluation has something to evaluate over: below it
+# the air sensors' own noise (0.05 K in the twin's default sensor model) is a large part of it
+STILL_AIR_K = 0.1
+
+
+def departures(ds: xr.Dataset, ev: Evaluation) -> list[str]:
+    """Where the record departs from the conditions of the test evaluated, each as a sentence for
+    the report: an ETVE test keeps the machine idle (no spindle or C axis turning, no axis moving;
+    seed 000's ETVE tests: "spindle stationary") over a room that varies (at least
+    :data:`STILL_AIR_K`); a spindle test moves no axis; an axis test turns no spindle. The numbers
+    are evaluated all the same: the report says what they hold."""
+    out = []
+    turning = rotating(ds)
+    moved = moved_axes(ds)
+    if ev.test == "etve" and turning is not None:
+        what, speed = turning
+        out.append(f"The {what} turned (up to {np.max(np.abs(speed)):g} rpm): an ETVE test keeps the machine idle, "
+                   f"so these ranges hold the {what}'s own heat as well as the room's.")
+    if ev.test in ("etve", "spindle") and moved:
+        out.append(f"Axes moved ({moved}): the ranges hold the feed drives' heat as well"
+                   + (" as the room's." if ev.test == "etve" else " as the spindle's."))
+    if ev.test == "etve" and ev.air is not None and ev.air_range < STILL_AIR_K:
+        out.append(f"The room air varied by {ev.air_range:.3f} K only (less than {STILL_AIR_K:g} K): there is no "
+                   "environmental variation to evaluate, and the ranges are not the environment's.")
+    if ev.test == "axis" and turning is not None:
+        what, speed = turning
+        out.append(f"The {what} turned (up to {np.max(np.abs(speed)):g} rpm) during the axis test: the changes hold "
+                   f"its heat as well as the moving axes'.")
+    return out
 
 
 def conditions(ds: xr.Dataset, ev: Evaluation) -> list[tuple[str, str]]:

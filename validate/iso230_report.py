@@ -23,6 +23,8 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
 def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
     """(title, Markdown lines) of the report, in order."""
     out = [("Test conditions", _table(["item", "value"], [[k, v] for k, v in ev.conditions]))]
+    if ev.departures:
+        out.append(("Departures from the test's conditions", [f"- {d}" for d in ev.departures]))
     rows = [[c.name, f"{c.range:.3f}", f"{c.values.min():.3f}", f"{c.values.max():.3f}", c.unit] for c in ev.channels]
     lines = _table(["channel", "maximum range", "min", "max", "unit"], rows)
     if ev.air is not None:
@@ -140,6 +142,8 @@ def _html_body(lines: list[str]) -> str:
         flush()
         if line.strip():
             text = html.escape(line)
+            if line.startswith("- "):    # an item of a list: a paragraph with a bullet
+                text = "&bull; " + html.escape(line[2:])
             if line.startswith("**") and "**" in line[2:]:
                 name, rest = line[2:].split("**", 1)
                 text = f"<b>{html.escape(name)}</b>{html.escape(rest)}"
