@@ -135,3 +135,35 @@ def test_simple_shear_gives_the_shear_modulus():
     assert f[bottom, 0].sum() == pytest.approx(-mu * gamma * L * w, rel=1e-12)
     inside = np.all((p > 1e-9) & (p < np.array([L, w, w]) - 1e-9), axis=1)
     assert inside.any() and np.abs(f[inside]).max() < 1e-12 * mu * gamma * L * w
+
+
+def test_rigid_body_modes_store_no_strain_energy():
+    """The AMG's near-null space: the three translations and the three rotations about the
+    centroid, u = t + omega x (x - c), strain nothing, so the unsupported stiffness maps each of the
+    six modes to zero (K B = 0, to round-off relative to |K| |B|), and the six are independent."""
+    from twin.fem.assembly import assemble_elastic
+    from twin.physics.solvers import rigid_body_modes
+    mm = box_body((0.3, 0.1, 0.05), 0.025)
+    K = assemble_elastic(mm).K
+    B = rigid_body_modes(mm.mesh.p.T)
+    assert B.shape == (3 * mm.nnodes, 6) and np.linalg.matrix_rank(B) == 6
+    assert np.abs(K @ B).max() <= 1e-12 * abs(K).max() * np.abs(B).max()
+
+
+def test_amg_solves_each_column_of_a_block_to_its_own_relative_residual():
+    """A block of loads goes through one AMG-CG run with each column held to its own tolerance,
+    ||K u_j - f_j|| <= rtol ||f_j|| (twin.physics.solvers.AmgElastic): a load a million times
+    smaller beside a large one (a bending next to a uniform expansion) is solved as accurately,
+    relative to itself, as when it is alone, and agrees with the direct solution to that accuracy."""
+    mm = box_body((0.25, 0.05, 0.05), 0.0125)
+    amg = ElasticSolver.build(mm, method="amg", rtol=1e-8)
+    direct = ElasticSolver.build(mm)
+    x = mm.mesh.p[0]
+    loads = np.column_stack([amg.matrices.C @ np.full(mm.nnodes, 10.0), 1e-6 * (amg.matrices.C @ (x / 0.25))])
+    loads[amg.fixed] = 0.0
+    u = amg.solve(loads)
+    for j in range(2):
+        f = loads[:, j]
+        assert np.linalg.norm(amg.matrices.K @ u[:, j] - f) <= 1e-8 * np.linalg.norm(f) * (1 + 1e-9), j
+        ref = direct.solve(direct.matrices.C @ ([np.full(mm.nnodes, 10.0), 1e-6 * x / 0.25][j]))
+        assert np.abs(u[:, j] - ref).max() <= 1e-5 * np.abs(ref).max(), j

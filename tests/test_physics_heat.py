@@ -153,3 +153,23 @@ def test_capacity_and_conduction_on_cells_that_are_not_cubes():
         at_end = np.isclose(p[:, d], size[d])
         assert q[at_end].sum() == pytest.approx(steel.conductivity * g[d] * area, rel=1e-12)
         assert q[np.isclose(p[:, d], 0.0)].sum() == pytest.approx(-steel.conductivity * g[d] * area, rel=1e-12)
+
+
+def test_a_cached_factorisation_serves_only_its_own_step_and_theta():
+    """Factorisations kept across runs are keyed by the operator, dt, theta and the films
+    (twin.physics.heat.integrate): M + theta dt A differs for another theta or dt, so runs sharing
+    one cache at theta 1/2, then 1, then dt halved, each equal the same run on a fresh cache (to
+    round-off), and the cache holds one factorisation per (dt, theta)."""
+    mm, system = _slab(spacing=0.01)
+    n = mm.nnodes
+    cache = {}
+
+    def run(dt, theta, factorisations):
+        steps = int(round(600.0 / dt))
+        return integrate(system, np.ones(n), dt, steps, np.full((steps, 1), 450.0), np.zeros((steps, 1)),
+                         np.zeros((steps, 0)), np.eye(n)[::3], theta=theta, factorisations=factorisations,
+                         operator_key=("slab",))[-1]
+
+    for dt, theta in ((20.0, 0.5), (20.0, 1.0), (10.0, 1.0)):
+        np.testing.assert_allclose(run(dt, theta, cache), run(dt, theta, {}), rtol=1e-12, atol=0)
+    assert len(cache) == 3

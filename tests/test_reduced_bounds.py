@@ -96,7 +96,9 @@ def test_the_reduced_bound_sums_the_full_space_residual_of_each_step():
 def test_a_travelling_nut_runs_through_the_reduced_model_within_its_bound(machine):
     """The Y axis reciprocating 20 min with its feed drive (the screws' path basis: a first block
     of moments wider than the default order): the reduced model runs (three whole blocks) and every
-    output stays within its verified bound of the direct run."""
+    output stays within its verified bound of the direct run; its basis is M-orthonormal to
+    round-off (its loads, 32 columns of rank 30, kept a round-off direction of M-norm 5e-6 in the
+    first block, so V^T M V was 1 off the identity, which the bound hid)."""
     from twin.motion import machine_for
     from twin.scenario import scenario_from_dict
     sc = scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
@@ -112,6 +114,10 @@ def test_a_travelling_nut_runs_through_the_reduced_model_within_its_bound(machin
         _, out[kind] = twin.run(sc, spec, _observers(moving))
         info = twin.run_info
     assert info["rom_order"] > 48 and info["rom_estimate_order"] > 0
+    M = twin.loads(sc, spec).system.M
+    assert twin.reduced
+    for model in twin.reduced.values():
+        np.testing.assert_allclose(model.V.T @ (M @ model.V), np.eye(model.order), rtol=0, atol=1e-12)
     for key in out["direct"]:
         err = np.abs(out["rom"][key] - out["direct"][key]).max(axis=0)
         assert np.all(err <= np.asarray(info["rom_error_bound"][key])), key
@@ -136,3 +142,149 @@ def test_residual_gram_is_the_weighted_norm_of_the_reduced_step_residual(monkeyp
         R = Y @ c
         assert c @ G @ c == pytest.approx(R @ (w * R), rel=1e-12)
     np.testing.assert_allclose(G, Y.T @ (w[:, None] * Y), rtol=0, atol=1e-13 * np.abs(G).max())
+
+
+def _two_film_box():
+    """A small steel box (45 nodes) with a film on each end face and two source patterns:
+    (system, n)."""
+    import scipy.sparse as sp
+    from tests.conftest import face
+    from twin.fem.assembly import assemble_facets
+    mm = box_body((0.04, 0.02, 0.02), 0.01, surfaces=[("x0", face(0, 0.0)), ("x1", face(0, 0.04))])
+    heat = assemble_heat(mm)
+    films = [assemble_facets(mm, mm.facets[name]) for name in ("x0", "x1")]
+    F = np.random.default_rng(7).random((mm.nnodes, 2))
+    system = HeatSystem(heat.M, heat.K, [sp.csr_matrix(f.H) for f in films], np.column_stack([f.r for f in films]),
+                        F / F.sum(axis=0))
+    return system, mm.nnodes
+
+
+@pytest.mark.parametrize("theta", [1.0, 0.75])
+def test_a_reduced_model_on_the_whole_space_is_the_full_theta_scheme(theta):
+    """Galerkin on the whole space changes nothing: for a square V with V^T M V = I (V = L^-T,
+    M = L L^T) the reduced step (I + theta dt A_r) z+ = (I - (1 - theta) dt A_r) z + dt V^T f is
+    V^T times the full step, so the reduced model (K_r, H_k,r, F_r, r_k,r and the rows W V, W 1
+    projected as twin.physics.rom projects them) reproduces the full theta-scheme to round-off, at
+    any theta, for films that switch between steps (A_r = K_r + sum_k h_k H_k,r with every film's
+    term) and for batched cases whose films differ (one small solve per case). At theta 1/2, theta
+    and 1 - theta weigh alike, so this needs another theta."""
+    import scipy.sparse as sp
+    from twin.physics.heat import integrate
+    from twin.physics.rom import ReducedModel, residual_gram
+    system, n = _two_film_box()
+    V = np.linalg.inv(np.linalg.cholesky(system.M.toarray())).T
+    Hr = np.stack([V.T @ (Hk @ V) for Hk in system.H])
+    model = ReducedModel(V, V.T @ (system.K @ V), Hr, V.T @ system.F, V.T @ system.r, n // 3, 0.0, residual_gram(system, V))
+    rows = sp.csr_matrix(np.eye(n)[::4])
+    model = model.project_outputs(rows, mass_weights(system.M))
+    steps, dt = 24, 60.0
+    h = np.column_stack([np.full(steps, 50.0), np.where((np.arange(steps) // 6) % 2 == 1, 300.0, 0.0)])
+    air = np.column_stack([np.full(steps, 15.0), 25.0 + np.sin(np.arange(steps))])
+    s = np.random.default_rng(8).random((steps, 2)) * 20.0
+    full = integrate(system, np.full(n, 20.0), dt, steps, h, air, s, rows, theta)
+    got, _ = model.integrate(20.0, dt, steps, h, air, s, theta, bound=False)
+    scale = np.abs(full - 20.0).max()
+    np.testing.assert_allclose(got, full, rtol=0, atol=1e-9 * scale)
+    # two batched cases with different films (one small solve per case and step)
+    h2 = h * np.array([0.5, 2.0])
+    hc, ac, sc = (np.stack([a, b], axis=2) for a, b in ((h, h2), (air, air + 3.0), (s, 0.5 * s)))
+    got, _ = model.integrate(20.0, dt, steps, hc, ac, sc, theta, bound=False)
+    for j in range(2):
+        full = integrate(system, np.full(n, 20.0), dt, steps, hc[:, :, j], ac[:, :, j], sc[:, :, j], rows, theta)
+        np.testing.assert_allclose(got[:, :, j], full, rtol=0, atol=1e-9 * scale)
+
+
+@pytest.mark.parametrize("theta", [1.0, 0.75])
+def test_the_reduced_bound_takes_each_step_residual_at_the_schemes_theta(theta):
+    """The reduced step's full-space residual is R_n = M (u+ - u) + dt A u_theta - dt f_n with the
+    scheme's own u_theta = theta u+ + (1 - theta) u (module docstring of twin.physics.rom): rebuilt
+    from the reduced fields at theta 1 and 3/4 (at 1/2 the two weights are alike) of a small basis
+    (order 6) under inputs that change every step, so the residual dwarfs the Gram sum's round-off
+    allowance, sum_n (R_n^T W R_n)^(1/2) equals the run's reported bound over ||w||_W to 1e-6."""
+    from twin.physics.rom import build_reduced
+    _, system, n, (T0, dt, steps, h, _, _, rows) = _cooled_slab(20)
+    rng = np.random.default_rng(2)
+    s, air = 100.0 * rng.random((steps, 1)), 15.0 + 5.0 * rng.random((steps, 1))
+    model = build_reduced(system, [np.array([300.0])], order=6).project_outputs(rows, mass_weights(system.M))
+    fields = [np.zeros(n)]
+    _, info = model.integrate(20.0, dt, steps, h, air, s, theta, on_step=lambda k, T: fields.append(T - 20.0))
+    w = mass_weights(system.M)
+    A = (system.K + 300.0 * system.H[0]).tocsr()
+    rho = 0.0
+    for k in range(steps):
+        u, v = fields[k], fields[k + 1]
+        R = system.M @ (v - u) + dt * (A @ (theta * v + (1 - theta) * u)) - dt * (
+            system.F[:, 0] * s[k, 0] + h[k, 0] * (air[k, 0] - 20.0) * system.r[:, 0])
+        rho += np.sqrt(R @ (w * R))
+    reported = info["_bound"] / model.output_norms
+    assert np.all(reported >= rho * (1 - 1e-12)) and np.all(reported <= rho * (1 + 1e-6)), (reported[:3], rho)
+
+
+def test_the_basis_is_built_from_the_extremes_of_every_case_s_films(monkeypatch):
+    """reduced_basis builds the reduction from the extremes of each film coefficient over the run
+    (``h`` (nsteps, ncv[, m])), over every step and every batched case, so that both the spindle
+    turning and standing are spanned; from their one value when they are constant; and caches it
+    per operator, source patterns and tolerance."""
+    from types import SimpleNamespace
+
+    import twin.physics.rom as rom
+    calls = []
+    monkeypatch.setattr(rom, "build_reduced", lambda system, refs, *a, **k: calls.append([np.array(r) for r in refs]) or "basis")
+    twin = SimpleNamespace(reduced={}, options=SimpleNamespace(rom_order=48))
+    loads = SimpleNamespace(operator_key=("k",), system=SimpleNamespace(F=np.zeros((4, 1))), convections=[0, 1])
+    h = np.zeros((5, 2, 3))
+    h[:, 0, :] = [10.0, 30.0, 20.0]                       # film 0: constant in time, another per case
+    h[:, 1, :] = np.array([0.0, 150.0, 150.0, 0.0, 40.0])[:, None] * [1.0, 0.5, 2.0]   # film 1 switches
+    assert rom.reduced_basis(twin, loads, h) == "basis"
+    (lo, hi), = calls
+    np.testing.assert_array_equal(lo, [10.0, 0.0])
+    np.testing.assert_array_equal(hi, [30.0, 300.0])
+    assert rom.reduced_basis(twin, loads, 2 * h) == "basis" and len(calls) == 1       # cached
+    calls.clear()
+    rom.reduced_basis(SimpleNamespace(reduced={}, options=twin.options), loads, np.full((5, 2), 7.0))
+    (only,), = calls
+    np.testing.assert_array_equal(only, [7.0, 7.0])
+
+
+def test_the_error_estimate_is_the_difference_from_the_leading_blocks_model():
+    """The estimate is max_t |y_r - y_(r-b)| per output, y_(r-b) the same theta-scheme on the
+    basis's leading columns without its last two blocks (``order_estimate`` of them: K, H, F, R
+    and the observers' rows W V restricted to them): integrated here as a model of its own, the
+    difference equals the reported estimate to round-off."""
+    from twin.physics.rom import ReducedModel, build_reduced
+    _, system, n, (T0, dt, steps, h, air, s, rows) = _cooled_slab(30)
+    model = build_reduced(system, [np.array([300.0])], order=12).project_outputs(rows, mass_weights(system.M))
+    r0 = model.order_estimate
+    assert 0 < r0 < model.order
+    lead = ReducedModel(model.V[:, :r0], model.K[:r0, :r0], model.H[:, :r0, :r0], model.F[:r0], model.R[:r0], r0,
+                        0.0, model.gram, model.outputs[:, :r0], model.ones, model.output_norms)   # gram: read, unused
+    y, info = model.integrate(20.0, dt, steps, h, air, s, bound=False)
+    y0, _ = lead.integrate(20.0, dt, steps, h, air, s, bound=False)
+    expected = np.abs(y - y0).max(axis=0)
+    assert expected.max() > 0
+    np.testing.assert_allclose(info["_estimate"], expected, rtol=1e-9, atol=1e-12 * np.abs(y - 20.0).max())
+
+
+def test_a_basis_wider_than_round_off_allows_is_cut_and_stays_m_orthonormal():
+    """V^T M V = I is what the reduced equations assume (rom's docstring). Fifteen random sources
+    and two films on a 45-node box ask for more moments than the space holds: the Gram matrix's
+    eigenvalues below about 1e-16 of its largest were kept (the drop threshold was absolute,
+    1e-20 of the block's scale squared), so the basis grew to 48 columns in a 45-dimensional space
+    with NaN in them (a square root of a negative round-off eigenvalue). Now the basis stops at
+    the space's dimension, holds no NaN and is M-orthonormal to round-off (1e-12)."""
+    import warnings
+
+    from tests.conftest import face
+    from twin.fem.assembly import assemble_facets
+    from twin.physics.rom import build_reduced
+
+    mm = box_body((0.04, 0.02, 0.02), 0.01, surfaces=[("x0", face(0, 0.0)), ("x1", face(0, 0.04))])
+    heat = assemble_heat(mm)
+    films = [assemble_facets(mm, mm.facets[k]) for k in ("x0", "x1")]
+    F = np.random.default_rng(7).random((mm.nnodes, 15))
+    system = HeatSystem(heat.M, heat.K, [f.H for f in films], np.column_stack([f.r for f in films]), F / F.sum(0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")               # no sqrt of a negative eigenvalue
+        V = build_reduced(system, [np.array([50.0, 150.0])]).V
+    assert mm.nnodes == 45 and V.shape[1] <= mm.nnodes and np.all(np.isfinite(V))
+    np.testing.assert_allclose(V.T @ (heat.M @ V), np.eye(V.shape[1]), rtol=0, atol=1e-12)

@@ -438,3 +438,135 @@ def test_benchmark_rom_error_names_the_outputs_it_compared(capsys):
                            "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["max_rel_error_of"] == ["temperature"] and 0.0 < out["max_rel_error"] < 1e-2
+
+
+def _uniformly_heated_slab():
+    """The slab of :func:`_cooled_slab` without its film, heated by P = 100 W spread as its
+    capacity (F = M 1 / C): K 1 = 0, so T^n = T_0 + P t_n / C exactly, a field linear in time, at any
+    theta: (system, n, C)."""
+    heat, _, n, _ = _cooled_slab(1)
+    capacity = float(heat.M.sum())
+    uniform = HeatSystem(heat.M, heat.K, [], np.zeros((n, 0)), (np.asarray(heat.M.sum(axis=1)).ravel() / capacity)[:, None])
+    return uniform, n, capacity
+
+
+@pytest.mark.parametrize("start", ["extrapolation", "reduced"])
+def test_the_starts_are_exact_for_a_field_linear_in_time(start, monkeypatch):
+    """For a field linear in time the extrapolation E = 2 T^n - T^(n-1) is the next step's solution
+    itself, and so is the reduced start E + V (V^T A V)^-1 V^T (b - A E), since b - A E = 0 there
+    (b - A E formed from the images A T^n and A T^(n-1) kept from the last two solves). A slab heated
+    uniformly (T = T_0 + P t / C): from the second step on, every start CG receives is the exact
+    field to 1e-9 of a step's rise (the solves' own error, heat_tol 1e-10 K, is far below that)."""
+    import twin.physics.steppers as steppers
+    system, n, capacity = _uniformly_heated_slab()
+    steps, dt, P = 8, 30.0, 100.0
+    starts = []
+    real = steppers.pcg
+    monkeypatch.setattr(steppers, "pcg", lambda apply, b, x0, *a, **k: starts.append(np.array(x0)) or real(apply, b, x0, *a, **k))
+    stepper = IterativeStepper(heat_tol=1e-10, projection_size=0)
+    if start == "reduced":
+        stepper.start = steppers.ReducedStart(np.random.default_rng(2).standard_normal((n, 5)))
+    out = integrate(system, np.full(n, 20.0), dt, steps, np.zeros((steps, 0)), np.zeros((steps, 0)),
+                    np.full((steps, 1), P), np.eye(n)[::7], stepper=stepper)
+    rise = P * dt / capacity
+    np.testing.assert_allclose(out[-1], 20.0 + steps * rise, rtol=0, atol=1e-9 * rise)
+    assert len(starts) == steps
+    for k in range(1, steps):
+        assert np.abs(starts[k] - (20.0 + (k + 1) * rise)).max() <= 1e-9 * rise, k
+
+
+def test_each_operator_gets_its_own_galerkin_start(monkeypatch):
+    """The starts are Galerkin projections in the energy norm of the step's own operator: after a
+    film changes A (a new operator), the reduced start uses (V^T A V)^-1 of the new A, not the one
+    formed for the first, so an increment that V spans is again reproduced exactly; and the
+    projection start (Fischer) rebuilds its A-orthonormal basis from the last two solutions, so a
+    solution in their span, 2 T^n - T^(n-1), is its start exactly. (A start built on the old
+    operator would be a worse start, not a wrong answer: CG would still converge.)"""
+    import twin.physics.steppers as steppers
+    _, system, n, _ = _cooled_slab(1)
+    rng = np.random.default_rng(6)
+    V = rng.standard_normal((n, 9)).astype(np.float32).astype(float)
+    start = steppers.ReducedStart(V)
+    T = 20.0 + rng.standard_normal(n)
+    for h in (300.0, 30.0, 300.0):
+        lhs = (system.M + 0.5 * 30.0 * (system.K + h * system.H[0])).tocsr()
+        inside = T + V @ rng.standard_normal(9)
+        np.testing.assert_allclose(start.guess((lhs,), lhs, lhs @ inside, T), inside, rtol=0,
+                                   atol=1e-6 * np.abs(inside - T).max())
+    # the projection start across an operator change
+    starts = []
+    real = steppers.pcg
+    monkeypatch.setattr(steppers, "pcg", lambda apply, b, x0, *a, **k: starts.append(np.array(x0)) or real(apply, b, x0, *a, **k))
+    stepper = IterativeStepper(heat_tol=1e-10)
+    stepper.begin(10, system)
+    first, second = (stepper.operator(("slab", h), system, 30.0, 0.5, np.array([h])) for h in (300.0, 30.0))
+    solutions = [np.full(n, 20.0)]
+    for k in range(1, 4):                                  # three steps on the first operator
+        x = 20.0 + 0.01 * k * np.cumsum(rng.standard_normal(n))
+        solutions.append(stepper.solve(first, first[0] @ x, solutions[-1]))
+    target = 2.0 * solutions[-1] - solutions[-2]           # in the span of the last two solutions
+    stepper.solve(second, second[0] @ target, solutions[-1])
+    np.testing.assert_allclose(starts[-1], target, rtol=0, atol=1e-9 * np.abs(target - solutions[-1]).max())
+
+
+@pytest.mark.parametrize("heat_tol", [1e-4, 1e-3])
+def test_each_step_stops_within_its_share_of_the_run_tolerance(heat_tol):
+    """The verified tolerance is split evenly over the run: CG stops step n once its residual norm
+    rho_n = (27 r^T M_L^-1 r)^(1/2) <= heat_tol sqrt(C) / N (N the run's steps, C = 1^T M 1), so
+    that sum_n rho_n <= heat_tol sqrt(C) (twin.physics.solvers). Each step's rho_n, read from the
+    stepper's running sum after the step, is within that share on two-step runs of the cooled slab
+    (where one share more, heat_tol sqrt(C) / (N - 1), would let the final iterate stop above it)."""
+    heat, system, n, (T0, dt, _, h, air, s, rows) = _cooled_slab(2)
+    share = heat_tol * np.sqrt(float(heat.M.sum())) / 2
+    stepper = IterativeStepper(heat_tol=heat_tol, projection_size=0)
+    rho = []
+    integrate(system, T0, dt, 2, h[:2], air[:2], s[:2], rows, stepper=stepper,
+              on_step=lambda k, T: rho.append(float(stepper.rho_sum) - sum(rho)))
+    assert len(rho) == 2 and max(rho) > 0.3 * share
+    assert all(r <= share * (1 + 1e-12) for r in rho), np.array(rho) / share
+
+
+def test_batched_cases_whose_films_part_later_equal_single_runs_at_theta_one(twins, machine):
+    """The full model batches as multiple right-hand sides only the cases whose film coefficients
+    are equal at every step: two spindle schedules that start alike and stop at different times
+    (their films equal at the first step, apart later) are two groups, each equal to its single
+    run to round-off; and the batch evaluates every signal at t_n + theta dt as a single run does,
+    here at theta 1 (implicit Euler) in a daily room."""
+    from dataclasses import replace
+    spec = model_spec(machine, ",".join(SPINDLE_EFFECTS))
+    late = replace(SHORT, steps=((600.0, 9000.0), (1500.0, 0.0)))
+    cases = [(SHORT, spec), (late, spec)]
+    twin = twins["direct"]
+    obs = [TemperatureSensors(sensor_points(machine))]
+    _, batch, _ = twin.run_batch(cases, obs, theta=1.0)
+    for j, (sc, sp_) in enumerate(cases):
+        _, single = twin.run(sc, sp_, obs, theta=1.0)
+        for key in single:
+            np.testing.assert_allclose(batch[key][:, :, j], single[key], rtol=1e-9, atol=1e-9 * np.abs(single[key]).max())
+
+
+def test_a_batch_without_its_bound_builds_no_gram_matrix_and_a_model_without_one_says_so(monkeypatch):
+    """run_batch(bound=False) skips the verified bound (README "Scale": the bound costs O(d^2) per
+    case and step): it built the residual Gram matrix all the same, and a model built without one
+    (build_reduced(gram=False)) failed in integrate(bound=False) with numpy's 'Input must be 1- or
+    2-d'. Now the batch builds none, its bounds are NaN (not computed) while its estimate is
+    there, and a bound asked of a model without the matrix is one InputError naming it."""
+    import twin.physics.rom as rom
+    from twin.errors import InputError
+
+    machine = build_machine("cframe-vmc")
+    twin = PreparedTwin(machine, resolution="coarse", solver="rom")
+
+    def no_gram(*args, **kwargs):
+        raise AssertionError("the residual Gram matrix was built for a run without its bound")
+
+    monkeypatch.setattr(rom, "residual_gram", no_gram)
+    spec = model_spec(machine, ",".join(SPINDLE_EFFECTS))
+    _, batch, info = twin.run_batch([(SHORT, spec), (SHORT, spec)], [ToolDrift()], bound=False)
+    assert batch["drift"].shape[2] == 2 and np.all(np.isnan(info["rom_error_bound"]["drift"]))
+    assert np.all(np.isfinite(info["rom_error_estimate"]["drift"]))
+    model = next(iter(twin.reduced.values()))        # the basis, cached for the next run
+    assert model.gram is None
+    with pytest.raises(InputError, match="the verified bound needs the residual Gram matrix"):
+        model.integrate(20.0, 30.0, 2, np.full((2, len(model.H)), 8.0), np.full((2, model.R.shape[1]), 20.0),
+                        np.zeros((2, model.F.shape[1])))

@@ -66,10 +66,10 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
     # the rows beside the basis (the reduced model's from every case's films, the full model's
     # reduced start from the first group's, as its stepper asks)
     (outputs, bounds), _ = twin._prepare(loads, observers, {o.key: None for o in observers},
-                                         h if twin.options.solver == "rom" else h[:, :, 0], nsteps)
+                                         h if twin.options.solver == "rom" else h[:, :, 0], nsteps, bound)
     if twin.options.solver == "rom":
         from twin.physics.rom import reduced_model
-        rom = reduced_model(twin, loads, outputs, h)
+        rom = reduced_model(twin, loads, outputs, h, bound)
         out, info = rom.integrate(T0, dt, nsteps, h, air, s, theta, progress=progress, bound=bound)
         errors = {"rom_error_estimate": info.pop("_estimate"), "rom_error_bound": info.pop("_bound")}
     else:

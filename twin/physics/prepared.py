@@ -196,24 +196,26 @@ class PreparedTwin:
         self._prepare(loads, observers, {o.key: o.sample_steps(times) for o in observers}, h, len(times) - 1)
         return dict(self.prepare_s)
 
-    def _basis_task(self, loads, h, nsteps: int):
+    def _basis_task(self, loads, h, nsteps: int, bound: bool = True):
         """The reduced basis a run of ``nsteps`` steps needs, as a task (None when it needs none):
-        the reduced model's (``rom``) or the reduced start's (:meth:`stepper`)."""
+        the reduced model's (``rom``; with the verified bound's Gram matrix when ``bound``) or the
+        reduced start's (:meth:`stepper`)."""
         from twin.physics import rom
 
         if self.options.solver == "rom":
-            return lambda: rom.bounded_basis(self, loads, h)
+            return lambda: rom.bounded_basis(self, loads, h) if bound else rom.reduced_basis(self, loads, h)
         if self.method == "iterative" and self.options.reduced_start(nsteps):
             return lambda: rom.start_basis(self, loads, h)
         return None
 
-    def _prepare(self, loads, observers, steps: dict, h, nsteps: int):
+    def _prepare(self, loads, observers, steps: dict, h, nsteps: int, bound: bool = True):
         """((outputs, bounds) of the observers read every step, [(observer, rows)] of those read
         at ``steps``) and the run's reduced basis, cached. On a large layout
         (:data:`twin.physics.parallel.CONCURRENT_FROM`) the two are built concurrently: the
         elastic chain (assembly, multigrid, adjoints, rows) beside the heat basis, which need
         nothing of each other (:func:`twin.physics.parallel.concurrently`; the same numbers as
-        one after the other). ``prepare_s`` records the seconds of each part."""
+        one after the other). ``prepare_s`` records the seconds of each part; ``bound``: the
+        reduced model's verified bound will be computed (its Gram matrix is part of the basis)."""
         import time
 
         from twin.physics import parallel
@@ -238,7 +240,7 @@ class PreparedTwin:
             task()
             times["basis"] = time.perf_counter() - t0
 
-        task = self._basis_task(loads, h, nsteps)
+        task = self._basis_task(loads, h, nsteps, bound)
         t0 = time.perf_counter()
         together = task is not None and loads.mm.nheat >= parallel.CONCURRENT_FROM
         if together:

@@ -59,6 +59,7 @@ from twin.physics.solvers import amg_cycle, mass_weights, output_bounds, pcg, sm
 
 SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
 DROP = 1e-10        # directions new to the basis by less than this share of their block's largest are dropped
+GRAM_EPS = 1e-13    # Gram eigenvalues below this share of the largest are round-off (:func:`_m_orthonormalise`)
 BASIS_RTOL = 1e-6   # residual reduction of the basis's iterative solves (large layouts), relative to
                     # the Galerkin start's: the span is what the reduced model needs, and its error is
                     # bounded and estimated from the basis actually built (README "Scale")
@@ -109,6 +110,9 @@ class ReducedModel:
         (nsteps, ncv, m), one column per case; otherwise 2-D as in :func:`twin.physics.heat.integrate`.
         ``on_step(n, T)`` gets the reconstructed field T_0 + V z (costs n r per step).
         """
+        if bound and self.gram is None:
+            raise InputError("reduced model", "bound", "the verified bound needs the residual Gram matrix: build the "
+                                                        "model with gram=True, or integrate with bound=False")
         batched = np.ndim(s) == 3
         m = np.shape(s)[2] if batched else 1
         s3 = np.asarray(s, float).reshape(nsteps, -1, m)
@@ -127,7 +131,7 @@ class ReducedModel:
         cache: dict = {}
         eye = np.eye(r)
         G = self.gram
-        gdiag = np.sqrt(np.maximum(np.diag(G), 0.0))
+        gdiag = np.sqrt(np.maximum(np.diag(G), 0.0)) if bound else None
         rho_sum = np.zeros(m)
         for n in range(nsteps):
             z_old = z
@@ -212,20 +216,27 @@ def _reference_solver(A: sp.csr_matrix, rtol: float = BASIS_RTOL):
 
 def _m_orthonormalise(X: np.ndarray, V: np.ndarray, M: sp.spmatrix, drop: float = DROP) -> np.ndarray:
     """Columns spanning X minus its M-projection on V (V^T M V = I), M-orthonormal, with directions
-    whose M-norm fell below ``drop`` of the block's largest (already in V, or dependent) removed."""
+    whose M-norm fell below ``drop`` of the block's largest (already in V, or dependent) removed,
+    and those the Gram matrix cannot tell from round-off: an eigenvalue of G = X^T M X is known to
+    about 1e-16 of its largest, so one below :data:`GRAM_EPS` of it (a direction new by less than
+    about 3e-7 of the block's largest) is dropped whatever ``drop`` says. A second pass (for the
+    first block too) projects and normalises again; a direction that loses half its norm there was
+    round-off and is dropped, so V^T M V = I holds to round-off and no column divides by zero."""
     scale = np.sqrt(np.max(np.einsum("ij,ij->j", X, M @ X)))
     for _ in range(2):                       # twice is enough (Kahan-Parlett)
         if V.shape[1]:
             X = X - V @ (V.T @ (M @ X))
     G = X.T @ (M @ X)
     lam, U = np.linalg.eigh(0.5 * (G + G.T))
-    keep = lam > (drop * scale) ** 2
+    keep = lam > max((drop * scale) ** 2, GRAM_EPS * lam.max(initial=0.0))
     Y = X @ (U[:, keep] / np.sqrt(lam[keep]))
-    if V.shape[1] and Y.shape[1]:            # one more pass against round-off
-        Y = Y - V @ (V.T @ (M @ Y))
+    if Y.shape[1]:                           # one more pass against round-off
+        if V.shape[1]:
+            Y = Y - V @ (V.T @ (M @ Y))
         G = Y.T @ (M @ Y)
         lam, U = np.linalg.eigh(0.5 * (G + G.T))
-        Y = Y @ (U / np.sqrt(lam))
+        keep = lam > 0.5
+        Y = Y @ (U[:, keep] / np.sqrt(lam[keep]))
     return Y
 
 
@@ -349,6 +360,8 @@ def bounded_basis(twin, loads, h: np.ndarray) -> ReducedModel:
     return model
 
 
-def reduced_model(twin, loads, outputs, h: np.ndarray) -> ReducedModel:
-    """The reduced model of ``loads`` on ``twin`` (:func:`bounded_basis`) observing ``outputs``."""
-    return bounded_basis(twin, loads, h).project_outputs(outputs, mass_weights(loads.system.M))
+def reduced_model(twin, loads, outputs, h: np.ndarray, bound: bool = True) -> ReducedModel:
+    """The reduced model of ``loads`` on ``twin`` (:func:`bounded_basis`; without ``bound``, the
+    basis alone: no residual Gram matrix is built) observing ``outputs``."""
+    model = bounded_basis(twin, loads, h) if bound else reduced_basis(twin, loads, h)
+    return model.project_outputs(outputs, mass_weights(loads.system.M))
