@@ -102,6 +102,58 @@ def test_a_table_faster_than_the_feed_limit_is_refused():
     scenario_from_dict(data, "s.toml")
 
 
+def test_an_axis_moving_even_half_a_minute_past_the_scenario_is_refused():
+    """An axis may not move longer than the ``[[spindle]]`` steps (README, "Motion in a
+    scenario"; ``twin.motion_checks.check_durations``, to 1e-6 s): a 10.5 min hold on a 10 min
+    run is refused naming the axis's moves, a 10 min hold is taken."""
+    data = {**BASE, "axis": [{"name": "Y", "move": [{"kind": "hold", "position": "140 mm", "duration": "10.5 min"}]}]}
+    err = refused(data)
+    assert err.field == "axis[0].move" and "longer than the scenario" in str(err)
+    data["axis"][0]["move"][0]["duration"] = "10 min"
+    assert scenario_from_dict(data, "s.toml").axes[0].duration == 600.0
+
+
+def test_a_table_move_starts_at_0_s():
+    """A ``table`` move's times start at 0 s (relative to the move's start) and increase
+    strictly (``twin.motion``): a table from 5 s is refused naming its times, not shifted
+    silently to start at 0 s."""
+    data = {**BASE, "axis": [{"name": "Y", "move": [{"kind": "table", "times": ["5 s", "15 s"],
+                                                      "positions": ["0 mm", "100 mm"]}]}]}
+    err = refused(data)
+    assert err.field == "axis[0].move[0].times" and "start at 0 s" in str(err)
+
+
+def test_a_move_must_start_where_the_axis_is():
+    """Each move starts where the axis is (README: a move that does not start where the axis is
+    is refused): after a hold at 100 mm a reciprocation between 100.5 mm and 280 mm is refused
+    naming that move (the axis would jump by 0.5 mm), one between 100 mm and 280 mm is taken."""
+    hold = {"kind": "hold", "position": "100 mm", "duration": "1 min"}
+    data = reciprocate(between=["100.5 mm", "280 mm"])
+    data["axis"][0]["move"].insert(0, hold)
+    err = refused(data)
+    assert err.field == "axis[0].move[1]" and "add a move" in str(err)
+    data["axis"][0]["move"][1]["between"] = ["100 mm", "280 mm"]
+    assert scenario_from_dict(data, "s.toml").axes[0].position(np.array([0.0]))[0] == pytest.approx(0.1)
+
+
+def test_a_position_even_half_a_millimetre_beyond_the_travel_is_refused():
+    """Every position an axis reaches lies within its travel (``check_motions``, to 1e-9 m):
+    ``cframe-vmc``'s Y travels 0-400 mm, so a move to 400.5 mm is refused naming the axis's moves
+    and the travel, a move to 400 mm is taken."""
+    from geometries import build_machine
+    from twin.motion import check_motions
+
+    machine = build_machine("cframe-vmc")
+
+    def to(position: str):
+        move = {"kind": "move", "to": position, "feed": "20 mm/s", "acceleration": "10 mm/s2"}
+        return scenario_from_dict({**BASE, "axis": [{"name": "Y", "start": "390 mm", "move": [move]}]}, "s.toml")
+    with pytest.raises(InputError) as err:
+        check_motions(to("400.5 mm"), machine)
+    assert err.value.field == "axis[0].move" and "outside the Y travel 0 .. 400 mm" in str(err.value)
+    check_motions(to("400 mm"), machine)
+
+
 def test_a_planned_motion_pickles():
     import pickle
     m = scenario_from_dict(reciprocate(), "s.toml").axes[0]

@@ -95,6 +95,96 @@ def test_a_daily_room_that_starts_at_8_h_is_read_at_its_time_of_day():
     np.testing.assert_allclose(amb(t), [20.0 - 3.0 * np.cos(2 * np.pi * 2 / 24), 17.0, 23.0], rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("text,dimension,si", [
+    ("1.5 kW", "power", 1500.0),                  # 1 kW = 1e3 W
+    ("9 krpm", "speed", 9000.0),                  # 1 krpm = 1e3 rpm
+    ("180 deg", "angle", np.pi),                  # 180 deg = pi rad
+    ("1.5 mrad", "angle", 1.5e-3),
+    ("250 ms", "time", 0.25),                     # 1 ms = 1e-3 s
+    ("1.5 d", "time", 129600.0),                  # 1 d = 86400 s
+    ("120 m/min", "velocity", 2.0),               # 1 m/min = 1/60 m/s
+    ("600 mm/min", "velocity", 0.01),             # 1 mm/min = 1e-3/60 m/s
+    ("11.5 um/m/K", "thermal_strain", 11.5e-6),   # 1 um/m = 1e-6
+    ("2 K/mm", "temperature_gradient", 2000.0),   # 1 /mm = 1e3 /m
+    ("250 mK", "temperature_difference", 0.25),
+    ("40 %", "dimensionless", 0.4),
+])
+def test_units_convert_to_si_with_their_definitions(text, dimension, si):
+    """Every prefixed spelling is its SI definition (k = 1e3, m = 1e-3, u = 1e-6, 1 min = 60 s,
+    1 d = 86400 s, 1 deg = pi / 180 rad): a wrong factor would scale a heat load, a feed or a
+    camera's field of view silently, since the value stays in its plausible range."""
+    assert parse_quantity(text, dimension) == pytest.approx(si, rel=1e-15)
+
+
+def test_a_quantity_whose_si_value_overflows_is_not_finite():
+    """A number finite as written may overflow once converted to SI (1e306 d = 8.64e310 s, beyond
+    the largest double): the parser names it as not finite (module docstring: a quantity is
+    finite) rather than returning inf for a later check to misname."""
+    for text, dimension in (("1e306 d", "time"), ("1e306 kW", "power"), ("-1e306 krpm", "speed")):
+        with pytest.raises(UnitError, match="is not a finite number"):
+            parse_quantity(text, dimension)
+    assert parse_quantity("1e300 d", "time") == pytest.approx(8.64e304)
+
+
+def test_a_scenario_samples_its_whole_run_from_0_to_the_end():
+    """``Scenario.times()``: the instants 0, dt, 2 dt, ... up to and including the duration, n + 1
+    of them for n = duration / dt steps, also where the two do not divide exactly in floating
+    point: 0.3 s / 0.1 s = 2.9999999999999996, which truncation would turn into 2 steps, ending
+    a run sampled at 10 Hz one sample early."""
+    from twin.scenario import scenario_from_dict
+
+    data = {"name": "s", "ambient": {"temperature": "20 degC"}, "sample_interval": "1 min",
+            "spindle": [{"speed": "6000 rpm", "duration": "10 min"}]}
+    t = scenario_from_dict(data, "s.toml").times()
+    np.testing.assert_array_equal(t, np.arange(11) * 60.0)
+    fine = scenario_from_dict({**data, "sample_interval": "0.1 s",
+                               "spindle": [{"speed": "0 rpm", "duration": "0.3 s"}]}, "s.toml")
+    assert len(fine.times()) == 4 and fine.times()[-1] == pytest.approx(fine.duration, rel=1e-12)
+
+
+def test_each_spindle_step_holds_from_its_start_to_its_end_and_the_last_holds_on():
+    """``Scenario.spindle_speed``: step k holds on [start_k, end_k) (at a step's end the next
+    one's speed is read, as a result records it at its sample instants) and the last step
+    holds on after the end: 8000 rpm for 60 s, 0 for 60 s, 4000 rpm for 60 s."""
+    from twin.scenario import Ambient, Scenario
+
+    sc = Scenario("s", ((60.0, 8000.0), (60.0, 0.0), (60.0, 4000.0)), Ambient("constant", mean=20.0), 60.0)
+    t = np.array([0.0, 59.9, 60.0, 119.9, 120.0, 179.9, 180.0, 1e6])
+    np.testing.assert_array_equal(sc.spindle_speed(t), [8000, 8000, 0, 0, 4000, 4000, 4000, 4000])
+    np.testing.assert_array_equal(sc.spindle_speed(sc.times()), [8000, 0, 4000, 4000])
+
+
+def test_a_daily_room_takes_times_of_day_from_0_to_24_h_excluded():
+    """``coldest_at`` and ``start_time_of_day`` are times of day from 0 h to 24 h, 24 h excluded
+    (it is the next day's 0 h; ``twin.ambient.check_ambient``): "24 h" is refused naming the key,
+    "0 h" and "23.5 h" are taken."""
+    from twin.ambient import ambient_from_toml
+    from twin.errors import InputError
+
+    daily = {"kind": "daily", "mean": "20 degC", "amplitude": "2 K"}
+    for key in ("coldest_at", "start_time_of_day"):
+        with pytest.raises(InputError) as err:
+            ambient_from_toml({**daily, key: "24 h"}, "s.toml")
+        assert err.value.field == f"ambient.{key}"
+        for ok in ("0 h", "23.5 h"):
+            assert getattr(ambient_from_toml({**daily, key: ok}, "s.toml"), key) == parse_quantity(ok, "time")
+
+
+def test_a_table_rooms_times_increase_strictly():
+    """A ``table`` ambient's times must increase strictly (``twin.ambient.check_ambient``): a
+    repeated time would give the air two temperatures at one instant (a jump that linear
+    interpolation hides), so it is refused naming ``ambient.times``."""
+    from twin.ambient import ambient_from_toml
+    from twin.errors import InputError
+
+    table = {"kind": "table", "times": ["0 h", "1 h", "1 h", "2 h"], "temperatures": ["20 degC", "21 degC", "18 degC",
+                                                                                     "19 degC"]}
+    with pytest.raises(InputError) as err:
+        ambient_from_toml(table, "s.toml")
+    assert err.value.field == "ambient.times" and "strictly" in str(err.value)
+    ambient_from_toml({**table, "times": ["0 h", "1 h", "1.5 h", "2 h"]}, "s.toml")
+
+
 @pytest.mark.parametrize("argv,needle", [
     (["simulate", "no-such-machine", "spindle-duty-cycle"], "machine"),
     (["simulate", "cframe-vmc", "no-such-scenario"], "scenario"),

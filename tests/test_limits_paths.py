@@ -48,6 +48,53 @@ def test_a_scenario_from_a_log_keeps_the_logs_tolerance():
     limits.check_scenario(Scenario("measured", steps, Ambient("constant"), extra={"logged": True}), m)
 
 
+def test_a_c_axis_log_keeps_the_logs_tolerance_and_no_machine_sets_no_maximum():
+    """C-axis speeds (``check_c_axis_speeds``): within the machine's C-axis maximum
+    (``gantry-ram``: 3200 rpm), a log within it plus LOGGED_SPEED_MARGIN (5 %: 3360 rpm), as for
+    the spindle; without a machine (a measurement read without one) finite and not negative only."""
+    gantry = build_machine("gantry-ram")
+    top = gantry.parameters["c_axis_max_speed"]
+    limits.check_c_axis_speeds([0.0, top], gantry, "s", "f")
+    limits.check_c_axis_speeds(top * 1.04, gantry, "s", "f", logged=True)
+    for speed, logged in ((top * 1.01, False), (top * 1.06, True)):
+        with pytest.raises(InputError, match="C-axis maximum"):
+            limits.check_c_axis_speeds(speed, gantry, "s", "f", logged=logged)
+    assert limits.check_c_axis_speeds([0.0, 2500.0, 1e5], None, "s", "f", logged=True).tolist() == [0.0, 2500.0, 1e5]
+    for bad in (-1.0, np.nan):
+        with pytest.raises(InputError, match="finite and not negative"):
+            limits.check_c_axis_speeds([0.0, bad], None, "s", "f")
+
+
+def test_probe_and_strain_readings_are_limited_on_both_sides_of_zero():
+    """A probe reads within +-PROBE_RANGE (10 mm) of its zero and a strain gauge within
+    +-STRAIN_RANGE (5000 um/m): a reading of -20 mm or -6000 um/m is a unit mistake as much as
+    +20 mm is (thermal drift may shrink as well as grow)."""
+    limits.check_displacements([-9.9e-3, 9.9e-3], "s", "f")
+    limits.check_strains([-4.9e-3, 4.9e-3], "s", "f")
+    for check, value in ((limits.check_displacements, -0.02), (limits.check_strains, -6e-3)):
+        with pytest.raises(InputError, match="beyond"):
+            check([0.0, value], "s", "f")
+
+
+def test_a_cold_structure_logged_in_kelvin_gets_the_kelvin_hint():
+    """The kelvin hint covers the structure range in kelvin, 233.15 K to 473.15 K (-40 to
+    200 degC): a machine at -20 degC logged as 253.15 K is refused as implausible degC and told
+    it looks like kelvin; a reading beyond that range is not."""
+    with pytest.raises(InputError, match="looks like kelvin"):
+        limits.check_temperatures(253.15, "s", "f", "structure")
+    with pytest.raises(InputError) as err:
+        limits.check_temperatures(500.0, "s", "f", "structure")
+    assert "kelvin" not in str(err.value)
+
+
+def test_a_batch_is_limited_by_its_cases_times_samples():
+    """A batch holds every reading of every case at once: cases x samples at most
+    MAX_CASE_STEPS (2e7), so 1000 cases of 20000 samples fit and 1000 of 20001 do not."""
+    limits.check_batch_size(1000, 20000, "s", "cases")
+    with pytest.raises(InputError, match="case-samples"):
+        limits.check_batch_size(1000, 20001, "s", "cases")
+
+
 @pytest.mark.parametrize("name", sorted(MACHINES))
 def test_every_sensor_site_and_probe_target_lies_on_its_part(name):
     """The position check accepts every point a machine names (so it refuses only what is off)."""

@@ -42,6 +42,22 @@ def test_trapezoid_stroke_time_and_positions():
         scenario([{"kind": "move", "to": "100 mm", "feed": "20 mm/s", "acceleration": "10 mm/s2"}])
 
 
+def test_an_axis_stands_still_from_the_end_of_its_last_piece():
+    """``Motion.velocity`` / ``acceleration``: each piece holds on [t0, t0 + dur), and after the
+    last piece the axis holds x_end (``Motion``'s docstring: 0 outside the pieces), so a motion
+    that ends moving - a table from 0 to 100 mm in 10 s, 10 mm/s, or accelerating at 2 mm/s2 for
+    10 s - has velocity and acceleration 0 from its end on, and its own within."""
+    from twin.motion import Motion
+
+    table = Motion("Y", [0.0], [10.0], [0.0], [0.01], [0.0], 0.1)
+    t = np.array([0.0, 9.999, 10.0, 60.0])
+    assert table.velocity(t).tolist() == [0.01, 0.01, 0.0, 0.0]
+    assert table.position(t) == pytest.approx([0.0, 0.09999, 0.1, 0.1], rel=1e-12)
+    ramp = Motion("Y", [0.0], [10.0], [0.0], [0.0], [0.002], 0.1)
+    assert ramp.acceleration(t).tolist() == [0.002, 0.002, 0.0, 0.0]
+    assert ramp.velocity(t) == pytest.approx([0.0, 0.019998, 0.0, 0.0], rel=1e-12)
+
+
 def test_reciprocating_source_delivers_power_times_duty():
     """Energy balance over whole strokes: a nut heat P_ref |v|/v_ref delivers P_ref d / v_ref, d the
     travelled distance (= P_ref x duty x T); summed over the path basis on the time steps, exact."""

@@ -109,6 +109,86 @@ def test_a_c_axis_schedule_built_in_python_has_a_duty_from_0_to_1():
         refused(field, replace(gantry, c_axis=RotarySchedule(steps)).check)
 
 
+def test_a_motion_built_in_python_has_positive_pieces_in_order_without_overlap():
+    """``check_pieces``: positive durations, from 0 s on, in order without overlap (its
+    docstring): a piece of 0 s, or a second piece starting at 50 s inside a first one of 100 s
+    (each continuous with the one before, so only the timing is wrong) is refused; the same pieces
+    one after the other are taken."""
+    zero = Motion("Y", [0.0, 0.0], [0.0, 100.0], [0.1, 0.1], [0.0, 0.0], [0.0, 0.0], 0.1)
+    overlap = Motion("Y", [0.0, 50.0], [100.0, 100.0], [0.1, 0.1], [0.0, 0.0], [0.0, 0.0], 0.1)
+    for bad in (zero, overlap):
+        err = refused("axis[0]", check_pieces, bad, "s", "axis[0]")
+        assert "positive durations" in str(err)
+    check_pieces(Motion("Y", [0.0, 100.0], [100.0, 100.0], [0.1, 0.1], [0.0, 0.0], [0.0, 0.0], 0.1), "s", "axis[0]")
+
+
+def test_a_motion_built_in_python_is_within_the_feed_limit_at_each_pieces_end_too():
+    """A piece's speed is checked at both ends, |v0| and |v0 + a dur| (``check_pieces``, within
+    MAX_FEED = 2 m/s): from rest at 0.03 m/s2 for 100 s the axis reaches 3 m/s (and 150 m), which
+    is refused though it starts at 0 and accelerates gently; for 60 s (1.8 m/s) it is taken."""
+    fast = Motion("Y", [0.0], [100.0], [0.0], [0.0], [0.03], 150.0)
+    err = refused("axis[0]", check_pieces, fast, "s", "axis[0]")
+    assert "3 m/s" in str(err)
+    check_pieces(Motion("Y", [0.0], [60.0], [0.0], [0.0], [0.03], 54.0), "s", "axis[0]")
+
+
+def test_an_axis_commanded_twice_in_python_is_refused():
+    """One command per axis (``check_motions``; the loader refuses a second ``[[axis]]`` of one
+    name, and a scenario built in Python meets the same rule): two motions of Y are refused
+    naming the axis."""
+    from twin.motion_checks import check_motions
+
+    m = Motion("Y", [0.0], [600.0], [0.1], [0.0], [0.0], 0.1)
+    check_motions(replace(SHORT, axes=(m,)), CFRAME)
+    err = refused("axis", check_motions, replace(SHORT, axes=(m, m)), CFRAME)
+    assert "commanded twice" in str(err)
+
+
+def test_a_c_axis_schedule_is_at_rest_after_its_last_step():
+    """``RotarySchedule.speed`` / ``duty``: piecewise constant, each step on [start, end), and 0
+    after the last step (the C axis is at rest; ``twin.rotary``), not the last step held on."""
+    s = RotarySchedule(((600.0, 2500.0, 0.5), (600.0, 1000.0, 1.0)))
+    t = np.array([0.0, 599.0, 600.0, 1199.0, 1200.0, 1e5])
+    assert s.speed(t).tolist() == [2500.0, 2500.0, 1000.0, 1000.0, 0.0, 0.0]
+    assert s.duty(t).tolist() == [0.5, 0.5, 1.0, 1.0, 0.0, 0.0]
+
+
+def _c_axis(step: dict, run: str = "10 min"):
+    from twin.scenario import scenario_from_dict
+    return scenario_from_dict({"name": "s", "sample_interval": "10 s", "ambient": {"temperature": "20 degC"},
+                               "spindle": [{"speed": "0 rpm", "duration": run}], "c_axis": [step]}, "s.toml")
+
+
+def test_a_c_axis_rhythm_turns_for_its_duty_on_over_on_plus_dwell():
+    """A ``[[c_axis]]`` on/dwell rhythm enters as its duty d = on / (on + dwell) (``twin.rotary``):
+    on 10 s, dwell 30 s turns a quarter of the time; a dwell of 0 s is allowed (not negative) and
+    turns throughout, d = 1, as a step without a rhythm does."""
+    step = {"speed": "2500 rpm", "duration": "10 min"}
+    assert _c_axis({**step, "on": "10 s", "dwell": "30 s"}).c_axis.steps == ((600.0, 2500.0, 0.25),)
+    assert _c_axis({**step, "on": "10 s", "dwell": "0 s"}).c_axis.steps == ((600.0, 2500.0, 1.0),)
+    assert _c_axis(step).c_axis.steps == ((600.0, 2500.0, 1.0),)
+
+
+def test_a_c_axis_schedule_may_not_outlast_the_run():
+    """The C-axis steps may not outlast the ``[[spindle]]`` steps (``twin.rotary.check_duration``),
+    by however little: 11 min on a 10 min run is refused naming ``c_axis``, before any machine is
+    asked; 10 min is taken."""
+    with pytest.raises(InputError) as err:
+        _c_axis({"speed": "2500 rpm", "duration": "11 min"})
+    assert err.value.field == "c_axis" and "longer than the run" in str(err.value)
+    assert _c_axis({"speed": "2500 rpm", "duration": "10 min"}).c_axis.duration == 600.0
+
+
+def test_a_c_axis_schedule_built_in_python_has_positive_durations_and_no_negative_speed():
+    """``check_schedule`` (``Scenario.check``): each step's duration > 0 and speed >= 0, however
+    small the offence (a -0.5 rpm step, a step of 0 s), naming the step's key."""
+    gantry = replace(SHORT, steps=((600.0, 1000.0),))
+    for steps, field in ((((600.0, -0.5, 1.0),), "c_axis[0].speed"),
+                         (((0.0, 1000.0, 1.0), (600.0, 1000.0, 1.0)), "c_axis[0].duration")):
+        refused(field, replace(gantry, c_axis=RotarySchedule(steps)).check)
+    replace(gantry, c_axis=RotarySchedule(((600.0, 0.0, 0.0),))).check()
+
+
 def test_probing_and_interferometer_instants_start_at_zero_and_increase():
     """A negative or late first instant left the readings' first slot unfilled: the result held
     uninitialised memory (-40834 um) without an error."""

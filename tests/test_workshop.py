@@ -30,6 +30,30 @@ def test_air_event_is_the_documented_trapezoid():
     assert amb(np.array([0.0, 130.0])) == pytest.approx([16.0, 11.0])
 
 
+def test_an_air_event_ends_after_its_fall_hold_and_recovery():
+    """``AirEvent.end`` = start + fall + hold + recovery, the instant the trapezoid is back at 0:
+    nonzero just before it, 0 from it on (the hold counts: 100 s + 30 + 40 + 60 = 230 s)."""
+    e = AirEvent(start=100.0, change=-9.0, fall=30.0, hold=40.0, recovery=60.0)
+    assert e.end == 230.0
+    before, at, after = e(np.array([e.end - 1.0, e.end, e.end + 1.0]))
+    assert before == pytest.approx(-9.0 / 60.0, rel=1e-12) and at == 0.0 and after == 0.0
+
+
+def test_an_air_event_starting_at_the_end_of_the_run_is_refused():
+    """An event must start before the run ends (``twin.scenario.scenario_from_dict``: at or
+    after the end it would change nothing): on a 2 h run "2 h" is refused naming its start,
+    "1.9 h" is taken."""
+    from twin.scenario import scenario_from_dict
+
+    def data(start: str) -> dict:
+        return {"name": "s", "sample_interval": "1 min", "spindle": [{"speed": "0 rpm", "duration": "2 h"}],
+                "ambient": {"temperature": "20 degC", "events": [{"start": start, "change": "-3 K", "fall": "10 min"}]}}
+    with pytest.raises(InputError) as err:
+        scenario_from_dict(data("2 h"), "s.toml")
+    assert err.value.field == "ambient.events[0].start" and "at or after the end" in str(err.value)
+    assert scenario_from_dict(data("1.9 h"), "s.toml").ambient.events[0].start == pytest.approx(6840.0)
+
+
 def test_bundled_etve_scenarios_hold_the_seed_schedule():
     """Winter: 160 h, 1 min, a 3-day holiday 4 K colder, 5 K day/night coldest at 06:00 and
     warmest at 18:00 (late afternoon), door falls 9 K in 30 min at 110 h; summer 8 K swing;
