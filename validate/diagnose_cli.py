@@ -81,7 +81,8 @@ def run_diagnose(args) -> int:
     for _, _, sc in runs:
         for n in sizes:
             limits.check_run_size(sc, n)
-    typed = dict(zip(measurement_labels(measurement_paths(args)), measurement_paths(args)))
+    paths = measurement_paths(args)
+    typed = dict(zip(measurement_labels(paths), paths))   # label -> the file as typed
     try:
         d = diagnose_many(runs, machine, spec, mm=mm, error_resolution=err_mesh, parameters=not args.no_parameters,
                           progress=progress_bar(f"diagnose {machine.name}", "fit"), custom=custom)

@@ -73,7 +73,6 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     scikit-learn, the diagnosis scipy.stats) then load only when asked for, which halves the
     start of ``twin simulate``; otherwise (``twin --help``, an unknown word) every command."""
     from twin.cli import cmd_dataset, cmd_frames, cmd_list, cmd_plot, cmd_simulate
-
     from twin.version import package_version
 
     parser = Parser(prog="twin", description="thermal-twin: digital twin of CNC machine-tool thermal errors")

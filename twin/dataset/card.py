@@ -180,7 +180,7 @@ def write_index(spec, cases: list[Case], folder: Path, last_build: dict | None =
     if any(c.spec_key != key for c in cases):   # planned from this spec (replanning it took 3 ms a case)
         raise InputError("write_index", "cases", f"are not of the plan of spec {spec.name!r} (twin.dataset.plan.plan(spec))")
     folder = output_folder(folder, "folder")
-    for name in ("index.csv", "index.parquet", "card.json", "README.md"):
+    for name in INDEX_FILES:
         check_writable(folder / name, "index")
     rows = index_rows(cases, folder)
     c = card(spec, rows, folder, last_build)

@@ -65,33 +65,27 @@ def atomic_write_all(files, field: str = "output", size_hint: int | None = None)
         if free < size_hint + RESERVE:
             raise InputError(str(paths[0]), field, f"not enough free space on its disk: about "
                                                    f"{_mb(size_hint + RESERVE)} needed, {_mb(free)} free")
-    temps: list[str] = []
+    temps: list[str | None] = []
+    path = paths[0]                          # the file in hand, named by an OSError
     try:
         for path, (_, write) in zip(paths, files):
-            try:
-                fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent)
-                os.close(fd)
-                temps.append(tmp)
-                write(tmp)
-                with open(tmp, "rb+") as handle:
-                    os.fsync(handle.fileno())
-                if free_space(path.parent) < RESERVE:
-                    raise InputError(str(path), field, f"the disk is full (less than {_mb(RESERVE)} left after "
-                                                       "writing it): the file may be incomplete and was not kept; "
-                                                       "free some space")
-                os.chmod(tmp, 0o644)
-                output_file(path, field)   # still a regular file (or nothing) right before the rename
-            except OSError as err:
-                raise InputError(str(path), field, f"could not be written ({getattr(err, 'strerror', None) or err})"
-                                 ) from None
-        for i, (path, tmp) in enumerate(zip(paths, temps)):
-            try:
-                os.replace(tmp, path)
-            except OSError as err:
-                raise InputError(str(path), field, f"could not be written ({getattr(err, 'strerror', None) or err})"
-                                 ) from None
+            fd, tmp = tempfile.mkstemp(prefix=".twin-", suffix=path.suffix, dir=path.parent)
+            os.close(fd)
+            temps.append(tmp)
+            write(tmp)
+            with open(tmp, "rb+") as handle:
+                os.fsync(handle.fileno())
+            if free_space(path.parent) < RESERVE:
+                raise InputError(str(path), field, f"the disk is full (less than {_mb(RESERVE)} left after writing "
+                                                   "it): the file may be incomplete and was not kept; free some space")
+            os.chmod(tmp, 0o644)
+            output_file(path, field)   # still a regular file (or nothing) right before the rename
+        for i, path in enumerate(paths):
+            os.replace(temps[i], path)
             temps[i] = None
             _completed.append(path)
+    except OSError as err:
+        raise InputError(str(path), field, f"could not be written ({getattr(err, 'strerror', None) or err})") from None
     finally:
         for tmp in temps:
             if tmp is not None:

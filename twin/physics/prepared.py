@@ -203,7 +203,7 @@ class PreparedTwin:
         from twin.physics import rom
 
         if self.options.solver == "rom":
-            return lambda: rom.bounded_basis(self, loads, h) if bound else rom.reduced_basis(self, loads, h)
+            return lambda: rom.run_basis(self, loads, h, bound)
         if self.method == "iterative" and self.options.reduced_start(nsteps):
             return lambda: rom.start_basis(self, loads, h)
         return None

@@ -360,8 +360,12 @@ def bounded_basis(twin, loads, h: np.ndarray) -> ReducedModel:
     return model
 
 
+def run_basis(twin, loads, h: np.ndarray, bound: bool = True) -> ReducedModel:
+    """The basis a ``--solver rom`` run needs: with the verified bound's Gram matrix
+    (:func:`bounded_basis`) when ``bound``, else the basis alone (:func:`reduced_basis`)."""
+    return bounded_basis(twin, loads, h) if bound else reduced_basis(twin, loads, h)
+
+
 def reduced_model(twin, loads, outputs, h: np.ndarray, bound: bool = True) -> ReducedModel:
-    """The reduced model of ``loads`` on ``twin`` (:func:`bounded_basis`; without ``bound``, the
-    basis alone: no residual Gram matrix is built) observing ``outputs``."""
-    model = bounded_basis(twin, loads, h) if bound else reduced_basis(twin, loads, h)
-    return model.project_outputs(outputs, mass_weights(loads.system.M))
+    """The reduced model of ``loads`` on ``twin`` (:func:`run_basis`) observing ``outputs``."""
+    return run_basis(twin, loads, h, bound).project_outputs(outputs, mass_weights(loads.system.M))
