@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from tests.test_scale import _cooled_slab
+from tests.test_heat_steps import _cooled_slab
 from twin.physics import gpu_cg
 from twin.physics.heat import integrate
 from twin.physics.solvers import jacobi, pcg

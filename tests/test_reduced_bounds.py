@@ -11,7 +11,8 @@ import pytest
 import scipy.linalg as sla
 
 from tests.conftest import box_body
-from tests.test_scale import _cooled_slab, _observers
+from tests.test_heat_steps import _cooled_slab
+from tests.test_scale import _observers
 from twin.fem.assembly import assemble_heat
 from twin.model import model_spec
 from twin.physics.heat import HeatSystem
