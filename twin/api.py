@@ -18,8 +18,9 @@ from twin.observe.interferometer import LaserInterferometer, check_interferomete
 from twin.observe.probing import DatumProbing, check_probing
 from twin.observe.temperature import check_points
 from twin.observe.camera import cameras as camera_observers
-from twin.physics.prepared import (PreparedTwin, check_beside_prepared, check_prepared,  # noqa: F401 (PreparedTwin re-exported)
-                                   check_resolution, part_materials)
+from twin.physics.part_materials import part_materials
+from twin.physics.prepared import PreparedTwin, check_prepared  # noqa: F401 (PreparedTwin re-exported)
+from twin.physics.prepared_args import check_beside_prepared, check_resolution
 from twin.physics.options import as_options
 from twin.scenario import Scenario, load_scenario
 from twin.simulate import RunResult, run

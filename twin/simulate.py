@@ -16,9 +16,10 @@ import numpy as np
 
 from twin.fem.mesh import MachineMesh
 from twin.model import ModelSpec, default_spec
-from twin.observe import HeatBalance, HottestField, RunContext, TemperatureSensors, standard_observers
+from twin.observe import HeatBalance, RunContext, TemperatureSensors, standard_observers
 from twin.physics.loads import LoadSet
-from twin.physics.prepared import PreparedTwin, check_beside_prepared, check_prepared
+from twin.physics.prepared import PreparedTwin, check_prepared
+from twin.physics.prepared_args import check_beside_prepared
 
 SOURCE = "twin.simulate.run"
 

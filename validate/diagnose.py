@@ -59,7 +59,8 @@ import numpy as np
 
 from learners.metrics import rms
 from twin.model import ModelSpec, default_spec
-from twin.physics.prepared import PreparedTwin, check_beside_prepared, check_prepared, coarse_unless_given
+from twin.physics.prepared import PreparedTwin, check_prepared
+from twin.physics.prepared_args import check_beside_prepared, coarse_unless_given
 from validate import verdict as V
 from validate.verdict import Share
 from validate.candidates import candidate_pool

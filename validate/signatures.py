@@ -34,7 +34,8 @@ from twin.model import ModelSpec
 from twin.observe import (ExpansionSensitivity, FiveProbeTestBar, LaserTriangulation, RunContext, StrainGauges,
                           TemperatureSensors, sensor_points)
 from twin.observe.interferometer import PositioningTrace, check_interferometer
-from twin.physics.prepared import PreparedTwin, check_beside_prepared, coarse_unless_given
+from twin.physics.prepared import PreparedTwin
+from twin.physics.prepared_args import check_beside_prepared, coarse_unless_given
 from validate.channels import target_label
 from twin.signals import lag_series
 

@@ -41,8 +41,7 @@ from twin.physics.options import as_options
 from twin.physics.part_materials import part_materials
 from twin.physics.solvers import mass_weights, output_bounds
 
-from twin.physics.prepared_args import (SOURCE, check_beside_prepared, check_resolution,  # noqa: F401
-                                         coarse_unless_given, mesh_label)
+from twin.physics.prepared_args import SOURCE, check_resolution, mesh_label
 from twin.physics.steppers import DirectStepper, IterativeStepper, ReducedStart
 
 
