@@ -133,3 +133,55 @@ def test_a_camera_built_in_python_meets_the_readers_limits():
         with pytest.raises(InputError) as err:
             replace(base, **change).check(sc)
         assert err.value.field == field, (change, str(err.value))
+
+
+def test_every_documented_camera_key_reaches_the_config():
+    """The module's example table, with values away from the defaults: each one arrives, in SI."""
+    import math
+
+    c = _camera(pose="carrier-front", name="carrier", field_of_view=["20 deg", "15 deg"], ifov="2 mrad",
+                band=["8 um", "12 um"], frame_interval="120 s", edge_rays=2, store_counts=True,
+                settings={"emissivity": 0.9, "distance": "1.4 m", "relative_humidity": "40 %"},
+                scene={"relative_humidity": "50 %", "wall_distance": "4 m"},
+                sensor={"netd": "0.1 K", "offset": "0.4 K", "accuracy": "1.5 K", "bits": 12})
+    assert (c.pose, c.name, c.edge_rays, c.store_counts) == ("carrier-front", "carrier", 2, True)
+    assert (c.intrinsics.width, c.intrinsics.height) == (32, 24)
+    assert math.isclose(c.intrinsics.fov_h, math.radians(20), rel_tol=1e-12)
+    assert math.isclose(c.intrinsics.fov_v, math.radians(15), rel_tol=1e-12)
+    assert math.isclose(c.intrinsics.ifov, 2e-3, rel_tol=1e-12)
+    assert c.band == pytest.approx((8e-6, 12e-6), rel=1e-12) and c.frame_interval == 120.0
+    assert (c.emissivity, c.distance, c.relative_humidity) == (0.9, 1.4, pytest.approx(0.4))
+    assert (c.room_humidity, c.wall_distance) == (pytest.approx(0.5), 4.0)
+    assert (c.sensor.netd, c.sensor.offset, c.sensor.accuracy, c.sensor.bits) == (0.1, 0.4, 1.5, 12)
+
+
+@pytest.mark.parametrize("camera,field,match", [
+    ({"pose": "carrier-front", **FRONT}, "camera.pose", "not both"),
+    ({"pose": "carrier-front", "up": [0, 0, 1]}, "camera.up", "goes with position and target"),
+    ({"pose": ""}, "camera.pose", "expected a name"),
+    ({"name": 3}, "camera.name", "expected a name"),
+    ({"resolution": [32]}, "camera.resolution", "[width, height]"),
+    ({"resolution": [32, 24.5]}, "camera.resolution", "whole number"),
+    ({"resolution": [True, 24]}, "camera.resolution", "whole number"),
+    ({"field_of_view": ["24 deg"]}, "camera.field_of_view", "two quantities"),
+    ({"field_of_view": ["24 m", "18 deg"]}, "camera.field_of_view[0]", ""),
+    ({"band": ["7.5 um", "13 um", "14 um"]}, "camera.band", "two quantities"),
+    ({**FRONT, "target": ["0 m", "0 m"]}, "camera.target", "three lengths"),
+    ({"edge_rays": 0}, "camera.edge_rays", "whole number"),
+    ({"edge_rays": True}, "camera.edge_rays", "whole number"),
+    ({"store_counts": "yes"}, "camera.store_counts", "true or false"),
+])
+def test_malformed_camera_keys_are_refused(camera, field, match):
+    _refused(field, match, **{"resolution": [32, 24], **camera})
+
+
+def test_an_empty_camera_list_and_an_empty_camera_name_are_refused():
+    from twin.camera_config import cameras_from_option
+
+    with pytest.raises(InputError) as err:
+        scenario_from_dict({**BASE, "camera": []}, "s.toml")
+    assert (err.value.source, err.value.field) == ("s.toml", "camera")
+    with pytest.raises(InputError) as err:
+        cameras_from_option("carrier-front,")
+    assert (err.value.source, err.value.field) == ("command line", "--camera")
+    assert [c.pose for c in cameras_from_option(" carrier-front , overview-front ")] == ["carrier-front", "overview-front"]
