@@ -180,3 +180,15 @@ def test_study_csv_columns_carry_their_units(tmp_path):
     assert back[0]["test_rmse_um"] == "2.5" and back[1]["test_rmse_um"] == "3.0" and back[1]["extra_K"] == "7.0"
     assert score_units("urad") == {"train_rmse": "urad", "train_max_abs_residual": "urad", "test_rmse": "urad",
                                    "test_max_abs_residual": "urad"}
+
+
+def test_seed003_verdict_treats_round_off_as_a_tie():
+    """PCR on one selected variable is MLR: RMSEs 1e-15 apart tie, and the verdict says the seed's
+    PCR lead is not reproduced (a plain min had let round-off crown PCR)."""
+    from validate.studies.seed003 import verdict
+
+    row = lambda model, rmse: {"experiment": "II predict", "model": model, "RMSE": rmse}  # noqa: E731
+    tie = verdict([row("MLR", 1.4972575872273286), row("PCR", 1.497257587227319), row("ANN", 2.02)])
+    assert "MLR and PCR tie" in tie and "not reproduced" in tie and "no better than MLR" in tie
+    assert "also leads" in verdict([row("MLR", 1.5 * (1 + 1e-6)), row("PCR", 1.5), row("ANN", 2.0)])
+    assert "not reproduced" in verdict([row("MLR", 1.4), row("PCR", 1.5), row("ANN", 2.0)])

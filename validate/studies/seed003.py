@@ -142,15 +142,25 @@ def report(res: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
+TIE_RTOL = 1e-9   # two RMSEs this close are one model twice (PCR on one variable is MLR), not a ranking
+
+
 def verdict(rows: list[dict]) -> str:
-    """Which model predicts Exp II best, ours beside the seed's (PCR)."""
+    """Which model predicts Exp II best, ours beside the seed's (PCR). Models whose RMSEs agree to
+    ``TIE_RTOL`` share the lead: round-off must not pick a winner."""
     test = [r for r in rows if r["experiment"] == "II predict"]
-    best = min(test, key=lambda r: r["RMSE"])
-    same = best["model"] == "PCR"
-    return (f"**Verdict**: on the twin {best['model']} predicts Exp II best (RMSE {best['RMSE']:.2f} um); the seed's "
-            f"PCR (4.21 um) {'also' if same else 'does not'} lead{'s' if same else ''} here"
-            + ("." if same else ": the seed's finding that PCR generalises best under the changed room and feed is "
-               "not reproduced by this twin."))
+    best = min(r["RMSE"] for r in test)
+    leaders = [r["model"] for r in test if r["RMSE"] <= best * (1 + TIE_RTOL)]
+    head = (f"**Verdict**: on the twin {' and '.join(leaders)} "
+            + (f"tie for the best Exp II prediction (RMSE {best:.2f} um, equal to round-off)" if len(leaders) > 1
+               else f"predicts Exp II best (RMSE {best:.2f} um)"))
+    if leaders == ["PCR"]:
+        return head + "; the seed's PCR (4.21 um) also leads here."
+    tail = "; the seed's PCR (4.21 um) led alone: the seed's finding that PCR generalises best under the changed "
+    if "PCR" in leaders:
+        return head + tail + "room and feed is not reproduced by this twin, whose PCR is no better than " \
+            + " and ".join(m for m in leaders if m != "PCR") + "."
+    return head + tail + "room and feed is not reproduced by this twin."
 
 
 def _seed_rows(rows):
