@@ -21,8 +21,8 @@ def add_report_parser(subparsers) -> None:
                    help="a twin NetCDF result, or a measurement CSV with its TOML column mapping")
     p.add_argument("--mapping", help="TOML column mapping of a CSV (default: the CSV's name with .toml)")
     p.add_argument("--test", choices=["etve", "spindle", "axis"],
-                   help="which ISO 230-3 test (default: axis with positioning errors, spindle when the spindle "
-                        "turned, else etve)")
+                   help="which ISO 230-3 test (default: axis with positioning errors or moved axes, spindle when "
+                        "the spindle or the C axis turned, else etve)")
     p.add_argument("--segment", help="length of the segments of the statistics, e.g. '6 h' (default: 24 h for "
                                      "etve, 1 h otherwise)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder (index.html, report.md)")
