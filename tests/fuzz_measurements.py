@@ -147,6 +147,9 @@ GANTRY_MAPPING_EDITS = [
      "columns.FBG-4_comp.gauge"),
     ("reading-missing", _gmap('reading = "compensated"\n', ''), "columns.FBG-1_comp.reading"),
     ("reading-unknown", _gmap('reading = "compensated"', 'reading = "corrected"'), "columns.FBG-1_comp.reading"),
+    # a list or a table: a TypeError (unhashable) before the check named the field
+    ("reading-a-list", _gmap('reading = "compensated"', 'reading = ["compensated"]'), "columns.FBG-1_comp.reading"),
+    ("reading-a-table", _gmap('reading = "compensated"', 'reading = {}'), "columns.FBG-1_comp.reading"),
     ("strain-unit-length", _gmap('reading = "compensated"\nunit = "um/m"', 'reading = "compensated"\nunit = "um"'),
      "columns.FBG-1_comp.unit"),
     ("raw-and-compensated-differ", _gmap('gauge = "FBG-4"\nreading = "raw"', 'gauge = "FBG-5"\nreading = "raw"'),

@@ -377,11 +377,12 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
                               lasers, msrc, key)
             lasers[lid] = (values - values[0]) * 1e6  # m -> um, nulled at the start
         elif role == "strain":
-            if entry.get("reading") not in READINGS:
+            reading = entry.get("reading")
+            if not isinstance(reading, str) or reading not in READINGS:   # a list or table is not hashable
                 got = f"got {describe(entry['reading'])}" if "reading" in entry else "missing"
                 raise InputError(msrc, key + ".reading", f"{got}; expected \"compensated\" (with the nearest "
                                                          f"temperature sensor) or \"raw\" (the grating's reading)")
-            var = READINGS[entry["reading"]]
+            var = READINGS[reading]
             gid = instrument(entry, "gauge", [g.name for g in mach.strain_gauges] if mach is not None else None,
                               strains[var], msrc, key)
             strains[var][gid] = (values - values[0]) * 1e6  # m/m -> um/m, nulled at the start
