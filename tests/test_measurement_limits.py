@@ -238,6 +238,27 @@ def test_a_measurement_of_another_machine_or_unit_or_span_is_refused(tmp_path, c
         diagnose(other, build_machine("cframe-vmc"), None)
 
 
+def test_a_netcdf_variable_without_its_unit_is_refused(tmp_path, capsys):
+    """A result's variable that states no unit cannot be told from one in mm or in K: every reader
+    of a result refuses it naming the variable (plot and report read it as the twin's unit before),
+    as `twin learn` already did."""
+    from tests.fuzz_files import result_dataset
+
+    for var in ("time", "drift", "probe_drift", "temperature"):
+        bad = result_dataset()
+        del bad[var].attrs["units"]
+        bad.to_netcdf(tmp_path / "u.nc")
+        with pytest.raises(InputError, match=f"{var}: states no unit"):
+            read_measurement(tmp_path / "u.nc")
+        for argv in (["report", "iso230-3", str(tmp_path / "u.nc"), "-o", str(tmp_path / "rep")],
+                     ["plot", str(tmp_path / "u.nc"), "-o", str(tmp_path / "u.png")],
+                     ["compare", str(tmp_path / "u.nc"), "--mesh", "coarse"]):
+            assert main(argv) == 2
+            err = capsys.readouterr().err
+            assert err.count("\n") == 1 and f"u.nc: {var}: states no unit" in err, (argv, err)
+        assert not (tmp_path / "rep").exists() and not (tmp_path / "u.png").exists()
+
+
 def test_a_diagnosis_error_names_the_measurement_as_typed(tmp_path, csv_text, capsys, monkeypatch):
     """The diagnosis names each measurement by its label (its file name, or the shortest tail of
     its path that tells it from the others: ``a/m.csv``); an error raised inside it named that

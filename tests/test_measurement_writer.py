@@ -30,7 +30,7 @@ def test_a_sensor_off_the_sites_keeps_its_name_and_position_and_half_seconds_sta
     ds = result_dataset()
     names = list(ds.sensor.values)
     names[0] = "my.sensor 1"           # a dot and a space: a quoted TOML key
-    ds = ds.assign_coords(sensor=names, time=0.5 * np.arange(ds.sizes["time"]))
+    ds = ds.assign_coords(sensor=names, time=("time", 0.5 * np.arange(ds.sizes["time"]), {"units": "s"}))
     csv_path, _ = write_measurement(ds, tmp_path, "run", "cframe-vmc")
     back = read_measurement(csv_path)
     assert back.sensor.values[0] == "my.sensor 1"

@@ -178,13 +178,19 @@ def stated_units(ds: xr.Dataset, var: str) -> str | None:
 
 
 def check_result_units(ds: xr.Dataset, source: str) -> None:
-    """Every variable of ``ds`` a twin result writes (:func:`result_unit`) that states a unit
-    states the twin's, else one :class:`InputError` naming ``source`` and the variable: a drift in
-    mm or a tilt in mrad read as um and urad would be 1000 times too small, a thermogram in K
-    273 K too warm."""
+    """Every variable of ``ds`` a twin result writes (:func:`result_unit`) states the twin's unit,
+    else one :class:`InputError` naming ``source`` and the variable: a drift in mm or a tilt in
+    mrad read as um and urad would be 1000 times too small, a thermogram in K 273 K too warm, and
+    a variable that states no unit cannot be told from either (a twin result states every one)."""
     for var in ds.variables:
         expected, stated = result_unit(str(var)), stated_units(ds, var)
-        if expected is not None and stated is not None and str(stated).strip() != expected:
+        if expected is None:
+            continue
+        if stated is None:
+            raise InputError(source, str(var), f"states no unit; a NetCDF file is read as a twin result, which holds "
+                                               f"{var} in {expected!r} and says so (attribute units): add it, or give "
+                                               "a CSV with a column mapping")
+        if str(stated).strip() != expected:
             raise InputError(source, str(var), f"in {str(stated)!r}; a NetCDF file is read as a twin result, which "
                                                f"holds {var} in {expected!r}: convert it, or give a CSV with a "
                                                "column mapping (which takes any unit)")
