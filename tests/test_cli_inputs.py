@@ -420,3 +420,17 @@ def test_dataset_takes_a_bundled_spec_by_name(capsys, tmp_path, monkeypatch):
                    "(or a path to a .toml file)")
     assert main(["list", "scenarios"]) == 0
     assert "spindle-ambient-100 (dataset spec, twin dataset spindle-ambient-100 -o DIR)" in capsys.readouterr().out
+
+
+def test_a_file_named_like_a_bundled_scenario_is_ambiguous(tmp_path, monkeypatch, capsys):
+    """A file in the working folder named ``spindle-duty-cycle`` shadowed the bundled scenario without
+    a word; now the bare name is refused (which was meant cannot be told) and ``./NAME`` reads the file."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "spindle-duty-cycle").write_text(SHORT, encoding="utf-8")
+    err = _error(capsys, ["simulate", "cframe-vmc", "spindle-duty-cycle", "-o", "x.nc", "--mesh", "coarse"])
+    assert "both a bundled scenario and a file here" in err and "./spindle-duty-cycle" in err
+    assert not (tmp_path / "x.nc").exists()
+    local = load_scenario("./spindle-duty-cycle")
+    assert local.duration == load_scenario(tmp_path / "spindle-duty-cycle").duration == 1800.0   # the file's 30 min
+    (tmp_path / "spindle-duty-cycle").unlink()
+    assert load_scenario("spindle-duty-cycle").duration > local.duration        # no file: the bundled one

@@ -48,6 +48,7 @@ with ``dataclasses.replace`` never met the loader.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import os
 from pathlib import Path
 
 import numpy as np
@@ -137,11 +138,18 @@ def available() -> list[str]:
 
 def scenario_path(name_or_path: str | Path) -> Path:
     """The file of a bundled scenario name, or ``name_or_path`` itself when it is a path (it ends
-    in .toml, contains a folder or exists); unknown names raise :class:`InputError`."""
+    in .toml, contains a folder or exists); unknown names raise :class:`InputError`, and so does a
+    bare name that is both a bundled scenario and a file in the working folder (which one was
+    meant cannot be told)."""
     path = Path(name_or_path)
+    bundled = SCENARIO_DIR / f"{name_or_path}.toml"
+    spelled_as_path = path.suffix == ".toml" or any(sep in str(name_or_path) for sep in ("/", os.sep))
+    if not spelled_as_path and path.exists() and bundled.is_file():
+        raise InputError("command line", "scenario",
+                         f"{str(name_or_path)!r} is both a bundled scenario and a file here; write ./{path} for the "
+                         "file, or rename it (a .toml name is always a file)")
     if path.suffix == ".toml" or path.exists() or len(path.parts) > 1:
         return path
-    bundled = SCENARIO_DIR / f"{name_or_path}.toml"
     if not bundled.is_file():
         raise InputError("command line", "scenario",
                          f"unknown scenario {str(name_or_path)!r}; known: {', '.join(available())} (or a path to a .toml file)")
