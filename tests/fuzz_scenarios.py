@@ -91,6 +91,9 @@ SCENARIO_EDITS = [
     ("event-missing-change", edited(AMBIENT, AMBIENT + EVENT.replace('change = "-9 K"\n', '')), "ambient.events[0].change"),
     ("event-negative-fall", edited(AMBIENT, AMBIENT + EVENT.replace('"30 min"', '"-30 min"')), "ambient.events[0].fall"),
     ("event-after-the-run", edited(AMBIENT, AMBIENT + EVENT.replace('"5 min"', '"5 h"')), "ambient.events[0].start"),
+    # times near the float's limit: their sums overflowed in the air's check (warnings, "not a finite number")
+    ("event-start-1e308-s", edited(AMBIENT, AMBIENT + EVENT.replace('"5 min"', '"1e308 s"')), "ambient.events[0].start"),
+    ("event-recovery-1e308-s", edited(AMBIENT, AMBIENT + EVENT + 'recovery = "1e308 s"\n'), "ambient.events[0].recovery"),
     ("name-not-text", edited('name = "short"', 'name = 3'), "name"),
     ("description-not-text", edited('name = "short"', 'name = "short"\ndescription = 5'), "description"),
     ("event-change-in-degC", edited(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-9 degC"')), "ambient.events[0].change"),

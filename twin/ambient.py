@@ -166,6 +166,9 @@ def check_ambient(a: Ambient, source: str) -> None:
         for k in ("start", "fall", "hold", "recovery"):
             if limits.finite_number(getattr(e, k), source, f"{where}.{k}") < 0:
                 raise InputError(source, f"{where}.{k}", f"must not be negative, got {getattr(e, k):g} s")
+            if getattr(e, k) > limits.MAX_TIME:      # their sums would overflow the check of the air below
+                raise InputError(source, f"{where}.{k}", f"{getattr(e, k) / 3600:g} h is beyond any run "
+                                                         f"({limits.MAX_TIME / 3600:g} h, about a century)")
         if not isinstance(e.door, bool):
             raise InputError(source, f"{where}.door", f"expected true or false, got {describe(e.door)}")
     if a.events:

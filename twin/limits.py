@@ -55,6 +55,7 @@ MAX_NODES = 4_000_000                   # mesh nodes: 4x the largest run measure
 MAX_FEED = 2.0                          # m/s: 120 m/min, the fastest linear-motor machine tools
 MAX_ACCELERATION = 50.0                 # m/s2: about 5 g, beyond linear motors (2-5 g); ball screws ~1 g
 MAX_MOTION_PIECES = 4_000_000           # pieces of constant acceleration of one axis (a million strokes with dwells)
+MAX_TIME = 3.2e9                        # s: about a century, beyond any record or scenario time
 
 
 def check_temperatures(values, source: str, field: str, kind: str = "air", lines=None) -> np.ndarray:
