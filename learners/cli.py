@@ -49,6 +49,7 @@ from learners.table import Table, check_problem, load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity_value, whole_number
 from twin.limits import plain_int
 from twin.errors import InputError
+from twin.io.comma_list import comma_items
 from twin.io.paths import Files, within
 
 __all__ = ["add_learn_parser", "run_learn", "COLUMNS"]
@@ -95,12 +96,7 @@ def add_learn_parser(subparsers):
 
 
 def _split_names(text, option):
-    names = [s.strip() for s in str(text).split(",")]
-    if not any(names):
-        raise InputError("command line", option, "no names given")
-    if not all(names):      # "mlr," or "a,,b": a name left out by mistake, never dropped silently
-        raise InputError("command line", option, f"an empty name in {text!r}: write the names comma-separated, "
-                                                 "each once")
+    names = comma_items(text, "command line", option)     # "mlr," or "a,,b": refused, never dropped
     repeated = sorted({n for n in names if names.count(n) > 1})
     if repeated:
         raise InputError("command line", option, f"{', '.join(repeated)} given more than once")

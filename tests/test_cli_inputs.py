@@ -434,3 +434,13 @@ def test_a_file_named_like_a_bundled_scenario_is_ambiguous(tmp_path, monkeypatch
     assert local.duration == load_scenario(tmp_path / "spindle-duty-cycle").duration == 1800.0   # the file's 30 min
     (tmp_path / "spindle-duty-cycle").unlink()
     assert load_scenario("spindle-duty-cycle").duration > local.duration        # no file: the bundled one
+
+
+@pytest.mark.parametrize("effects", ["+floor_lag,,-floor", "spindle_motor,", ",spindle_motor"])
+def test_an_empty_effect_between_commas_is_refused(effects, tmp_path, capsys):
+    """``--effects +a,,-b`` dropped the empty item without a word (an effect left out by mistake)."""
+    (tmp_path / "s.toml").write_text(SHORT, encoding="utf-8")
+    err = _error(capsys, ["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(tmp_path / "x.nc"),
+                          "--mesh", "coarse", "--effects", effects])
+    assert err == f"error: command line: --effects: an empty effect in {effects!r}: write the effects " \
+                  "comma-separated, each once"

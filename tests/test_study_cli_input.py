@@ -201,6 +201,10 @@ def test_a_study_checks_its_seed_before_anything_is_made(study, seed, needle, tm
     (axis_pose.main, ["--readout", "--poses", "60 mm,0.06 m"], "command line: --poses: 60 mm given more than once"),
     (axis_pose.main, ["--readout", "--poses", "60,340"], "command line: --poses: expected comma-separated"),
     (heat_step.main, ["--coarsening", "2,2"], "command line: --coarsening: 2 given more than once"),
+    # an empty item is a value left out by mistake: refused, never dropped
+    (heat_step.main, ["--coarsening", "2,,3"], "command line: --coarsening: expected comma-separated whole numbers"),
+    (heat_step.main, ["--coarsening", ",2"], "command line: --coarsening: expected comma-separated whole numbers"),
+    (axis_pose.main, ["--readout", "--poses", "60 mm,,340 mm"], "command line: --poses: an empty position"),
 ])
 def test_study_options_are_checked_names_and_numbers(main, argv, needle, capsys):
     assert main(argv) == 2
@@ -212,6 +216,19 @@ def test_hidden_effect_analyse_needs_its_table(tmp_path, capsys):
         hidden_effect.main(["--analyse", "-o", str(tmp_path / "none")])
     assert e.value.code == 2
     one_error(capsys, "hidden_effect.csv: --output: no such study table")
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--classes", "hidden,,none"], "command line: --classes: an empty class in 'hidden,,none'"),
+    (["--classes", "hidden", "--effects", "floor_lag,"], "command line: --effects: an empty effect in 'floor_lag,'"),
+    (["--classes", "none", "--cases", ",(none)"], "command line: --cases: an empty text in ',(none)'"),
+])
+def test_hidden_effect_refuses_an_empty_item(argv, needle, tmp_path, capsys):
+    with pytest.raises(SystemExit) as e:
+        hidden_effect.main(["--out", str(tmp_path / "out"), *argv])
+    assert e.value.code == 2
+    one_error(capsys, needle)
+    assert not (tmp_path / "out").exists()
 
 
 def test_hidden_effect_checks_its_folder_before_any_case(tmp_path, capsys):
@@ -246,6 +263,7 @@ def csv_dataset(tmp_path):
     (["--select", "all"], "the placement benchmark compares sets of 4 sensors"),
     (["--select", "gm0n-fcm:"], "K must be a whole number >= 1, got ''"),
     (["--learners", "mlr,mlr"], "command line: --learners: mlr given more than once"),
+    (["--learners", "mlr,,ann"], "command line: --learners: an empty name in 'mlr,,ann'"),
     (["--seed", "1", "--seed", "2"], "command line: --seed: given more than once"),
     (["--n-random", "0"], "--n-random"),      # it failed after the leaderboard was written
     (["--interval", "0 s"], "command line: --interval: must be positive"),

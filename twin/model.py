@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from geometries.regions import ROLES
 from twin.effects import EFFECTS
 from twin.errors import InputError
+from twin.io.comma_list import comma_items
 from twin.limits import is_finite_number
 from twin.observe.instruments import INSTRUMENTS
 from twin.units import UnitError, format_quantity, parse_quantity
@@ -88,10 +89,10 @@ def parse_effects(text: str | None, base: tuple[str, ...], always: tuple[str, ..
                                            f"(an exact set), got {text!r}" + (f": write {','.join(text)!r}" if
                                            isinstance(text, (list, tuple)) and all(isinstance(t, str) for t in text)
                                            else ""))
-    items = [s.strip() for s in text.split(",") if s.strip()]
-    if not items:
+    if not text.replace(",", "").strip():
         raise InputError(CLI, "--effects", f"{'is empty' if not text.strip() else f'{text!r} names no effect'}: write "
                                            "+name,-name or a,b,c, or leave --effects out for the machine's defaults")
+    items = comma_items(text, CLI, "--effects", "effect")      # "+a,,-b": an effect left out, never dropped
     if any(i in "+-" for i in items):
         raise InputError(CLI, f"--effects {text}", "names no effect; write +name,-name or a,b,c")
     names = [i.lstrip("+-") for i in items]

@@ -111,6 +111,8 @@ def poses_mm(text: str) -> list[float]:
 
     values = []
     for item in (t.strip() for t in text.split(",")):
+        if not item:        # "60 mm,,340 mm": a position left out by mistake
+            raise argparse.ArgumentTypeError(f"an empty position in {text!r}: write the Y positions comma-separated")
         try:
             v = 1e3 * parse_quantity(item, "length")
         except UnitError as err:

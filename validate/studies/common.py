@@ -47,8 +47,8 @@ def whole_numbers(what: str, lower: int = 1):
     one = whole_number(what, lower)
 
     def parse(text: str) -> list[int]:
-        items = [t.strip() for t in text.split(",") if t.strip()]
-        if not items:
+        items = [t.strip() for t in text.split(",")]
+        if not all(items):      # "2,,3" or "2,": a number left out by mistake, never dropped
             raise argparse.ArgumentTypeError(f"expected comma-separated whole numbers of {what}, got {text!r}")
         values = [one(t) for t in items]
         twice = sorted({v for v in values if values.count(v) > 1})

@@ -40,6 +40,7 @@ from learners.table import load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity, whole_number
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
+from twin.io.comma_list import comma_items
 from twin.io.paths import Files, read_text, within
 from validate.studies.common import (check_output_folder, cli_parser, markdown_table, preset, run_cli,
                                      write_csv as write_rows)
@@ -194,7 +195,7 @@ def _parser():
 def _check_names(args) -> list[str]:
     """The learners of ``--learners`` and the selector of ``--select`` exist, K is a whole number >= 1:
     checked before any data is read. Returns the learner names."""
-    names = [s.strip() for s in args.learners.split(",") if s.strip()]
+    names = comma_items(args.learners, "command line", "--learners")
     unknown = [n for n in names if n not in LEARNERS]
     if not names or unknown:
         raise InputError("command line", "--learners",

@@ -28,6 +28,7 @@ from twin.effects import EFFECTS
 from twin.fem.mesh import mesh_machine
 from twin.errors import InputError
 from twin.io.atomic import atomic_write_text
+from twin.io.comma_list import comma_items
 from validate.studies import diagnosis_cases as cases_
 from validate.studies.common import cli_parser
 from validate.studies.diagnosis_cases import BARS, CLASSES, all_cases, run_case, score
@@ -247,14 +248,14 @@ def _study(a) -> int:
     out = check_output_folder(a.out or default_out, ("hidden_effect.csv", "hidden_effect.md"), field="--output",
                               default=default_out)
     machine = build_machine(a.machine)
-    classes = [c.strip() for c in a.classes.split(",") if c.strip()]
+    classes = comma_items(a.classes, "command line", "--classes", "class")
     unknown = [c for c in classes if c not in CLASSES]
     if unknown:
         raise InputError("command line", "--classes", f"unknown class {unknown[0]!r} (known: {', '.join(CLASSES)})")
     if not classes or len(set(classes)) < len(classes):
         raise InputError("command line", "--classes", "no class given" if not classes else
                          f"{', '.join(sorted({c for c in classes if classes.count(c) > 1}))} given more than once")
-    hidden = [h.strip() for h in a.effects.split(",") if h.strip()] if a.effects is not None else None
+    hidden = comma_items(a.effects, "command line", "--effects", "effect") if a.effects is not None else None
     if hidden is not None:
         bad = [h for h in hidden if h not in EFFECTS]
         if bad or not hidden:
@@ -286,7 +287,7 @@ def _study(a) -> int:
     for option, text, key in (("--cases", a.cases, lambda c: c.label), ("--scenarios", a.scenarios, lambda c: c.scenario)):
         if not text:
             continue
-        wanted = [w.strip() for w in text.split(",") if w.strip()]
+        wanted = comma_items(text, "command line", option, "text")
         unmatched = [w for w in wanted if not any(w in key(c) for c in plan)]
         if unmatched or not wanted:      # a text that matches nothing is a typo, even beside one that matches
             raise InputError("command line", option, f"no case of the classes {', '.join(classes)}"
