@@ -185,3 +185,134 @@ def test_an_empty_camera_list_and_an_empty_camera_name_are_refused():
         cameras_from_option("carrier-front,")
     assert (err.value.source, err.value.field) == ("command line", "--camera")
     assert [c.pose for c in cameras_from_option(" carrier-front , overview-front ")] == ["carrier-front", "overview-front"]
+
+
+AT_THE_DOOR = {"position": ["0 m", "-100 m", "0 m"], "target": ["0 m", "-1 m", "0 m"]}   # 100 m from the origin
+NOISE_3D = ("fixed_pattern", "row_fixed", "column_fixed", "row_temporal", "column_temporal", "frame_temporal")
+
+
+@pytest.mark.parametrize("past,at,field,match", [
+    # band: the thermal infrared, 2-14 um (a visible band read -101 degC everywhere)
+    ({"band": ["1.9 um", "13 um"]}, {"band": ["2 um", "13 um"]}, "camera.band[0]", "(2 to 14 um"),
+    ({"band": ["7.5 um", "14.1 um"]}, {"band": ["7.5 um", "14 um"]}, "camera.band[1]", "(2 to 14 um"),
+    ({"band": ["0.4 um", "0.7 um"]}, {"band": ["2 um", "14 um"]}, "camera.band[0]", "0.4 um is outside the thermal"),
+    ({"band": ["7.5 mm", "13 mm"]}, {"band": ["3 um", "5 um"]}, "camera.band[0]", "7500 um is outside"),
+    # field of view 2-120 deg, ifov 0.01-100 mrad: a thermographic camera's lenses and pixels
+    ({"field_of_view": ["1.9 deg", "18 deg"]}, {"field_of_view": ["2 deg", "2 deg"]}, "camera.field_of_view",
+     "from 2 to 120 deg"),
+    ({"field_of_view": ["24 deg", "121 deg"]}, {"field_of_view": ["120 deg", "120 deg"]}, "camera.field_of_view",
+     "from 2 to 120 deg"),
+    ({"ifov": "0.009 mrad"}, {"ifov": "0.01 mrad"}, "camera.ifov", "from 0.01 to 100 mrad"),
+    ({"ifov": "101 mrad"}, {"ifov": "100 mrad"}, "camera.ifov", "from 0.01 to 100 mrad"),
+    ({"ifov": "3 rad"}, {"ifov": "0.1 rad"}, "camera.ifov", "got 3000 mrad"),
+    # distances within a workshop: 100 m (FLIR's air path turns negative near 290 m)
+    ({"settings": {"distance": "100.1 m"}}, {"settings": {"distance": "100 m"}}, "camera.settings.distance",
+     "more than 100 m"),
+    ({"settings": {"distance": "1e300 m"}}, {"settings": {"distance": "0 m"}}, "camera.settings.distance",
+     "more than 100 m"),
+    ({"scene": {"wall_distance": "100.1 m"}}, {"scene": {"wall_distance": "100 m"}}, "camera.scene.wall_distance",
+     "more than 100 m"),
+    ({"scene": {"wall_distance": "1e300 m"}}, {"scene": {"wall_distance": "0 m"}}, "camera.scene.wall_distance",
+     "1e+300 m: more than 100 m"),
+    ({**AT_THE_DOOR, "position": ["0 m", "-100.1 m", "0 m"]}, AT_THE_DOOR, "camera.position",
+     "stands 100.1 m from the machine's origin: more than 100 m"),
+    ({"position": ["0 m", "-3000 m", "1 m"], "target": ["0 m", "0 m", "1 m"]}, AT_THE_DOOR, "camera.position",
+     "more than 100 m"),
+    ({"position": ["0 m", "-2 m", "1 m"], "target": ["0 m", "98.1 m", "1 m"]},
+     {"position": ["0 m", "-2 m", "1 m"], "target": ["0 m", "98 m", "1 m"]}, "camera.target",
+     "lies 100.1 m from position"),
+    # the microbolometer: noise at most 1 K, offsets and accuracy at most 10 K, drift over 1 s to 7 d
+    ({"sensor": {"netd": "1.01 K"}}, {"sensor": {"netd": "1 K"}}, "camera.sensor.netd", "above 1 K"),
+    ({"sensor": {"netd": "1e6 K"}}, {"sensor": {"netd": "1000 mK"}}, "camera.sensor.netd", "above 1 K"),
+    *[({"sensor": {key: "1.01 K"}}, {"sensor": {key: "1 K"}}, f"camera.sensor.{key}", "above 1 K") for key in NOISE_3D],
+    *[({"sensor": {key: "10.1 K"}}, {"sensor": {key: "10 K"}}, f"camera.sensor.{key}", "above 10 K")
+      for key in ("offset", "drift", "accuracy")],
+    ({"sensor": {"drift_time": "0.9 s"}}, {"sensor": {"drift_time": "1 s"}}, "camera.sensor.drift_time",
+     "outside 1 s to 604800 s (7 d)"),
+    ({"sensor": {"drift_time": "7.1 d"}}, {"sensor": {"drift_time": "7 d"}}, "camera.sensor.drift_time",
+     "outside 1 s to 604800 s (7 d)"),
+    ({"sensor": {"drift_time": "1e-300 s"}}, {"sensor": {"drift_time": "30 min"}}, "camera.sensor.drift_time",
+     "outside 1 s to 604800 s"),
+    # limits the reader held before: humidity 0-100 %, emissivity in (0, 1]
+    ({"settings": {"relative_humidity": "100.1 %"}}, {"settings": {"relative_humidity": "100 %"}},
+     "camera.settings.relative_humidity", "0-100 %"),
+    ({"scene": {"relative_humidity": "-0.1 %"}}, {"scene": {"relative_humidity": "0 %"}},
+     "camera.scene.relative_humidity", "0-100 %"),
+    ({"settings": {"emissivity": 0}}, {"settings": {"emissivity": 1}}, "camera.settings.emissivity", "(0, 1]"),
+])
+def test_each_camera_limit_refuses_just_past_it_and_accepts_it(past, at, field, match):
+    """Each plausible limit (twin.observe.camera_checks: BAND, FIELD_OF_VIEW, IFOV, MAX_DISTANCE,
+    NOISE_LIMITS, DRIFT_TIME) refuses a value just past it, naming the field, the limit and its
+    unit, and loads the value at it (or the plausible one beside an absurd value)."""
+    _refused(field, match, **past)
+    _camera(**at)
+
+
+@pytest.mark.parametrize("camera,field", [
+    ('pose = "overview-front"\nband = ["0.4 um", "0.7 um"]\n', "camera.band[0]"),
+    ('pose = "overview-front"\nifov = "3 rad"\n', "camera.ifov"),
+    ('pose = "overview-front"\n[camera.scene]\nwall_distance = "1e300 m"\n', "camera.scene.wall_distance"),
+    ('pose = "overview-front"\n[camera.settings]\ndistance = "1e300 m"\n', "camera.settings.distance"),
+    ('position = ["0 m", "-3000 m", "1 m"]\ntarget = ["0 m", "0 m", "1 m"]\n', "camera.position"),
+    ('pose = "overview-front"\n[camera.sensor]\nnetd = "1e6 K"\n', "camera.sensor.netd"),
+    ('pose = "overview-front"\n[camera.sensor]\ndrift_time = "1e-300 s"\n', "camera.sensor.drift_time"),
+])
+def test_cli_refuses_an_implausible_camera_with_exit_2_and_no_output(tmp_path, capsys, camera, field):
+    """The audit's cases: each ran with exit 0 and wrote a thermogram of garbage (-101 degC, a
+    constant -46.9 degC with RuntimeWarnings) or failed after the run naming the output file."""
+    (tmp_path / "s.toml").write_text(SCENARIO + camera)
+    out = tmp_path / "out.nc"
+    assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(out), "--mesh", "coarse"]) == 2
+    err = capsys.readouterr().err
+    assert f"s.toml: {field}: " in err and "Traceback" not in err and "Warning" not in err, err
+    assert not out.exists()
+
+
+def test_a_camera_built_in_python_meets_the_new_limits():
+    """The same limits hold for a CameraConfig, Intrinsics and Microbolometer built in Python
+    (CameraConfig.check): just past each one is an InputError naming the field as a scenario file
+    would, at it the camera is accepted."""
+    import math
+    from dataclasses import replace
+
+    from twin.observe.camera import CameraConfig
+    from twin.observe.camera_geometry import Intrinsics
+    from twin.observe.microbolometer import Microbolometer
+    from twin.scenario import Ambient, Scenario
+
+    sc = Scenario("short", ((600.0, 8000.0),), Ambient("constant", mean=20.0), 60.0)
+    base = CameraConfig(pose="carrier-front", where="camera.", source="s.toml")
+    deg = math.radians
+    cases = [  # (past, at, field)
+        ({"band": (1.9e-6, 13e-6)}, {"band": (2e-6, 13e-6)}, "camera.band[0]"),
+        ({"band": (7.5e-6, 14.1e-6)}, {"band": (7.5e-6, 14e-6)}, "camera.band[1]"),
+        ({"band": (0.4e-6, 0.7e-6)}, {"band": (3e-6, 5e-6)}, "camera.band[0]"),
+        ({"intrinsics": Intrinsics(fov_h=deg(1.9))}, {"intrinsics": Intrinsics(fov_h=deg(2))}, "camera.field_of_view"),
+        ({"intrinsics": Intrinsics(fov_v=deg(121))}, {"intrinsics": Intrinsics(fov_v=deg(120))},
+         "camera.field_of_view"),
+        ({"intrinsics": Intrinsics(ifov=0.9e-5)}, {"intrinsics": Intrinsics(ifov=1e-5)}, "camera.ifov"),
+        ({"intrinsics": Intrinsics(ifov=3.0)}, {"intrinsics": Intrinsics(ifov=0.1)}, "camera.ifov"),
+        ({"distance": 100.1}, {"distance": 100.0}, "camera.settings.distance"),
+        ({"wall_distance": 1e300}, {"wall_distance": 100.0}, "camera.scene.wall_distance"),
+        ({"position": (0.0, -100.1, 0.0), "target": (0.0, -1.0, 0.0)},
+         {"position": (0.0, -100.0, 0.0), "target": (0.0, -1.0, 0.0)}, "camera.position"),
+        ({"position": (0.0, -2.0, 1.0), "target": (0.0, 98.1, 1.0)},
+         {"position": (0.0, -2.0, 1.0), "target": (0.0, 98.0, 1.0)}, "camera.target"),
+        ({"sensor": Microbolometer(netd=1.01)}, {"sensor": Microbolometer(netd=1.0)}, "camera.sensor.netd"),
+        *[({"sensor": Microbolometer(**{key: 1.01})}, {"sensor": Microbolometer(**{key: 1.0})}, f"camera.sensor.{key}")
+          for key in NOISE_3D],
+        *[({"sensor": Microbolometer(**{key: 10.1})}, {"sensor": Microbolometer(**{key: 10.0})}, f"camera.sensor.{key}")
+          for key in ("offset", "drift", "accuracy")],
+        ({"sensor": Microbolometer(drift_time=0.9)}, {"sensor": Microbolometer(drift_time=1.0)},
+         "camera.sensor.drift_time"),
+        ({"sensor": Microbolometer(drift_time=7.1 * 86400)}, {"sensor": Microbolometer(drift_time=7 * 86400.0)},
+         "camera.sensor.drift_time"),
+        ({"relative_humidity": 1.001}, {"relative_humidity": 1.0}, "camera.settings.relative_humidity"),
+        ({"room_humidity": -0.001}, {"room_humidity": 0.0}, "camera.scene.relative_humidity"),
+        ({"emissivity": 0.0}, {"emissivity": 1.0}, "camera.settings.emissivity"),
+    ]
+    for past, at, field in cases:
+        with pytest.raises(InputError) as err:
+            replace(base, **past).check(sc)
+        assert (err.value.source, err.value.field) == ("s.toml", field), (past, str(err.value))
+        replace(base, **at).check(sc)

@@ -32,12 +32,24 @@ A scenario may hold one ``[camera]`` table or a ``[[camera]]`` list; every value
     accuracy = "2 K"                    # reference_temperature, bits, range = ["-40 degC", "120 degC"]
 
 Unknown keys, missing units and values out of range raise :class:`twin.errors.InputError` naming
-the file and the key (``camera[1].settings.emissivity``). Plausible limits: ``position`` and
-``target`` differ, ``up`` is a finite direction not along the line of sight, and the camera stands
-in the air, not inside a part of the machine (checked against the machine when the camera is set
-up, before the run); ``air_temperature`` is room air (-40 to 60 degC, :data:`twin.limits.AIR_RANGE`);
-``reflected_temperature`` and ``room_temperature`` lie from -40 to 200 degC (what surrounds a
-machine tool, :data:`twin.limits.STRUCTURE_RANGE`); the sensor's ``range`` and
+the file and the key (``camera[1].settings.emissivity``), with the limit and its unit. Plausible
+limits (the constants of :mod:`twin.observe.camera_checks`, each with its reason): ``position``
+and ``target`` differ, ``up`` is a finite direction not along the line of sight, and the camera
+stands in the air, not inside a part of the machine (checked against the machine when the camera
+is set up, before the run); ``position`` lies within 100 m of the machine's origin and ``target``
+within 100 m of ``position``, and ``settings.distance`` and ``scene.wall_distance`` are 0 to 100 m
+(a large workshop hall; FLIR's air-path model keeps its transmission above 0.6 there and turns
+negative near 290 m, :data:`~twin.observe.camera_checks.MAX_DISTANCE`); ``band`` lies within the
+thermal infrared, 2 to 14 um (MWIR 3-5 um, LWIR 7.5-14 um; below 2 um a room-temperature body emits
+next to nothing, :data:`~twin.observe.camera_checks.BAND`); each ``field_of_view`` angle is 2 to
+120 deg (telephoto to the widest rectilinear lens) and ``ifov`` 0.01 to 100 mrad; ``resolution``
+1 to 8192 px a side; ``edge_rays`` 1 to 8; ``emissivity`` above 0 and at most 1; each
+``relative_humidity`` 0 to 100 %; ``air_temperature`` is room air (-40 to 60 degC,
+:data:`twin.limits.AIR_RANGE`); ``reflected_temperature`` and ``room_temperature`` lie from -40 to
+200 degC (what surrounds a machine tool, :data:`twin.limits.STRUCTURE_RANGE`); the sensor's
+``netd`` and the other noise terms (``fixed_pattern``, ``row_fixed``, ``column_fixed``,
+``row_temporal``, ``column_temporal``, ``frame_temporal``) are 0 to 1 K, ``offset``, ``drift`` and
+``accuracy`` 0 to 10 K, ``drift_time`` 1 s to 7 d, ``bits`` 8 to 16, its ``range`` and
 ``reference_temperature`` within the twin's radiance table, -100 to 1000 degC; every temperature
 above absolute zero.
 """
