@@ -69,6 +69,19 @@ CONV = {"kind": "convection", "region": "saddle"}
      "effects.pump.power", "factor 9 at machine cframe-vmc's maximum of 9000 rpm"),
     ({**SOURCE, "power": "80 W", "schedule": "windows", "windows": [["-1 h", "2 min"]]},
      "effects.pump.windows[0]", "before the run's start"),
+    # windows sharing a time: s is 1 inside any window, so the shared time is not loaded twice
+    ({**SOURCE, "power": "80 W", "schedule": "windows", "windows": [["0 h", "0.1 h"], ["0 h", "0.1 h"]]},
+     "effects.pump.windows[1]", '["0 h", "0.1 h"] repeats windows[0] ["0 h", "0.1 h"]: the factor is 1 inside any '
+                                "window, so a shared time is not loaded twice"),
+    ({**SOURCE, "power": "80 W", "schedule": "windows", "windows": [["0 h", "0.1 h"], ["0 min", "6 min"]]},
+     "effects.pump.windows[1]", '["0 min", "6 min"] repeats windows[0]'),     # the same window, other units
+    ({**SOURCE, "power": "80 W", "schedule": "windows", "windows": [["0 h", "1 h"], ["30 min", "2 h"]]},
+     "effects.pump.windows[1]", '["30 min", "2 h"] overlaps windows[0] ["0 h", "1 h"]'),
+    ({**SOURCE, "power": "80 W", "schedule": "windows", "windows": [["3 h", "4 h"], ["0 h", "5 h"]]},
+     "effects.pump.windows[1]", '["0 h", "5 h"] overlaps windows[0] ["3 h", "4 h"]'),      # one inside the other
+    ({**SOURCE, "power": "80 W", "schedule": "windows",
+      "windows": [["0 h", "5 h"], ["6 h", "7 h"], ["4 h", "4.5 h"]]},                       # not in order
+     "effects.pump.windows[2]", '["4 h", "4.5 h"] overlaps windows[0] ["0 h", "5 h"]'),
     ({**SOURCE, "power": "80 W", "doc": 3}, "effects.pump.doc", "expected text"),
     ({"kind": ["heat_source"], "region": "saddle", "power": "80 W"}, "effects.pump.kind", "unknown kind"),
     # a region named twice: the union holds it once, not the doubled power the list seems to ask
@@ -94,6 +107,12 @@ def test_values_at_the_limits_still_load(machine):
     for x in (0, 3):
         e = _one(machine, **SOURCE, power="80 W", schedule="speed", reference_speed="9000 rpm", exponent=x)
         assert e.schedule.exponent == x
+    # windows that only touch (one's end the next's start), in any order, share no time
+    e = _one(machine, **SOURCE, power="80 W", schedule="windows",
+             windows=[["1 h", "2 h"], ["0 h", "1 h"], ["3 h", "4 h"]])
+    assert e.schedule.windows == ((3600.0, 7200.0), (0.0, 3600.0), (10800.0, 14400.0))
+    e = _one(machine, **SOURCE, power="80 W", schedule="windows", windows=[["0 d", "1.1 d"], ["26.4 h", "30 h"]])
+    assert e.schedule.windows[0][1] > e.schedule.windows[1][0]      # touching, 1e-11 s apart in floating point
 
 
 def _write_table(tmp_path, text):
@@ -113,6 +132,18 @@ def _write_table(tmp_path, text):
     ("t,factor\n5,1\n30,1\n", "time", "must start at 0"),
     ("t,factor\n0,1\n0,1\n", "time", "increase strictly"),
     ("t,factor\n0,1\n30,1,2\n", "line 3", "has 3 fields"),
+    # the header names the time first, the factor second; a unit only on the time, in brackets
+    ("factor,time\n0,1\n30,1\n", "header", "column 1 is 'factor'; the header names the time first, then the "
+                                          "factor: 'time,factor' or 'time [min],factor' (the columns are swapped)"),
+    ("time,time\n0,1\n30,1\n", "header", "column 2 is 'time'"),
+    ("minutes,factor\n0,1\n30,1\n", "header", "column 1 is 'minutes'"),
+    ("time,scale\n0,1\n30,1\n", "header", "column 2 is 'scale'"),
+    ("time [,factor\n0,1\n30,1\n", "header", "column 1: 'time [' is not a name with its unit in brackets"),
+    ("time [],factor\n0,1\n30,1\n", "header", "column 1: 'time []' is not a name with its unit in brackets"),
+    ("time [min] [s],factor\n0,1\n30,1\n", "header", "column 1: 'time [min] [s]' is not a name"),
+    ("time [kg],factor\n0,1\n30,1\n", "time", "header unit [kg]: '1 kg' has the wrong unit"),
+    ("time [degC],factor\n0,1\n30,1\n", "time", "'degC' is a temperature unit"),
+    ("time [min],factor [%]\n0,1\n30,1\n", "factor", "the factor is a plain number"),
 ])
 def test_bad_schedule_tables_are_refused(machine, tmp_path, text, field, match):
     spec = _write_table(tmp_path, text)
@@ -120,6 +151,39 @@ def test_bad_schedule_tables_are_refused(machine, tmp_path, text, field, match):
         _one(machine, tmp_path, **spec)
     assert (err.value.source, err.value.field) == (str(tmp_path / "f.csv"), field), str(err.value)
     assert match in err.value.message, err.value.message
+
+
+@pytest.mark.parametrize("header,time_unit,seconds", [
+    ("t,factor", "min", 60.0),               # the header without units: time_unit gives the unit (as ever)
+    ("time,factor", "h", 3600.0),
+    ("Time,Factor", "s", 1.0),               # names in any case
+    ("time [min],factor", None, 60.0),       # the header's unit, time_unit left out
+    ("time [s],factor", "s", 1.0),           # both, the same unit
+    ("time [hr],factor", "h", 3600.0),       # both, two spellings of one unit
+    (" time [ min ] , factor ", None, 60.0),
+])
+def test_the_time_unit_comes_from_the_header_or_time_unit(machine, tmp_path, header, time_unit, seconds):
+    (tmp_path / "f.csv").write_text(header + "\n0,1\n10,0.5\n")
+    table = {"file": "f.csv"} if time_unit is None else {"file": "f.csv", "time_unit": time_unit}
+    e = _one(machine, tmp_path, **SOURCE, power="80 W", schedule="table", table=table)
+    np.testing.assert_array_equal(e.schedule.table[0], [0.0, 10 * seconds])
+    np.testing.assert_array_equal(e.schedule.table[1], [1.0, 0.5])
+
+
+@pytest.mark.parametrize("header,time_unit,match", [
+    # the audit's file: seconds in the header, minutes in fx.toml, read as minutes before
+    ("time [s],factor", "min", "'min' contradicts the header of {csv}, 'time [s]' (times in s); give the time's "
+                               "unit once: leave time_unit out or make the two agree"),
+    ("time [h],factor", "s", "'s' contradicts the header of {csv}, 'time [h]' (times in h)"),
+    # neither gives the unit
+    ("time,factor", None, "missing: the header of {csv} gives the time no unit ('time'); write time_unit = \"min\" "
+                          "here or the unit in the header, 'time [min]'"),
+])
+def test_a_missing_or_contradicting_time_unit_is_refused(machine, tmp_path, header, time_unit, match):
+    (tmp_path / "f.csv").write_text(header + "\n0,1\n600,0.5\n1800,1\n")
+    table = {"file": "f.csv"} if time_unit is None else {"file": "f.csv", "time_unit": time_unit}
+    _refused(machine, "effects.pump.table.time_unit", match.format(csv=tmp_path / "f.csv"), tmp_path,
+             **SOURCE, power="80 W", schedule="table", table=table)
 
 
 def test_table_factor_times_strength_is_bounded_and_file_keys_are_typed(machine, tmp_path):
@@ -162,14 +226,40 @@ SCENARIO = ('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 
      'table = { file = "f.csv", time_unit = "min" }\n', "effects.pump.table"),     # ends at 5 min of 10
     ('kind = "heat_source"\nregion = "saddle"\npower = "80 W"\nschedule = "windows"\n'
      'windows = [["2 min", "4 min"], ["10 h", "11 h"]]\n', "effects.pump.windows[1]"),  # opens after the 10 min run
+    ('kind = "heat_source"\nregion = "saddle"\npower = "80 W"\nschedule = "windows"\n'
+     'windows = [["0 h", "0.1 h"], ["0 h", "0.1 h"]]\n', "effects.pump.windows[1]"),     # one window twice
+    ('kind = "heat_source"\nregion = "saddle."\npower = "80 W"\n', "effects.pump.region"),   # no direction after '.'
+    ('kind = "heat_flux"\nregion = ["saddle", "saddle.+x"]\npower = "80 W"\n', "effects.pump.region"),
+    ('kind = "heat_source"\nregion = "saddle"\npower = "80 W"\nschedule = "table"\n'
+     'table = { file = "f.csv", time_unit = "s" }\n', "effects.pump.table.time_unit"),   # f.csv's 'time [min]'
 ])
 def test_cli_refuses_with_exit_2_and_no_output(tmp_path, capsys, effect, field):
     (tmp_path / "s.toml").write_text(SCENARIO)
-    (tmp_path / "f.csv").write_text("t,factor\n0,1\n5,0.5\n")
+    header = "time [min],factor" if 'time_unit = "s"' in effect else "t,factor"     # the contradiction's table
+    (tmp_path / "f.csv").write_text(header + "\n0,1\n5,0.5\n")
     (tmp_path / "fx.toml").write_text("[effects.pump]\n" + effect)
     out = tmp_path / "out.nc"
     assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(out), "--mesh", "coarse",
                  "--effects-file", str(tmp_path / "fx.toml")]) == 2
     err = capsys.readouterr().err
     assert f"fx.toml: {field}: " in err and "Traceback" not in err, err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("header,field", [
+    ("time [s],factor", "fx.toml: effects.pump.table.time_unit: 'min' contradicts the header of {csv}"),
+    ("factor,time", "{csv}: header: column 1 is 'factor'"),
+])
+def test_cli_refuses_a_table_header_it_cannot_trust(tmp_path, capsys, header, field):
+    """The audit's files: a header in seconds read as minutes (time_unit = "min"), and the columns
+    swapped, both ran to exit 0; now exit 2 naming the file and field or column, and no output."""
+    (tmp_path / "s.toml").write_text(SCENARIO)
+    (tmp_path / "f.csv").write_text(header + "\n0,1\n600,0.5\n1800,1\n")
+    (tmp_path / "fx.toml").write_text('[effects.pump]\nkind = "heat_source"\nregion = "saddle"\npower = "80 W"\n'
+                                      'schedule = "table"\ntable = { file = "f.csv", time_unit = "min" }\n')
+    out = tmp_path / "out.nc"
+    assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(out), "--mesh", "coarse",
+                 "--effects-file", str(tmp_path / "fx.toml")]) == 2
+    err = capsys.readouterr().err
+    assert field.format(csv=tmp_path / "f.csv") in err and "Traceback" not in err, err
     assert not out.exists()

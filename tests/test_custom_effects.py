@@ -154,6 +154,52 @@ def test_an_effects_file_effect_is_always_on_in_simulate(tmp_path, capsys):
     assert "pump" in model_from_options(machine_by_name("cframe-vmc"), "+pump", None, str(tmp_path / "e.toml")).effects
 
 
+@pytest.mark.parametrize("kind,region,message", [
+    # malformed spellings: a '.' with no face direction is not the whole part, nor is a stray blank
+    ("heat_source", "saddle.", "'saddle.' is malformed; a region is a part's name ('saddle'): a volume load fills "
+                               "the part's cells, it takes no face direction"),
+    ("heat_flux", "saddle.", "'saddle.' is malformed; a region is a part's name ('saddle') or its outer faces facing "
+                             "one way ('saddle.+x'; directions +x, -x, +y, -y, +z, -z)"),
+    ("heat_flux", ["table", "saddle."], "'saddle.' is malformed"),
+    ("heat_flux", ".+x", "'.+x' is malformed"),
+    ("heat_flux", "saddle.+x.+y", "'saddle.+x.+y' is malformed"),
+    ("heat_flux", "saddle .+x", "'saddle .+x' is malformed"),
+    ("heat_flux", " saddle", "' saddle' is malformed"),
+    ("convection", "", "'' is malformed"),
+    # a part with its own faces: the union loads each face once, not the extra heat the list asks
+    ("heat_flux", ["saddle", "saddle.+x"], "'saddle.+x' overlaps 'saddle', also named, which holds all of saddle's "
+                                           "outer faces: a face is loaded once, not once per name that covers it"),
+    ("convection", ["table.-z", "column", "table"], "'table.-z' overlaps 'table'"),
+])
+def test_malformed_and_overlapping_regions_are_refused(machine, kind, region, message):
+    strength = {"h": "10 W/m2K"} if kind == "convection" else {"power": "80 W"}
+    with pytest.raises(InputError) as err:
+        _one(machine, kind=kind, region=region, **strength)
+    assert (err.value.source, err.value.field) == ("f.toml", "effects.x.region")
+    assert message in err.value.message, err.value.message
+
+
+def test_regions_that_share_no_face_still_load(machine, mm):
+    """What the overlap rule leaves: distinct parts own distinct faces (a boundary face has one
+    owner cell) and a face faces one direction, so a list of different parts, or of one part's
+    different directions, is loaded over the faces of each exactly once: the faces of the list are
+    the disjoint union of the faces of its names, and the power is P over all of them."""
+    from twin.fem.regions import region_facets
+    from geometries.regions import region_by_name
+    for names in (["saddle", "table"], ["saddle.+x", "saddle.-x", "saddle.+z"], ["saddle.+x", "table.+x", "column"]):
+        e = _one(machine, kind="heat_flux", region=names, power="80 W")
+        (load,) = e.loads(mm, SC, e.defaults())
+        each = [region_facets(mm, region_by_name(machine, n, True)) for n in names]
+        assert sum(map(len, each)) == len(load.facets) == len(np.unique(np.concatenate(each)))
+        np.testing.assert_allclose(load.power(np.array([0.0])), [80.0])
+    # every part's six directions are disjoint and make up the part's outer faces on this machine
+    from geometries.regions import DIRECTIONS
+    for part in machine.parts:
+        whole = region_facets(mm, region_by_name(machine, part.name, True))
+        sides = [region_facets(mm, region_by_name(machine, f"{part.name}.{d}", True)) for d in DIRECTIONS]
+        assert sorted(np.concatenate(sides)) == sorted(whole), part.name
+
+
 def test_library_names_and_empty_regions_are_refused(machine, mm):
     with pytest.raises(InputError, match="library effect"):
         effects_from_dict({"effects": {"floor": {"kind": "heat_source", "region": "bed", "power": "1 W"}}}, "f", machine)

@@ -9,7 +9,7 @@ diagnose --effects-file FILE`` offers them as candidates and fits their strength
     kind = "heat_flux"                # heat_source (volume), heat_flux (surface) or convection
     region = "bed.+y"                 # a part ("saddle": its cells, or its outer faces for a
                                       # surface kind), "part.+x" (its outer faces facing +x),
-                                      # or a list of them
+                                      # or a list of them (each region once, none inside another)
     power = "60 W"                    # heat_source / heat_flux: total power P [W] (negative: removed);
                                       # heat_flux may give flux = "40 W/m2" instead (P = q A)
     schedule = "constant"             # constant | spindle_on | speed | windows | table
@@ -21,15 +21,22 @@ diagnose --effects-file FILE`` offers them as candidates and fits their strength
     #   -k dT/dn = h s(t) (T - T_air(t) - offset)
     # schedule = "speed":   reference_speed = "9000 rpm", exponent = 1   s = (n / n_ref)^x
     # schedule = "windows": windows = [["1 h", "2 h"], ["5 h", "5.5 h"]]  s = 1 inside [start, end)
+    #                       (no two sharing a time; one may end where the next starts)
     # schedule = "table":   table = { file = "factor.csv", time_unit = "min" }
-    #                       two columns (time, factor) after one header row (at least two data
-    #                       rows), linear in between, covering the whole run from 0 (its end is
-    #                       checked when the run starts; nothing is extrapolated)
+    #                       two columns after one header row naming them, time first, factor
+    #                       second ("time,factor"; "t" for time, any case), the time's unit in the
+    #                       header ("time [min],factor", time_unit may then be left out) or in
+    #                       time_unit (both given must agree); at least two data rows, linear in
+    #                       between, covering the whole run from 0 (its end is checked when the run
+    #                       starts; nothing is extrapolated)
 
 Every load is the strength times the schedule s(t) (dimensionless): P(t) = P s(t) for sources
 and fluxes (linear in P), h(t) = h s(t) for convection (not linear in h). Unknown keys, a missing
-key, a wrong unit, an unknown part or direction, an empty region or a bad table raise
-:class:`twin.errors.InputError` naming the file and the key.
+key, a wrong unit, an unknown part or direction, a malformed region ("saddle."), a region named
+twice or inside another named region ("saddle" with "saddle.+x": the union loads each face once,
+not the extra heat the list seems to ask), two windows sharing a time, an empty region or a bad
+table (its header included) raise :class:`twin.errors.InputError` naming the file and the key (a
+table's own errors name the CSV file and the column).
 
 Plausible limits (one effect on a machine tool; a value beyond them is a unit slip or a typo):
 
@@ -53,12 +60,13 @@ from pathlib import Path
 
 import numpy as np
 
-from geometries.regions import Union, region_by_name
+from geometries.regions import DIRECTIONS, Union, region_by_name
 from twin import limits
 from twin.effects.base import (EFFECTS, Convection, Effect, HeatSource, Parameter, SurfaceHeatFlux, Uncertain,
                                check_declarations)
 from twin.errors import InputError, describe
 from twin.fem.regions import region_cells, region_facets
+from twin.io.csv_header import name_and_unit, unit_factor
 from twin.io.table_reader import TableReader
 from twin.units import UnitError, format_quantity, parse_quantity
 
@@ -74,6 +82,8 @@ _LIMITS = {"power": (MAX_POWER, "100 kW", "the largest machine-tool spindle driv
            "flux": (MAX_FLUX, "10 kW/m2", "ten times full sunlight"),
            "h": (MAX_H, "10000 W/m2K", "a coolant jet; still air is about 5, forced air about 100 W/m2K")}
 SCHEDULES = ("constant", "spindle_on", "speed", "windows", "table")
+TIME_NAMES = ("time", "t")     # a schedule table's header: column 1 (any case), its unit in brackets or time_unit
+FACTOR_NAMES = ("factor",)     # column 2, without a unit
 # the keys of an [effects.NAME] table: its strength (one of) and the other keys of its kind, and those of every kind
 _STRENGTHS = {"heat_source": ("power",), "heat_flux": ("power", "flux"), "convection": ("h",)}
 _KIND_KEYS = {"heat_source": ("power",), "heat_flux": ("power", "flux"), "convection": ("h", "air_offset")}
@@ -287,6 +297,14 @@ def _region(value, machine, surface: bool, src: str, where: str):
     names = value if isinstance(value, list) else [value]
     if not names or not all(isinstance(n, str) for n in names):
         raise InputError(src, where + ".region", "expected a part name, 'part.+x', or a list of them")
+    for n in names:             # "saddle." is no "saddle": a face direction left out, or a stray dot
+        pieces = n.split(".")
+        if len(pieces) > 2 or not all(q and q == q.strip() for q in pieces):
+            part = pieces[0].strip() or machine.parts[0].name
+            forms = (f"a part's name ({part!r}) or its outer faces facing one way ({part + '.+x'!r}; directions "
+                     f"{', '.join(DIRECTIONS)})" if surface else
+                     f"a part's name ({part!r}): a volume load fills the part's cells, it takes no face direction")
+            raise InputError(src, where + ".region", f"{n!r} is malformed; a region is {forms}")
     twice = next((n for n in names if names.count(n) > 1), None)
     if twice is not None:       # the union would hold it once: a doubled power it does not give
         raise InputError(src, where + ".region", f"{twice!r} named more than once; name each region once")
@@ -296,6 +314,16 @@ def _region(value, machine, surface: bool, src: str, where: str):
             regions.append(region_by_name(machine, n, surface))
         except ValueError as err:
             raise InputError(src, where + ".region", str(err)) from None
+    # Distinct parts own distinct faces and a face faces one direction, so the only overlap left is
+    # a part with its own faces ("saddle" and "saddle.+x"): the union holds each face once (the
+    # power is spread over it, not added), so the +x faces get no extra heat, which the list seems
+    # to ask; refused, as a region named twice.
+    within = next((n for n in names if "." in n and n.partition(".")[0] in names), None)
+    if within is not None:
+        part = within.partition(".")[0]
+        raise InputError(src, where + ".region", f"{within!r} overlaps {part!r}, also named, which holds all of "
+                                                 f"{part}'s outer faces: a face is loaded once, not once per name "
+                                                 "that covers it; name the part or its faces, not both")
     return (regions[0] if len(regions) == 1 else Union(tuple(regions))), ", ".join(names)
 
 
@@ -376,6 +404,7 @@ def _schedule(r: TableReader, src: str, where: str, folder: Path) -> Schedule:
             if not b > a:
                 raise InputError(src, f"{where}.windows[{i}]", "end must come after start")
             out.append((a, b))
+        _refuse_overlaps(out, raw, src, where)
         return Schedule(kind, windows=tuple(out))
     if kind == "table":
         path, table = _table(r.get("table", required=True), src, where + ".table", folder)
@@ -383,21 +412,49 @@ def _schedule(r: TableReader, src: str, where: str, folder: Path) -> Schedule:
     return Schedule(kind)
 
 
+def _refuse_overlaps(windows: list[tuple[float, float]], raw: list, src: str, where: str) -> None:
+    """Refuse two windows that share a time (one repeated, or overlapping): s(t) is 1 inside any
+    window, so the shared time is not loaded twice, as the list seems to ask, and one of the two
+    is most likely a typo. Windows that only touch (one's end the next's start) are fine; the
+    error names the later-listed window's field and both windows as written (the ends, rounded
+    apart by different units, are compared to 1e-9)."""
+    order = sorted(range(len(windows)), key=lambda i: windows[i])
+    reach = order[0] if order else 0            # the window, of those by start so far, that ends last
+    for i in order[1:]:
+        if windows[i][0] < windows[reach][1] * (1 - 1e-9):    # "1.1 d" and "26.4 h" touch, rounded apart
+            a, b = sorted((reach, i))
+            how = "repeats" if windows[a] == windows[b] else "overlaps"
+            raise InputError(src, f"{where}.windows[{b}]",
+                             f"{_window_text(raw[b])} {how} windows[{a}] {_window_text(raw[a])}: the factor is 1 "
+                             "inside any window, so a shared time is not loaded twice; merge them into one window "
+                             "(windows may touch: one's end the next's start)")
+        if windows[i][1] > windows[reach][1]:
+            reach = i
+
+
+def _window_text(w: list) -> str:
+    return "[" + ", ".join(f'"{v}"' if isinstance(v, str) else describe(v) for v in w) + "]"
+
+
 def _table(spec, src: str, where: str, folder: Path) -> tuple[Path, tuple[np.ndarray, np.ndarray]]:
-    """(path, (times [s], factors)) of a schedule table: a header row, then at least two rows of
-    time (in ``time_unit``, from 0, the run's start, increasing) and factor (0 to :data:`MAX_FACTOR`)."""
+    """(path, (times [s], factors)) of a schedule table: a header row naming the time first and
+    the factor second (:data:`TIME_NAMES`, :data:`FACTOR_NAMES`; the time's unit in brackets,
+    ``time [min]``, or from ``time_unit``), then at least two rows of time (from 0, the run's start,
+    increasing) and factor (0 to :data:`MAX_FACTOR`)."""
     r = TableReader(spec, src, where + ".", known=("file", "time_unit"))
     name = r.get("file", required=True)
-    unit = r.get("time_unit", required=True)
+    unit = r.get("time_unit")
     r.finish()
     if not isinstance(name, str) or not name.strip():
         raise InputError(src, where + ".file", f"expected the path of a CSV file, got {describe(name)}")
-    if not isinstance(unit, str):
-        raise InputError(src, where + ".time_unit", f"expected a time unit such as \"min\", got {describe(unit)}")
-    try:
-        scale = parse_quantity(f"1 {unit}", "time")
-    except UnitError as err:
-        raise InputError(src, where + ".time_unit", str(err)) from None
+    scale = None
+    if unit is not None:
+        if not isinstance(unit, str):
+            raise InputError(src, where + ".time_unit", f"expected a time unit such as \"min\", got {describe(unit)}")
+        try:
+            scale = unit_factor(unit, "time")
+        except UnitError as err:
+            raise InputError(src, where + ".time_unit", str(err)) from None
     from twin.io.csv_rows import NUMBER, cell_number, data_rows
     from twin.io.paths import read_text
 
@@ -415,6 +472,7 @@ def _table(spec, src: str, where: str, folder: Path) -> tuple[Path, tuple[np.nda
     if all(NUMBER.fullmatch(c.strip()) for c in rows[0]):
         raise InputError(csv_src, "header", f"the first row {','.join(rows[0])!r} is numbers; the table needs a "
                                             "header row such as 'time,factor'")
+    scale, unit = _table_header(rows[0], unit, scale, src, where, csv_src)
     values = np.empty((len(rows) - 1, 2))
     for i, (line, row) in enumerate(zip(lines[1:], rows[1:])):
         for j, cell in enumerate(row):
@@ -442,6 +500,47 @@ def _table(spec, src: str, where: str, folder: Path) -> tuple[Path, tuple[np.nda
                                             "strength, not a negative factor)")
     return path, (times, factors)
 
+
+def _table_header(header: list[str], unit, scale, src: str, where: str, csv_src: str) -> tuple[float, str]:
+    """(seconds per time unit, the unit's spelling) of a schedule table whose header row is
+    ``header`` (two cells), ``unit``/``scale`` those of ``time_unit`` (None when not given).
+
+    The rule: column 1 is the time (:data:`TIME_NAMES`), column 2 the factor (:data:`FACTOR_NAMES`),
+    names in any case; the time's unit is in the header (``time [min]``, any time unit of
+    :mod:`twin.units`) or in ``time_unit``; both given must agree (``h`` and ``hr`` do), else the
+    two are a contradiction. The factor is a plain number: a unit on it is refused. Errors name the
+    CSV file and the column (its header cell), or the TOML field ``time_unit``."""
+    cells = []
+    for k, cell in enumerate(header):
+        try:
+            cells.append(name_and_unit(cell))
+        except ValueError as err:
+            raise InputError(csv_src, "header", f"column {k + 1}: {err}") from None
+    (t_name, t_unit), (f_name, f_unit) = cells
+    expected = "the time first, then the factor: 'time,factor' or 'time [min],factor'"
+    if t_name.lower() not in TIME_NAMES or f_name.lower() not in FACTOR_NAMES:
+        swapped = t_name.lower() in FACTOR_NAMES and f_name.lower() in TIME_NAMES
+        bad, k = ((header[0], 1) if t_name.lower() not in TIME_NAMES else (header[1], 2))
+        raise InputError(csv_src, "header", f"column {k} is {bad.strip()!r}; the header names {expected}"
+                                            + (" (the columns are swapped)" if swapped else ""))
+    if f_unit is not None:
+        raise InputError(csv_src, "factor", f"header {header[1].strip()!r}: the factor is a plain number (a multiple "
+                                            "of the effect's strength) and has no unit; write 'factor'")
+    if t_unit is None:
+        if unit is None:
+            raise InputError(src, where + ".time_unit", f"missing: the header of {csv_src} gives the time no unit "
+                                                        f"({header[0].strip()!r}); write time_unit = \"min\" here or "
+                                                        "the unit in the header, 'time [min]'")
+        return scale, unit
+    try:
+        t_scale = unit_factor(t_unit, "time")
+    except UnitError as err:
+        raise InputError(csv_src, "time", f"header unit [{t_unit}]: {err}") from None
+    if scale is not None and scale != t_scale:
+        raise InputError(src, where + ".time_unit", f"{unit!r} contradicts the header of {csv_src}, "
+                                                    f"{header[0].strip()!r} (times in {t_unit}); give the time's "
+                                                    "unit once: leave time_unit out or make the two agree")
+    return t_scale, t_unit
 
 
 def register_custom(effects: list[CustomEffect]) -> list[str]:

@@ -19,19 +19,16 @@ temperature below absolute zero or outside the plausible range of room air
 from __future__ import annotations
 
 import csv
-import re
 from pathlib import Path
 
 import numpy as np
 
 from twin import limits
 from twin.errors import InputError
+from twin.io.csv_header import name_and_unit
 from twin.io.csv_rows import cell_number, data_rows
 from twin.io.paths import read_text
 from twin.units import UnitError, parse_quantity
-
-_HEADER = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*\[(?P<unit>[^\[\]]+)\]\s*$")
-
 
 def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.ndarray, np.ndarray]:
     """(times [s] from the first row, air temperatures [degC]) of a room-air CSV ``path``;
@@ -62,11 +59,14 @@ def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.nda
 
 
 def _unit(src: str, header: str, k: int) -> tuple[str, str]:
-    m = _HEADER.match(header)
-    if not m:
+    try:
+        name, unit = name_and_unit(header)
+    except ValueError:
+        unit = None
+    if unit is None:
         example = "time [h]" if k == 0 else "air [degC]"
         raise InputError(src, "header", f"column {k + 1} {header.strip()!r} needs its unit in brackets, like {example!r}")
-    return m["name"] or f"column {k + 1}", m["unit"].strip()
+    return name or f"column {k + 1}", unit
 
 
 def _values(src: str, lines: list[int], rows, j: int, name: str, unit: str, dimension: str) -> np.ndarray:
