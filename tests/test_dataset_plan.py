@@ -73,6 +73,11 @@ BAD = [
     ('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W", "-1 W"] }', "parameters.spindle_motor.power.normal",
      "standard deviation"),
     ('{ uniform = ["40 W", "80 W"] }', '{ gauss = ["60 W", "1 W"] }', "parameters.spindle_motor.power", "expected one of"),
+    # a normal with (almost) none of its probability within the parameter's bounds [0 .. 5000 W]
+    ('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W", "1e300 W"] }', "parameters.spindle_motor.power.normal",
+     "only 2e-297 of the normal's probability lies within the bounds"),
+    ('mean = ["18 degC", "22 degC"]', 'mean = { normal = ["20 degC", "1e12 K"] }', "scenarios[0].ambient.mean.normal",
+     "of the normal's probability lies within the bounds"),
     ('"spindle_motor.power"', '"spindle_motor.volume"', "parameters.spindle_motor.volume", "unknown parameter"),
     ('speed = ["2000 rpm", "9000 rpm"]', 'speed = ["2000 rpm", "12000 rpm"]', "scenarios[0].spindle.speed", "maximum"),
     ('duration = "10 min"', 'duration = "10 kg"', "scenarios[0].duration", "wrong unit"),
@@ -282,6 +287,44 @@ def test_each_distribution_draws_what_its_name_says():
     assert 17.0 <= t.min() and t.max() <= 21.0
     assert abs(t.mean() - mean) < 4 * truncnorm(a, b, loc=20.0, scale=2.0).std() / np.sqrt(n)
     assert Dist("fixed", (7.0,), "power").sample(rng) == 7.0
+
+
+def test_a_normal_is_drawn_exactly_from_its_truncation(tmp_path):
+    """A normal is truncated to its bounds by the inverse CDF at one uniform a draw (no redrawing):
+    x = mu + sigma Phi^-1(Phi(a) + u (Phi(b) - Phi(a))), here against scipy's truncnorm.ppf (to
+    1e-12 sigma; far in either tail too, through the mirrored bounds), and a normal whose sd dwarfs
+    the bounds (1e7 W on spindle_motor.power's [0 .. 5000 W]: 2e-4 of it inside, where redrawing
+    ran out of tries now and then) plans every time, each draw inside, the same on every plan."""
+    from scipy.stats import norm, truncnorm
+
+    from twin.dataset.fields import Dist, normal_mass, truncated_normal
+    for mean, sd, lo, hi in [(20.0, 2.0, 17.0, 21.0), (60.0, 1e7, 0.0, 5000.0), (0.0, 1.0, 8.0, 9.0),
+                             (0.0, 1.0, -9.0, -8.0), (0.0, 1.0, -40.0, 40.0), (5.0, 1.0, 5.0, 5.001),
+                             (1.0, 3.0, -np.inf, 2.0), (1.0, 3.0, 0.5, np.inf)]:
+        a, b = (lo - mean) / sd, (hi - mean) / sd
+        mass = norm.sf(a) - norm.sf(b) if a >= 0 else norm.cdf(b) - norm.cdf(a)   # each in its accurate tail
+        assert normal_mass(mean, sd, lo, hi) == pytest.approx(mass, rel=1e-9)
+        for u in (0.0, 2.0**-40, 0.25, 0.5, 0.875, 1.0 - 2.0**-40, 1.0 - 2.0**-53):   # 1 - u exact
+            x = truncated_normal(mean, sd, lo, hi, u)
+            assert lo <= x <= hi and np.isfinite(x)    # u = 0 on an open lower end: finite, far down the tail
+            # the upper half through the mirrored normal (scipy's ppf loses 1 - u there)
+            assert -truncated_normal(-mean, sd, -hi, -lo, 1.0 - u) == pytest.approx(x, abs=1e-12 * sd, rel=1e-12)
+            if u <= 0.875:
+                want = truncnorm.ppf(u, a, b, loc=mean, scale=sd)
+                assert x == pytest.approx(want, abs=1e-12 * sd, rel=1e-12) or (u == 0.0 and want == -np.inf)
+    # one uniform a draw, whatever the bounds: the next draw of the generator is where it would be
+    wide = Dist("normal", (60.0, 1e7), "power", 0.0, 5000.0)
+    r, s = np.random.default_rng(9), np.random.default_rng(9)
+    for _ in range(1000):
+        assert 0.0 <= wide.sample(r) <= 5000.0
+        s.uniform()
+    assert r.uniform() == s.uniform()
+    text = SPEC.replace('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W", "1e7 W"] }').replace("cases = 2",
+                                                                                                 "cases = 50")
+    a, b = plan(load_spec(write_spec(tmp_path, text))), plan(load_spec(write_spec(tmp_path, text)))
+    drawn = [c.info["spindle_motor.power [W]"] for c in a]
+    assert drawn == [c.info["spindle_motor.power [W]"] for c in b] and [c.hash for c in a] == [c.hash for c in b]
+    assert len(drawn) == 51 and all(0.0 <= x <= 5000.0 for x in drawn) and len(set(drawn)) == 51
 
 
 def test_split_counts_are_rounded_fractions_of_each_family(tmp_path):

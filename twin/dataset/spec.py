@@ -66,10 +66,12 @@ between where it is and a drawn end at a drawn feed (holding when not even one s
 step), while it stands the axis holds; it starts at the middle of its range. Scenario files that
 move axes are accepted too; the interferometer and probing are not (run ``twin simulate``).
 
-A generator field given as ``[lo, hi]`` is uniform; a table names the distribution. Normal draws
-are truncated to the parameter's bounds (redrawn). A ``grid`` is allowed for parameters only: the
-plan crosses every grid point with every draw. Unknown keys, wrong units, empty or reversed
-ranges, values outside a parameter's bounds or a machine's speed limit raise
+A generator field given as ``[lo, hi]`` is uniform; a table names the distribution. A normal is
+truncated to the field's or parameter's bounds and drawn exactly from that truncation (its inverse
+CDF at one uniform a draw: no redrawing). A ``grid`` is allowed for parameters only: the plan
+crosses every grid point with every draw. Unknown keys, wrong units, empty or reversed ranges,
+values outside a parameter's bounds or a machine's speed limit, a normal with less than 1e-6 of
+its probability within the bounds (a standard deviation that dwarfs them) raise
 :class:`twin.errors.InputError` naming the spec file and the field.
 """
 
