@@ -36,9 +36,11 @@ import sys
 import time
 
 import numpy as np
+import scipy.sparse as sp
 
 from twin.cli.options import positive_quantity
 from twin.physics.lu import SymmetricLU
+from twin.physics.parallel import RowBlocks
 from twin.physics.steppers import IterativeStepper
 from validate.studies.common import (check_output_folder, cli_parser, markdown_table, run_cli,
                                      whole_numbers, write_csv)
@@ -66,8 +68,11 @@ class TwoGridStepper(IterativeStepper):
 
     def _cycle(self, lhs, dinv):
         """The cycle for A = ``lhs`` with inverse diagonal ``dinv``: the coarse operator P^T A P
-        factorised and the damping 1 / lambda_max(D^-1 A) found once."""
-        factor = SymmetricLU(self.PT @ lhs @ self.P)
+        factorised and the damping 1 / lambda_max(D^-1 A) found once. ``lhs`` is the stepper's
+        operator: a CSR matrix, or on a large model (:data:`twin.physics.parallel.SPLIT_FROM`
+        stored entries) its :class:`twin.physics.parallel.RowBlocks`, which only multiplies dense
+        arrays; the Galerkin product takes the blocks stacked back into one CSR matrix."""
+        factor = SymmetricLU(self.PT @ (as_csr(lhs) @ self.P))
         omega = 1.0 / largest_eigenvalue(lambda v: dinv * (lhs @ v), len(dinv))
 
         def cycle(R):
@@ -78,6 +83,11 @@ class TwoGridStepper(IterativeStepper):
             Z = Z + omega * dinv[:, None] * (R - lhs @ Z)
             return Z[:, 0] if one else Z
         return cycle
+
+
+def as_csr(A) -> sp.csr_matrix:
+    """``A`` (a sparse matrix or a :class:`twin.physics.parallel.RowBlocks`) as one CSR matrix."""
+    return sp.vstack(A.blocks, format="csr") if isinstance(A, RowBlocks) else sp.csr_matrix(A)
 
 
 def largest_eigenvalue(apply, n: int) -> float:
