@@ -108,3 +108,38 @@ def test_effect_on_machine(twins, machine, effect):
         # only blocks whose response stands well clear of their round-off
         clear = [d / scale for d, scale, b1 in zip(second, scales, y[1]) if scale > 1e-7 * np.abs(b1).max()]
         assert clear and max(clear) > 1e-6
+
+
+def test_every_model_value_lies_in_its_uncertain_range_on_every_machine():
+    """A parameter's plausible range holds the machine's own value: the gantry's Z drive sets its
+    own powers (guideways 0.6 W) below the registry's range (2-30 W), which a diagnosis could then
+    never fit back to the model's value; its range is now the registry's scaled by own / registry
+    default (twin.model.uncertain_range), the same relative spread."""
+    from geometries import MACHINES, build_machine
+    from geometries.axes import with_feed_drives
+    from twin.model import uncertain_range
+
+    for name in MACHINES:
+        m = with_feed_drives(build_machine(name))
+        for effect in m.default_effects:
+            for u in EFFECTS[effect].uncertain:
+                value = (m.effect_defaults.get(effect) or {}).get(u.name, EFFECTS[effect].parameter(u.name).default)
+                lo, hi = uncertain_range(m, effect, u)
+                assert lo <= value <= hi, (name, effect, u.name, value, lo, hi)
+    gantry = with_feed_drives(build_machine("gantry-ram"))
+    u = EFFECTS["feed_guideways_z"].uncertainty("power")
+    scale = 0.6 / EFFECTS["feed_guideways_z"].parameter("power").default
+    assert uncertain_range(gantry, "feed_guideways_z", u) == pytest.approx((u.lower * scale, u.upper * scale), rel=1e-12)
+    assert uncertain_range(build_machine("cframe-vmc"), "feed_guideways_z", u) == (u.lower, u.upper)
+
+
+def test_the_diagnosis_fits_a_machine_own_default_within_its_scaled_range():
+    from geometries import build_machine
+    from geometries.axes import with_feed_drives
+    from twin.model import model_spec
+    from validate.candidates import wrong_parameters
+
+    gantry = with_feed_drives(build_machine("gantry-ram"))
+    spec = model_spec(gantry)          # with its feed drives: the Z drive among the defaults
+    c = next(c for c in wrong_parameters(spec, gantry) if c.name == "feed_guideways_z.power")
+    assert c.lower < 0.6 < c.upper <= 2.0          # round the model's 0.6 W, not 0.6 .. 30 W

@@ -218,6 +218,24 @@ def with_machine_defaults(machine, effects, params: dict) -> dict:
     return out
 
 
+def uncertain_range(machine, effect: str, u) -> tuple[float, float]:
+    """The plausible range [SI] of the uncertain parameter ``u`` of ``effect`` on ``machine``: the
+    registry's (:class:`twin.effects.base.Uncertain`, declared round the registry's default), or,
+    where the machine sets its own default for that parameter (``Machine.effect_defaults``: a drive
+    of another size), that range scaled by own / registry default, so it keeps its relative spread
+    round the machine's value (the gantry's Z guideways: 0.6 W against the registry's range
+    2-30 W, which a fit could never bring back to the model's own value), within the parameter's
+    bounds. A default of zero on either side has no scale: the range is widened to hold it."""
+    own = (machine.effect_defaults.get(effect) or {}).get(u.name) if machine is not None else None
+    param = EFFECTS[effect].parameter(u.name)
+    if own is None or own == param.default:
+        return u.lower, u.upper
+    if own > 0 and param.default > 0:
+        scale = own / param.default
+        return max(u.lower * scale, param.lower), min(u.upper * scale, param.upper)
+    return min(u.lower, own), max(u.upper, own)
+
+
 def default_spec(machine) -> ModelSpec:
     """The machine's default effects at their default parameters."""
     return model_spec(machine)

@@ -29,7 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from twin.effects import EFFECTS
-from twin.model import ModelSpec, applicable_effects
+from twin.model import ModelSpec, applicable_effects, uncertain_range
 from twin.units import format_quantity
 
 
@@ -99,16 +99,18 @@ def _zero_of(par) -> float:
     return 0.0 if par.lower <= 0.0 else par.upper
 
 
-def wrong_parameters(spec: ModelSpec) -> list[Candidate]:
+def wrong_parameters(spec: ModelSpec, machine=None) -> list[Candidate]:
     """Every declared uncertain parameter of the effects in ``spec``, moved within its plausible
-    range from the model's value."""
+    range on ``machine`` (:func:`twin.model.uncertain_range`: scaled where the machine sets its
+    own default) from the model's value."""
     out = []
     for name in spec.effects:
         eff = EFFECTS[name]
         kind = "custom" if getattr(eff, "custom", False) else "parameter"
         for u in eff.uncertain:
             p0 = float(spec.params[name][u.name])
-            lo, hi = min(u.lower, p0), max(u.upper, p0)
+            lo, hi = uncertain_range(machine, name, u)
+            lo, hi = min(lo, p0), max(hi, p0)
             ref = p0 + 0.5 * (hi - p0) if hi > p0 else p0 - 0.5 * (p0 - lo)
             out.append(Candidate(f"{name}.{u.name}", kind, name, u.name, lo, hi, p0, ref, u.linear, True))
     return out
@@ -132,4 +134,4 @@ def candidate_pool(machine, spec: ModelSpec, effects: list[str] | None = None, p
                 or any(EFFECTS[c.effect].acts(sc, spec.params.get(c.effect)) for sc in scenarios)]
 
     out = [c for c in (missing_effect(n) for n in names) if c is not None]
-    return (out if effects is not None else acting(out)) + (acting(wrong_parameters(spec)) if parameters else [])
+    return (out if effects is not None else acting(out)) + (acting(wrong_parameters(spec, machine)) if parameters else [])

@@ -29,16 +29,20 @@ def _effects(machine_name: str | None) -> None:
     from geometries.axes import with_feed_drives
     from twin.api import machine_by_name
     from twin.effects import EFFECTS
+    from twin.model import uncertain_range
     from twin.units import format_quantity
 
-    def show(name, tag, where="", own=None):
+    def show(name, tag, where="", machine=None):
+        """One effect; with ``machine``, at that machine's own defaults and uncertain ranges."""
         e = EFFECTS[name]
+        own = machine.effect_defaults.get(name) if machine is not None else None
         print(f"{name}{tag}: {e.summary}\n  reference: {e.reference}{where}")
         for p in e.parameters:
             print(f"    {p.describe((own or {}).get(p.name))}")
         for u in e.uncertain:
             dim = e.parameter(u.name).dimension
-            print(f"    uncertain {u.name}: {format_quantity(u.lower, dim)} .. {format_quantity(u.upper, dim)} "
+            lo, hi = uncertain_range(machine, name, u)
+            print(f"    uncertain {u.name}: {format_quantity(lo, dim)} .. {format_quantity(hi, dim)} "
                   f"({'linear' if u.linear else 'nonlinear'}): {u.why}")
 
     def qualifier(name, base, m):
@@ -71,7 +75,7 @@ def _effects(machine_name: str | None) -> None:
             refused.append(f"{name} (needs {missing[0]})")
         else:
             q = qualifier(name, base, m)
-            show(name, "" if q is None else f" (default{q})", own=m.effect_defaults.get(name))
+            show(name, "" if q is None else f" (default{q})", machine=m)
     if refused:
         print(f"not applicable to {m.name}: {', '.join(refused)}")
 

@@ -135,7 +135,7 @@ class FeedMotor(_FeedEffect):
                                     "losses at standstill with the drive enabled (hundreds of W for a vertical "
                                     "axis without counterbalance)"),
                   Parameter("inertia_power", "power", 12.0, 0.0, 2000.0,
-                            "copper losses of the inertia torque at 1 m/s2 (the default 12 W: the C-frame's 0.6 t "
+                            "copper losses of the inertia torque at 1 m/s2 (the registry default 12 W: the C-frame's 0.6 t "
                             "saddle and table on a 10 mm lead, rotor and screw 0.0044 kg m2, k_t 1.2 N m/A, "
                             "R 1.2 ohm)"))
     uncertain = (_range,)

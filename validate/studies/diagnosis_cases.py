@@ -207,7 +207,8 @@ def parameter_cases(machine) -> list[Case]:
             for scenario, factor in PARAMETERS.get(name, DEFAULT_PARAMETER_CASES):
                 if not acts_in(effect, scenario):
                     continue
-                value = eff.parameter(u.name).default * factor
+                own = (machine.effect_defaults.get(effect) or {}).get(u.name)   # a machine's own default
+                value = (eff.parameter(u.name).default if own is None else own) * factor
                 out.append(Case("parameter", f"{name} x{factor:g}", scenario, None,
                                 (f"{name}={_quantity(effect, u.name, value)}",), None, ((name, value),),
                                 why=f"{u.name} {factor - 1:+.0%} of the default; plausible range: {u.why}"))

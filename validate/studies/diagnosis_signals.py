@@ -53,7 +53,7 @@ def cause_spec(spec, machine, cause: str):
     from validate.candidates import missing_effect, wrong_parameters
     if " x" in cause:
         name, factor = cause.rsplit(" x", 1)
-        c = next(c for c in wrong_parameters(spec) if c.name == name)
+        c = next(c for c in wrong_parameters(spec, machine) if c.name == name)
         return c.spec(spec, c.zero * float(factor))
     if cause.startswith("test_bar_contact"):
         return missing_effect("test_bar_contact").spec(spec, 5.0)
