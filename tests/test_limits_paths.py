@@ -414,3 +414,19 @@ def test_a_result_whose_time_repeats_a_value_is_refused(tmp_path):
     t[2] = t[1] + 1e-3                            # a millisecond later is increasing
     ds.assign_coords(time=("time", t, {"units": "s"})).to_netcdf(tmp_path / "ok.nc", engine="h5netcdf")
     assert read_result(tmp_path / "ok.nc", "result").sizes["time"] == ds.sizes["time"]
+
+
+def test_an_output_file_ending_in_a_separator_is_refused(tmp_path, capsys):
+    """``-o out.nc/`` names a folder; pathlib dropped the slash and the run wrote the file out.nc."""
+    from tests.fuzz_files import SCENARIO
+    from twin.cli import main
+    from twin.io.paths import output_file
+
+    with pytest.raises(InputError) as err:
+        output_file(f"{tmp_path}/out.nc/", "-o", (".nc",))
+    assert err.value.field == "-o" and "ends in a path separator" in err.value.message
+    assert output_file(tmp_path / "out.nc", "-o", (".nc",)) == tmp_path / "out.nc"
+    (tmp_path / "s.toml").write_text(SCENARIO, encoding="utf-8")
+    assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", f"{tmp_path}/out.nc/", "--mesh", "coarse"]) == 2
+    assert "ends in a path separator" in capsys.readouterr().err
+    assert not (tmp_path / "out.nc").exists()

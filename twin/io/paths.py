@@ -128,8 +128,13 @@ def output_file(path: str | os.PathLike, field: str = "output", suffixes: tuple[
                 folder_may_be_created: bool = False) -> Path:
     """``path`` as a Path after checking it can be written as a new regular file (see the module
     doc). ``suffixes``: the ones the writer supports (None: any). ``folder_may_be_created``: the
-    folder need not exist yet (it is checked by :func:`output_folder`)."""
+    folder need not exist yet (it is checked by :func:`output_folder`). A path that ends in a
+    separator (``out.nc/``) names a folder: refused (pathlib would drop the slash and write a file)."""
+    raw = os.fspath(path) if isinstance(path, (str, os.PathLike)) else path
     path = as_path(path, field)
+    if isinstance(raw, str) and raw.endswith(("/", os.sep)) and not path.is_dir():   # a folder: said below
+        raise InputError(str(path), field, f"{raw!r} ends in a path separator, a folder's name; an output file "
+                                           f"needs a file name (write {str(path)!r})")
     try:
         return _output_file(path, field, suffixes, folder_may_be_created)
     except InputError:
