@@ -394,7 +394,17 @@ def all_cases() -> list[Case]:
     # the same measurement by a hard link (with its own mapping beside it): the same file, given twice
     cases.append(Case("diagnose:measurement-by-a-hard-link", DIAGNOSE[:2] + ["{d}/m-link.csv"] + DIAGNOSE[2:],
                       "{d}/m-link.csv", "measurement", setup=_hard_link_measurement))
+    # a byte copy of it under another name: another file, the same run, which a joint fit weighed twice
+    cases.append(Case("diagnose:measurement-copied", DIAGNOSE[:2] + ["{d}/m-copy.csv"] + DIAGNOSE[2:],
+                      "{d}/m-copy.csv", "measurement", setup=_copied_measurement))
     return cases
+
+
+def _copied_measurement(folder: str) -> None:
+    import shutil
+
+    for suffix in (".csv", ".toml"):
+        shutil.copyfile(os.path.join(folder, "m" + suffix), os.path.join(folder, "m-copy" + suffix))
 
 
 def _hard_link_measurement(folder: str) -> None:

@@ -120,6 +120,20 @@ def measurement_labels(paths) -> list[str]:
     return labels
 
 
+def refuse_copies(paths) -> None:
+    """Two measurement files with the same bytes are one run given twice under two names (a copy):
+    a joint fit would weigh it twice. :class:`InputError` naming the later one and the earlier."""
+    import hashlib
+
+    seen = {}
+    for path in paths:
+        digest = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+        if digest in seen:
+            raise InputError(str(path), "measurement", f"holds the same bytes as {seen[digest]}: a copy would weigh "
+                                                       "one run twice in the joint fit; give each run once")
+        seen[digest] = str(path)
+
+
 def load_measurements(args):
     """([(label, Dataset, Scenario)], machine, ModelSpec, custom effect names) for ``twin
     diagnose MEAS [MEAS ...]``, declared first (:func:`declare_inputs`: each file once): every
@@ -137,6 +151,7 @@ def load_measurements(args):
         raise InputError("command line", "--scenario", "applies to a single measurement; leave it out (each "
                                                        "measurement drives the twin by its own logged inputs) or "
                                                        "diagnose one measurement at a time")
+    refuse_copies(paths)
     runs, machine = [], None
     for path, label in zip(paths, measurement_labels(paths)):
         meas = read_measurement(path, args.mapping, args.machine)
