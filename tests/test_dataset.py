@@ -175,6 +175,23 @@ def test_the_output_folder_never_replaces_the_spec(tmp_path, capsys):
     assert "scenarios[1].file" in capsys.readouterr().err
 
 
+def test_a_folder_with_a_users_own_readme_is_refused_and_a_dataset_folder_is_not(built, tmp_path, capsys):
+    """``twin dataset SPEC -o .`` replaced a user's own README.md (not an input, so no clash):
+    an index or card file in the folder must be a dataset's, with its card.json beside it."""
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    (folder / "README.md").write_text("my notes\n", encoding="utf-8")
+    assert main(["dataset", str(write_spec(tmp_path)), "-o", str(folder), "--max-cases", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "README.md: -o: exists and is not a twin dataset's" in err
+    assert (folder / "README.md").read_text(encoding="utf-8") == "my notes\n" and not (folder / "cases").exists()
+    (folder / "card.json").write_text("[1, 2]", encoding="utf-8")          # a JSON file, not a card
+    assert main(["dataset", str(write_spec(tmp_path)), "-o", str(folder), "--dry-run"]) == 2
+    capsys.readouterr()
+    spec_path, dataset, _ = built            # an earlier build of the dataset: its files are ours to rewrite
+    assert main(["dataset", str(spec_path), "-o", str(dataset), "--dry-run"]) == 0
+
+
 def test_reduced_model_cases_are_identical_and_carry_no_wall_times(tmp_path):
     spec = load_spec(write_spec(tmp_path, SPEC.replace('seed = 3', 'seed = 3\nsolver = "rom"')))
     case = plan(spec)[:1]

@@ -34,6 +34,7 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     from twin.dataset import CASES, INDEX_FILES, build, executor, is_whole, load_spec, plan, write_index
+    from twin.dataset.card import check_dataset_folder
     from twin.dataset.spec import spec_path as bundled_or_path
     from twin.dataset.runner import check_scheduler
     from twin.io.atomic import output_folder
@@ -47,6 +48,7 @@ def run(args) -> int:
         for path, key, what in f.inputs:
             files.input(path, f"scenarios[{i}].{key}", what)
     folder = files.folder(args.output, "-o", INDEX_FILES)
+    check_dataset_folder(folder)           # -o . beside a user's own README.md: not replaced
     cases = plan(spec)
     chosen = cases if args.max_cases is None else cases[:args.max_cases]
     case_dir = Path(folder) / CASES

@@ -101,6 +101,26 @@ def schema(path: Path | None) -> list[dict]:
     return out
 
 
+def check_dataset_folder(folder: Path, field: str = "-o") -> None:
+    """An existing output ``folder`` holding one of :data:`INDEX_FILES` must hold a twin dataset
+    (a ``card.json`` of one: a JSON object with this module's ``format`` and ``spec``), whose
+    index and card a build rewrites; else :class:`InputError`: a user's own ``README.md`` or
+    ``index.csv`` in ``-o .`` was replaced without notice."""
+    folder = Path(folder)
+    present = [name for name in INDEX_FILES if (folder / name).exists()]
+    if not present:
+        return
+    try:
+        ours = json.loads((folder / "card.json").read_text(encoding="utf-8"))
+        ours = isinstance(ours, dict) and "format" in ours and "spec" in ours
+    except (OSError, ValueError):
+        ours = False
+    if not ours:
+        raise InputError(str(folder / present[0]), field, "exists and is not a twin dataset's (no dataset card.json "
+                                                         "beside it): a build would replace it; choose an empty "
+                                                         "folder or an earlier build of a dataset")
+
+
 def card(spec, rows: list[dict], folder: Path, last_build: dict | None = None) -> dict:
     """The dataset card as a JSON-ready dict (the schema read from the first built case in ``folder``)."""
     def counts(key):
