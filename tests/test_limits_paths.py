@@ -430,3 +430,14 @@ def test_an_output_file_ending_in_a_separator_is_refused(tmp_path, capsys):
     assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", f"{tmp_path}/out.nc/", "--mesh", "coarse"]) == 2
     assert "ends in a path separator" in capsys.readouterr().err
     assert not (tmp_path / "out.nc").exists()
+
+
+def test_a_value_just_past_its_limit_is_written_with_the_digits_that_tell_them_apart():
+    """"9000 rpm is beyond machine cframe-vmc's maximum of 9000 rpm" for 9000.0001 rpm: %g hid it."""
+    m = build_machine("cframe-vmc")
+    with pytest.raises(InputError, match=r"9000\.0001 rpm is beyond machine cframe-vmc's maximum of 9000 rpm"):
+        limits.check_speeds([9000.0001], m, "s.toml", "speed")
+    with pytest.raises(InputError, match=r" 9500 rpm is beyond"):
+        limits.check_speeds([9500.0], m, "s.toml", "speed")
+    assert limits.beside(2.0 + 1e-12, 2.0) == "2.000000000001" and limits.beside(3.0, 2.0) == "3"
+    assert limits.beside(2.0 + 1e-17, 2.0) == repr(2.0 + 1e-17)        # equal as floats: nothing to tell

@@ -115,8 +115,19 @@ def check_speeds(values, machine, source: str, field: str, logged: bool = False,
     if fast.size:
         name = getattr(machine, "name", None)
         whose = f"machine {name}'s maximum of {top:g} rpm" if name else f"the limit of {top:g} rpm"
-        raise InputError(source, field, f"{_where(v, fast[0], lines)}{flat[fast[0]]:g} rpm is beyond {whose}")
+        raise InputError(source, field, f"{_where(v, fast[0], lines)}{beside(flat[fast[0]], top)} rpm is beyond {whose}")
     return v
+
+
+def beside(value: float, limit: float) -> str:
+    """``value`` written so that it differs from ``limit`` written the same way: ``%g`` unless both
+    print alike (9000.0001 and 9000 are both "9000" in ``%g``: "9000 rpm is beyond 9000 rpm"), then
+    with the digits that tell them apart, up to ``repr``."""
+    for digits in (6, 10, 15):
+        text = f"{value:.{digits}g}"
+        if text != f"{limit:.{digits}g}":
+            return text
+    return repr(float(value))
 
 
 def _within(values, limit: float, source: str, field: str, beyond, lines=None) -> np.ndarray:
@@ -160,7 +171,7 @@ def check_c_axis_speeds(values, machine, source: str, field: str, logged: bool =
     limit = top * (1 + LOGGED_SPEED_MARGIN) if logged else top
     fast = np.flatnonzero(flat > limit)
     if fast.size:
-        raise InputError(source, field, f"{_where(v, fast[0], lines)}{flat[fast[0]]:g} rpm is beyond machine "
+        raise InputError(source, field, f"{_where(v, fast[0], lines)}{beside(flat[fast[0]], top)} rpm is beyond machine "
                                         f"{machine.name}'s C-axis maximum of {top:g} rpm")
     return v
 
@@ -290,14 +301,14 @@ def _at_most(value: float, limit: float, source: str, field: str, message) -> fl
 def check_feed(value: float, source: str, field: str, what: str = "a feed") -> float:
     """An axis feed (or speed) [m/s] checked: finite and at most :data:`MAX_FEED`."""
     return _at_most(value, MAX_FEED, source, field, lambda v: (
-        f"{what} of {v:g} m/s ({v * 60:g} m/min) is beyond {MAX_FEED:g} m/s ({MAX_FEED * 60:g} m/min), the fastest "
+        f"{what} of {beside(v, MAX_FEED)} m/s ({beside(v * 60, MAX_FEED * 60)} m/min) is beyond {MAX_FEED:g} m/s ({MAX_FEED * 60:g} m/min), the fastest "
         "linear-motor machine tools (check the unit)"))
 
 
 def check_acceleration(value: float, source: str, field: str) -> float:
     """An axis acceleration [m/s2] checked: finite and at most :data:`MAX_ACCELERATION`."""
     return _at_most(value, MAX_ACCELERATION, source, field, lambda v: (
-        f"an acceleration of {v:g} m/s2 ({v / 9.80665:.3g} g) is beyond {MAX_ACCELERATION:g} m/s2 (about "
+        f"an acceleration of {beside(v, MAX_ACCELERATION)} m/s2 ({v / 9.80665:.3g} g) is beyond {MAX_ACCELERATION:g} m/s2 (about "
         f"{MAX_ACCELERATION / 9.80665:.0f} g): linear-motor axes reach 2-5 g, ball screws about 1 g (check the unit)"))
 
 
