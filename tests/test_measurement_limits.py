@@ -72,7 +72,7 @@ def test_same_file_name_in_two_folders_keeps_every_channel(tmp_path, csv_text, m
     (``channel@label``, :meth:`validate.evidence.Evidence.channel_names`) are all distinct."""
     from validate.evidence import Evidence
     _write(tmp_path / "a", csv_text)
-    _write(tmp_path / "b", csv_text)
+    _write(tmp_path / "b", csv_text + "\n")     # another file (a byte copy is one run twice: refused)
     monkeypatch.chdir(tmp_path)
     args = build_parser().parse_args(["diagnose", "a/m.csv", "b/m.csv", "--error-mesh", "none", "--no-parameters"])
     runs, _, _, _ = load_measurements(args)
@@ -266,7 +266,7 @@ def test_a_diagnosis_error_names_the_measurement_as_typed(tmp_path, csv_text, ca
     names every measurement."""
     import validate.diagnose
 
-    a, b = _write(tmp_path / "x" / "a", csv_text), _write(tmp_path / "x" / "b", csv_text)
+    a, b = _write(tmp_path / "x" / "a", csv_text), _write(tmp_path / "x" / "b", csv_text + "\n")   # not a byte copy
 
     def fails(runs, *args, **kwargs):
         assert [label for label, _, _ in runs] == ["a/m.csv", "b/m.csv"]
