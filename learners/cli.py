@@ -168,6 +168,10 @@ def _declare_files(args) -> Files:
         if value is not None and not args.dataset:
             raise InputError("command line", option, "names a split of a --dataset: give --dataset, or leave it out")
     args.split, args.train_split = args.split or "test", args.train_split or "train"
+    if args.dataset and args.split == args.train_split:      # each of its cases would be named as "also a training run"
+        raise InputError("command line", "--split", f"{args.split} is also --train-split: scores on a model's own "
+                                                    "training runs say nothing of its error on new runs; test on "
+                                                    "another split")
     for path in args.output:
         if args.dataset and within(path, args.dataset):
             raise InputError(path, "-o", f"lies in the input dataset {args.dataset}: write the scores elsewhere")
@@ -190,6 +194,9 @@ def run_learn(args) -> int:
     selector, n_select = _make_selector(args.select, seed)
     interval = _interval(args.interval)
     inputs = None if str(args.inputs).strip() in ("", "all") else _split_names(args.inputs, "--inputs")
+    if inputs and "all" in inputs:
+        raise InputError("command line", "--inputs", f"'all' keeps every sensor and takes no other name, got "
+                                                     f"{args.inputs!r}")
     if inputs and args.target in inputs:
         raise InputError("command line", "--inputs", f"the target {args.target} is also an input")
 

@@ -50,6 +50,8 @@ ROOM_EDITS = [
     ("three-columns", {"room.csv": "time [min],air [degC],x [degC]\n0,20,1\n30,21,1\n"}, ROOM, "header"),
     ("unit-kelvin", {"room.csv": "time [min],air [K]\n0,293\n30,294\n"}, ROOM, "air"),
     ("unit-wrong-kind", {"room.csv": "time [degC],air [degC]\n0,20\n30,21\n"}, ROOM, "time"),
+    # the columns swapped: said so (it was "header unit [degC]: '1 degC' has the wrong unit")
+    ("columns-swapped", {"room.csv": "air [degC],time [min]\n20,0\n21,30\n"}, ROOM, "header"),
     ("nan", {"room.csv": _room("0,20\n10,nan\n30,21\n")}, ROOM, "air"),
     ("inf", {"room.csv": _room("0,20\n10,inf\n30,21\n")}, ROOM, "air"),
     ("empty-cell", {"room.csv": _room("0,20\n10,\n30,21\n")}, ROOM, "air"),
@@ -256,6 +258,9 @@ OPTION_CASES = [
     ("learn:target-missing", LEARN[:5] + LEARN[7:], CLI, "twin learn"),
     ("learn:unknown-learner", swap(LEARN, "mlr", "mlr,nope"), CLI, "learner"),
     ("learn:learner-empty", swap(LEARN, "mlr", ","), CLI, "--learner"),
+    ("learn:inputs-all-beside-a-name", LEARN + ["--inputs", "all,T1"], CLI, "--inputs"),   # blamed train.csv
+    ("learn:split-is-the-train-split", ["learn", "--dataset", "{d}", "--split", "train", "--train-split", "train",
+                                        "--target", "drift_z", "--learner", "mlr"], CLI, "--split"),
     ("learn:unknown-selector", LEARN + ["--select", "nope:2"], CLI, "--select"),
     ("learn:select-count-not-integer", LEARN + ["--select", "correlation:x"], CLI, "--select"),
     ("learn:select-count-zero", LEARN + ["--select", "correlation:0"], CLI, "--select"),

@@ -62,6 +62,8 @@ def test_splits_by_family(tmp_path):
 
 BAD = [
     ('mesh = "coarse"', 'mesh = "coarse"\ncolour = "red"', "colour", "unknown key"),
+    # a family reading the spec itself as its scenario: said so (it was "machines: unknown key")
+    ('file = "ref.toml"', 'file = "tiny.toml"', "scenarios[1].file", "is this spec itself"),
     ('machines = ["cframe-vmc"]', 'machines = ["lathe"]', "machines[0]", "unknown machine"),
     ('mesh = "coarse"', 'mesh = "huge"', "mesh", "unknown resolution"),
     ('{ uniform = ["40 W", "80 W"] }', '{ uniform = ["40 W", "80 K"] }', "parameters.spindle_motor.power.uniform[1]",

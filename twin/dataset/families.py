@@ -15,7 +15,7 @@ from twin import limits
 from twin.dataset.fields import MAX_CASES, Dist, distribution, quantity
 from twin.io.table_reader import TableReader
 from twin.errors import InputError
-from twin.io.paths import read_toml
+from twin.io.paths import read_toml, same_file
 from twin.motion_checks import check_motions
 from twin.scenario import SCENARIO_DIR, scenario_from_dict
 from twin.ambient import EVENT_KEYS, ambient_from_toml, check_air_covers
@@ -101,6 +101,8 @@ def _file_family(name, cases, file, source, folder, field, machines) -> Family:
     path = bundled if not file.endswith(".toml") and "/" not in file and bundled.is_file() else folder / file
     if not path.is_file():
         raise InputError(source, field, f"no scenario {file!r} (a bundled name or a path relative to the spec)")
+    if same_file(path, source):       # read as a scenario, the spec only said "machines: unknown key"
+        raise InputError(source, field, f"{file!r} is this spec itself; name a scenario file")
     data, _ = read_toml(path, "scenario", "scenario file")
     sc = scenario_from_dict(data, str(path), default_name=path.stem)   # checked now; errors name the scenario file
     if sc.interferometer is not None or sc.probing is not None:

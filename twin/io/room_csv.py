@@ -47,6 +47,9 @@ def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.nda
     for line, r in zip(lines[1:], rows[1:]):
         if len(r) != 2:
             raise InputError(src, f"line {line}", f"has {len(r)} fields, the header has 2")
+    if _is_unit(t_unit, "temperature") and _is_unit(a_unit, "time"):
+        raise InputError(src, "header", f"the columns are swapped ({rows[0][0].strip()!r}, {rows[0][1].strip()!r}): "
+                                        "the time goes first, then the air, like 'time [h],air [degC]'")
     t = _values(src, lines, rows, 0, t_name, t_unit, "time")
     air = _values(src, lines, rows, 1, a_name, a_unit, "temperature")
     step = np.diff(t)
@@ -67,6 +70,14 @@ def _unit(src: str, header: str, k: int) -> tuple[str, str]:
         example = "time [h]" if k == 0 else "air [degC]"
         raise InputError(src, "header", f"column {k + 1} {header.strip()!r} needs its unit in brackets, like {example!r}")
     return name or f"column {k + 1}", unit
+
+
+def _is_unit(unit: str, dimension: str) -> bool:
+    try:
+        parse_quantity(f"1 {unit}", dimension)
+    except UnitError:
+        return False
+    return True
 
 
 def _values(src: str, lines: list[int], rows, j: int, name: str, unit: str, dimension: str) -> np.ndarray:
