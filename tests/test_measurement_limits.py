@@ -214,21 +214,11 @@ def test_a_measurement_of_another_machine_or_unit_or_span_is_refused(tmp_path, c
     ds["probe"].attrs["units"] = "um"
     # every variable a result writes, read by every command that reads a result (it reported a
     # drift in mm and a tilt in mrad 1000 times too small, a temperature in K as degC)
-    from twin.cli import main
     for var, unit in (("probe_drift", "mm"), ("drift", "mm"), ("tilt", "mrad"), ("tilt_true", "mrad"),
                       ("temperature", "K")):
         bad = ds.copy(deep=True)
         bad[var].attrs["units"] = unit
-        bad.to_netcdf(tmp_path / "u.nc")
-        with pytest.raises(InputError, match=f"{var}: in '{unit}'"):
-            read_measurement(tmp_path / "u.nc")
-        for argv in (["report", "iso230-3", str(tmp_path / "u.nc"), "-o", str(tmp_path / "rep")],
-                     ["plot", str(tmp_path / "u.nc"), "-o", str(tmp_path / "u.png")],
-                     ["compare", str(tmp_path / "u.nc"), "--mesh", "coarse"]):
-            assert main(argv) == 2
-            err = capsys.readouterr().err
-            assert err.count("\n") == 1 and f"u.nc: {var}: in '{unit}'" in err, (argv, err)
-        assert not (tmp_path / "rep").exists() and not (tmp_path / "u.png").exists()
+        _refused_by_every_reader(bad, f"{var}: in '{unit}'", tmp_path, capsys)
     other = ds.assign_attrs(machine="belt-vmc")
     with pytest.raises(InputError, match="the measurement is of machine 'belt-vmc', the model of 'cframe-vmc'"):
         compare(other, ds)
@@ -247,16 +237,22 @@ def test_a_netcdf_variable_without_its_unit_is_refused(tmp_path, capsys):
     for var in ("time", "drift", "probe_drift", "temperature"):
         bad = result_dataset()
         del bad[var].attrs["units"]
-        bad.to_netcdf(tmp_path / "u.nc")
-        with pytest.raises(InputError, match=f"{var}: states no unit"):
-            read_measurement(tmp_path / "u.nc")
-        for argv in (["report", "iso230-3", str(tmp_path / "u.nc"), "-o", str(tmp_path / "rep")],
-                     ["plot", str(tmp_path / "u.nc"), "-o", str(tmp_path / "u.png")],
-                     ["compare", str(tmp_path / "u.nc"), "--mesh", "coarse"]):
-            assert main(argv) == 2
-            err = capsys.readouterr().err
-            assert err.count("\n") == 1 and f"u.nc: {var}: states no unit" in err, (argv, err)
-        assert not (tmp_path / "rep").exists() and not (tmp_path / "u.png").exists()
+        _refused_by_every_reader(bad, f"{var}: states no unit", tmp_path, capsys)
+
+
+def _refused_by_every_reader(bad, needle: str, tmp_path, capsys) -> None:
+    """``bad`` written as u.nc is refused with ``needle`` by the reader and by report, plot and
+    compare: one line, exit 2, no output."""
+    bad.to_netcdf(tmp_path / "u.nc")
+    with pytest.raises(InputError, match=needle):
+        read_measurement(tmp_path / "u.nc")
+    for argv in (["report", "iso230-3", str(tmp_path / "u.nc"), "-o", str(tmp_path / "rep")],
+                 ["plot", str(tmp_path / "u.nc"), "-o", str(tmp_path / "u.png")],
+                 ["compare", str(tmp_path / "u.nc"), "--mesh", "coarse"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and f"u.nc: {needle}" in err, (argv, err)
+    assert not (tmp_path / "rep").exists() and not (tmp_path / "u.png").exists()
 
 
 def test_a_diagnosis_error_names_the_measurement_as_typed(tmp_path, csv_text, capsys, monkeypatch):
