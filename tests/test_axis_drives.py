@@ -249,6 +249,22 @@ def test_pose_carry_rolls_the_body_with_a_bilinear_field(cframe_all):
         assert corr == pytest.approx(expect, abs=1e-9 * k * delta)
 
 
+def test_a_machine_at_a_constant_uniform_temperature_does_not_drift_however_its_axes_move(cframe_all):
+    """Conservation of the zero state: with no heat source the machine stays at the ambient's
+    uniform 20 degC, and however X, Y and Z travel, the tool-point drift and every probe reading
+    stay 0 to round-off (a pose's carry is each node's change since the first instant, not its
+    displacement at absolute temperature, which would read alpha T (p - p_ref), some 80 um); the
+    run's drift is the dataset's, both read at the pose."""
+    from twin.io.results import to_dataset
+    from twin.model import ModelSpec
+    from twin.simulate import run
+    machine, mm, sc = cframe_all
+    r = run(machine, sc, ModelSpec(()), mm=mm)
+    assert r.drift.shape == (len(r.times), 3)
+    assert np.abs(r.drift).max() < 1e-15 and np.abs(r.probe).max() < 1e-15
+    np.testing.assert_allclose(to_dataset(r).drift.values, r.drift * 1e6, rtol=0, atol=1e-12)
+
+
 def test_no_pose_rows_without_a_moving_axis():
     """A spindle-only machine has no carried axis: the drift and probes' functionals are the
     plain ones (the gold results unchanged)."""

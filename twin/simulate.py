@@ -63,17 +63,22 @@ class RunResult:
         obs: TemperatureSensors = self.observer("temperature")
         return obs.true_values(self.readings["temperature"], self.context())
 
+    def _change_at_pose(self, key: str) -> np.ndarray:
+        """A displacement observer's readings [m] at the pose of each instant (its raw rows with
+        the moving axes' carry applied, :meth:`DisplacementObserver.readings`), as changes from
+        the first instant."""
+        at_pose = self.observer(key).readings(self.readings[key], self.context())
+        return at_pose - at_pose[0]
+
     @property
     def drift(self) -> np.ndarray:
-        """(n_t, 3) tool-point drift X, Y, Z [m], tool relative to the workpiece."""
-        raw = self.readings["drift"]
-        return raw - raw[0]
+        """(n_t, 3) tool-point drift X, Y, Z [m], tool relative to the workpiece, at the pose."""
+        return self._change_at_pose("drift")
 
     @property
     def probe(self) -> np.ndarray:
-        """(n_t, n_probe) true probe readings [m]."""
-        raw = self.readings["probes"]
-        return raw - raw[0]
+        """(n_t, n_probe) true probe readings [m], at the pose."""
+        return self._change_at_pose("probes")
 
     @property
     def stored_heat(self) -> np.ndarray:
