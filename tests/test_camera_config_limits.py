@@ -162,6 +162,11 @@ def test_every_documented_camera_key_reaches_the_config():
     assert (c.emissivity, c.distance, c.relative_humidity) == (0.9, 1.4, pytest.approx(0.4))
     assert (c.room_humidity, c.wall_distance) == (pytest.approx(0.5), 4.0)
     assert (c.sensor.netd, c.sensor.offset, c.sensor.accuracy, c.sensor.bits) == (0.1, 0.4, 1.5, 12)
+    # what a result's camera attributes record: the numbers as typed, not their SI round trip
+    # (math.degrees(math.radians(24)) is 24.000000000000004; twin.units.clean)
+    c = _camera(field_of_view=["24 deg", "18 deg"], ifov="1.3 mrad")
+    assert c.intrinsics.as_dict() == {"width_px": 32, "height_px": 24, "fov_h_deg": 24.0, "fov_v_deg": 18.0,
+                                      "ifov_mrad": 1.3}
 
 
 @pytest.mark.parametrize("camera,field,match", [

@@ -116,6 +116,41 @@ def test_units_convert_to_si_with_their_definitions(text, dimension, si):
     assert parse_quantity(text, dimension) == pytest.approx(si, rel=1e-15)
 
 
+# every spelling the parser knows, with its SI factor from the unit's definition (written here
+# independently of twin.units: 1 cm = 1e-2 m, 1 mW = 1e-3 W, 1 ppm = 1e-6, 1 /mm = 1e3 /m, ...)
+UNIT_DEFINITIONS = {
+    "time": {"s": 1.0, "sec": 1.0, "min": 60.0, "h": 60.0 * 60.0, "hr": 60.0 * 60.0, "d": 24 * 3600.0, "ms": 1e-3},
+    "speed": {"rpm": 1.0, "1/min": 1.0, "krpm": 1e3},
+    "temperature": {"degC": 1.0, "°C": 1.0, "C": 1.0},
+    "temperature_difference": {"K": 1.0, "mK": 1e-3},
+    "power": {"W": 1.0, "kW": 1e3, "mW": 1e-3},
+    "heat_transfer_coefficient": dict.fromkeys(("W/m2K", "W/(m2 K)", "W/(m^2 K)", "W/m^2/K", "W/m2/K", "W/(m2*K)",
+                                                "W/m^2K"), 1.0),
+    "conductance": {"W/K": 1.0},
+    "heat_flux": {"W/m2": 1.0, "W/m^2": 1.0},
+    "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "cm": 1e-2},
+    "velocity": {"m/s": 1.0, "mm/s": 1e-3, "mm/min": 1e-3 / 60.0, "m/min": 1.0 / 60.0},
+    "acceleration": {"m/s2": 1.0, "m/s^2": 1.0, "mm/s2": 1e-3, "mm/s^2": 1e-3},
+    "temperature_gradient": {"K/m": 1.0, "K/mm": 1e3},
+    "strain": {"m/m": 1.0, "um/m": 1e-6, "ppm": 1e-6},
+    "thermal_strain": {"1/K": 1.0, "um/m/K": 1e-6, "ppm/K": 1e-6},
+    "inverse_length": {"1/m": 1.0, "/m": 1.0, "1/mm": 1e3},
+    "angle": {"deg": np.pi / 180.0, "rad": 1.0, "mrad": 1e-3},
+    "dimensionless": {"1": 1.0, "": 1.0, "%": 1e-2},
+}
+
+
+def test_every_unit_spelling_is_its_definition():
+    """Each spelling of each dimension (the list above must name every one the parser knows, so a
+    new spelling needs its definition here) converts 2.5 of it to 2.5 x its SI factor, to
+    round-off: a wrong factor (cm as 1e-3 m, mW as 1 W) would pass every plausibility check."""
+    from twin import units
+    assert {d: set(u) for d, u in units._UNITS.items()} == {d: set(u) for d, u in UNIT_DEFINITIONS.items()}
+    for dimension, spellings in UNIT_DEFINITIONS.items():
+        for unit, factor in spellings.items():
+            assert parse_quantity(f"2.5 {unit}".strip(), dimension) == pytest.approx(2.5 * factor, rel=1e-15), unit
+
+
 def test_a_quantity_whose_si_value_overflows_is_not_finite():
     """A number finite as written may overflow once converted to SI (1e306 d = 8.64e310 s, beyond
     the largest double): the parser names it as not finite (module docstring: a quantity is
@@ -434,6 +469,19 @@ def test_a_file_named_like_a_bundled_scenario_is_ambiguous(tmp_path, monkeypatch
     assert local.duration == load_scenario(tmp_path / "spindle-duty-cycle").duration == 1800.0   # the file's 30 min
     (tmp_path / "spindle-duty-cycle").unlink()
     assert load_scenario("spindle-duty-cycle").duration > local.duration        # no file: the bundled one
+
+
+def test_a_bundled_scenario_is_recorded_by_name_not_by_its_install_path(tmp_path, monkeypatch):
+    """A result's ``scenario_source`` is ``bundled:NAME`` for a scenario shipped with the package
+    (its absolute install path made the same run's bytes differ between installs), and a user's
+    file as typed, even when it is a byte copy of a bundled one."""
+    from twin.scenario import recorded_source, scenario_path
+    monkeypatch.chdir(tmp_path)
+    bundled = load_scenario("spindle-duty-cycle")
+    assert recorded_source(bundled.source) == "bundled:spindle-duty-cycle"
+    (tmp_path / "mine.toml").write_bytes(scenario_path("spindle-duty-cycle").read_bytes())
+    assert recorded_source(load_scenario("mine.toml").source) == "mine.toml"
+    assert recorded_source("test.toml") == "test.toml"          # not a file: as given
 
 
 @pytest.mark.parametrize("effects", ["+floor_lag,,-floor", "spindle_motor,", ",spindle_motor"])

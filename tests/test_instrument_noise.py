@@ -13,7 +13,7 @@ import pytest
 
 from twin.model import ModelSpec
 from twin.observe import RunContext, StrainGauges
-from twin.observe.instruments import INSTRUMENTS, probe_reading, temperature_reading
+from twin.observe.instruments import INSTRUMENTS, probe_reading, quantise, temperature_reading
 
 N = 200_000
 
@@ -69,3 +69,23 @@ def test_fbg_reads_with_its_noise_and_interrogator_resolution():
     data, _ = obs.data(raw, ctx)
     error = (data["strain_raw"][1] - data["strain_true"][1])[1:, 0]
     _check(error, p["noise"] * 1e6, p["quantisation"] * 1e6)
+
+
+@pytest.mark.parametrize("q, m", [(0.1, 10), (0.1e-6 * 1e6, 10), (0.01, 100), (0.05, 20), (1 / 16, 16)])
+def test_a_quantised_reading_is_the_double_nearest_its_decimal_step(q, m):
+    """A reading n q with q = 1/m is written n / m, the double nearest the decimal: 0.3, not
+    0.30000000000000004 (3 x 0.1), nor 0.09999999999999999 (0.1 um reached as 0.1e-6 m x 1e6);
+    every reading within q/2 of the value it rounds (to round-off)."""
+    x = np.random.default_rng(3).uniform(-50.0, 50.0, 10_000)
+    y = quantise(x, q)
+    n = np.round(x / q)
+    np.testing.assert_array_equal(y, n / m)
+    assert np.abs(y - x).max() <= q / 2 * (1 + 1e-9)
+    assert [repr(v) for v in quantise(np.array([0.3, 0.7]), 0.1).tolist()] == ["0.3", "0.7"]
+
+
+def test_a_step_that_is_no_unit_fraction_rounds_to_its_multiples():
+    """q = 0.3 (no whole 1/q): the reading is n q exactly as computed; q = 0 passes the value."""
+    x = np.array([0.44, -1.0, 2.0])
+    np.testing.assert_array_equal(quantise(x, 0.3), np.round(x / 0.3) * 0.3)
+    np.testing.assert_array_equal(quantise(x, 0.0), x)

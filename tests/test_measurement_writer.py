@@ -37,6 +37,15 @@ def test_a_sensor_off_the_sites_keeps_its_name_and_position_and_half_seconds_sta
     for c in "xyz":
         assert float(back[c].values[0]) == pytest.approx(float(ds[c].values[0]), abs=1e-12)
     np.testing.assert_array_equal(back.time.values, ds.time.values)
+    # a position that came through a unit conversion is written as a person would type it
+    c = next(c for c in "xyz" if abs(float(ds[c].values[0])) > 1e-3)
+    v = ds[c].values.copy()
+    typed = round(float(v[0]), 4)
+    v[0] = np.nextafter(typed, np.inf)                         # e.g. 1.5490000000000002
+    assert repr(float(v[0])) != repr(typed)
+    _, toml_path = write_measurement(ds.assign_coords({c: ("sensor", v, ds[c].attrs)}), tmp_path / "again", "run",
+                                     "cframe-vmc")
+    assert f'{c} = "{typed!r} m"' in toml_path.read_text(encoding="utf-8")
 
 
 def nan_temperature():

@@ -156,6 +156,16 @@ def scenario_path(name_or_path: str | Path) -> Path:
     return bundled
 
 
+def recorded_source(source: str) -> str:
+    """What a result records as a scenario's source: ``bundled:NAME`` for a scenario shipped with
+    the package (its install path says where the package lies, not what was run, and would make
+    the same run's bytes differ between installs), else the path as typed."""
+    path = Path(source)
+    if path.suffix == ".toml" and path.parent.resolve() == SCENARIO_DIR and path.is_file():
+        return f"bundled:{path.stem}"
+    return source
+
+
 def load_scenario(name_or_path: str | Path) -> Scenario:
     """A bundled scenario by name, or a TOML file by path."""
     path = scenario_path(name_or_path)

@@ -123,6 +123,14 @@ def format_quantity(value: float, dimension: str) -> str:
     return f"{value:.6g}" if dimension == "dimensionless" else f"{value:.6g} {unit}"
 
 
+def clean(value: float | None, digits: int = 12) -> float | None:
+    """``value`` with the round-off of unit conversions cut away (``digits`` significant digits):
+    for numbers written to files and attributes, so that 24 deg reads 24.0, not
+    24.000000000000004, and 1.549 m not 1.5490000000000002. None (a setting left to its
+    default) stays None."""
+    return None if value is None else float(f"{float(value):.{digits}g}")
+
+
 def _spellings(dimension: str) -> str:
     return ", ".join(repr(u) for u in _UNITS[dimension] if u)
 

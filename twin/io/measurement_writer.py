@@ -27,6 +27,7 @@ from twin.io.atomic import atomic_write_all, output_folder, text_writer
 from twin.io.mapping_columns import check_sensor_name
 from twin.io.measurement import check_measurement, check_named_machine
 from twin.io.paths import output_folder as checked_folder
+from twin.units import clean
 
 SOURCE = "write_measurement"
 REQUIRED = ("spindle_speed", "ambient_temperature")
@@ -70,7 +71,7 @@ def _columns(ds: xr.Dataset, mach, stem: str) -> tuple[list, list[str]]:
         placed = {"x", "y", "z"} <= set(ds.coords)
         for i, s in enumerate(str(n) for n in ds.sensor.values):
             check_sensor_name(s, SOURCE, f"sensor[{i}]")      # a mapping's names: no '@', ':' or ','
-            name = f"T_{s}"
+            name = f"T_{s}_degC"
             columns.append((name, temp.values[:, i], "%.4f"))
             mapping += ["", f"[columns.{_key(name)}]", 'role = "temperature"', 'unit = "degC"']
             xyz = np.array([float(ds[c].values[i]) for c in "xyz"]) if placed else None
@@ -81,7 +82,7 @@ def _columns(ds: xr.Dataset, mach, stem: str) -> tuple[list, list[str]]:
                                                         "position (coordinates x, y, z [m])")
             else:
                 part = str(ds.part.values[i]) if "part" in ds.coords else ""
-                mapping += [f"name = {_text(s)}", *(f'{c} = "{v!r} m"' for c, v in zip("xyz", xyz.tolist())),
+                mapping += [f"name = {_text(s)}", *(f'{c} = "{clean(v)!r} m"' for c, v in zip("xyz", xyz.tolist())),
                             f"part = {_text(part)}"]
     if "probe" in ds:
         probe = ds.probe.transpose("time", "probe_id")

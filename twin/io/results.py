@@ -27,7 +27,9 @@ import xarray as xr
 from twin.errors import InputError, describe
 from twin.io.atomic import atomic_write
 from twin.io.paths import NETCDF_SUFFIXES, as_path, input_file
+from twin.units import clean
 from twin.observe.base import variable
+from twin.scenario import recorded_source
 from twin.version import package_version
 
 
@@ -64,7 +66,7 @@ def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "")
         "package_version": package_version(),
         "machine": machine.name,
         "scenario": scenario_label or sc.name,
-        "scenario_source": sc.source,
+        "scenario_source": recorded_source(sc.source),
         **({"moved_axes": ",".join(m.axis for m in sc.axes)} if sc.axes else {}),   # the motion is the scenario's
         "effects": ",".join(spec.effects),
         "parameters": json.dumps(params, sort_keys=True),
@@ -74,7 +76,7 @@ def to_dataset(r, seed: int = 0, resolution: str = "", scenario_label: str = "")
         "seed": seed,
         "theta": r.theta,
         "time_step_s": sc.sample_interval,
-        "reference_temperature_degC": sc.start_temperature,
+        "reference_temperature_degC": clean(sc.start_temperature),
         **({"hottest_time_s": r.hottest_time} if any(o.key == "hottest" for o in r.observers) else {}),
         **attrs,
         **solver_attrs(getattr(r, "solver_info", {})),

@@ -34,6 +34,7 @@ import numpy as np
 from geometries.base import CameraPose
 from twin.errors import InputError
 from twin.observe.base import Observer, RunContext
+from twin.units import clean
 from twin.observe.camera_geometry import Intrinsics, temperature_rows, view_machine
 from twin.observe.microbolometer import Microbolometer, SensorChain
 from twin.observe.radiometry import ObjectSettings, RadianceTable, air_transmission, scene_radiance
@@ -252,11 +253,11 @@ class ThermalCamera(Observer):
         info = {"name": c.label, "suffix": self.suffix,
                 "pose": {"name": p.name, "position_m": list(p.position), "target_m": list(p.target), "up": list(p.up),
                          "description": p.description, "subject": p.subject},
-                "intrinsics": c.intrinsics.as_dict(), "band_um": [c.band[0] * 1e6, c.band[1] * 1e6],
+                "intrinsics": c.intrinsics.as_dict(), "band_um": [clean(c.band[0] * 1e6), clean(c.band[1] * 1e6)],
                 "frame_interval_s": float(np.diff(ctx.times[self.sample_steps(ctx.times)][:2]).sum()),
                 "settings": self.settings(ctx.scenario).as_dict(),
-                "scene": {"room_temperature_degC": c.room_temperature, "room_humidity_fraction": c.room_humidity,
-                          "wall_distance_m": c.wall_distance, "air_path": c.air_path},
+                "scene": {"room_temperature_degC": clean(c.room_temperature), "room_humidity_fraction": clean(c.room_humidity),
+                          "wall_distance_m": clean(c.wall_distance), "air_path": c.air_path},
                 "sensor": c.sensor.as_dict(), "edge_rays": c.edge_rays, "rays": int(len(self.view.ray_pixel)),
                 "counts_stored": bool(getattr(self, "_counts_stored", c.store_counts))}
         return {self.name("camera"): json.dumps(info)}

@@ -36,6 +36,7 @@ import scipy.sparse as sp
 from geometries.finishes import DEFAULT
 from twin.fem.elements import shape_q1
 from twin.observe.raycast import cast, outer_surface
+from twin.units import clean
 
 
 @dataclass(frozen=True)
@@ -59,8 +60,8 @@ class Intrinsics:
         return self.height, self.width
 
     def as_dict(self) -> dict:
-        return {"width_px": self.width, "height_px": self.height, "fov_h_deg": math.degrees(self.fov_h),
-                "fov_v_deg": math.degrees(self.fov_v), "ifov_mrad": self.ifov * 1e3}
+        return {"width_px": self.width, "height_px": self.height, "fov_h_deg": clean(math.degrees(self.fov_h)),
+                "fov_v_deg": clean(math.degrees(self.fov_v)), "ifov_mrad": clean(self.ifov * 1e3)}
 
 
 def camera_frame(position, target, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -42,8 +42,14 @@ INSTRUMENTS: dict[str, tuple[Parameter, ...]] = {
 
 
 def quantise(x: np.ndarray, q: float) -> np.ndarray:
-    """Round to the nearest multiple of q (no-op for q = 0)."""
-    return np.round(x / q) * q if q > 0 else np.asarray(x, dtype=float)
+    """Round to the nearest multiple of q (no-op for q = 0): n q with n = round(x / q). Where q is
+    1/m for a whole m (0.1 um, 0.01 K, and 0.1 um reached as 0.1e-6 m x 1e6), the step is taken as
+    n / m, the double nearest the decimal reading (n q gives 0.30000000000000004 for 3 x 0.1)."""
+    if not q > 0:
+        return np.asarray(x, dtype=float)
+    n = np.round(np.asarray(x, dtype=float) / q)
+    m = round(1.0 / q)
+    return n / m if m >= 1 and abs(1.0 / q - m) <= 1e-9 * m else n * q
 
 
 def temperature_reading(true: np.ndarray, dt: float, p: dict, rng: np.random.Generator) -> np.ndarray:

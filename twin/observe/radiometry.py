@@ -46,6 +46,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from twin.units import clean
+
 H_PLANCK = 6.62607015e-34   # J s
 C_LIGHT = 2.99792458e8      # m/s
 K_BOLTZMANN = 1.380649e-23  # J/K
@@ -148,6 +150,7 @@ class ObjectSettings:
         return table.temperature(L_obj)
 
     def as_dict(self) -> dict:
-        return {"emissivity": self.emissivity, "reflected_temperature_degC": self.reflected_temperature,
-                "distance_m": self.distance, "air_temperature_degC": self.air_temperature,
-                "relative_humidity_fraction": self.relative_humidity, "air_transmission": self.transmission}
+        return {"emissivity": clean(self.emissivity), "reflected_temperature_degC": clean(self.reflected_temperature),
+                "distance_m": clean(self.distance), "air_temperature_degC": clean(self.air_temperature),
+                "relative_humidity_fraction": clean(self.relative_humidity),
+                "air_transmission": clean(self.transmission)}
