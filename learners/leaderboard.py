@@ -33,6 +33,7 @@ from learners.metrics import abs_residual_percentile, score_all
 from learners.runs import fit_runs
 from twin.errors import InputError
 from twin.io.atomic import atomic_write, atomic_write_text
+from twin.io.markdown import table
 
 __all__ = ["COLUMNS", "as_input_error", "segments_of", "leaderboard", "fit_note", "notes", "write_csv", "markdown",
            "write_markdown"]
@@ -175,7 +176,7 @@ def write_csv(path, rows, field: str = "-o"):
 
 def _cell(value, column):
     if not isinstance(value, float):
-        return str(value).replace("|", "\\|")
+        return str(value)
     if not np.isfinite(value):
         return "nan"
     return f"{value:.2f}" if column in ("improvement_pct", "mre_pct") else f"{value:.4g}"
@@ -200,12 +201,10 @@ def markdown(rows, title: str = "Leaderboard", note: str = "") -> str:
         raise ValueError(f"the rows are in different units ({', '.join(units)}); one table needs one unit")
     unit = unit_heading(units[0] if units else "")
     cols = [c for c in COLUMNS if c not in ("test", "inputs", "unit", "note")]
-    heads = [(h if c not in IN_UNIT else f"{h} {unit}").replace("|", "\\|")
-             for h, c in zip(HEADINGS, COLUMNS) if c in cols]
+    heads = [(h if c not in IN_UNIT else f"{h} {unit}") for h, c in zip(HEADINGS, COLUMNS) if c in cols]
     for test in dict.fromkeys(r["test"] for r in rows):
         part = sorted((r for r in rows if r["test"] == test), key=lambda r: (np.nan_to_num(r["rmse"], nan=np.inf)))
-        lines += [f"## {test}", "", "| " + " | ".join(heads) + " |", "|" + "---|" * len(heads)]
-        lines += ["| " + " | ".join(_cell(r[c], c) for c in cols) + " |" for r in part]
+        lines += [f"## {test}", "", *table(heads, [[_cell(r[c], c) for c in cols] for r in part])]
         lines.append("")
     if len(inputs) == 1 and inputs[0]:
         lines += [f"Inputs: {inputs[0].replace(';', ', ')}.", ""]

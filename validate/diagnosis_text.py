@@ -151,7 +151,7 @@ def _reasoning_lines(c: dict, pad: str = " " * 6) -> list[str]:
         cells = [x for x in why.get("phases", []) if x["kind"] == kind]
         if cells:
             out.append(pad + f"{kind} phases: " + ", ".join(
-                f"{x['phase']} ({x['start_h']:.1f}-{x['end_h']:.1f} h) {x['explained']:.0%}/{x['share']:.0%}"
+                f"{x['phase']} ({x['start_h']:.3g}-{x['end_h']:.3g} h) {x['explained']:.0%}/{x['share']:.0%}"
                 for x in cells))
     if c.get("indistinguishable_from"):
         out.append(pad + "cannot be told apart from: " + ", ".join(c["indistinguishable_from"]))

@@ -7,6 +7,7 @@ import html
 from pathlib import Path
 
 from twin.io.atomic import atomic_write_text
+from twin.io.markdown import table
 from validate.iso230 import WARNING, Evaluation
 from validate.report import _CSS, _png
 
@@ -15,18 +16,13 @@ TITLES = {"etve": "Environmental temperature variation error (ETVE)",
           "axis": "Thermal distortion caused by moving linear axes"}
 
 
-def _table(header: list[str], rows: list[list[str]]) -> list[str]:
-    """A Markdown table."""
-    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)] + ["| " + " | ".join(r) + " |" for r in rows]
-
-
 def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
     """(title, Markdown lines) of the report, in order."""
-    out = [("Test conditions", _table(["item", "value"], [[k, v] for k, v in ev.conditions]))]
+    out = [("Test conditions", table(["item", "value"], [[k, v] for k, v in ev.conditions]))]
     if ev.departures:
         out.append(("Departures from the test's conditions", [f"- {d}" for d in ev.departures]))
     rows = [[c.name, f"{c.range:.3f}", f"{c.values.min():.3f}", f"{c.values.max():.3f}", c.unit] for c in ev.channels]
-    lines = _table(["channel", "maximum range", "min", "max", "unit"], rows)
+    lines = table(["channel", "maximum range", "min", "max", "unit"], rows)
     if ev.air is not None:
         lines += ["", f"Room air range over the test: {ev.air_range:.3f} K "
                       f"({ev.air.min():.2f} to {ev.air.max():.2f} degC)."]
@@ -39,7 +35,7 @@ def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
         rows = [[f"{a / 3600:.3g}-{b / 3600:.3g} h", f"{n:g} rpm"] + [f"{r[k]:.3f}" for k in names]
                 for (a, b, n), r in zip(ev.steps, ranges)]
         units = ", ".join(f"{c.name} [{c.unit}]" for c in ev.channels)
-        out.append(("Range within each speed step", _table(["step", "speed"] + names, rows) + ["", f"Units: {units}."]))
+        out.append(("Range within each speed step", table(["step", "speed"] + names, rows) + ["", f"Units: {units}."]))
     if ev.runs:
         rows = [[f"{t / 3600:.3f} h"] + [f"{c.values[i]:.3f}" for c in ev.channels] + ([f"{ev.air[i]:.2f}"] if
                                                                                       ev.air is not None else [])
@@ -47,14 +43,14 @@ def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
         head = ["run"] + [c.name for c in ev.channels] + (["room air [degC]"] if ev.air is not None else [])
         units = ", ".join(sorted({c.unit for c in ev.channels}))
         out.append(("Positioning-error change at the targets, run by run",
-                    _table(head, rows) + ["", f"Each target's positioning error minus the first run's [{units}], "
+                    table(head, rows) + ["", f"Each target's positioning error minus the first run's [{units}], "
                                               "the mean of both approach directions."]))
     stats = []
     for c in ev.channels:
         rows = [[f"{s['start'] / 3600:.3g}-{s['end'] / 3600:.3g} h", f"{s['min']:.3f}", f"{s['max']:.3f}",
                  f"{s['mean']:.3f}", f"{s['low']:.3f} .. {s['high']:.3f}", f"{s['p95_abs']:.3f}"]
                 for s in ev.segment_stats()[c.name]]
-        stats += [f"**{c.name}** [{c.unit}]", ""] + _table(
+        stats += [f"**{c.name}** [{c.unit}]", ""] + table(
             ["segment", "min", "max", "mean", "mean -/+ 2 std", "95th percentile of abs. value"], rows) + [""]
     out.append(("Segment statistics", stats))
     return out

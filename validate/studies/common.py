@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from twin.io.markdown import table
+
 __all__ = ["cli_parser", "whole_numbers", "run_cli", "check_output_folder", "check_camera_pose",
            "parse_args", "study_main", "data_main", "table_main", "preset", "fit_score", "select", "write_csv",
            "score_units", "markdown_table", "fmt"]
@@ -244,19 +246,19 @@ def score_units(unit: str = "um") -> dict[str, str]:
 
 
 def fmt(v, digits: int = 3) -> str:
+    """A table cell: a float to ``digits`` decimals (3 significant digits from 1e5 on), NaN and None
+    empty, and a value that rounds to zero written 0, never -0.000."""
     if isinstance(v, float):
         if np.isnan(v):
             return ""
-        return f"{v:.3g}" if abs(v) >= 1e5 else f"{v:.{digits}f}"
+        text = f"{v:.3g}" if abs(v) >= 1e5 else f"{v:.{digits}f}"
+        return text[1:] if text.startswith("-") and float(text) == 0.0 else text
     return "" if v is None else str(v)
 
 
 def markdown_table(rows: list[dict], columns: list[str], headers: list[str] | None = None) -> str:
-    """A GitHub Markdown table of ``columns`` of ``rows``."""
-    headers = headers or columns
-    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
-    lines += ["| " + " | ".join(fmt(r.get(c)) for c in columns) + " |" for r in rows]
-    return "\n".join(lines)
+    """A GitHub Markdown table of ``columns`` of ``rows`` (cells escaped: :mod:`twin.io.markdown`)."""
+    return "\n".join(table(headers or columns, [[fmt(r.get(c)) for c in columns] for r in rows]))
 
 
 if __name__ == "__main__":

@@ -274,8 +274,8 @@ def _run(args) -> int:
     cols = ["set", "learner", "n_sets", "rmse", "rmse_min", "rmse_max", "nse", "max_abs_residual", "p95_abs_residual",
             "inputs", "how"]
     unit = unit_heading(prow[0]["unit"] if prow else "")
-    heads = ["sensor set", "learner", "sets", f"test RMSE {unit}", "min", "max", "NSE", f"max \\|res\\| {unit}",
-             f"p95 \\|res\\| {unit}", "inputs", "how"]
+    heads = ["sensor set", "learner", "sets", f"test RMSE {unit}", "min", "max", "NSE", f"max |res| {unit}",
+             f"p95 |res| {unit}", "inputs", "how"]
     text = (f"# Sensor placement on `{args.dataset}`, {k} sensors, {args.target}\n\n{note}\n\nCandidates: all "
             f"{len(names)} sensors. The truth-greedy and truth-exhaustive sets use the test runs' truth; the "
             "exhaustive one is the best set for least squares (the `mlr` rows) over every set, to the accuracy of "

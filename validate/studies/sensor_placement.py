@@ -119,8 +119,8 @@ def reading(rows) -> str:
 
 COLUMNS = ["set", "learner", "n_sets", "test_rmse", "test_rmse_min", "test_rmse_max", "test_nse",
            "test_max_abs_residual", "test_max_abs_residual_max", "inputs"]
-HEADERS = ["sensor set", "learner", "sets", "test RMSE um (mean)", "min", "max", "test NSE (mean)",
-           "max|res| um (mean)", "max|res| max", "inputs"]
+HEADERS = ["sensor set", "learner", "sets", "test RMSE um (mean)", "RMSE min um", "RMSE max um", "test NSE (mean)",
+           "max |res| um (mean)", "max |res| um (max)", "inputs"]
 # the CSV columns in um (Z drift): test_rmse_um, test_rmse_min_um, ..., as in the Markdown's headings
 CSV_UNITS = {**score_units("um"), **dict.fromkeys(("test_rmse_min", "test_rmse_max", "test_max_abs_residual_min",
                                                    "test_max_abs_residual_max"), "um")}
