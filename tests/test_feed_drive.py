@@ -381,3 +381,58 @@ def test_semi_closed_error_at_a_free_uniform_expansion_is_the_axis_own_coordinat
     gap = (np.subtract(machine.point(machine.workpiece_point).xyz, machine.point(machine.tool_point).xyz)) @ d
     expect = iron.expansion * dT * (s * gap + obs.targets - ax.p_ref)
     assert e == pytest.approx(expect, rel=1e-9, abs=1e-9 * np.abs(expect).max())
+
+
+def test_closed_loop_error_at_a_free_uniform_expansion_is_the_axis_own_coordinate():
+    """The closed loop (linear scale) on the belt-driven VMC's Y axis, a machine of one expansion
+    coefficient at a uniform rise dT (free: u = alpha dT (x - x0)): the read head stops at the
+    graduation of the commanded p on the grown scale, so e(p) = alpha dT (s (x_w - x_t) . d + p -
+    p_ref), s = +1 (Y carries the workpiece), as for the semi-closed loop above, to round-off."""
+    from types import SimpleNamespace
+
+    from geometries import build_machine
+    from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
+    from twin.physics.prepared import PreparedTwin
+    machine = build_machine("belt-vmc")
+    ax = machine.axis("Y")
+    assert ax.feedback == "closed" and ax.scale is not None
+    iron = material("grey_cast_iron")
+    one_alpha = {p.material.name: p.material.scaled(expansion=iron.expansion / p.material.expansion)
+                 for p in machine.parts}
+    twin = PreparedTwin(machine, resolution="coarse", materials=one_alpha)
+    obs = LaserInterferometer(InterferometerConfig("Y", (0.0,)), machine)
+    dT = 2.0
+    e = obs.rows(twin, SimpleNamespace(mm=twin.mm)) @ np.full(twin.mm.nheat, dT)
+    d = np.array([0.0, 1.0, 0.0])
+    gap = np.subtract(machine.point(machine.workpiece_point).xyz, machine.point(machine.tool_point).xyz) @ d
+    expect = iron.expansion * dT * (gap + obs.targets - ax.p_ref)
+    assert e == pytest.approx(expect, rel=1e-9, abs=1e-9 * np.abs(expect).max())
+
+
+def test_closed_loop_reading_of_an_affine_field_follows_the_scale_equation():
+    """The closed loop's read-out (twin.observe.interferometer, module docstring): with the
+    structure displaced by an affine field u(x) = A x + b (reproduced exactly by the trilinear
+    interpolation), the error at target p is e(p) = s (u(x_w) - u(x_t)) . d - u(x_head) . d +
+    u(x_mark(p)) . d: the workpiece side against the tool (s = +1 on Y, which carries the
+    workpiece), less the read head's own shift at the mesh's pose, plus the scale's carrier under
+    the graduation of p. A shears u_y with z, so the tool (z 0.61 m) and the workpiece (z 0.50 m)
+    move apart along Y and the workpiece-tool term's sign is seen."""
+    from geometries import build_machine
+    from twin.fem.mesh import mesh_machine
+    from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
+    machine = build_machine("belt-vmc")
+    mm = mesh_machine(machine, "coarse")
+    ax = machine.axis("Y")
+    obs = LaserInterferometer(InterferometerConfig("Y", (0.0,)), machine)
+    A = np.array([[2e-6, 0.0, 1e-6], [3e-6, 5e-6, -7e-6], [0.0, 1e-6, 4e-6]])
+    b = np.array([1e-6, -2e-6, 3e-6])
+    u = lambda x: A @ np.asarray(x, float) + b
+    G = obs.functionals(mm)
+    raw = G @ (mm.mesh.p.T @ A.T + b).ravel()
+    e = raw[0] + raw[1:]
+    xw, xt = machine.point(machine.workpiece_point).xyz, machine.point(machine.tool_point).xyz
+    head = (ax.scale.head[0], ax.nut_coordinate(ax.p_ref), ax.scale.head[1])
+    marks = [(ax.scale.line[0], y, ax.scale.line[1]) for y in ax.nut_coordinate(obs.targets)]
+    expect = np.array([(u(xw) - u(xt))[1] - u(head)[1] + u(m)[1] for m in marks])
+    assert np.abs(u(xw) - u(xt))[1] > 5e-7                 # the workpiece-tool term is not zero
+    np.testing.assert_allclose(e, expect, rtol=0, atol=1e-12 * np.abs(expect).max())

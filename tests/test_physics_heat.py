@@ -155,6 +155,32 @@ def test_capacity_and_conduction_on_cells_that_are_not_cubes():
         assert q[np.isclose(p[:, d], 0.0)].sum() == pytest.approx(-steel.conductivity * g[d] * area, rel=1e-12)
 
 
+def test_consistent_capacity_and_film_matrices_integrate_a_squared_linear_field_exactly():
+    """The consistent matrices, not their lumped row sums: for T = g . x on the 0.3 x 0.2 x 0.07 m
+    brick, T^T M T = rho c int (g . x)^2 dV = rho c V (sum_d g_d^2 L_d^2 / 3 + 2 sum_{d<e} g_d g_e
+    L_d L_e / 4), and on the face x = a the film matrix gives T^T H T = int (g . x)^2 dA =
+    A (c0^2 + c0 (g_y b + g_z c) + g_y^2 b^2 / 3 + g_z^2 c^2 / 3 + g_y g_z b c / 2), c0 = g_x a
+    (2-point Gauss is exact for the trilinear products): to round-off. A lumped matrix keeps
+    1^T M 1 but not these."""
+    size = np.array([0.3, 0.2, 0.07])
+    a, b, c = size
+    mm = box_body(tuple(size), 0.05, surfaces=[("end", face(0, a))])
+    steel = MATERIALS["steel"]
+    heat = assemble_heat(mm)
+    g = np.array([3.0, -2.0, 5.0])                       # [K/m]
+    T = mm.mesh.p.T @ g
+    V = size.prod()
+    cross = sum(g[d] * g[e] * size[d] * size[e] / 4 for d in range(3) for e in range(d + 1, 3))
+    volume = V * (np.sum(g ** 2 * size ** 2) / 3 + 2 * cross)
+    assert T @ (heat.M @ T) == pytest.approx(steel.density * steel.specific_heat * volume, rel=1e-12)
+    film = assemble_facets(mm, mm.facets["end"])
+    c0 = g[0] * a
+    area = b * c * (c0 ** 2 + c0 * (g[1] * b + g[2] * c) + g[1] ** 2 * b ** 2 / 3 + g[2] ** 2 * c ** 2 / 3
+                    + g[1] * g[2] * b * c / 2)
+    assert film.area == pytest.approx(b * c, rel=1e-12)
+    assert T @ (film.H @ T) == pytest.approx(area, rel=1e-12)
+
+
 def test_a_cached_factorisation_serves_only_its_own_step_and_theta():
     """Factorisations kept across runs are keyed by the operator, dt, theta and the films
     (twin.physics.heat.integrate): M + theta dt A differs for another theta or dt, so runs sharing

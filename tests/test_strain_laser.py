@@ -109,6 +109,25 @@ def test_the_grating_reads_its_mean_temperature_along_its_length():
     np.testing.assert_allclose(r["strain"][1] - r["strain_true"][1], kt * g * (xc - 0.5), rtol=1e-11)
 
 
+def test_the_grating_weighs_its_length_by_gauss_quadrature():
+    """T = T0 + q (x - x_c)^2 about a 120 mm grating's centre x_c: its mean rise is q l^2 / 12
+    (1.2 K at q = 1000 K/m2). The grating reads the five-point Gauss mean of the interpolated
+    field; the weights are positive and sum to one and Gauss is exact for the quadratic, so the
+    reading is off only by the interpolant's error, at most q h^2 / 4 (f'' h^2 / 8 on cells of h =
+    25 mm): k_T (mean rise) within k_T q h^2 / 4. Equal weights on the same points would read
+    q l^2 / 9 (0.4 K more, beyond that bound)."""
+    q, l, xc, h = 1000.0, 0.12, 0.4, 0.025
+    machine = _bar([StrainGauge("mid", (xc, 0.05, H - E), (1.0, 0.0, 0.0), l, "bar")])
+    mm = build_mesh(machine, h)
+    assert np.allclose(np.diff(np.unique(mm.mesh.p[0])), h)
+    T = np.vstack([np.full(mm.nnodes, 20.0), 20.0 + q * (mm.mesh.p[0] - xc) ** 2])
+    _, r, _ = _readings(machine, T)
+    kt = 8.64                                     # um/m/K
+    mean_rise = (r["strain_raw"][1] - r["strain_true"][1])[0] / kt
+    assert abs(mean_rise - q * l ** 2 / 12) <= q * h ** 2 / 4
+    assert abs(q * l ** 2 / 9 - q * l ** 2 / 12) > 2 * q * h ** 2 / 4
+
+
 @pytest.fixture(scope="module")
 def gantry():
     m = build_machine("gantry-ram")
