@@ -247,7 +247,7 @@ def test_segment_statistics_head_each_table_with_its_channels_own_unit():
     """Each channel's segment-statistics table is headed by its name and its own unit, the drift
     X, Y, Z in um and the tilts A, B in urad (a heading that wrote um for every channel, or no unit,
     would pass a check on Z alone), and its columns read segment, min, max, mean, the 2-std band
-    and the 95th percentile of |value|; the speed-step table's note names each channel's unit."""
+    and the 95th percentile of |value|; the speed-step table's headers name each channel's unit."""
     from validate.iso230_report import sections
 
     secs = dict(sections(evaluate(synthetic(), "spindle", segment=3600.0)))
@@ -256,8 +256,8 @@ def test_segment_statistics_head_each_table_with_its_channels_own_unit():
                                                              "**A** [urad]", "**B** [urad]"]
     i = lines.index("**B** [urad]")
     assert lines[i + 2] == "| segment | min | max | mean | mean -/+ 2 std | 95th percentile of abs. value |"
-    assert lines[i + 4].startswith("| 0-1 h | -2.458 | -0.000 |")   # B = -5 t / 2 h: -5 * 59/120 at 59 min
-    assert secs["Range within each speed step"][-1] == "Units: X [um], Y [um], Z [um], A [urad], B [urad]."
+    assert lines[i + 4].startswith("| 0-1 h | -2.458 | 0.000 |")    # B = -5 t / 2 h: -5 * 59/120 at 59 min; -0 at 0
+    assert secs["Range within each speed step"][0] == "| step | speed | X [um] | Y [um] | Z [um] | A [urad] | B [urad] |"
 
 
 def test_the_reports_conditional_notes_appear_only_for_their_test():

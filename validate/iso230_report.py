@@ -7,7 +7,7 @@ import html
 from pathlib import Path
 
 from twin.io.atomic import atomic_write_text
-from twin.io.markdown import table
+from twin.io.markdown import fixed, table
 from validate.iso230 import WARNING, Evaluation
 from validate.report import _CSS, _png
 
@@ -21,7 +21,7 @@ def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
     out = [("Test conditions", table(["item", "value"], [[k, v] for k, v in ev.conditions]))]
     if ev.departures:
         out.append(("Departures from the test's conditions", [f"- {d}" for d in ev.departures]))
-    rows = [[c.name, f"{c.range:.3f}", f"{c.values.min():.3f}", f"{c.values.max():.3f}", c.unit] for c in ev.channels]
+    rows = [[c.name, fixed(c.range), fixed(c.values.min()), fixed(c.values.max()), c.unit] for c in ev.channels]
     lines = table(["channel", "maximum range", "min", "max", "unit"], rows)
     if ev.air is not None:
         lines += ["", f"Room air range over the test: {ev.air_range:.3f} K "
@@ -32,12 +32,12 @@ def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
     if ev.steps:
         ranges = ev.step_ranges()
         names = [c.name for c in ev.channels]
-        rows = [[f"{a / 3600:.3g}-{b / 3600:.3g} h", f"{n:g} rpm"] + [f"{r[k]:.3f}" for k in names]
+        rows = [[f"{a / 3600:.3g}-{b / 3600:.3g} h", f"{n:g} rpm"] + [fixed(r[k]) for k in names]
                 for (a, b, n), r in zip(ev.steps, ranges)]
-        units = ", ".join(f"{c.name} [{c.unit}]" for c in ev.channels)
-        out.append(("Range within each speed step", table(["step", "speed"] + names, rows) + ["", f"Units: {units}."]))
+        heads = [f"{c.name} [{c.unit}]" for c in ev.channels]
+        out.append(("Range within each speed step", table(["step", "speed"] + heads, rows)))
     if ev.runs:
-        rows = [[f"{t / 3600:.3f} h"] + [f"{c.values[i]:.3f}" for c in ev.channels] + ([f"{ev.air[i]:.2f}"] if
+        rows = [[f"{t / 3600:.3f} h"] + [fixed(c.values[i]) for c in ev.channels] + ([f"{ev.air[i]:.2f}"] if
                                                                                       ev.air is not None else [])
                 for i, t in enumerate(ev.time)]
         head = ["run"] + [c.name for c in ev.channels] + (["room air [degC]"] if ev.air is not None else [])
@@ -47,8 +47,8 @@ def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
                                               "the mean of both approach directions."]))
     stats = []
     for c in ev.channels:
-        rows = [[f"{s['start'] / 3600:.3g}-{s['end'] / 3600:.3g} h", f"{s['min']:.3f}", f"{s['max']:.3f}",
-                 f"{s['mean']:.3f}", f"{s['low']:.3f} .. {s['high']:.3f}", f"{s['p95_abs']:.3f}"]
+        rows = [[f"{s['start'] / 3600:.3g}-{s['end'] / 3600:.3g} h", fixed(s['min']), fixed(s['max']),
+                 fixed(s['mean']), f"{fixed(s['low'])} .. {fixed(s['high'])}", fixed(s['p95_abs'])]
                 for s in ev.segment_stats()[c.name]]
         stats += [f"**{c.name}** [{c.unit}]", ""] + table(
             ["segment", "min", "max", "mean", "mean -/+ 2 std", "95th percentile of abs. value"], rows) + [""]

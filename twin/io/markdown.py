@@ -10,6 +10,13 @@ def cell(text) -> str:
     return " ".join(str(text).replace("|", "\\|").splitlines())
 
 
+def fixed(value: float, digits: int = 3) -> str:
+    """``value`` to ``digits`` decimals, a value that rounds to zero written without its sign
+    (0.000, never -0.000)."""
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and float(text) == 0.0 else text
+
+
 def table(header: list, rows: list[list]) -> list[str]:
     """The lines of a Markdown table with ``header`` and ``rows`` (each a list of cell texts)."""
     lines = ["| " + " | ".join(cell(h) for h in header) + " |", "|" + "---|" * len(header)]

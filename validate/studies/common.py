@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from twin.io.markdown import table
+from twin.io.markdown import fixed, table
 
 __all__ = ["cli_parser", "whole_numbers", "run_cli", "check_output_folder", "check_camera_pose",
            "parse_args", "study_main", "data_main", "table_main", "preset", "fit_score", "select", "write_csv",
@@ -251,8 +251,7 @@ def fmt(v, digits: int = 3) -> str:
     if isinstance(v, float):
         if np.isnan(v):
             return ""
-        text = f"{v:.3g}" if abs(v) >= 1e5 else f"{v:.{digits}f}"
-        return text[1:] if text.startswith("-") and float(text) == 0.0 else text
+        return f"{v:.3g}" if abs(v) >= 1e5 else fixed(v, digits)
     return "" if v is None else str(v)
 
 
