@@ -263,7 +263,7 @@ def test_segment_statistics_head_each_table_with_its_channels_own_unit():
 def test_the_reports_conditional_notes_appear_only_for_their_test():
     """The ISO 230-3 caution (not for comparing machines) belongs to the ETVE alone: a spindle and
     an axis evaluation of the same record carry neither the section nor the text; the room-air
-    line appears only when the record logs the air, the speed-step table and its units note only
+    line appears only when the record logs the air, the speed-step table only
     for the spindle test."""
     from validate.iso230_report import markdown, sections
 
