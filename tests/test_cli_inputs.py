@@ -116,39 +116,44 @@ def test_units_convert_to_si_with_their_definitions(text, dimension, si):
     assert parse_quantity(text, dimension) == pytest.approx(si, rel=1e-15)
 
 
-# every spelling the parser knows, with its SI factor from the unit's definition (written here
-# independently of twin.units: 1 cm = 1e-2 m, 1 mW = 1e-3 W, 1 ppm = 1e-6, 1 /mm = 1e3 /m, ...)
-UNIT_DEFINITIONS = {
-    "time": {"s": 1.0, "sec": 1.0, "min": 60.0, "h": 60.0 * 60.0, "hr": 60.0 * 60.0, "d": 24 * 3600.0, "ms": 1e-3},
-    "speed": {"rpm": 1.0, "1/min": 1.0, "krpm": 1e3},
-    "temperature": {"degC": 1.0, "°C": 1.0, "C": 1.0},
-    "temperature_difference": {"K": 1.0, "mK": 1e-3},
-    "power": {"W": 1.0, "kW": 1e3, "mW": 1e-3},
-    "heat_transfer_coefficient": dict.fromkeys(("W/m2K", "W/(m2 K)", "W/(m^2 K)", "W/m^2/K", "W/m2/K", "W/(m2*K)",
-                                                "W/m^2K"), 1.0),
-    "conductance": {"W/K": 1.0},
-    "heat_flux": {"W/m2": 1.0, "W/m^2": 1.0},
-    "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "cm": 1e-2},
-    "velocity": {"m/s": 1.0, "mm/s": 1e-3, "mm/min": 1e-3 / 60.0, "m/min": 1.0 / 60.0},
-    "acceleration": {"m/s2": 1.0, "m/s^2": 1.0, "mm/s2": 1e-3, "mm/s^2": 1e-3},
-    "temperature_gradient": {"K/m": 1.0, "K/mm": 1e3},
-    "strain": {"m/m": 1.0, "um/m": 1e-6, "ppm": 1e-6},
-    "thermal_strain": {"1/K": 1.0, "um/m/K": 1e-6, "ppm/K": 1e-6},
-    "inverse_length": {"1/m": 1.0, "/m": 1.0, "1/mm": 1e3},
-    "angle": {"deg": np.pi / 180.0, "rad": 1.0, "mrad": 1e-3},
-    "dimensionless": {"1": 1.0, "": 1.0, "%": 1e-2},
-}
+# every spelling the parser knows, held equal to another by the unit's definition (1 cm = 10 mm,
+# 1 W = 1000 mW, 1 /mm = 1000 /m, 1 h = 3600 s, ...), each side written as a person would
+UNIT_EQUIVALENTS = [
+    ("time", ["60 s", "60 sec", "1 min", "60000 ms"]), ("time", ["1 h", "1 hr", "3600 s"]),
+    ("time", ["1 d", "24 h"]),
+    ("speed", ["9 krpm", "9000 rpm", "9000 1/min"]),
+    ("temperature", ["21.5 degC", "21.5 °C", "21.5 C"]),
+    ("temperature_difference", ["250 mK", "0.25 K"]),
+    ("power", ["1.5 kW", "1500 W", "1500000 mW"]),
+    ("heat_transfer_coefficient", ["8 W/m2K", "8 W/(m2 K)", "8 W/(m^2 K)", "8 W/m^2/K", "8 W/m2/K", "8 W/(m2*K)",
+                                   "8 W/m^2K"]),
+    ("conductance", ["3 W/K", "3.0 W/K"]),
+    ("heat_flux", ["100 W/m2", "100 W/m^2"]),
+    ("length", ["1.5 m", "150 cm", "1500 mm", "1500000 um"]),
+    ("velocity", ["1 m/s", "1000 mm/s", "60000 mm/min", "60 m/min"]),
+    ("acceleration", ["2 m/s2", "2 m/s^2", "2000 mm/s2", "2000 mm/s^2"]),
+    ("temperature_gradient", ["2 K/mm", "2000 K/m"]),
+    ("strain", ["5e-5 m/m", "50 um/m", "50 ppm"]),
+    ("thermal_strain", ["1.15e-5 1/K", "11.5 um/m/K", "11.5 ppm/K"]),
+    ("inverse_length", ["3 1/mm", "3000 1/m", "3000 /m"]),
+    ("angle", ["180 deg", "3.141592653589793 rad", "3141.592653589793 mrad"]),
+    ("dimensionless", ["40 %", "0.4", "0.4 1"]),
+]
 
 
 def test_every_unit_spelling_is_its_definition():
-    """Each spelling of each dimension (the list above must name every one the parser knows, so a
-    new spelling needs its definition here) converts 2.5 of it to 2.5 x its SI factor, to
-    round-off: a wrong factor (cm as 1e-3 m, mW as 1 W) would pass every plausibility check."""
+    """Each group above is one quantity in several spellings (k = 1e3, m = 1e-3, u = 1e-6, c =
+    1e-2, ppm = 1e-6, 1 min = 60 s, 1 d = 24 h, pi rad = 180 deg): all parse to the same SI value,
+    to round-off, and together the groups use every spelling the parser knows (a new spelling
+    needs its group here). A wrong factor (cm as 1e-3 m, mW as 1 W) would pass every
+    plausibility check."""
     from twin import units
-    assert {d: set(u) for d, u in units._UNITS.items()} == {d: set(u) for d, u in UNIT_DEFINITIONS.items()}
-    for dimension, spellings in UNIT_DEFINITIONS.items():
-        for unit, factor in spellings.items():
-            assert parse_quantity(f"2.5 {unit}".strip(), dimension) == pytest.approx(2.5 * factor, rel=1e-15), unit
+    used = {}
+    for dimension, texts in UNIT_EQUIVALENTS:
+        values = [parse_quantity(t, dimension) for t in texts]
+        assert values == pytest.approx([values[0]] * len(values), rel=1e-15), texts
+        used.setdefault(dimension, set()).update(t.split(" ", 1)[1] if " " in t else "" for t in texts)
+    assert used == {d: set(u) for d, u in units._UNITS.items()}
 
 
 def test_a_quantity_whose_si_value_overflows_is_not_finite():
