@@ -23,6 +23,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,6 +73,16 @@ def _q(value: float, dimension: str) -> str:
     return f"{float(value)!r} {CANONICAL[dimension]}"
 
 
+def rounded_speed(speed: float, dist, step: float) -> float:
+    """``speed`` [rpm] rounded to the nearest multiple of ``step`` that lies within the family's
+    speeds ``dist.low .. dist.high`` (and the machines' top, ``dist.upper``): 2300 rpm drawn from
+    2000-2400 rpm with a 500 rpm step is 2000, not 2500 (the family's check guarantees one such
+    multiple)."""
+    lo = math.ceil(max(dist.low, 0.0) / step - 1e-9)
+    hi = math.floor(min(dist.high, dist.upper) / step + 1e-9)
+    return float(min(max(round(speed / step), lo), hi) * step)
+
+
 def duty_cycle(gen: DutyCycle, name: str, r: np.random.Generator) -> dict:
     """Scenario TOML data drawn from a generator family: steps of drawn duration (whole sample
     intervals, the last one cut to the duration) and speed (0 rpm with ``idle_probability``,
@@ -83,7 +94,7 @@ def duty_cycle(gen: DutyCycle, name: str, r: np.random.Generator) -> dict:
         idle = r.uniform() < gen.idle_probability
         speed = gen.speed.sample(r)
         if gen.speed_step:
-            speed = min(round(speed / gen.speed_step) * gen.speed_step, gen.speed.upper)
+            speed = rounded_speed(speed, gen.speed, gen.speed_step)
         steps.append({"speed": _q(0.0 if idle else max(speed, 0.0), "speed"), "duration": _q(n * dt, "time")})
         done += n
     ambient = {"kind": gen.ambient_kind, **(gen.room or {})}
