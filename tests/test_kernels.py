@@ -26,12 +26,13 @@ def _spd(n: int = 300, seed: int = 0) -> sp.csr_matrix:
 
 
 @needs_numba
-@pytest.mark.parametrize("m", [2, 3, 8, 11])
+@pytest.mark.parametrize("m", [2, 3, 4, 5, 8, 11])
 @pytest.mark.parametrize("sweep", ["forward", "backward", "symmetric"])
 def test_block_gauss_seidel_equals_pyamg_column_by_column(m, sweep):
     """Each column of the compiled block sweep is pyamg's one-column sweep,
     x_i <- (b_i - sum_(j != i) a_ij x_j) / a_ii in the same order: equal to round-off (the sums are
-    the same sums in the same order; measured bit for bit), for widths below, at and above eight."""
+    the same sums in the same order; measured bit for bit), for widths below, at and above four
+    and eight (the four- and the eight-column pass)."""
     A = _spd()
     rng = np.random.default_rng(1)
     X0, B = rng.standard_normal((2, A.shape[0], m))
@@ -59,7 +60,7 @@ def test_gauss_seidel_solves_a_triangular_system_in_one_sweep(use_numba):
 
 
 @needs_numba
-@pytest.mark.parametrize("m", [2, 8, 13])
+@pytest.mark.parametrize("m", [2, 4, 5, 8, 13])
 def test_block_product_equals_scipys(m):
     """A X by the compiled kernel equals scipy's product, for a rectangular A (the prolongations
     and restrictions are), to round-off."""
@@ -68,6 +69,23 @@ def test_block_product_equals_scipys(m):
     X = rng.standard_normal((90, m))
     np.testing.assert_allclose(kernels.product(A, X), A @ X, rtol=0, atol=1e-14 * np.abs(A @ X).max())
     np.testing.assert_array_equal(kernels.product(A, X[:, 0]), A @ X[:, 0])
+
+
+@needs_numba
+@pytest.mark.parametrize("sweep", ["forward", "symmetric"])
+def test_four_column_pass_is_the_eight_column_pass_bit_for_bit(sweep):
+    """The four-column pass does each column's arithmetic exactly as the eight-column one (the
+    same products and sums in the same order): a block's first four columns swept, or multiplied,
+    as a block of four equal those columns of the block of eight bit for bit. Splitting a V-cycle
+    into two halves therefore cannot change a number."""
+    A = _spd(400, seed=7)
+    rng = np.random.default_rng(8)
+    X8, B8 = rng.standard_normal((2, A.shape[0], 8))
+    X4 = np.ascontiguousarray(X8[:, 4:])
+    kernels.gauss_seidel(A, X8, B8, sweep)
+    kernels.gauss_seidel(A, X4, np.ascontiguousarray(B8[:, 4:]), sweep)
+    np.testing.assert_array_equal(X4, X8[:, 4:])
+    np.testing.assert_array_equal(kernels.product(A, np.ascontiguousarray(B8[:, :4])), kernels.product(A, B8)[:, :4])
 
 
 def test_gauss_seidel_refuses_an_unknown_sweep():
@@ -91,6 +109,43 @@ def test_block_v_cycle_equals_the_cycle_column_by_column(smoothers, monkeypatch)
     np.testing.assert_allclose(cycle(R), one, rtol=0, atol=1e-13 * np.abs(one).max())
     monkeypatch.setattr(kernels, "HAVE_NUMBA", False)
     np.testing.assert_array_equal(amg_cycle(ml)(R), one)
+
+
+@needs_numba
+def test_v_cycle_split_over_two_threads_gives_the_same_bits(monkeypatch):
+    """A block of five to eight columns goes through two four-column cycles side by side when a
+    helper thread is idle, else through one eight-column cycle: the result is the same bits
+    either way (each column's arithmetic does not depend on the block's width), so a run's
+    numbers do not depend on whether the second core happened to be free. The helper is replaced
+    here by one that runs at once (so the split is taken on any machine, and counted)."""
+    from concurrent.futures import Future
+
+    import pyamg
+
+    from twin.physics import parallel
+    from twin.physics.solvers import amg_cycle
+
+    A = (pyamg.gallery.poisson((10, 10, 10), format="csr") + 1e-3 * sp.eye(1000)).tocsr()
+    ml = pyamg.smoothed_aggregation_solver(A, symmetry="hermitian", max_coarse=50, coarse_solver="splu")
+    R = np.random.default_rng(9).standard_normal((1000, 7))
+    monkeypatch.setattr(parallel, "SPLIT_FROM", 0)
+    calls = []
+
+    def at_once(fn, *args):
+        calls.append(args[-1].shape)
+        done = Future()
+        done.set_result(fn(*args))
+        return done
+
+    monkeypatch.setattr(parallel, "on_idle_helper", lambda fn, *args: None)
+    whole = amg_cycle(ml)(R)
+    monkeypatch.setattr(parallel, "on_idle_helper", at_once)
+    split = amg_cycle(ml)(R)
+    assert calls == [(1000, 4)]
+    np.testing.assert_array_equal(split, whole)
+    monkeypatch.setattr(parallel, "SPLIT_FROM", A.nnz + 1)       # a small level is not split
+    np.testing.assert_array_equal(amg_cycle(ml)(R), whole)
+    assert len(calls) == 1
 
 
 def test_block_adjoints_equal_the_direct_ones_within_their_tolerance():

@@ -9,6 +9,10 @@ level, each limited by reading the matrix from memory. Done column by column the
 once per column; here it is read once per eight columns, every row's eight sums kept in
 registers. On the 40 mm C-frame's elastic stiffness (116 k dofs, 9.4 M entries) one forward sweep
 costs 10.5 ms for one column and 27 ms for eight (3x less per column), the product 9.4 and 24 ms.
+A block of at most four columns takes a four-column pass (on the 200 k-node heat matrix, 5.1 M
+entries: 7.1 ms a forward sweep against 10.1 ms for eight), and so does each half of an
+eight-column V-cycle split over two threads (:func:`twin.physics.solvers.amg_cycle`: the two
+halves' sweeps 7.6 ms together).
 
 Each column gets exactly the arithmetic of the one-column kernel (the same sums in the same
 order), so the block results equal the column-by-column ones; ``tests/test_kernels.py`` checks
@@ -27,17 +31,23 @@ import scipy.sparse as sp
 from twin.compiled import HAVE_NUMBA, compile_kernel
 
 WIDTH = 8                               # columns a compiled kernel carries through one pass
+HALF = 4                                # the narrower pass: a block of at most four columns, or
+                                        # half of a block of eight run on each of two threads
 
 
-PRODUCT, FORWARD, BACKWARD = 0, 1, 2    # what one pass of :func:`_pass_8` does
+PRODUCT, FORWARD, BACKWARD = 0, 1, 2    # what one pass of :func:`_block_pass` does
 
 
-def _pass_8(indptr, indices, data, X, B, Y, mode):               # pragma: no cover - compiled
-    """One pass over the rows of a CSR matrix A with eight columns at once (X, B, Y C-ordered,
-    eight columns). ``PRODUCT``: Y = A X, every row's sum in stored order (scipy's). ``FORWARD`` or
-    ``BACKWARD``: a Gauss-Seidel sweep on X in place, x_i <- (b_i - sum_(j != i) a_ij x_j) / a_ii
-    in that row order (pyamg's; a row without a diagonal entry is left unchanged)."""
+def _block_pass(indptr, indices, data, X, B, Y, mode):           # pragma: no cover - compiled
+    """One pass over the rows of a CSR matrix A with eight or four columns at once (X, B, Y
+    C-ordered, :data:`WIDTH` or :data:`HALF` columns, X's width is the pass's). ``PRODUCT``:
+    Y = A X, every row's sum in stored order (scipy's). ``FORWARD`` or ``BACKWARD``: a Gauss-Seidel
+    sweep on X in place, x_i <- (b_i - sum_(j != i) a_ij x_j) / a_ii in that row order (pyamg's;
+    a row without a diagonal entry is left unchanged). Each column gets the same arithmetic
+    whatever the width (the four-column pass is the eight-column one without its last four sums:
+    the test on the width does not change inside the loops)."""
     n = Y.shape[0] if mode == PRODUCT else X.shape[0]
+    wide = X.shape[1] == 8
     for k in range(n):
         i = n - 1 - k if mode == BACKWARD else k
         s0 = 0.0
@@ -59,28 +69,31 @@ def _pass_8(indptr, indices, data, X, B, Y, mode):               # pragma: no co
                 s1 += a * X[j, 1]
                 s2 += a * X[j, 2]
                 s3 += a * X[j, 3]
-                s4 += a * X[j, 4]
-                s5 += a * X[j, 5]
-                s6 += a * X[j, 6]
-                s7 += a * X[j, 7]
+                if wide:
+                    s4 += a * X[j, 4]
+                    s5 += a * X[j, 5]
+                    s6 += a * X[j, 6]
+                    s7 += a * X[j, 7]
         if mode == PRODUCT:
             Y[i, 0] = s0
             Y[i, 1] = s1
             Y[i, 2] = s2
             Y[i, 3] = s3
-            Y[i, 4] = s4
-            Y[i, 5] = s5
-            Y[i, 6] = s6
-            Y[i, 7] = s7
+            if wide:
+                Y[i, 4] = s4
+                Y[i, 5] = s5
+                Y[i, 6] = s6
+                Y[i, 7] = s7
         elif diag != 0.0:
             X[i, 0] = (B[i, 0] - s0) / diag
             X[i, 1] = (B[i, 1] - s1) / diag
             X[i, 2] = (B[i, 2] - s2) / diag
             X[i, 3] = (B[i, 3] - s3) / diag
-            X[i, 4] = (B[i, 4] - s4) / diag
-            X[i, 5] = (B[i, 5] - s5) / diag
-            X[i, 6] = (B[i, 6] - s6) / diag
-            X[i, 7] = (B[i, 7] - s7) / diag
+            if wide:
+                X[i, 4] = (B[i, 4] - s4) / diag
+                X[i, 5] = (B[i, 5] - s5) / diag
+                X[i, 6] = (B[i, 6] - s6) / diag
+                X[i, 7] = (B[i, 7] - s7) / diag
 
 
 def _chunks(m: int):
@@ -88,17 +101,23 @@ def _chunks(m: int):
     return [slice(c, min(c + WIDTH, m)) for c in range(0, m, WIDTH)]
 
 
-def _exact(X: np.ndarray) -> bool:
-    """True when X is itself a C-ordered float (n, WIDTH) block the kernel can use in place."""
-    return X.shape[1] == WIDTH and X.dtype == np.float64 and X.flags.c_contiguous
+def _width(cols: slice) -> int:
+    """The pass that carries ``cols``: :data:`HALF` for at most four columns, else :data:`WIDTH`."""
+    return HALF if cols.stop - cols.start <= HALF else WIDTH
+
+
+def _exact(X: np.ndarray, width: int) -> bool:
+    """True when X is itself a C-ordered float (n, width) block the kernel can use in place."""
+    return X.shape[1] == width and X.dtype == np.float64 and X.flags.c_contiguous
 
 
 def _padded(X: np.ndarray, cols: slice) -> np.ndarray:
-    """Columns ``cols`` of X as a C-ordered (n, WIDTH) block, zero beyond X's last column (X
-    itself, not a copy, when it is such a block)."""
-    if cols.start == 0 and cols.stop == X.shape[1] and _exact(X):
+    """Columns ``cols`` of X as a C-ordered (n, w) block, w = :func:`_width` of ``cols``, zero
+    beyond X's last column (X itself, not a copy, when it is such a block)."""
+    width = _width(cols)
+    if cols.start == 0 and cols.stop == X.shape[1] and _exact(X, width):
         return X
-    out = np.zeros((X.shape[0], WIDTH))
+    out = np.zeros((X.shape[0], width))
     out[:, :cols.stop - cols.start] = X[:, cols]
     return out
 
@@ -126,11 +145,11 @@ def gauss_seidel(A: sp.csr_matrix, X: np.ndarray, B: np.ndarray, sweep: str, use
                 pyamg_gs(A, x, b, iterations=1, sweep="forward" if forward else "backward")
             X[:, j] = x
         return
-    kernel, unused = compile_kernel(_pass_8), np.empty((0, WIDTH))
+    kernel = compile_kernel(_block_pass)
     for cols in _chunks(m):
         x, b = _padded(X, cols), _padded(B, cols)
         for forward in directions:
-            kernel(A.indptr, A.indices, A.data, x, b, unused, FORWARD if forward else BACKWARD)
+            kernel(A.indptr, A.indices, A.data, x, b, np.empty((0, x.shape[1])), FORWARD if forward else BACKWARD)
         if x is not X:
             X[:, cols] = x[:, :cols.stop - cols.start]
 
@@ -140,10 +159,11 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
     if X.ndim == 1 or not compiled(X.shape[1], use_numba):
         return A @ X
     out = np.empty((A.shape[0], X.shape[1]))
-    y = out if X.shape[1] == WIDTH else np.empty((A.shape[0], WIDTH))
-    kernel, unused = compile_kernel(_pass_8), np.empty((0, WIDTH))
+    kernel = compile_kernel(_block_pass)
     for cols in _chunks(X.shape[1]):
-        kernel(A.indptr, A.indices, A.data, _padded(X, cols), unused, y, PRODUCT)
+        x = _padded(X, cols)
+        y = out if x.shape[1] == X.shape[1] else np.empty((A.shape[0], x.shape[1]))
+        kernel(A.indptr, A.indices, A.data, x, np.empty((0, x.shape[1])), y, PRODUCT)
         if y is not out:
             out[:, cols] = y[:, :cols.stop - cols.start]
     return out

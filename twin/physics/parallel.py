@@ -5,14 +5,17 @@ Most of a large run is limited by reading memory (sparse products, passes over l
 and one core does not use all of a machine's memory bandwidth: on the 2-core development machine
 two concurrent products of the 200 k-node heat matrix finish in 1.7-1.96 times the time of one,
 and one product split in two row blocks takes 4.6-5.3 ms instead of 7.7-8.0 (README "Scale").
-Two kinds of work are split here:
+Three kinds of work are split here:
 
 * **independent tasks** (:func:`concurrently`): the elastic chain (assembly, multigrid, adjoints,
   the observers' rows) beside the heat basis of the reduced model or the reduced start;
 * **row blocks** (:class:`RowBlocks`, :func:`rows_product`, :func:`transposed_product`): a
   product A X of a large matrix computed as [A_1 X; A_2 X] over :data:`PARTS` row blocks of
   about equal stored entries; and the compiled vector passes of a one-column CG
-  (:func:`twin.physics.solvers.pcg`) over :func:`even_blocks`, with :func:`map_blocks`.
+  (:func:`twin.physics.solvers.pcg`) over :func:`even_blocks`, with :func:`map_blocks`;
+* **column halves** of an AMG V-cycle on several right-hand sides
+  (:func:`twin.physics.solvers.amg_cycle`, through :func:`on_idle_helper`): split only when the
+  helper is idle at that moment, with the same arithmetic per column either way.
 
 **The numbers do not depend on the threads.** The row blocks depend on the matrix alone, never
 on how many threads run them; each row of A X is the same sum as in A X unsplit, and the
@@ -94,8 +97,10 @@ def _helper():
     return _pool, _idle
 
 
-def _submit(fn, *args):
-    """A future of fn(*args) on an idle helper thread, or None (no helper allowed or idle)."""
+def on_idle_helper(fn, *args):
+    """A future of fn(*args) on an idle helper thread, or None (no helper allowed or idle): for
+    work that is worth splitting only when a second core is free now (the caller otherwise does
+    it whole, its own way)."""
     if threads() < 2:
         return None
     pool, idle = _helper()
@@ -150,7 +155,7 @@ def concurrently(*tasks) -> list:
     exception of any task is raised here once all have finished; an interrupt (Ctrl-C, or the
     CLI's SIGTERM) at once, the helper finishing its task alone (the process exits when it has)."""
     with single_blas():     # held before a helper starts: its own holds nest inside this one
-        futures = [None] + [_submit(t) for t in tasks[1:]]
+        futures = [None] + [on_idle_helper(t) for t in tasks[1:]]
         results, errors = [], []
         for task, future in zip(tasks, futures):
             try:
@@ -186,7 +191,7 @@ def even_blocks(n: int) -> list[slice]:
 
 def map_blocks(fn, blocks: list) -> list:
     """[fn(b) for b in blocks], the later blocks on an idle helper when there is one (else here)."""
-    futures = [None] + [_submit(fn, b) for b in blocks[1:]]
+    futures = [None] + [on_idle_helper(fn, b) for b in blocks[1:]]
     out = [fn(blocks[0])]
     for b, f in zip(blocks[1:], futures[1:]):
         out.append(fn(b) if f is None else f.result())

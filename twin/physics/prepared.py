@@ -213,7 +213,9 @@ class PreparedTwin:
         (:data:`twin.physics.parallel.CONCURRENT_FROM`) the two are built concurrently: the
         elastic chain (assembly, multigrid, adjoints, rows) beside the heat basis, which need
         nothing of each other (:func:`twin.physics.parallel.concurrently`; the same numbers as
-        one after the other). ``prepare_s`` records the seconds of each part; ``bound``: the
+        one after the other), the basis in this thread and the shorter elastic chain on the
+        helper, so that once the chain is done the basis's multigrid cycles take both cores
+        (:func:`twin.physics.solvers.amg_cycle`). ``prepare_s`` records the seconds of each part; ``bound``: the
         reduced model's verified bound will be computed (its Gram matrix is part of the basis)."""
         import time
 
@@ -243,7 +245,7 @@ class PreparedTwin:
         t0 = time.perf_counter()
         together = task is not None and loads.mm.nheat >= parallel.CONCURRENT_FROM
         if together:
-            result = parallel.concurrently(rows, basis)[0]
+            result = parallel.concurrently(basis, rows)[1]      # the basis here: its cycles split once rows are done
         else:
             result = rows()
             if task is not None:

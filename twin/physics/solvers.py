@@ -36,12 +36,13 @@ device, the outputs come back every step. CPU results are the reference.
 from __future__ import annotations
 
 import threading
+from concurrent import futures
 
 import numpy as np
 import scipy.sparse as sp
 
 from twin.errors import InputError
-from twin.physics import gpu_cg, kernels
+from twin.physics import gpu_cg, kernels, parallel
 
 MASS_BOUND = 27.0           # M >= M_L / 27 for trilinear bricks
 
@@ -238,12 +239,17 @@ def amg_cycle(ml):
     A block R (n, m) goes through every level as one block when the smoothers are pyamg's
     one-sweep Gauss-Seidel: the sweeps and products of :mod:`twin.physics.kernels` read each
     level's matrices once per eight columns instead of once per column, with the same arithmetic
-    per column (equal to the column-by-column cycle to round-off). Other smoothers, and a single
+    per column (equal to the column-by-column cycle to round-off). A block of five to eight
+    columns goes through two cycles of four columns each, side by side, when a second core is
+    idle at that moment (:func:`twin.physics.parallel.on_idle_helper`; the elastic chain beside a
+    reduced basis has finished, say), else through one of eight: each column gets the same
+    arithmetic either way, so the result does not depend on which. Other smoothers, and a single
     vector, take pyamg's own level functions column by column."""
     levels = ml.levels
     sweeps = [(_gs_sweep(lv.presmoother), _gs_sweep(lv.postsmoother)) for lv in levels[:-1]]
     blockwise = all(pre and post for pre, post in sweeps)
     csr = [(sp.csr_matrix(lv.A), sp.csr_matrix(lv.P), sp.csr_matrix(lv.R)) for lv in levels[:-1]] if blockwise else []
+    split = blockwise and levels[0].A.nnz >= parallel.SPLIT_FROM      # two half cycles gain on large levels only
 
     def cycle(lvl: int, b: np.ndarray) -> np.ndarray:
         level = levels[lvl]
@@ -265,16 +271,30 @@ def amg_cycle(ml):
         kernels.gauss_seidel(A, X, B, post)
         return X
 
+    def padded(R: np.ndarray, a: int, b: int, width: int) -> np.ndarray:
+        B = np.zeros((R.shape[0], width))      # C-ordered whole chunks: no copy per level
+        B[:, :b - a] = R[:, a:b]
+        return B
+
     def apply(R: np.ndarray) -> np.ndarray:
         if R.ndim == 1:
             return cycle(0, R)
         m = R.shape[1]
-        if blockwise and kernels.compiled(m, None):
-            B = np.zeros((R.shape[0], m + (-m) % kernels.WIDTH))   # C-ordered whole chunks: no copy per level
-            B[:, :m] = R
-            return block(0, B)[:, :m]
-        return np.column_stack([cycle(0, R[:, j]) for j in range(R.shape[1])])
+        if not (blockwise and kernels.compiled(m, None)):
+            return np.column_stack([cycle(0, R[:, j]) for j in range(R.shape[1])])
+        half = kernels.HALF
+        if split and half < m <= kernels.WIDTH:
+            second = parallel.on_idle_helper(block, 0, padded(R, half, m, half))
+            if second is not None:              # a free core: each half through its own cycle
+                try:
+                    first = block(0, padded(R, 0, half, half))
+                finally:
+                    futures.wait([second])
+                return np.hstack([first, second.result()[:, :m - half]])
+        return block(0, padded(R, 0, m, half if m <= half else m + (-m) % kernels.WIDTH))[:, :m]
 
+    if split:           # factorise the coarsest level now: pyamg does it on first use, not thread-safely
+        cycle(len(levels) - 1, np.zeros(levels[-1].A.shape[0]))
     return apply
 
 
