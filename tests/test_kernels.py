@@ -72,6 +72,86 @@ def test_block_product_equals_scipys(m):
 
 
 @needs_numba
+@pytest.mark.parametrize("width", [kernels.HALF, kernels.WIDTH])
+def test_vectorised_pass_is_the_scalar_pass_bit_for_bit(width):
+    """The pass compiled with LLVM's SLP vectoriser (:func:`twin.compiled.compile_kernel`,
+    ``vectorise=True``) against the same function compiled as numba does by default (scalar, no
+    disk cache): product, forward and backward sweep give identical bits, and the vectorised
+    kernel is filed under its own name in numba's cache."""
+    import numba
+
+    from twin.compiled import compile_kernel
+
+    A = _spd(500, seed=11)
+    arrays = kernels._csr(A)
+    rng = np.random.default_rng(12)
+    X, B = rng.standard_normal((2, A.shape[0], width))
+    empty = np.empty((0, width))
+    vectorised = compile_kernel(kernels._block_pass, vectorise=True)
+    scalar = numba.njit(kernels._block_pass)
+    assert vectorised.dispatcher.py_func.__qualname__ == "_block_pass_vectorised"
+    for mode in (kernels.FORWARD, kernels.BACKWARD):
+        fast, slow = X.copy(), X.copy()
+        vectorised(*arrays, fast, B, empty, mode)
+        scalar(*arrays, slow, B, empty, mode)
+        np.testing.assert_array_equal(fast, slow)
+    fast, slow = np.empty_like(X), np.empty_like(X)
+    vectorised(*arrays, X, empty, fast, kernels.PRODUCT)
+    scalar(*arrays, X, empty, slow, kernels.PRODUCT)
+    np.testing.assert_array_equal(fast, slow)
+
+
+_SLP_PROBE = """
+import numpy as np, numba
+from twin.compiled import compile_kernel
+from twin.physics import kernels
+import scipy.sparse as sp
+A = (sp.random(60, 60, density=0.1, random_state=1) + sp.identity(60)).tocsr()
+X, B, E = np.zeros((60, 8)), np.ones((60, 8)), np.empty((0, 8))
+vectorised = compile_kernel(kernels._block_pass, vectorise=True)
+for kernel, dispatcher in ((vectorised, vectorised.dispatcher), (numba.njit(kernels._block_pass),) * 2):
+    kernel(*kernels._csr(A), X, B, E, kernels.FORWARD)
+    print(sum(ir.count(" x double>") for ir in dispatcher.inspect_llvm().values()))
+"""
+
+
+@needs_numba
+def test_vectorise_switches_the_slp_vectoriser_on_for_that_kernel_alone(tmp_path):
+    """With ``vectorise=True`` the pass's optimised LLVM code holds vector types (<k x double>),
+    compiled as numba does by default it holds none: the switch acts, and only where asked. Run
+    in a fresh process with an empty numba cache (code loaded from the cache cannot be
+    inspected)."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run([sys.executable, "-c", _SLP_PROBE], env=env, capture_output=True, text=True, check=True)
+    vectorised, scalar = (int(line) for line in out.stdout.split())
+    assert vectorised > 0 and scalar == 0
+
+
+@needs_numba
+@pytest.mark.parametrize("sweep", ["forward", "backward"])
+def test_unsigned_index_view_changes_no_bit(sweep):
+    """A matrix with 32-bit indices goes to the kernel through unsigned views of them (no
+    wrap-around checks), one with 64-bit indices as it is: both give the same bits, sweep and
+    product, so the view changes the speed and nothing else."""
+    A = _spd(300, seed=9)
+    wide = A.copy()
+    wide.indptr, wide.indices = A.indptr.astype(np.int64), A.indices.astype(np.int64)
+    assert A.indices.dtype == np.int32 and kernels._csr(A)[1].dtype == np.uint32
+    assert kernels._csr(wide)[1].dtype == np.int64
+    rng = np.random.default_rng(10)
+    X, B = rng.standard_normal((2, A.shape[0], 5))
+    X64 = X.copy()
+    kernels.gauss_seidel(A, X, B, sweep)
+    kernels.gauss_seidel(wide, X64, B, sweep)
+    np.testing.assert_array_equal(X, X64)
+    np.testing.assert_array_equal(kernels.product(A, B), kernels.product(wide, B))
+
+
+@needs_numba
 @pytest.mark.parametrize("sweep", ["forward", "symmetric"])
 def test_four_column_pass_is_the_eight_column_pass_bit_for_bit(sweep):
     """The four-column pass does each column's arithmetic exactly as the eight-column one (the
@@ -207,3 +287,18 @@ def test_fused_cg_is_used_only_from_its_size_and_with_numba(monkeypatch):
     assert not kernels.fused_cg(10 ** 6, use_numba=False)
     monkeypatch.setattr(kernels, "HAVE_NUMBA", False)
     assert not kernels.fused_cg(10 ** 6)
+
+
+@pytest.mark.parametrize("m, width", [(1, 4), (3, 4), (4, 4), (5, 8), (7, 8), (8, 8), (9, 16), (16, 16)])
+def test_as_block_pads_to_whole_passes_and_copies_only_when_it_must(m, width):
+    """:func:`kernels.as_block`: X's columns then zeros up to four columns or whole passes of
+    eight, C-ordered; a block already so is returned itself (no copy), a view of one is copied."""
+    X = np.arange(6.0 * m).reshape(6, m)
+    B = kernels.as_block(X)
+    assert kernels.block_width(m) == width and B.shape == (6, width) and B.flags.c_contiguous
+    np.testing.assert_array_equal(B[:, :m], X)
+    assert not B[:, m:].any()
+    assert kernels.as_block(B) is B
+    assert (B is X) == (m == width)
+    wide = np.zeros((6, width + 2))
+    assert kernels.as_block(wide[:, :width]) is not wide

@@ -111,15 +111,44 @@ def _exact(X: np.ndarray, width: int) -> bool:
     return X.shape[1] == width and X.dtype == np.float64 and X.flags.c_contiguous
 
 
+def block_width(m: int) -> int:
+    """The columns a block of m goes through the compiled passes as: :data:`HALF` for at most
+    four, else m rounded up to whole :data:`WIDTH`-column passes (zero columns fill the rest)."""
+    return HALF if m <= HALF else m + (-m) % WIDTH
+
+
+def as_block(X: np.ndarray) -> np.ndarray:
+    """X (n, m) as a C-ordered float (n, :func:`block_width` (m)) block, zero beyond its last
+    column; X itself when it is one. A solver that keeps its vectors so (up to eight columns)
+    saves the padded copy each product and sweep would otherwise make of them."""
+    return _padded_to(X, block_width(X.shape[1]))
+
+
+def _padded_to(X: np.ndarray, width: int) -> np.ndarray:
+    """X's columns in a C-ordered (n, width) block, zero beyond them (X itself when it is one)."""
+    if _exact(X, width):
+        return X
+    out = np.zeros((X.shape[0], width))
+    out[:, :X.shape[1]] = X
+    return out
+
+
 def _padded(X: np.ndarray, cols: slice) -> np.ndarray:
     """Columns ``cols`` of X as a C-ordered (n, w) block, w = :func:`_width` of ``cols``, zero
     beyond X's last column (X itself, not a copy, when it is such a block)."""
-    width = _width(cols)
-    if cols.start == 0 and cols.stop == X.shape[1] and _exact(X, width):
-        return X
-    out = np.zeros((X.shape[0], width))
-    out[:, :cols.stop - cols.start] = X[:, cols]
-    return out
+    whole = cols.start == 0 and cols.stop == X.shape[1]
+    return _padded_to(X if whole else X[:, cols], _width(cols))
+
+
+def _csr(A: sp.csr_matrix) -> tuple:
+    """A's (indptr, indices, data) for a compiled kernel, 32-bit index arrays viewed as unsigned
+    (no copy; CSR indices are never negative): numba checks every signed index for a negative
+    value to wrap around, and that check in the innermost loop, X[j, c] for a column index j,
+    made a sweep 1.2-2.4 times slower (a four-column forward sweep of a 5.1 M-entry matrix 18.0
+    ms signed, 7.5 ms unsigned; eight columns 14.5 and 11.8 ms, measured on the development
+    machine). The arithmetic is the same."""
+    unsigned = [a.view(np.uint32) if a.dtype == np.int32 else a for a in (A.indptr, A.indices)]
+    return unsigned[0], unsigned[1], A.data
 
 
 def compiled(m: int, use_numba: bool | None) -> bool:
@@ -145,11 +174,11 @@ def gauss_seidel(A: sp.csr_matrix, X: np.ndarray, B: np.ndarray, sweep: str, use
                 pyamg_gs(A, x, b, iterations=1, sweep="forward" if forward else "backward")
             X[:, j] = x
         return
-    kernel = compile_kernel(_block_pass)
+    kernel, arrays = compile_kernel(_block_pass, vectorise=True), _csr(A)
     for cols in _chunks(m):
         x, b = _padded(X, cols), _padded(B, cols)
         for forward in directions:
-            kernel(A.indptr, A.indices, A.data, x, b, np.empty((0, x.shape[1])), FORWARD if forward else BACKWARD)
+            kernel(*arrays, x, b, np.empty((0, x.shape[1])), FORWARD if forward else BACKWARD)
         if x is not X:
             X[:, cols] = x[:, :cols.stop - cols.start]
 
@@ -159,11 +188,11 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
     if X.ndim == 1 or not compiled(X.shape[1], use_numba):
         return A @ X
     out = np.empty((A.shape[0], X.shape[1]))
-    kernel = compile_kernel(_block_pass)
+    kernel, arrays = compile_kernel(_block_pass, vectorise=True), _csr(A)
     for cols in _chunks(X.shape[1]):
         x = _padded(X, cols)
         y = out if x.shape[1] == X.shape[1] else np.empty((A.shape[0], x.shape[1]))
-        kernel(A.indptr, A.indices, A.data, x, np.empty((0, x.shape[1])), y, PRODUCT)
+        kernel(*arrays, x, np.empty((0, x.shape[1])), y, PRODUCT)
         if y is not out:
             out[:, cols] = y[:, :cols.stop - cols.start]
     return out

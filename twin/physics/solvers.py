@@ -271,11 +271,6 @@ def amg_cycle(ml):
         kernels.gauss_seidel(A, X, B, post)
         return X
 
-    def padded(R: np.ndarray, a: int, b: int, width: int) -> np.ndarray:
-        B = np.zeros((R.shape[0], width))      # C-ordered whole chunks: no copy per level
-        B[:, :b - a] = R[:, a:b]
-        return B
-
     def apply(R: np.ndarray) -> np.ndarray:
         if R.ndim == 1:
             return cycle(0, R)
@@ -284,14 +279,14 @@ def amg_cycle(ml):
             return np.column_stack([cycle(0, R[:, j]) for j in range(R.shape[1])])
         half = kernels.HALF
         if split and half < m <= kernels.WIDTH:
-            second = parallel.on_idle_helper(block, 0, padded(R, half, m, half))
+            second = parallel.on_idle_helper(block, 0, kernels.as_block(R[:, half:]))
             if second is not None:              # a free core: each half through its own cycle
                 try:
-                    first = block(0, padded(R, 0, half, half))
+                    first = block(0, kernels.as_block(R[:, :half]))
                 finally:
                     futures.wait([second])
                 return np.hstack([first, second.result()[:, :m - half]])
-        return block(0, padded(R, 0, m, half if m <= half else m + (-m) % kernels.WIDTH))[:, :m]
+        return block(0, kernels.as_block(R))[:, :m]         # block() does not write into its argument
 
     if split:           # factorise the coarsest level now: pyamg does it on first use, not thread-safely
         cycle(len(levels) - 1, np.zeros(levels[-1].A.shape[0]))
