@@ -281,6 +281,39 @@ def test_fused_jacobi_pcg_is_the_numpy_iteration_up_to_the_order_of_its_sums(mon
         pcg(apply, b, x0, jacobi(dinv), w, tol, max_iterations=2)
 
 
+@needs_numba
+def test_block_pcg_on_compiled_passes_is_the_numpy_iteration_up_to_the_order_of_its_sums(monkeypatch):
+    """A block PCG (five columns, an AMG V-cycle as preconditioner) with its vector work on the
+    compiled passes (the columns' sums; X += alpha P, R -= alpha Q with sum w R^2; P = beta P + Z)
+    against the array operations: the same iterations, the same solution and residual to
+    round-off (only the order of the sums differs), a column that starts converged left as it is,
+    and the same bits with one thread or two."""
+    from twin.physics import parallel, solvers
+    from twin.physics.solvers import amg_cycle, pcg, smoothed_aggregation
+
+    A = _spd(3001, seed=13)
+    rng = np.random.default_rng(14)
+    B = rng.standard_normal((A.shape[0], 5))
+    B[:, 4] = 0.0                                   # converged from the start: stays zero
+    w = rng.uniform(0.5, 2.0, A.shape[0])
+    cycle = amg_cycle(smoothed_aggregation(A, max_coarse=50))
+    tol = 1e-9 * np.sqrt(w @ (B * B))
+    apply = lambda U: A @ U
+    monkeypatch.setattr(kernels, "CG_FUSED_FROM", 10 ** 9)
+    xs, its, rhos, Rs = pcg(apply, B, np.zeros_like(B), cycle, w, tol, residual=True)
+    monkeypatch.setattr(kernels, "CG_FUSED_FROM", 0)
+    used, original = [], solvers._BlockWork.__init__
+    monkeypatch.setattr(solvers._BlockWork, "__init__", lambda self, w: used.append(1) or original(self, w))
+    x, it, rho, R = pcg(apply, B, np.zeros_like(B), cycle, w, tol, residual=True)
+    assert used and it == its > 3 and (rho <= tol).all() and (rhos <= tol).all()
+    np.testing.assert_allclose(x, xs, rtol=0, atol=1e-10 * np.abs(xs).max())
+    np.testing.assert_allclose(R, B - A @ x, rtol=0, atol=1e-9 * np.abs(B).max())
+    assert not x[:, 4].any() and rho[4] == 0.0
+    with parallel.limited(1):
+        x1, it1, rho1, R1 = pcg(apply, B, np.zeros_like(B), cycle, w, tol, residual=True)
+    assert it1 == it and np.array_equal(rho1, rho) and np.array_equal(x1, x) and np.array_equal(R1, R)
+
+
 def test_fused_cg_is_used_only_from_its_size_and_with_numba(monkeypatch):
     assert not kernels.fused_cg(kernels.CG_FUSED_FROM - 1)
     assert kernels.fused_cg(kernels.CG_FUSED_FROM) == kernels.HAVE_NUMBA
