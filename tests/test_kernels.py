@@ -335,3 +335,18 @@ def test_as_block_pads_to_whole_passes_and_copies_only_when_it_must(m, width):
     assert (B is X) == (m == width)
     wide = np.zeros((6, width + 2))
     assert kernels.as_block(wide[:, :width]) is not wide
+
+
+@pytest.mark.parametrize("have_numba", [True, False])
+def test_vector_product_is_scipys_sum_bit_for_bit(have_numba, monkeypatch):
+    """:func:`kernels.vector_product`: each row's sum in stored order, scipy's (the compiled pass on
+    unsigned index views, or scipy's own product without numba), into the given array; on a
+    rectangular block of rows, as :class:`twin.physics.parallel.RowBlocks` holds them."""
+    if have_numba and not kernels.HAVE_NUMBA:
+        pytest.skip("numba not installed")
+    monkeypatch.setattr(kernels, "HAVE_NUMBA", have_numba)
+    A = sp.random(300, 500, density=0.03, random_state=6, format="csr")
+    x = np.random.default_rng(7).standard_normal(500)
+    out = np.full(300, np.nan)
+    assert kernels.vector_product(A, x, out) is out
+    np.testing.assert_array_equal(out, A @ x)

@@ -201,6 +201,26 @@ def product(A: sp.csr_matrix, X: np.ndarray, use_numba: bool | None = None) -> n
     return out
 
 
+def _vector_pass(indptr, indices, data, x, y):                 # pragma: no cover - compiled
+    """y = A x for a CSR matrix A, every row's sum in stored order (scipy's)."""
+    for i in range(y.shape[0]):
+        s = 0.0
+        for jj in range(indptr[i], indptr[i + 1]):
+            s += data[jj] * x[indices[jj]]
+        y[i] = s
+
+
+def vector_product(A: sp.csr_matrix, x: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """A x into ``out`` for a CSR matrix A and a vector x (n,): scipy's sums, compiled on the
+    matrix's unsigned index views (:func:`_csr`: 3.4 ms instead of scipy's 4.1 on the 200 k-node
+    heat matrix), or scipy's own product without numba."""
+    if not HAVE_NUMBA:
+        out[:] = A @ x
+        return out
+    compile_kernel(_vector_pass)(*_csr(A), np.ascontiguousarray(x, dtype=float), out)
+    return out
+
+
 # --- one-column Jacobi-PCG: the vector work of an iteration in three passes -------------------------
 #
 # The heat step's CG (one vector, Jacobi) spends a third of a 200 k-node step on vector passes:

@@ -45,6 +45,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import scipy.sparse as sp
 
+from twin.physics import kernels
+
 PARTS = 2                   # row blocks of a split product (fixed: the numbers never depend on the threads)
 SPLIT_FROM = 500_000        # stored entries (or n x columns of a dense block) from which a product is split
 CONCURRENT_FROM = 30_000    # temperature dofs from which a run builds its rows and its basis concurrently
@@ -206,9 +208,14 @@ class RowBlocks:
     def __init__(self, A: sp.spmatrix):
         A = sp.csr_matrix(A)
         self.shape = A.shape
-        self.blocks = [A[s] for s in row_blocks(A.indptr)]
+        self.rows = row_blocks(A.indptr)
+        self.blocks = [A[s] for s in self.rows]
 
     def __matmul__(self, X):
+        if np.ndim(X) == 1:         # one vector: each block's rows straight into the result
+            out = np.empty(self.shape[0])
+            map_blocks(lambda k: kernels.vector_product(self.blocks[k], X, out[self.rows[k]]), range(len(self.rows)))
+            return out
         return np.concatenate(map_blocks(lambda A: A @ X, self.blocks), axis=0)
 
 
