@@ -104,11 +104,6 @@ def _chunks(m: int):
     return [slice(c, min(c + WIDTH, m)) for c in range(0, m, WIDTH)]
 
 
-def _width(cols: slice) -> int:
-    """The pass that carries ``cols``: :data:`HALF` for at most four columns, else :data:`WIDTH`."""
-    return HALF if cols.stop - cols.start <= HALF else WIDTH
-
-
 def _exact(X: np.ndarray, width: int) -> bool:
     """True when X is itself a C-ordered float (n, width) block the kernel can use in place."""
     return X.shape[1] == width and X.dtype == np.float64 and X.flags.c_contiguous
@@ -124,11 +119,7 @@ def as_block(X: np.ndarray) -> np.ndarray:
     """X (n, m) as a C-ordered float (n, :func:`block_width` (m)) block, zero beyond its last
     column; X itself when it is one. A solver that keeps its vectors so (up to eight columns)
     saves the padded copy each product and sweep would otherwise make of them."""
-    return _padded_to(X, block_width(X.shape[1]))
-
-
-def _padded_to(X: np.ndarray, width: int) -> np.ndarray:
-    """X's columns in a C-ordered (n, width) block, zero beyond them (X itself when it is one)."""
+    width = block_width(X.shape[1])
     if _exact(X, width):
         return X
     out = np.zeros((X.shape[0], width))
@@ -137,10 +128,11 @@ def _padded_to(X: np.ndarray, width: int) -> np.ndarray:
 
 
 def _padded(X: np.ndarray, cols: slice) -> np.ndarray:
-    """Columns ``cols`` of X as a C-ordered (n, w) block, w = :func:`_width` of ``cols``, zero
-    beyond X's last column (X itself, not a copy, when it is such a block)."""
+    """Columns ``cols`` (at most :data:`WIDTH`) of X as a C-ordered (n, w) block, w = the
+    :func:`block_width` of their number, zero beyond X's last column (X itself, not a copy, when
+    it is such a block)."""
     whole = cols.start == 0 and cols.stop == X.shape[1]
-    return _padded_to(X if whole else X[:, cols], _width(cols))
+    return as_block(X if whole else X[:, cols])
 
 
 def _csr(A: sp.csr_matrix) -> tuple:
@@ -311,9 +303,7 @@ def _block_cg_direction(P, Z, beta, a, b):              # pragma: no cover - com
 
 
 def block_cg_kernels():
-    """The compiled (dots, update, direction) kernels of a block PCG (None without numba)."""
-    if not HAVE_NUMBA:
-        return None
+    """The compiled (dots, update, direction) kernels of a block PCG."""
     return compile_kernel(_block_dots), compile_kernel(_block_cg_update), compile_kernel(_block_cg_direction)
 
 
