@@ -206,6 +206,33 @@ def test_a_scenario_files_room_record_is_read_beside_it_and_held_by_the_case(tmp
     assert reference().hash != first.hash
 
 
+def test_an_effect_that_cannot_act_in_a_case_is_refused_by_the_plan(tmp_path, capsys):
+    """A door draft whose first opening (1 h, its default) lies after a 10-min case would do
+    nothing: the plan refuses it naming the spec file, the effect and the family, before any case
+    is built or timed (it failed in the dry run's calibration as a 'command line' error)."""
+    spec = write_spec(tmp_path, SPEC.replace('seed = 3', 'seed = 3\neffects = "+door_draft"'))
+    out = tmp_path / "out"
+    assert main(["dataset", str(spec), "-o", str(out), "--dry-run"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {spec}: effects: door_draft.start in scenarios[0] (family duty, draw 0): the "
+                          "first opening at 1 h lies at or after the end of the run"), err
+    assert err.count("\n") == 1 and not out.exists()
+
+
+def test_a_calibration_of_a_few_steps_is_not_refused_what_the_whole_case_does(tmp_path):
+    """The dry run's estimate times a few steps of a case (calibration_steps): a door draft opening
+    at 8 min of a 20-min case acts in the case, not in 6 calibration steps, and is not refused
+    there (it was: the truncated run was checked as a whole one)."""
+    from twin.dataset import estimate
+    text = SPEC.replace('seed = 3', 'seed = 3\neffects = "+door_draft"').replace('duration = "10 min"',
+                                                                             'duration = "20 min"')
+    text = text.replace('"ambient_convection.h" = "7 W/m2K"', '"ambient_convection.h" = "7 W/m2K"\n'
+                        '"door_draft.start" = "8 min"')
+    cases = [c for c in plan(load_spec(write_spec(tmp_path, text))) if c.info["family"] == "duty"]
+    e = estimate(cases[:1], calibration_steps=6, length_steps=8)
+    assert e["cases"] == 1 and e["steps"] == 20
+
+
 def test_spec_errors_name_the_file_in_library_use():
     with pytest.raises(Exception, match=r"^x\.toml: machines: missing$"):
         spec_from_dict({"scenarios": []}, "x.toml")

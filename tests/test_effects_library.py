@@ -123,13 +123,38 @@ def test_stratification_split_above_and_below_z_ref_gives_each_side_its_moment(g
     assert len(one) == 1 and one[0].power(t)[0] == pytest.approx(h * g * skin_area * c / 2, rel=1e-12)
 
 
-def test_a_door_draft_opening_after_the_run_is_refused(mm, heat):
+def test_a_door_draft_opening_after_the_run_is_refused():
     """Switched on with its first opening at or after the run's end it would do nothing: one error
-    naming door_draft.start (the result listed the effect and was identical to one without)."""
+    naming door_draft.start (the result listed the effect and was identical to one without), from
+    the run's checks (:func:`twin.model.check_refusals`, called by ``PreparedTwin.run``); an
+    opening within the run is taken."""
+    from twin.model import check_refusals
     sc = Scenario("short", ((1800.0, 0.0),), Ambient("constant", mean=20.0), 60.0)
     with pytest.raises(InputError) as err:
-        build_loads(mm, sc, ModelSpec(("door_draft",), {"door_draft": {"start": 1800.0}}), heat)
+        check_refusals(ModelSpec(("door_draft",), {"door_draft": {"start": 1800.0}}), sc)
     assert err.value.field == "door_draft.start" and "would do nothing" in err.value.message
+    check_refusals(ModelSpec(("door_draft",), {"door_draft": {"start": 1799.0}}), sc)
+    with pytest.raises(InputError) as err:      # the run itself refuses it, before a step
+        simulate("cframe-vmc", sc, effects="+door_draft", resolution="coarse")
+    assert err.value.field == "door_draft.start"
+
+
+@pytest.mark.parametrize("duration, period, refused", [
+    ("10 min", "2 min", True), ("10 min", "10 min", True), ("10 min", "11 min", False), ("10 min", "0 s", False)])
+def test_a_door_open_as_long_as_its_period_is_refused(duration, period, refused):
+    """Repeated openings must close before the next: duration < period (period 0: one opening).
+    Open for 10 min every 2 min, event_window's time modulo the period kept it open for good."""
+    from twin.model import model_spec
+    settings = [f"door_draft.duration={duration}", f"door_draft.period={period}"]
+    if not refused:
+        model_spec(build_machine("cframe-vmc"), "+door_draft", settings)
+        return
+    with pytest.raises(InputError) as err:
+        model_spec(build_machine("cframe-vmc"), "+door_draft", settings)
+    assert err.value.field == "door_draft.duration" and "never close" in err.value.message
+    spec = ModelSpec(("door_draft",), {"door_draft": {"duration": 600.0, "period": 120.0}})
+    with pytest.raises(InputError):       # a model built in Python, as a run checks it
+        spec.check_bounds("s.toml")
 
 
 def test_door_draft_active_only_in_event_window(mm, heat):

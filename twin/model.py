@@ -72,6 +72,8 @@ class ModelSpec:
                     raise InputError(source, f"spec {group}.{param.name}",
                                      f"{format_quantity(value, param.dimension)} is outside the bounds "
                                      f"{param.describe()}")
+            if group in EFFECTS:
+                EFFECTS[group].check_params(values, source)
 
     def parameter_table(self, group: str):
         return EFFECTS[group].parameters if group in EFFECTS else INSTRUMENTS[group]
@@ -167,6 +169,16 @@ def parse_settings(items: list[str] | None, effects: tuple[str, ...]) -> dict[st
     return out
 
 
+def check_refusals(spec: ModelSpec, scenario, source: str = CLI, where: str = "") -> None:
+    """:class:`InputError` naming ``source`` where an effect switched on in ``spec`` cannot run
+    ``scenario`` (:meth:`twin.effects.base.Effect.refusal`); ``where`` says which run (a dataset's
+    case) after the effect's parameter."""
+    for name in spec.effects:
+        refused = EFFECTS[name].refusal(scenario, spec.params[name])
+        if refused:
+            raise InputError(source, f"{name}.{refused[0]}{where}", refused[1])
+
+
 def check_applicable(effects, machine) -> None:
     """Raise :class:`InputError` naming machine, effect and role if an effect in ``effects``
     needs a role ``machine`` does not declare, or is a custom effect read for another machine."""
@@ -199,7 +211,10 @@ def model_spec(machine, effects: str | None = None, settings: list[str] | None =
         raise InputError(CLI, "--effects-file", f"expected a tuple of registered effect names, got {extra!r}")
     chosen = tuple(dict.fromkeys(parse_effects(effects, tuple(machine.default_effects), tuple(extra)) + tuple(extra)))
     check_applicable(chosen, machine)
-    return ModelSpec(chosen, with_machine_defaults(machine, chosen, parse_settings(settings, chosen)))
+    spec = ModelSpec(chosen, with_machine_defaults(machine, chosen, parse_settings(settings, chosen)))
+    for name in chosen:      # parameters possible one by one (parse_settings) and together
+        EFFECTS[name].check_params(spec.params[name], CLI)
+    return spec
 
 
 def with_machine_defaults(machine, effects, params: dict) -> dict:

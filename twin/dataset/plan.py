@@ -192,9 +192,40 @@ def plan(spec: DatasetSpec) -> list[Case]:
                             "scenario": scenario.get("name", family.file), **sc_info,
                             **{f"{k} [{CANONICAL[spec.parameters[k].dimension]}]": values[k] for k in sorted(values)}}
                     cases.append((record, info))
+    check_effects_act(spec, [rec for rec, _ in cases])
     splits = assign_splits(spec, [c[1] for c in cases])
     key = spec_key(spec)
     return [Case(rec, case_hash(rec), info, split, key) for (rec, info), split in zip(cases, splits)]
+
+
+def check_effects_act(spec: DatasetSpec, records: list[dict]) -> None:
+    """Every effect switched on in each planned case can act in that case's whole run
+    (:meth:`twin.effects.base.Effect.refusal`: a door draft opening after the run's end would do
+    nothing), else an :class:`InputError` naming the spec file, the effect and the family: before
+    any case is built or timed (a dry run's calibration runs a few steps of a case, not all of it)."""
+    from geometries import build_machine
+    from geometries.axes import with_feed_drives
+    from twin.effects import EFFECTS
+    from twin.model import model_spec
+
+    family_index = {f.name: i for i, f in enumerate(spec.families)}
+    machines, seen = {}, set()
+    for r in records:
+        key = json.dumps([r["machine"], r["scenario"], r["effects"], r["settings"]], sort_keys=True)
+        if key in seen:
+            continue
+        seen.add(key)
+        sc = scenario_from_dict(json.loads(json.dumps(r["scenario"])), f"dataset:{r['family']}", default_name=r["family"])
+        axes = frozenset(m.axis for m in sc.axes)
+        if (r["machine"], axes) not in machines:
+            machine = build_machine(r["machine"])
+            machines[(r["machine"], axes)] = with_feed_drives(machine, set(axes)) if axes else machine
+        model = model_spec(machines[(r["machine"], axes)], r["effects"], r["settings"])
+        for name in model.effects:
+            refused = EFFECTS[name].refusal(sc, model.params[name])
+            if refused:
+                raise InputError(spec.source, "effects", f"{name}.{refused[0]} in scenarios[{family_index[r['family']]}] "
+                                                         f"(family {r['family']}, draw {r['draw']}): {refused[1]}")
 
 
 def assign_splits(spec: DatasetSpec, infos: list[dict]) -> list[str]:

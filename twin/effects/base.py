@@ -140,6 +140,18 @@ class Effect:
         """The declared :class:`Uncertain` range of parameter ``name`` (None if it is not declared)."""
         return next((u for u in self.uncertain if u.name == name), None)
 
+    def check_params(self, params: dict[str, float], source: str) -> None:
+        """:class:`InputError` naming ``source`` where ``params`` (SI, each within its bounds) are
+        impossible together (a door open longer than its repeat interval would never close);
+        effects whose parameters are independent keep this default, which accepts them all."""
+
+    def refusal(self, scenario, params: dict[str, float]) -> tuple[str, str] | None:
+        """(parameter, why) where this effect, switched on at ``params``, cannot run ``scenario``
+        (a door draft whose first opening is after the run's end would do nothing: a user who
+        switched it on expects it to act); None where it can. Checked by :meth:`loads` and, for
+        every planned case, by a dataset before it builds any (:mod:`twin.dataset.plan`)."""
+        return None
+
     def acts(self, scenario, params: dict | None = None) -> bool:
         """False only where this effect, at ``params`` (default: its defaults), certainly puts no
         load into a run of ``scenario`` (the door stream without a door event, a door draft

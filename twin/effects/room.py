@@ -209,17 +209,27 @@ class DoorDraft(Effect):
         Uncertain("h", 5.0, 40.0, "draft speed 0.5-4 m/s on a plate (flat-plate forced convection)"),
     )
 
+    def check_params(self, params: dict[str, float], source: str) -> None:
+        """Repeated openings each close before the next: duration < period (period 0: one event)."""
+        if params["period"] > 0 and params["duration"] >= params["period"]:
+            raise InputError(source, f"{self.name}.duration", f"each opening lasts {params['duration'] / 60:g} min, "
+                                                              f"as long as or longer than the repeat interval "
+                                                              f"{self.name}.period ({params['period'] / 60:g} min): the "
+                                                              "door would never close; shorten the opening, lengthen "
+                                                              "the period, or set period 0 for one event")
+
     def acts(self, scenario, params: dict | None = None) -> bool:
         """Only if the first opening falls within the run."""
         return (params or self.defaults())["start"] < scenario.duration
 
+    def refusal(self, scenario, params: dict[str, float]) -> tuple[str, str] | None:
+        if self.acts(scenario, params):
+            return None
+        return "start", (f"the first opening at {params['start'] / 3600:g} h lies at or after the end of the run "
+                         f"({scenario.duration / 3600:g} h): the draft would do nothing; set door_draft.start within "
+                         "the run, or leave the effect out")
+
     def loads(self, mm, scenario, p):
-        if not self.acts(scenario, p):     # switched on, it would do nothing: say so
-            raise InputError("command line", "door_draft.start", f"the first opening at {p['start'] / 3600:g} h lies at "
-                                                                 f"or after the end of the run "
-                                                                 f"({scenario.duration / 3600:g} h): the draft would do "
-                                                                 "nothing; set door_draft.start within the run, or "
-                                                                 "leave the effect out")
         facets = role_facets(mm, "structure.front")
         h, dT = p["h"], p["temperature_difference"]
         return [Convection(self.name, facets,

@@ -397,8 +397,10 @@ class PreparedTwin:
 
     def check_spec(self, spec, scenario, plausible: bool = True) -> None:
         """:class:`InputError` unless ``spec`` is a :class:`twin.model.ModelSpec` whose effects
-        apply to this twin's machine, with its parameters within their bounds when ``plausible``."""
-        from twin.model import ModelSpec, check_applicable
+        apply to this twin's machine, with its parameters within their bounds and every effect able
+        to act in ``scenario`` (:func:`twin.model.check_refusals`: a switched-on effect that would do
+        nothing) when ``plausible``."""
+        from twin.model import ModelSpec, check_applicable, check_refusals
 
         if not isinstance(spec, ModelSpec):
             raise InputError("command line", "spec", f"expected a twin.model.ModelSpec (twin.model.model_spec), "
@@ -406,6 +408,7 @@ class PreparedTwin:
         check_applicable(spec.effects, self.machine)
         if plausible:
             spec.check_bounds(scenario.source or scenario.name)
+            check_refusals(spec, scenario)
 
     def check_run(self, scenario, theta: float) -> None:
         """:class:`InputError` unless ``scenario`` may run on this twin's machine (its values, the
