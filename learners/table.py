@@ -274,6 +274,8 @@ def _values(path, ds, address, tname):
     labels = [str(v) for v in da[dim].values]
     if label not in labels:
         raise InputError(path, address, f"no {dim} {label!r}; available: {', '.join(labels)}")
+    if labels.count(label) > 1:     # which of them is the input? the first would be taken silently
+        raise InputError(path, f"{dim}", f"{dim} {label!r} appears twice")
     return _finite(path, address, da.isel({dim: labels.index(label)}).transpose(tname).values)
 
 

@@ -199,3 +199,28 @@ def test_a_learner_built_by_name_is_seeded_unless_told():
         assert make_learner(name).get_params()["random_state"] == 0
         np.testing.assert_array_equal(make_learner(name).fit(X, y).predict(X), make_learner(name).fit(X, y).predict(X))
     assert make_learner("ann", random_state=None).get_params()["random_state"] is None
+
+
+def test_a_netcdf_table_naming_a_sensor_twice_is_refused(tmp_path, capsys):
+    """Two temperature columns under one sensor name: which is the input cannot be told (the first
+    was fed in twice, 'motor;motor;...'); refused as compare refuses it."""
+    from tests.fuzz_files import result_dataset
+    from twin.cli import main
+
+    good = result_dataset()
+    good.to_netcdf(tmp_path / "b.nc", engine="h5netcdf")
+    twice = good.assign_coords(sensor=["motor", "motor", "bed_front"])
+    twice.to_netcdf(tmp_path / "dup.nc", engine="h5netcdf")
+    code = main(["learn", "--train", str(tmp_path / "dup.nc"), "--test", str(tmp_path / "b.nc"), "--target", "drift:Z",
+                 "--learner", "mlr"])
+    err = capsys.readouterr().err
+    assert code == 2 and err == f"error: {tmp_path / 'dup.nc'}: sensor: sensor 'motor' appears twice\n"
+
+
+@pytest.mark.parametrize("value, words", [(np.int64(7), "7"), (np.float32(0.5), "0.5"), (np.bool_(True), "the boolean true"),
+                                          (np.zeros(3), "an array of 3 values")])
+def test_numpy_values_are_described_in_the_users_terms(value, words):
+    """A NetCDF attribute comes back as a numpy scalar: described as the number, not its type
+    ('expected a machine name, got int64')."""
+    from twin.errors import describe
+    assert describe(value) == words

@@ -45,6 +45,12 @@ def describe(value) -> str:
         return repr(value)
     if isinstance(value, (int, float)):
         return f"{value:g}" if isinstance(value, float) else str(value)
+    import numpy as np
+
+    if isinstance(value, np.generic) and value.dtype.kind in "biuf":   # read from a NetCDF attribute
+        return describe(value.item())
+    if isinstance(value, np.ndarray):
+        return f"an array of {value.size} value{'s' if value.size != 1 else ''}"
     return type(value).__name__
 
 

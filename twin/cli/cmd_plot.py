@@ -14,13 +14,13 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from twin.io.results import read_result
+    from twin.io.measurement import read_checked_result
     from twin.plotting import check_plottable, picture_suffixes, plot_result
 
     files = Files()
     src = files.input(args.result, "result", "result file")
     out = files.output(args.output, "-o", picture_suffixes())
-    ds = read_result(src, "result")
+    ds = read_checked_result(src, "result")
     check_plottable(ds, str(src))
     atomic_write(out, lambda tmp: plot_result(ds, tmp), "-o")
     print(f"wrote {out}")

@@ -126,10 +126,7 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
     if _is_netcdf(path):
         if mapping:
             raise InputError(str(mapping), "--mapping", "a NetCDF measurement has no column mapping")
-        ds = read_result(path, "measurement")
-        src = str(path)
-        mach = _machine(machine, {"machine": ds.attrs.get("machine")}, src, "the measurement is of")
-        return check_measurement(ds, mach, src)
+        return read_checked_result(path, "measurement", machine)
     given, mapping = mapping, mapping_path(path, mapping)
     if same_file(path, mapping):
         raise InputError(str(path), "measurement", "is its own column mapping: give the CSV file (its mapping is the "
@@ -139,6 +136,18 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
                                                     "column's role and unit)")
     spec, _ = read_toml(mapping, "--mapping", "column mapping")
     return _with_channels(_from_csv(path, mapping, spec, machine), str(path))
+
+
+def read_checked_result(path: str | Path, field: str = "result", machine=None) -> xr.Dataset:
+    """A NetCDF twin result (or measurement) read (:func:`twin.io.results.read_result`) and its
+    values checked as a measurement's (:func:`check_measurement`): the machine its ``machine``
+    attribute names (or ``machine``, which must agree), plausible temperatures, speeds and
+    readings, distinct sensor names placed on that machine. What draws or reports a result reads
+    it so: a file a comparison refuses is refused everywhere."""
+    ds = read_result(path, field)
+    src = str(path)
+    mach = _machine(machine, {"machine": ds.attrs.get("machine")}, src, f"the {field} is of")
+    return check_measurement(ds, mach, src)
 
 
 CHANNEL_VARIABLES = ("temperature", "probe", "laser", "strain", "strain_raw")
