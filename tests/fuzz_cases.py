@@ -108,7 +108,8 @@ def _axis_log(mm, axis="Y"):
     return edit
 
 
-# (id, make bytes, field for plot or None when plot accepts it, field for compare or None)
+# (id, make bytes, field for plot, field for compare or None): plot reads a result as compare does
+# (twin.io.measurement.read_checked_result), so it refuses the same values (it drew them once)
 RESULT_EDITS = [
     ("nan-temperature", _nc(_put("temperature", np.nan)), "temperature", "temperature"),
     ("inf-drift", _nc(_put("drift", np.inf)), "drift", "drift"),
@@ -116,31 +117,35 @@ RESULT_EDITS = [
     ("one-sample", _nc(lambda ds: ds.isel(time=[0])), "time", "time"),
     ("no-time", _nc(lambda ds: ds.isel(time=0)), "time", "time"),
     ("time-backwards", _nc(lambda ds: ds.assign_coords(time=ds.time.values[::-1].copy())), "time", "time"),
-    ("inputs-only", _nc(lambda ds: ds[["spindle_speed", "ambient_temperature"]]), "drift", "channels"),
-    ("unknown-machine", _nc(lambda ds: ds.assign_attrs(machine="vmc-9000")), None, "machine"),
-    ("temperature-1e300", _nc(_put("temperature", 1e300)), None, "temperature:motor"),
-    ("speed-negative", _nc(_put("spindle_speed", -10.0, 3)), None, "spindle_speed"),
-    ("sensor-outside-machine", _nc(_shift_sensor), None, "sensor motor"),
-    ("probe-unit-mistake", _nc(_put("probe", 5e4)), None, "probe:X1"),
+    ("inputs-only", _nc(lambda ds: ds[["spindle_speed", "ambient_temperature"]]), "channels", "channels"),
+    ("unknown-machine", _nc(lambda ds: ds.assign_attrs(machine="vmc-9000")), "machine", "machine"),
+    ("machine-a-number", _nc(lambda ds: ds.assign_attrs(machine=7)), "machine", "machine"),
+    ("temperature-1e300", _nc(_put("temperature", 1e300)), "temperature:motor", "temperature:motor"),
+    ("speed-negative", _nc(_put("spindle_speed", -10.0, 3)), "spindle_speed", "spindle_speed"),
+    ("sensor-outside-machine", _nc(_shift_sensor), "sensor motor", "sensor motor"),
+    ("probe-unit-mistake", _nc(_put("probe", 5e4)), "probe:X1", "probe:X1"),
     ("not-netcdf", lambda: b"time,T\n0,20\n", "result", "measurement"),
     ("netcdf-3-classic", lambda: result_dataset().to_netcdf(engine="scipy"), "result", "measurement"),
-    ("sensor-name-with-at", _nc(_sensor_names(["motor@1", "column_side", "bed_front"])), None, "sensor[0]"),
-    ("sensor-name-twice", _nc(_sensor_names(["motor", "motor", "bed_front"])), None, "sensor"),
-    ("axis-log-outside-travel", _nc(_axis_log(lambda t: np.full(len(t), 900.0))), None, "axis_position:Y"),
+    ("sensor-name-with-at", _nc(_sensor_names(["motor@1", "column_side", "bed_front"])), "sensor[0]", "sensor[0]"),
+    ("sensor-name-twice", _nc(_sensor_names(["motor", "motor", "bed_front"])), "sensor", "sensor"),
+    ("axis-log-outside-travel", _nc(_axis_log(lambda t: np.full(len(t), 900.0))), "axis_position:Y",
+     "axis_position:Y"),
     # 200 mm back and forth every 60 ms (a log in ms written as s): 3.3 m/s
     ("axis-log-too-fast", _nc(lambda ds: _axis_log(lambda t: 100.0 + 200.0 * (np.arange(len(t)) % 2))(
-        ds.assign_coords(time=("time", ds.time.values * 1e-3, {"units": "s"})))), None, "axis_position:Y"),
-    ("axis-log-unknown-axis", _nc(_axis_log(lambda t: np.full(len(t), 100.0), "W")), None, "axis_position:W"),
+        ds.assign_coords(time=("time", ds.time.values * 1e-3, {"units": "s"})))), "axis_position:Y",
+     "axis_position:Y"),
+    ("axis-log-unknown-axis", _nc(_axis_log(lambda t: np.full(len(t), 100.0), "W")), "axis_position:W",
+     "axis_position:W"),
     # the sensors placed in part (compare used to fail on the missing coordinate with a traceback)
-    ("sensor-position-partial", _nc(lambda ds: ds.drop_vars("x")), None, "x"),
+    ("sensor-position-partial", _nc(lambda ds: ds.drop_vars("x")), "x", "x"),
     # a sensor that is neither placed nor a site: refused when read, naming the file as typed
     ("sensor-unplaced", _nc(lambda ds: ds.drop_vars(["x", "y", "z"]).assign_coords(
-        sensor=["s1", "column_side", "bed_front"])), None, "sensor s1"),
+        sensor=["s1", "column_side", "bed_front"])), "sensor s1", "sensor s1"),
     # temperatures without sensor names (compare used to drop them without a word)
     ("temperature-unnamed", _nc(lambda ds: ds.drop_vars(["x", "y", "z", "part", "sensor"])), "temperature",
      "temperature"),
     # a probe the machine lacks (compare used to drop it, and the machine's Z with it, without a word)
-    ("probe-unknown", _nc(lambda ds: ds.assign_coords(probe_id=["X1", "X2", "Y1", "Y2", "Q"])), None, "probe:Q"),
+    ("probe-unknown", _nc(lambda ds: ds.assign_coords(probe_id=["X1", "X2", "Y1", "Y2", "Q"])), "probe:Q", "probe:Q"),
     # a drift with a third dimension (plot used to fail with a traceback, compare and report to pass)
     ("drift-third-dimension", _nc(lambda ds: ds.assign(drift=ds.drift.expand_dims(extra=[0, 1]).transpose(
         "time", "axis", "extra"))), "drift", "drift"),
@@ -183,6 +188,7 @@ OPTION_CASES = [
     # simulate
     ("simulate:unknown-machine", swap(SIM, "cframe-vmc", "vmc-9000"), CLI, "machine"),
     ("simulate:unknown-scenario", swap(SIM, "{d}/short.toml", "no-such-scenario"), CLI, "scenario"),
+    ("simulate:scenario-empty", swap(SIM, "{d}/short.toml", ""), CLI, "scenario"),   # was the working folder
     ("simulate:unknown-effect", SIM + ["--effects", "+warp_drive"], CLI, "--effects warp_drive"),
     ("simulate:remove-absent-effect", SIM + ["--effects=-electrical_cabinet"], CLI, "--effects electrical_cabinet"),
     ("simulate:add-effect-already-on", SIM + ["--effects", "+floor"], CLI, "--effects +floor"),   # changes nothing

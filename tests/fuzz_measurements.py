@@ -38,6 +38,7 @@ MAPPING_EDITS = [
     ("unknown-column-key", _map(MOTOR, MOTOR + '\ncolour = "red"'), "columns.T_motor.colour"),
     ("site-not-a-sensor-site", _map('site = "motor"', 'site = "tool"'), "columns.T_motor.site"),
     ("site-unknown", _map('site = "motor"', 'site = "nowhere"'), "columns.T_motor.site"),
+    ("site-a-list", _map('site = "motor"', 'site = ["motor"]'), "columns.T_motor.site"),
     ("position-outside-machine", _map(MOTOR, _at("5 m", "5 m", "5 m")), "columns.T_motor"),
     ("position-unknown-part", _map(MOTOR, _at("0 m", "0 m", "0.2 m", "plinth")), "columns.T_motor"),
     ("position-not-on-part", _map(MOTOR, _at("0 m", "0 m", "0.2 m", "motor")), "columns.T_motor"),

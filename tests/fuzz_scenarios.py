@@ -95,6 +95,7 @@ SCENARIO_EDITS = [
     ("event-start-1e308-s", edited(AMBIENT, AMBIENT + EVENT.replace('"5 min"', '"1e308 s"')), "ambient.events[0].start"),
     ("event-recovery-1e308-s", edited(AMBIENT, AMBIENT + EVENT + 'recovery = "1e308 s"\n'), "ambient.events[0].recovery"),
     ("name-not-text", edited('name = "short"', 'name = 3'), "name"),
+    ("name-line-break", edited('name = "short"', 'name = "a\\nb"'), "name"),
     ("description-not-text", edited('name = "short"', 'name = "short"\ndescription = 5'), "description"),
     ("event-change-in-degC", edited(AMBIENT, AMBIENT + EVENT.replace('"-9 K"', '"-9 degC"')), "ambient.events[0].change"),
     ("event-door-not-bool", edited(AMBIENT, AMBIENT + EVENT + 'door = "yes"\n'), "ambient.events[0].door"),

@@ -150,8 +150,30 @@ def test_a_position_even_half_a_millimetre_beyond_the_travel_is_refused():
         return scenario_from_dict({**BASE, "axis": [{"name": "Y", "start": "390 mm", "move": [move]}]}, "s.toml")
     with pytest.raises(InputError) as err:
         check_motions(to("400.5 mm"), machine)
-    assert err.value.field == "axis[0].move" and "outside the Y travel 0 .. 400 mm" in str(err.value)
+    assert err.value.field == "axis[0].move[0].to" and "400.5 mm is outside the Y travel 0 .. 400 mm" in str(err.value)
     check_motions(to("400 mm"), machine)
+
+
+@pytest.mark.parametrize("start, move, field, written", [
+    # the value as written, under its own key (the trapezoid's first piece, -0.5 mm, was named before)
+    ("0 mm", {"kind": "move", "to": "-1 mm"}, "axis[0].move[0].to", "-1 mm"),
+    ("-3 mm", {"kind": "move", "to": "100 mm"}, "axis[0].start", "-3 mm"),
+    ("0 mm", {"kind": "reciprocate", "between": ["0 mm", "500 mm"], "count": 2}, "axis[0].move[0].between", "500 mm"),
+    ("0 mm", {"kind": "hold", "position": "0 mm", "duration": "1 min"}, None, None),
+])
+def test_a_position_beyond_the_travel_is_named_as_written(start, move, field, written):
+    from geometries import build_machine
+    from twin.motion import check_motions
+
+    if move["kind"] != "hold":
+        move = {**move, "feed": "20 mm/s", "acceleration": "10 mm/s2"}
+    sc = scenario_from_dict({**BASE, "axis": [{"name": "Y", "start": start, "move": [move]}]}, "s.toml")
+    if field is None:
+        check_motions(sc, build_machine("cframe-vmc"))
+        return
+    with pytest.raises(InputError) as err:
+        check_motions(sc, build_machine("cframe-vmc"))
+    assert err.value.field == field and err.value.message.startswith(f"{written} is outside the Y travel")
 
 
 def test_a_planned_motion_pickles():

@@ -129,6 +129,13 @@ def test_camera_benchmark_checks_the_scenario_against_the_machine(fast_scenario,
     (["--mesh", "coarse", "--heat-start", "reduced"], "--heat-start: starts iterative heat steps; --solver auto "
                                                       "factorises this mesh"),
     (["--mesh", "coarse", "--seed", "5"], "command line: --seed: seeds the factors of batched cases"),
+    (["--solver", "direct", "--heat-tol", "1e-6 K"], "command line: --heat-tol: bounds the error of iterative heat "
+                                                     "steps; --solver direct factorises them"),
+    # the default's value too: given, it would be ignored
+    (["--solver", "rom", "--heat-tol", "1e-6 K"], "command line: --heat-tol: bounds the error of iterative heat steps; "
+                                                  "--solver rom takes none"),
+    (["--mesh", "coarse", "--heat-tol", "1e-4 K"], "--heat-tol: bounds the error of iterative heat steps; this run "
+                                                   "factorises"),
     (["--mesh", "coarse", "--elastic-coarsening", "2", "--heat-only"], "--elastic-coarsening: coarsens the elastic "
                                                                        "mesh; --heat-only solves no elasticity"),
     (["--mesh", "coarse", "--solver", "rom", "--cases", "3", "--prepare-only"], "command line: --cases: acts on the "
@@ -140,6 +147,21 @@ def test_camera_benchmark_checks_the_scenario_against_the_machine(fast_scenario,
 def test_benchmark_refuses_bad_options(argv, needle, capsys):
     assert benchmark.main(argv) == 2
     one_error(capsys, needle)
+
+
+def test_benchmark_refuses_a_missing_gpu_before_its_preparation(capsys):
+    """--device gpu without CuPy and a CUDA device: one error before the mesh, with --prepare-only
+    too (it ran the CPU's preparation and printed JSON without a device)."""
+    from twin.physics.solvers import array_module
+    try:
+        array_module("gpu")
+    except Exception:   # noqa: BLE001 - the refusal this test is about
+        pass
+    else:
+        pytest.skip("a GPU is present")
+    for extra in ([], ["--prepare-only"]):
+        assert benchmark.main(["--mesh", "coarse", "--device", "gpu", *extra]) == 2
+        one_error(capsys, "command line: --device: gpu needs CuPy")
 
 
 # 8 ---------------------------------------------------------------------------------------------------------------

@@ -57,16 +57,19 @@ class Motion:
     before anything is built."""
 
     def __init__(self, axis: str, t0, dur, x0, v0, a, x_end: float, source: str = ""):
-        self.axis, self.x_end, self.source = axis, float(x_end), source
+        self.axis, self.x_end, self.source, self.commanded = axis, float(x_end), source, ()
         self._pieces = tuple(np.asarray(c, dtype=float) for c in (t0, dur, x0, v0, a))
         self._build, self._duration, self._count = None, None, len(self._pieces[0])
 
     @classmethod
-    def planned(cls, axis: str, x_end: float, duration: float, pieces: int, build, source: str = "") -> "Motion":
+    def planned(cls, axis: str, x_end: float, duration: float, pieces: int, build, source: str = "",
+                commanded: tuple = ()) -> "Motion":
         """A motion of ``duration`` [s] ending at ``x_end`` [m] in at most ``pieces`` pieces, which
-        ``build()`` returns as (t0, dur, x0, v0, a) when first asked for."""
+        ``build()`` returns as (t0, dur, x0, v0, a) when first asked for. ``commanded``: the
+        positions the scenario wrote, (field, position [m]) each, checked against a machine's
+        travel under their own names (:func:`twin.motion_checks.check_motions`)."""
         m = cls.__new__(cls)
-        m.axis, m.x_end, m.source = axis, float(x_end), source
+        m.axis, m.x_end, m.source, m.commanded = axis, float(x_end), source, tuple(commanded)
         m._pieces, m._build, m._duration, m._count = None, build, float(duration), int(pieces)
         return m
 
@@ -244,6 +247,7 @@ def _motion(name: str, start, moves: list, source: str, prefix: str) -> Motion:
     memory in proportion to a count of strokes); the pieces are built on first use."""
     x = t = None
     runs, pieces = [], 0
+    commanded = [] if start is None else [(prefix.rsplit(".", 1)[0] + ".start", start)]
     for j, raw in enumerate(moves):
         r = TableReader(raw, source, f"{prefix}[{j}].", known=("kind",) + tuple(k for ks in MOVE_KEYS.values() for k in ks))
         kind = r.get("kind", required=True)
@@ -251,6 +255,8 @@ def _motion(name: str, start, moves: list, source: str, prefix: str) -> Motion:
             raise InputError(source, f"{prefix}[{j}].kind", f"unknown kind {describe(kind)}; known: {', '.join(KINDS)}")
         r.expect("kind", *MOVE_KEYS[kind])
         begin, run, plan = _MOVES[kind](r, source)
+        commanded += [(f"{prefix}[{j}].{key}", float(v)) for key in POSITION_KEYS[kind]
+                      for v in np.atleast_1d(_written(raw, key))]
         r.finish()
         if x is None:
             if begin is None and start is None:
@@ -270,7 +276,16 @@ def _motion(name: str, start, moves: list, source: str, prefix: str) -> Motion:
         for run in runs:
             run(b)
         return b.pieces()
-    return Motion.planned(name, x, t, pieces, build, source)
+    return Motion.planned(name, x, t, pieces, build, source, tuple(commanded))
+
+
+POSITION_KEYS = {"hold": ("position",), "move": ("to",), "reciprocate": ("between",), "table": ("positions",)}
+
+
+def _written(raw: dict, key: str):
+    """The position(s) [m] of ``raw[key]`` as written (read and checked already by the move's reader)."""
+    value = raw[key]
+    return [parse_quantity(v, "length") for v in value] if isinstance(value, list) else parse_quantity(value, "length")
 
 
 def _positive(r, key: str, dimension: str) -> float:

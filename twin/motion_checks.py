@@ -76,6 +76,10 @@ def check_motions(scenario, machine) -> None:
             raise InputError(source, f"axis[{i}].name", f"machine {machine.name} has no axis {m.axis!r}; "
                                                         f"its axes: {known}") from None
         lo, hi = axis.travel
+        for field, written in getattr(m, "commanded", ()):      # what the user wrote, under its own name
+            if not lo - 1e-9 <= written <= hi + 1e-9:
+                raise InputError(source, field, f"{written * 1e3:g} mm is outside the {axis.name} travel "
+                                                f"{lo * 1e3:g} .. {hi * 1e3:g} mm of {machine.name}")
         x = check_pieces(m, source, f"axis[{i}].move")
         bad = (x < lo - 1e-9) | (x > hi + 1e-9)
         if bad.any():

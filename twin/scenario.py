@@ -57,7 +57,7 @@ from twin import limits
 from twin.ambient import AirEvent, Ambient, ambient_from_toml, check_air_covers, check_ambient
 from twin.camera_config import cameras_from_toml
 from twin.errors import InputError, describe
-from twin.io.paths import read_toml
+from twin.io.paths import as_path, read_toml
 from twin.io.table_reader import TableReader
 from twin.motion import Motion, motions_from_toml
 from twin.motion_checks import check_durations
@@ -141,7 +141,7 @@ def scenario_path(name_or_path: str | Path) -> Path:
     in .toml, contains a folder or exists); unknown names raise :class:`InputError`, and so does a
     bare name that is both a bundled scenario and a file in the working folder (which one was
     meant cannot be told)."""
-    path = Path(name_or_path)
+    path = as_path(name_or_path, "scenario")      # '' would be the working folder
     bundled = SCENARIO_DIR / f"{name_or_path}.toml"
     spelled_as_path = path.suffix == ".toml" or any(sep in str(name_or_path) for sep in ("/", os.sep))
     if not spelled_as_path and path.exists() and bundled.is_file():
@@ -179,6 +179,9 @@ def scenario_from_dict(data: dict, source: str, default_name: str = "scenario") 
     name = top.get("name", default=default_name)
     if not isinstance(name, str) or not name.strip():
         raise InputError(source, "name", f"expected a non-empty text, got {describe(name)}")
+    if not name.isprintable():      # it names files, plots and the result's attributes: one line
+        raise InputError(source, "name", f"{name!r} holds a control character (a line break, a tab ...): write "
+                                         "the name on one line")
     description = top.get("description", default="", kind=str)
     dt = top.positive("sample_interval", "time", default=10.0)
     t0 = top.get("initial_temperature", "temperature")

@@ -117,6 +117,7 @@ def _run(args) -> int:
     from twin.model import model_spec
     from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
     from twin.physics import gpu_cg
+    from twin.physics.solvers import array_module
     from twin.physics.prepared import PreparedTwin
     from twin.physics.options import SolverOptions
     from twin.scenario import load_scenario
@@ -132,6 +133,8 @@ def _run(args) -> int:
     options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order or 48,
                             elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
     gpu_cg.FUSED = args.gpu_kernels != "arrays"
+    if args.device == "gpu":         # refused before the mesh, --prepare-only too (its preparation is the CPU's)
+        array_module("gpu")
     t0, c0 = time.perf_counter(), time.process_time()
     mm = build_mesh(machine, args.spacing) if args.spacing is not None else mesh_machine(machine, args.mesh or "default")
     limits.check_run_size(scenario, mm.nheat)
@@ -141,6 +144,9 @@ def _run(args) -> int:
         raise InputError("command line", "--rom-order", f"sets the reduced basis of the reduced model or of iterative "
                                                         f"steps; this run factorises its {mm.nheat} temperature nodes: "
                                                         "use --solver rom or iterative")
+    if args.heat_tol is not None and twin.method == "direct":
+        raise InputError("command line", "--heat-tol", f"bounds the error of iterative heat steps; this run factorises "
+                                                       f"its {mm.nheat} temperature nodes: use --solver iterative")
     stages["heat_assembly"] = time.perf_counter() - t0 - sum(stages.values())
     observers = [TemperatureSensors(sensor_points(machine))] + ([] if args.heat_only else [ToolDrift()])
     if machine.probes and not args.heat_only:
@@ -218,6 +224,12 @@ def _check_combination(args) -> None:
         raise InputError("command line", "--gpu-kernels", "chooses the GPU's kernels: it needs --device gpu")
     if args.rom_order is not None and args.solver == "direct":
         raise InputError("command line", "--rom-order", "sets a reduced basis; --solver direct has none")
+    if args.heat_tol is not None and args.solver in ("direct", "rom"):
+        raise InputError("command line", "--heat-tol", f"bounds the error of iterative heat steps; --solver "
+                                                       f"{args.solver} takes none (the reduced model reports its own "
+                                                       "error)" if args.solver == "rom" else
+                                                       "bounds the error of iterative heat steps; --solver direct "
+                                                       "factorises them")
     given = getattr(args, "_options_given", set())       # the options typed (twin.cli.Parser)
     if "seed" in given and args.cases == 1:
         raise InputError("command line", "--seed", "seeds the factors of batched cases: it needs --cases N > 1")

@@ -36,7 +36,8 @@ class _Once(argparse._StoreAction):
     def __call__(self, parser, namespace, values, option_string=None):
         seen = namespace.__dict__.setdefault("_options_given", set())
         if option_string is not None and self.dest in seen:
-            raise argparse.ArgumentError(self, f"given more than once (again as {values!r}); give it once")
+            again = f" (again as {values!r})" if isinstance(values, str) else ""    # typed; a converted value reads as another
+            raise argparse.ArgumentError(self, f"given more than once{again}; give it once")
         if option_string is not None and isinstance(values, str) and not values.strip():
             raise argparse.ArgumentError(self, "is empty: give a value, or leave the option out")
         seen.add(self.dest)

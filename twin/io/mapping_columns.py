@@ -98,6 +98,8 @@ def sensor(entry: dict, name: str, values: np.ndarray, mach, msrc: str, key: str
         if mach is None:
             raise InputError(msrc, key + ".site", "a named site needs a machine (top-level machine = \"...\")")
         site = entry["site"]
+        if not isinstance(site, str):
+            raise InputError(msrc, key + ".site", f"expected a sensor site's name such as \"motor\", got {describe(site)}")
         from geometries.axes import with_feed_drives
         mach = with_feed_drives(mach)   # the feed drives' sites (seed 003's) are sites too
         sites = list(mach.sensor_sites) + list(mach.air_sites)
