@@ -139,6 +139,30 @@ def test_a_door_draft_opening_after_the_run_is_refused():
     assert err.value.field == "door_draft.start"
 
 
+def test_a_door_draft_idle_in_one_of_several_runs_is_no_error():
+    """A diagnosis fits one model to several records (``twin diagnose spindle.csv ambient.csv``):
+    a door draft acting in the 6 h record only was refused in the 30-min one, after the first
+    runs. Refused only where it acts in none (check_refusals of a list of runs), and run with
+    ``idle_effects`` where it cannot act: it does nothing, every reading the run without it."""
+    from twin.model import check_refusals
+    from twin.observe import standard_observers
+    from twin.physics.prepared import PreparedTwin
+    short = Scenario("short", ((1200.0, 0.0),), Ambient("daily", mean=20.0, amplitude=2.0), 60.0)
+    long = Scenario("long", ((7200.0, 0.0),), Ambient("constant", mean=20.0), 60.0)
+    spec = ModelSpec(("ambient_convection", "door_draft"))
+    check_refusals(spec, [short, long])
+    with pytest.raises(InputError) as err:
+        check_refusals(spec, [short, short])
+    assert err.value.field == "door_draft.start" and "(in each of the 2 runs)" in err.value.message
+    machine = build_machine("cframe-vmc")
+    twin = PreparedTwin(machine, resolution="coarse")
+    observers = standard_observers(machine)
+    _, with_draft = twin.run(short, spec, observers, idle_effects=True)
+    _, without = twin.run(short, ModelSpec(("ambient_convection",)), observers)
+    for key in ("temperature", "drift"):
+        assert np.array_equal(with_draft[key], without[key])
+
+
 @pytest.mark.parametrize("duration, period, refused", [
     ("10 min", "2 min", True), ("10 min", "10 min", True), ("10 min", "11 min", False), ("10 min", "0 s", False)])
 def test_a_door_open_as_long_as_its_period_is_refused(duration, period, refused):

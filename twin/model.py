@@ -169,14 +169,17 @@ def parse_settings(items: list[str] | None, effects: tuple[str, ...]) -> dict[st
     return out
 
 
-def check_refusals(spec: ModelSpec, scenario, source: str = CLI, where: str = "") -> None:
-    """:class:`InputError` naming ``source`` where an effect switched on in ``spec`` cannot run
-    ``scenario`` (:meth:`twin.effects.base.Effect.refusal`); ``where`` says which run (a dataset's
-    case) after the effect's parameter."""
+def check_refusals(spec: ModelSpec, scenarios, source: str = CLI) -> None:
+    """:class:`InputError` naming ``source`` where an effect switched on in ``spec`` cannot act
+    in ``scenarios`` (one scenario, or a list: a diagnosis's measurements, of which it must act in
+    one; :meth:`twin.effects.base.Effect.refusal`)."""
+    many = isinstance(scenarios, (list, tuple))
+    scenarios = list(scenarios) if many else [scenarios]
     for name in spec.effects:
-        refused = EFFECTS[name].refusal(scenario, spec.params[name])
-        if refused:
-            raise InputError(source, f"{name}.{refused[0]}{where}", refused[1])
+        refused = [EFFECTS[name].refusal(sc, spec.params[name]) for sc in scenarios]
+        if scenarios and all(refused):
+            raise InputError(source, f"{name}.{refused[0][0]}", refused[0][1]
+                             + (f" (in each of the {len(scenarios)} runs)" if len(scenarios) > 1 else ""))
 
 
 def check_applicable(effects, machine) -> None:

@@ -108,7 +108,7 @@ class RunResult:
 def run(machine, scenario, spec: ModelSpec | None = None, resolution: str | None = None, theta: float = 0.5,
         materials: dict | None = None, progress=None, mm: MachineMesh | None = None,
         sensors: list | None = None, prepared: PreparedTwin | None = None, observers: list | None = None,
-        solver=None, plausible: bool = True) -> RunResult:
+        solver=None, idle_effects: bool = False) -> RunResult:
     """Simulate ``scenario`` on ``machine`` with the effects of ``spec`` (default: the machine's).
 
     ``materials`` maps a material name to a replacement (e.g. perturbed properties);
@@ -116,8 +116,8 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str | None
     :class:`geometries.base.Point`) replaces the machine's temperature-sensor sites; ``observers``
     replaces the whole standard set; ``prepared`` reuses a :class:`PreparedTwin` of the machine;
     ``solver`` (:class:`twin.physics.options.SolverOptions` or a name) chooses the solvers of a
-    new one (default: by size). ``plausible``: the model's parameters within their bounds and
-    every effect able to act in the run (:meth:`PreparedTwin.run`). Beside ``prepared``, ``mm``, ``resolution``, ``materials`` and
+    new one (default: by size). ``idle_effects``: an effect that cannot act in this run runs,
+    doing nothing, instead of being refused (:meth:`PreparedTwin.run`). Beside ``prepared``, ``mm``, ``resolution``, ``materials`` and
     ``solver`` are left out or equal to its own (anything else is refused, never ignored);
     ``resolution`` with ``mm`` names the mesh's own resolution.
     """
@@ -133,7 +133,7 @@ def run(machine, scenario, spec: ModelSpec | None = None, resolution: str | None
     times = scenario.times()
 
     t1 = _time.perf_counter()
-    loads, readings = twin.run(scenario, spec, observers, theta, progress=progress, plausible=plausible)
+    loads, readings = twin.run(scenario, spec, observers, theta, progress=progress, idle_effects=idle_effects)
     timings = {"preparation": prep, "time_stepping": _time.perf_counter() - t1, "steps": len(times) - 1}
     return RunResult(machine, loads.mm, scenario, spec, loads, times, theta, observers, readings, timings,
                      dict(twin.run_info))

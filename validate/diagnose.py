@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from learners.metrics import rms
-from twin.model import ModelSpec, default_spec
+from twin.model import ModelSpec, check_refusals, default_spec
 from twin.physics.prepared import PreparedTwin, check_prepared
 from twin.physics.prepared_args import check_beside_prepared, coarse_unless_given
 from validate import verdict as V
@@ -267,6 +267,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
         check_prepared(twin, machine, SOURCE, "twin")
         check_beside_prepared(twin, SOURCE, mm, resolution)
     spec = spec or default_spec(machine)
+    check_refusals(spec, [sc for _, _, sc in measurements])   # each of the model's effects acts in a record
     pool = candidate_pool(machine, spec, candidates, parameters, custom, tuple(sc for _, _, sc in measurements))
     stage = Stages(progress, 1 + len(measurements) + len(pool))
     twin = twin or PreparedTwin(machine, mm, coarse_unless_given(mm, resolution))

@@ -113,7 +113,7 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
     observers = standard_observers(machine, sensors) + camera_observers(machine, list(sc.cameras))
     # a calibration's few steps (max_steps) are no whole run: its checks were the plan's (twin.dataset.plan)
     result = run(machine, sc, spec, theta=record["theta"], prepared=twin, observers=observers,
-                 plausible=max_steps is None)
+                 idle_effects=max_steps is not None)
     ds = to_dataset(result, record["seed"], record["mesh"])
     ds.attrs.update(case_hash=case_hash, dataset_family=family, dataset_draw=record["draw"])
     ds = ds.assign_coords(case=((), case_hash, {"long_name": "case hash (the file's name)"}))

@@ -300,7 +300,7 @@ class PreparedTwin:
         return {o.key: out[:, a:b, :] for o, a, b in zip(observers, bounds[:-1], bounds[1:])}
 
     def run(self, scenario, spec, observers, theta: float = 0.5, on_step=None, progress=None,
-            plausible: bool = True) -> tuple[LoadSet, dict]:
+            plausible: bool = True, idle_effects: bool = False) -> tuple[LoadSet, dict]:
         """Integrate ``scenario`` with the effects of ``spec``, observed by ``observers``.
 
         Returns (loads, readings): ``readings[observer.key]`` is that observer's raw output
@@ -314,10 +314,13 @@ class PreparedTwin:
         :func:`twin.api.simulate` does: a Python caller meets the same rules; so is ``spec``: its
         effects must apply to the machine and, with ``plausible`` (the default), every parameter lie
         within its declared bounds (``plausible=False`` for a study of the model beyond them, such
-        as an effect at zero strength).
+        as an effect at zero strength); ``idle_effects``: an effect that cannot act in this run (a
+        door draft opening after its end, :meth:`twin.effects.base.Effect.refusal`) runs, doing
+        nothing, instead of being refused (a diagnosis fits one model to several records, an effect
+        acting in one of them; a dataset's calibration times a few steps of a whole case).
         """
         self.check_run(scenario, theta)
-        self.check_spec(spec, scenario, plausible)
+        self.check_spec(spec, scenario, plausible, idle_effects)
         check_observers(observers, [scenario], self.machine)
         loads = self.loads(scenario, spec)
         times = scenario.times()
@@ -395,11 +398,11 @@ class PreparedTwin:
                                                               "step (rows only); run it with run()")
         return run_batch(self, cases, observers, theta, progress, bound)
 
-    def check_spec(self, spec, scenario, plausible: bool = True) -> None:
+    def check_spec(self, spec, scenario, plausible: bool = True, idle_effects: bool = False) -> None:
         """:class:`InputError` unless ``spec`` is a :class:`twin.model.ModelSpec` whose effects
-        apply to this twin's machine, with its parameters within their bounds and every effect able
-        to act in ``scenario`` (:func:`twin.model.check_refusals`: a switched-on effect that would do
-        nothing) when ``plausible``."""
+        apply to this twin's machine, with its parameters within their bounds and (unless
+        ``idle_effects``) every effect able to act in ``scenario`` (:func:`twin.model.check_refusals`:
+        a switched-on effect that would do nothing) when ``plausible``."""
         from twin.model import ModelSpec, check_applicable, check_refusals
 
         if not isinstance(spec, ModelSpec):
@@ -408,7 +411,8 @@ class PreparedTwin:
         check_applicable(spec.effects, self.machine)
         if plausible:
             spec.check_bounds(scenario.source or scenario.name)
-            check_refusals(spec, scenario)
+            if not idle_effects:
+                check_refusals(spec, scenario)
 
     def check_run(self, scenario, theta: float) -> None:
         """:class:`InputError` unless ``scenario`` may run on this twin's machine (its values, the
