@@ -376,6 +376,10 @@ def test_simulate_and_plot_end_to_end(capsys, tmp_path):
     # the field's instant, the VTK field data TimeValue [s]: one of the run's samples, after the start
     (when,) = field.field_data["TimeValue"].tolist()
     assert when > 0 and when in ds.time.values.tolist()
+    # the file names its parts: field data part:NAME = the index the cell data part gives it
+    names = {k.removeprefix("part:"): int(v[0]) for k, v in field.field_data.items() if k.startswith("part:")}
+    assert sorted(names.values()) == list(range(len(names))) and {"bed", "column", "test_bar"} <= set(names)
+    assert names["test_bar"] in set(field.cell_data["part"][0].tolist())
     assert field.point_data["temperature_degC"].max() > 20.5
     png = tmp_path / "r.png"
     assert main(["plot", str(out), "-o", str(png)]) == 0 and png.stat().st_size > 10000
@@ -497,3 +501,14 @@ def test_an_empty_effect_between_commas_is_refused(effects, tmp_path, capsys):
                           "--mesh", "coarse", "--effects", effects])
     assert err == f"error: command line: --effects: an empty effect in {effects!r}: write the effects " \
                   "comma-separated, each once"
+
+
+def test_an_error_found_after_reading_names_the_result_as_typed(tmp_path, monkeypatch, capsys):
+    """A message raised from the loaded Dataset (its scenario rebuilt from the logged inputs)
+    names the file as the user typed it, not the absolute path xarray records."""
+    from tests.fuzz_files import result_dataset
+
+    monkeypatch.chdir(tmp_path)
+    result_dataset().assign_attrs(moved_axes="Y").to_netcdf("r.nc", engine="h5netcdf")
+    err = _error(capsys, ["compare", "r.nc", "--mesh", "coarse"])
+    assert err.startswith("error: r.nc: axis_position: the run moved axis Y"), err

@@ -141,7 +141,7 @@ def _write_table(tmp_path, text):
     ("time [,factor\n0,1\n30,1\n", "header", "column 1: 'time [' is not a name with its unit in brackets"),
     ("time [],factor\n0,1\n30,1\n", "header", "column 1: 'time []' is not a name with its unit in brackets"),
     ("time [min] [s],factor\n0,1\n30,1\n", "header", "column 1: 'time [min] [s]' is not a name"),
-    ("time [kg],factor\n0,1\n30,1\n", "time", "header unit [kg]: '1 kg' has the wrong unit"),
+    ("time [kg],factor\n0,1\n30,1\n", "time", "header unit [kg]: 'kg' is not a unit of time"),
     ("time [degC],factor\n0,1\n30,1\n", "time", "'degC' is a temperature unit"),
     ("time [min],factor [%]\n0,1\n30,1\n", "factor", "the factor is a plain number"),
 ])

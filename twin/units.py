@@ -131,6 +131,19 @@ def clean(value: float | None, digits: int = 12) -> float | None:
     return None if value is None else float(f"{float(value):.{digits}g}")
 
 
+def unit_scale(unit: str, dimension: str) -> float:
+    """The SI value of one ``unit`` (a unit alone, as a CSV header or a column mapping gives it) of
+    ``dimension``: ``unit_scale("min", "time")`` is 60.0. :class:`UnitError` naming the unit as
+    written, and its kind where it is another dimension's."""
+    u = str(unit).strip()
+    table = _UNITS[dimension]
+    if u and u in table:
+        return table[u]
+    other = [dim for dim, units in _UNITS.items() if u and u in units]
+    kind = f" ({u!r} is a {other[0].replace('_', ' ')} unit)" if other else ""
+    raise UnitError(f"{u!r} is not a unit of {dimension.replace('_', ' ')}{kind}; expected {_spellings(dimension)}")
+
+
 def _spellings(dimension: str) -> str:
     return ", ".join(repr(u) for u in _UNITS[dimension] if u)
 

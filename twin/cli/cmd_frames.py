@@ -72,8 +72,9 @@ def declare_output(files, output: str, layout: list[str], field: str = "-o", cam
     if stale:
         raise InputError(str(out / stale[0]), field, f"the folder holds {len(stale)} frame file(s) of another export "
                                                      "(another camera, --every or kind) that this one would not "
-                                                     "replace, so the two would mix: export into an empty folder, "
-                                                     "or every camera at once")
+                                                     "replace, so the two would mix: export into an empty folder "
+                                                     "(or, if the other export left out a camera, every camera at "
+                                                     "once with the same --every)")
     for prefix, name in (cameras or {}).items():
         for rel in (f"{prefix}tiff/frame_00000.json", f"{prefix}png/frame_00000.png"):
             other = exported_camera(out / rel) if rel in layout and (out / rel).is_file() else None

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 
-from twin.units import parse_quantity
+from twin.units import unit_scale
 
 HEADER = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*\[(?P<unit>[^\[\]]+)\]\s*$")   # "name [unit]"
 
@@ -31,4 +31,4 @@ def name_and_unit(cell: str) -> tuple[str, str | None]:
 def unit_factor(unit: str, dimension: str) -> float:
     """The SI value of one ``unit`` of ``dimension`` (``"min"``, ``"time"`` -> 60.0);
     :class:`twin.units.UnitError` for a unit of another kind or none known."""
-    return parse_quantity(f"1 {unit}", dimension)
+    return unit_scale(unit, dimension)

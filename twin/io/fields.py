@@ -71,17 +71,23 @@ def write_temperature_field(mm, field: np.ndarray, path, time_s: float) -> Path:
             series.write_data(float(time_s), point_data=point_data, cell_data=cell_data)
         return path
     meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data).write(path, file_format="vtu")
-    _add_vtu_time(path, float(time_s))
+    _add_vtu_field_data(path, float(time_s), list(mm.part_names))
     return path
 
 
-def _add_vtu_time(path: Path, time_s: float) -> None:
-    """Insert the VTK field data ``TimeValue`` [s] after the ``<UnstructuredGrid>`` tag of a VTU
-    written by meshio (whose writer drops ``field_data``)."""
+def _add_vtu_field_data(path: Path, time_s: float, part_names: list[str]) -> None:
+    """Insert the VTK field data after the ``<UnstructuredGrid>`` tag of a VTU written by meshio
+    (whose writer drops ``field_data``): ``TimeValue`` [s], and ``part:NAME`` = the index the cell
+    data ``part`` gives that part (the feed drives' parts included), so the file names its parts."""
+    from xml.sax.saxutils import quoteattr
+
     text = path.read_text(encoding="ascii")
     tag = "<UnstructuredGrid>\n"
-    time_data = (f'<FieldData>\n<DataArray type="Float64" Name="TimeValue" NumberOfTuples="1" format="ascii">\n'
-                 f"{time_s!r}\n</DataArray>\n</FieldData>\n")
+    arrays = [("Float64", "TimeValue", repr(time_s))] + [("Int32", f"part:{name}", str(i))
+                                                          for i, name in enumerate(part_names)]
+    time_data = "<FieldData>\n" + "".join(f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="1" '
+                                          f'format="ascii">\n{value}\n</DataArray>\n'
+                                          for kind, name, value in arrays) + "</FieldData>\n"
     if tag not in text:   # pragma: no cover - meshio's layout changed
         raise RuntimeError(f"{path}: no <UnstructuredGrid> tag to put the field's time after")
     path.write_text(text.replace(tag, tag + time_data, 1), encoding="ascii")

@@ -263,6 +263,7 @@ def read_result(path: str | os.PathLike, field: str = "file", required: tuple[st
                                                "e.g. xarray.open_dataset(path).to_netcdf(new_path, engine='h5netcdf')"
                              ) from None
         raise InputError(str(path), field, f"not a readable NetCDF file ({type(err).__name__})") from None
+    ds.encoding["source"] = str(path)     # as typed (xarray's is the absolute path), for later messages
     if "time" not in ds.coords or "time" not in ds.dims:
         raise InputError(str(path), "time", "missing time coordinate; is this a twin result?")
     if ds.sizes["time"] < min_samples:

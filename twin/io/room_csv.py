@@ -25,10 +25,10 @@ import numpy as np
 
 from twin import limits
 from twin.errors import InputError
-from twin.io.csv_header import name_and_unit
+from twin.io.csv_header import name_and_unit, unit_factor
 from twin.io.csv_rows import cell_number, data_rows
 from twin.io.paths import read_text
-from twin.units import UnitError, parse_quantity
+from twin.units import UnitError
 
 def read_room_csv(path: str | Path, field: str = "ambient.file") -> tuple[np.ndarray, np.ndarray]:
     """(times [s] from the first row, air temperatures [degC]) of a room-air CSV ``path``;
@@ -74,7 +74,7 @@ def _unit(src: str, header: str, k: int) -> tuple[str, str]:
 
 def _is_unit(unit: str, dimension: str) -> bool:
     try:
-        parse_quantity(f"1 {unit}", dimension)
+        unit_factor(unit, dimension)
     except UnitError:
         return False
     return True
@@ -82,9 +82,9 @@ def _is_unit(unit: str, dimension: str) -> bool:
 
 def _values(src: str, lines: list[int], rows, j: int, name: str, unit: str, dimension: str) -> np.ndarray:
     """The column's SI values: each cell a plain number (:func:`twin.io.csv_rows.cell_number`)
-    times the header unit's factor (:func:`parse_quantity`)."""
+    times the header unit's factor (:func:`twin.io.csv_header.unit_factor`)."""
     try:
-        factor = parse_quantity(f"1 {unit}", dimension)
+        factor = unit_factor(unit, dimension)
     except UnitError as err:
         raise InputError(src, name, f"header unit [{unit}]: {err}") from None
     out = np.empty(len(rows) - 1)
