@@ -73,7 +73,9 @@ def format_diagnosis(d, top: int = 8) -> str:
     names, groups = d.channels, d.groups
     base, err = d.baseline_rmse, d.model_error_rms
     lines = [f"Measurements: {', '.join(d.evidence.labels)}; {len(names)} channels, "
-             f"effective samples {d.n_eff:.0f}, {d.runs} twin runs", "Baseline RMSE per channel:"]
+             f"effective samples {d.n_eff:.0f}, {d.runs} twin runs",
+             "Baseline RMSE per channel (the model read through its instruments' lag and bias, before any fit; "
+             "twin compare holds the model's true values):"]
     for g in list(CHANNEL_GROUPS) + list(RUN_GROUPS):
         idx = [i for i, k in enumerate(groups) if k == g]
         if idx:
@@ -110,7 +112,8 @@ def format_diagnosis(d, top: int = 8) -> str:
     lines.append("")
     w = max([44] + [len(c["effect"]) for c in d.candidates[:top]])   # long names keep the columns aligned
     margin, share = getattr(d, "test", (10.0, 0.5))
-    lines += [f"explained: share of the weighted residual {share_text(d.residual_factor)} the candidate removes; "
+    lines += [f"explained: share of the weighted residual {share_text(d.residual_factor)} the candidate removes "
+              f"(negative: it makes those groups worse, its fit paid for by the others); "
               f"dBIC: BIC units better than 'nothing missing'",
               "BIC wt: Schwarz weight among these candidates and 'nothing missing' (relative: the best of a poor set "
               "still holds about 1.00; not the probability that it is the cause)",
