@@ -192,7 +192,9 @@ class Machine:
     sensors read the air temperature (not glued to a part); ``lasers`` are laser triangulation
     sensors (fixed to a fixture, reading a target along a direction, like ``probes``);
     ``strain_gauges`` are FBG strain gauges on the structure; ``max_speed`` is the spindle's maximum
-    speed [rpm] (scenarios and measurements beyond it are refused, :mod:`twin.limits`).
+    speed [rpm] (scenarios and measurements beyond it are refused, :mod:`twin.limits`), ``min_speed``
+    its slowest steady speed [rpm] where the seed states one (a scenario step between 0, stopped,
+    and it is refused; a measured log passes through lower speeds while it ramps).
     """
 
     name: str
@@ -210,6 +212,7 @@ class Machine:
     default_effects: tuple[str, ...] = ()
     air_sites: list[str] = field(default_factory=list)
     max_speed: float | None = None
+    min_speed: float | None = None
     camera_poses: list[CameraPose] = field(default_factory=list)
     finishes: list[Finish] = field(default_factory=list)
     axes: list = field(default_factory=list)   # geometries.axes.LinearAxis, commanded by name

@@ -226,6 +226,7 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         roles=roles(col_top, col_y0),
         default_effects=DEFAULT_EFFECTS,
         max_speed=8000.0,
+        min_speed=60.0,           # seed 000 L4052: "60 rpm to 8000 rpm"
         axes=axes(bed_top),
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "column_depth": column_depth,
                     "motor_offset": motor_offset, "probe_spacing": PROBE_HEIGHTS[1] - PROBE_HEIGHTS[0], "min_speed": 60.0,

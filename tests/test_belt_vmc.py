@@ -290,3 +290,18 @@ def test_speed_range_travels_and_motor_place_are_the_documented_ones(machine):
     assert 0.5 * (motor.lo[0] + motor.hi[0]) == pytest.approx(0.0, abs=1e-12)
     assert 0.5 * (motor.lo[1] + motor.hi[1]) == pytest.approx(0.29, abs=1e-12)
     assert motor.lo[2] == pytest.approx(max(b.hi[2] for b in machine.part("carrier").boxes), abs=1e-12)  # on its top
+
+
+@pytest.mark.parametrize("speed, refused", [(30.0, True), (59.9, True), (0.0, False), (60.0, False), (8000.0, False)])
+def test_a_step_below_the_slowest_steady_speed_is_refused(speed, refused):
+    """Machine B turns 60-8000 rpm (seed 000 L4052): a scenario step between stopped and 60 rpm is
+    impossible and refused; a measured log ramping through it is not (logged)."""
+    from twin import limits
+    machine = build_machine("belt-vmc")
+    limits.check_speeds([speed], machine, "s.toml", "spindle[0].speed", logged=True)
+    if not refused:
+        limits.check_speeds([speed], machine, "s.toml", "spindle[0].speed")
+        return
+    with pytest.raises(InputError) as err:
+        limits.check_speeds([speed], machine, "s.toml", "spindle[0].speed")
+    assert err.value.message == f"{speed:g} rpm is below machine belt-vmc's slowest steady speed of 60 rpm (0 rpm: stopped)"

@@ -99,7 +99,8 @@ def max_speed(machine) -> float:
 
 def check_speeds(values, machine, source: str, field: str, logged: bool = False, lines=None) -> np.ndarray:
     """Spindle speeds [rpm] checked: finite, not negative, at most the machine's maximum (plus
-    :data:`LOGGED_SPEED_MARGIN` for a measured log, ``logged=True``)."""
+    :data:`LOGGED_SPEED_MARGIN` for a measured log, ``logged=True``) and, unless logged, either 0
+    (stopped) or at least the machine's slowest steady speed (``Machine.min_speed``, where declared)."""
     v = np.asarray(values, dtype=float)
     flat = v.ravel()
     bad = np.flatnonzero(~np.isfinite(flat))
@@ -116,6 +117,12 @@ def check_speeds(values, machine, source: str, field: str, logged: bool = False,
         name = getattr(machine, "name", None)
         whose = f"machine {name}'s maximum of {top:g} rpm" if name else f"the limit of {top:g} rpm"
         raise InputError(source, field, f"{_where(v, fast[0], lines)}{beside(flat[fast[0]], top)} rpm is beyond {whose}")
+    slowest = getattr(machine, "min_speed", None) if machine is not None and not logged else None
+    crawl = np.flatnonzero((flat > 0) & (flat < slowest)) if slowest else np.zeros(0, int)
+    if crawl.size:
+        raise InputError(source, field, f"{_where(v, crawl[0], lines)}{beside(flat[crawl[0]], slowest)} rpm is below "
+                                        f"machine {machine.name}'s slowest steady speed of {slowest:g} rpm (0 rpm: "
+                                        "stopped)")
     return v
 
 
