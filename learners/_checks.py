@@ -21,6 +21,7 @@ def check_fit_data(estimator, X, y, *, min_samples: int = 2):
     shapes, fewer than ``min_samples`` rows or a constant target.
     """
     X = _checked(check_array, estimator, "X", X, dtype=float, ensure_min_samples=min_samples)
+    _checked(np.asarray, estimator, "y", y)      # text refused as in X
     try:
         X, y = check_X_y(X, y, dtype=float, y_numeric=True, ensure_min_samples=min_samples)
         y = np.asarray(y, dtype=float).ravel()
@@ -65,9 +66,22 @@ def check_table(estimator, X):
     return X
 
 
+def holds_text(values) -> bool:
+    """Whether ``values`` (an array, a list of rows) holds text: numpy would read '20.5' as 20.5,
+    and a table of text read as numbers is a table the user did not mean to give."""
+    try:
+        a = np.asarray(values)
+    except (TypeError, ValueError):
+        return False
+    return a.dtype.kind in "US" or (a.dtype.kind == "O" and any(isinstance(v, (str, bytes)) for v in a.ravel()))
+
+
 def _checked(check, estimator, name: str, values, **kw):
     """``check(values, **kw)`` (a scikit-learn validation), its ``ValueError`` raised again as an
     :class:`InputError` naming the learner and the argument ``name``."""
+    if holds_text(values):
+        raise InputError(model_name(estimator), name, "holds text; give numbers (numbers written as text are not "
+                                                      "read)")
     try:
         return check(values, **kw)
     except (ValueError, TypeError) as err:

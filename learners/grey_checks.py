@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from learners._checks import check_fitted, refuse_constant_target, refuse_huge
+from learners._checks import check_fitted, holds_text, refuse_constant_target, refuse_huge
 from twin.errors import InputError
 
 
@@ -15,6 +15,8 @@ def _numbers(values, model: str, name: str) -> np.ndarray:
     numbers: a grey model would drop the imaginary part)."""
     if np.iscomplexobj(values):
         raise InputError("data", name, f"{model} takes real numbers, got complex ones")
+    if holds_text(values):
+        raise InputError("data", name, f"{model} takes numbers, got text (numbers written as text are not read)")
     try:
         return np.array(values, dtype=float)
     except (TypeError, ValueError):

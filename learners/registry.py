@@ -6,7 +6,7 @@ Modules register their estimators with ``@register_learner("name")`` or
 
 from __future__ import annotations
 
-from twin.errors import InputError
+from twin.errors import InputError, describe
 
 LEARNERS: dict[str, type] = {}
 SELECTORS: dict[str, type] = {}
@@ -34,6 +34,9 @@ def register_selector(name: str):
 
 
 def _make(table: dict[str, type], kind: str, name: str, params: dict):
+    if not isinstance(name, str):      # a list was an unhashable TypeError
+        raise InputError("command line", kind, f"expected a {kind}'s name (one of {', '.join(sorted(table))}), "
+                                               f"got {describe(name)}")
     if name not in table:
         raise InputError("command line", kind, f"unknown {kind} {name!r}; known: {', '.join(sorted(table))}")
     cls = table[name]
@@ -44,6 +47,9 @@ def _make(table: dict[str, type], kind: str, name: str, params: dict):
     if "random_state" in known and "random_state" not in params:
         params = {**params, "random_state": DEFAULT_RANDOM_STATE}
     est = cls(**params)
+    if "random_state" in known:       # checked now, as the other hyper-parameters (it was only at fit)
+        from learners._checks import check_seed
+        check_seed(est, est.random_state)
     check = getattr(est, "_check_params", None)
     if check is not None:   # hyper-parameters checked now, before any fit (again at fit: set_params)
         check()

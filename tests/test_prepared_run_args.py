@@ -259,7 +259,7 @@ def test_effects_files_and_model_specs_take_a_built_machine(tmp_path):
     (tmp_path / "fx.toml").write_text(EFFECTS_FILE)
     for call, field in ((lambda: load_effects_file(tmp_path / "fx.toml", "cframe-vmc"), "machine"),
                         (lambda: load_effects_file(tmp_path / "fx.toml", None), "machine"),
-                        (lambda: load_effects_file(None, CFRAME), "file"),
+                        (lambda: load_effects_file(None, CFRAME), "--effects-file"),
                         (lambda: model_spec("cframe-vmc"), "machine"), (lambda: model_spec(None), "machine"),
                         (lambda: model_spec(CFRAME, None, None, "floor"), "--effects-file"),
                         (lambda: model_spec(CFRAME, None, None, ("nosuch",)), "--effects-file")):

@@ -127,8 +127,11 @@ def check_ambient(a: Ambient, source: str) -> None:
     them again on a built scenario)."""
     if not isinstance(a, Ambient):
         raise InputError(source, "ambient", f"expected a twin.scenario.Ambient, got {a!r}")
+    if not isinstance(a.kind, str) or a.kind not in UNUSED:     # a list was an unhashable TypeError
+        raise InputError(source, "ambient.kind", f"expected one of {', '.join(UNUSED)}, got {describe(a.kind)}")
     for key in UNUSED.get(a.kind, ()):   # a value its kind does not read would be ignored silently
-        if getattr(a, key) != _DEFAULTS[key]:
+        value = getattr(a, key)
+        if isinstance(value, np.ndarray) or not value == _DEFAULTS[key]:     # an array compared elementwise
             raise InputError(source, f"ambient.{key}", f"is not read by kind {a.kind!r}: leave it out (or choose "
                                                        "the kind that uses it)")
     if a.kind == "constant":

@@ -46,7 +46,7 @@ def model_from_options(machine, effects: str | None = None, settings: list[str] 
     ``--set`` and the custom effects of ``--effects-file`` (registered, and always on:
     ``+name`` of one is accepted, ``-name`` refused with the reason)."""
     extra = ()
-    if effects_file:
+    if effects_file is not None:       # "" or 0 was no effects file, silently
         from twin.effects.custom import load_effects_file
         extra = tuple(load_effects_file(effects_file, machine))
     return model_spec(machine, effects, settings, extra)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from geometries.regions import ROLES
 from twin.effects import EFFECTS
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.io.comma_list import comma_items
 from twin.limits import is_finite_number
 from twin.observe.instruments import INSTRUMENTS
@@ -33,6 +33,9 @@ class ModelSpec:
     def __post_init__(self):
         if isinstance(self.effects, str) or not isinstance(self.effects, (tuple, list)):
             raise InputError(CLI, "--effects", f"expected a tuple of effect names, got {self.effects!r}")
+        for name in self.effects:
+            if not isinstance(name, str):      # a list was an unhashable TypeError
+                raise InputError(CLI, "--effects", f"expected effect names (texts), got {describe(name)}")
         twice = sorted({n for n in self.effects if list(self.effects).count(n) > 1}, key=str)
         if twice:   # applied twice, its heat would count twice
             raise InputError(CLI, f"--effects {twice[0]}", "named more than once; name each effect once")

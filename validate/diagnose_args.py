@@ -18,7 +18,7 @@ from twin.errors import InputError, describe
 from twin.io.measured_inputs import sensors_of
 from twin.io.measurement import check_measurement, check_named_machine
 from twin.limits import check_flag, check_progress, is_finite_number, is_whole
-from twin.model import ModelSpec
+from twin.model import ModelSpec, check_applicable
 from twin.physics.prepared import check_resolution
 from twin.scenario import Scenario
 
@@ -49,6 +49,12 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
         label, ds, scenario = item
         if not isinstance(label, str) or not label.strip():
             raise InputError(SOURCE, f"measurements[{i}]", f"a label is a non-empty text, got {describe(label)}")
+        if any(label == other[0] for other in measurements[:i] if isinstance(other, (list, tuple)) and other):
+            raise InputError(SOURCE, f"measurements[{i}]", f"the label {label!r} is given twice: its channels would "
+                                                           "share names, and the same run given twice weighs twice")
+        if any(ds is other[1] for other in measurements[:i] if isinstance(other, (list, tuple)) and len(other) > 1):
+            raise InputError(SOURCE, f"measurements[{i}]", f"{label!r} is the same Dataset as an earlier measurement: "
+                                                           "the same run given twice would weigh twice")
         if not isinstance(ds, xr.Dataset):
             raise InputError(label, "measurement", f"expected an xarray.Dataset (twin.io.measurement.read_measurement), "
                                                    f"got {describe(ds)}")
@@ -63,7 +69,9 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
         if not isinstance(spec, ModelSpec):
             raise InputError(SOURCE, "spec", f"expected a twin.model.ModelSpec (twin.model.model_spec), got {describe(spec)}")
         spec.check_bounds(SOURCE)
-    _check_names("candidates", candidates, lambda n: n in EFFECTS, "a registered effect", allow_none=True)
+        check_applicable(spec.effects, machine)     # before the mesh, not after it
+    _check_names("candidates", candidates, lambda n: n in EFFECTS and EFFECTS[n].applies_to(machine),
+                 f"a registered effect that applies to machine {machine.name}", allow_none=True)
     _check_names("custom", custom, lambda n: n in EFFECTS and getattr(EFFECTS[n], "custom", False),
                  "a custom effect registered from an effects file (twin.effects.custom.load_effects_file)")
     for name, value in shares.items():
@@ -115,3 +123,5 @@ def _check_names(argument: str, names, known, what: str, allow_none: bool = Fals
     for i, name in enumerate(names):
         if not isinstance(name, str) or not known(name):
             raise InputError(SOURCE, f"{argument}[{i}]", f"{describe(name)} is not {what}")
+        if name in names[:i]:        # tried twice, it split the BIC weights between its copies
+            raise InputError(SOURCE, f"{argument}[{i}]", f"{name!r} is named twice; name each once")

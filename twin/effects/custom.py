@@ -212,8 +212,8 @@ def read_effects_file(path, machine) -> list[CustomEffect]:
 
     from twin.io.paths import as_path
 
-    path = as_path(path, "file")
-    data, _ = read_toml(path, "file", "effects file")
+    path = as_path(path, "--effects-file")
+    data, _ = read_toml(path, "--effects-file", "effects file")
     return effects_from_dict(data, str(path), machine, path.parent)
 
 
@@ -225,8 +225,8 @@ def table_files(path) -> list[tuple[Path, str]]:
 
     from twin.io.paths import as_path
 
-    path = as_path(path, "file")
-    data, _ = read_toml(path, "file", "effects file")
+    path = as_path(path, "--effects-file")
+    data, _ = read_toml(path, "--effects-file", "effects file")
     effects = data.get("effects")
     found = []
     for name, spec in (effects.items() if isinstance(effects, dict) else ()):

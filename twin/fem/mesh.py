@@ -198,6 +198,9 @@ def build_mesh(machine, spacing: float) -> MachineMesh:
     heat peaks inside it (see module docstring). A spacing that is not a finite positive number,
     or whose mesh would exceed :data:`twin.limits.MAX_NODES` nodes, raises
     :class:`twin.errors.InputError` before anything is allocated (:func:`check_spacing`)."""
+    from twin.limits import check_machine
+
+    check_machine(machine, "command line")       # a name or None failed as an AttributeError
     spacing = check_spacing(machine, spacing)
     return mesh_on_lines(machine, grid_axes(machine, spacing), spacing)
 

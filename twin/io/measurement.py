@@ -78,9 +78,9 @@ from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
 from twin.io.measured_inputs import sensors_of
-from twin.io.paths import NETCDF_SUFFIXES, input_file, read_text, read_toml, same_file
+from twin.io.paths import NETCDF_SUFFIXES, as_path, input_file, read_text, read_toml, same_file
 from twin.io.csv_rows import cell_number, data_rows
-from twin.io.results import check_result_layout, check_result_units, placed_sensors, read_result
+from twin.io.results import check_finite, check_result_layout, check_result_units, placed_sensors, read_result
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
@@ -123,6 +123,8 @@ def read_measurement(path: str | Path, mapping: str | Path | None = None, machin
     machine; a measurement needs at least one temperature, probe, laser or strain channel.
     """
     path = input_file(path, "measurement", "measurement file")
+    if mapping is not None:        # a number or a list failed in pathlib with a TypeError
+        mapping = as_path(mapping, "--mapping")
     if _is_netcdf(path):
         if mapping:
             raise InputError(str(mapping), "--mapping", "a NetCDF measurement has no column mapping")
@@ -296,10 +298,17 @@ def check_measurement(ds, machine, src: str = "measurement") -> xr.Dataset:
     least one channel to compare."""
     if not isinstance(ds, xr.Dataset):
         raise InputError(src, "measurement", f"expected an xarray.Dataset (read_measurement), got {describe(ds)}")
+    if machine is not None and not isinstance(getattr(machine, "name", None), str):
+        raise InputError(src, "machine", f"expected a built machine (twin.api.machine_by_name) or None, got "
+                                         f"{describe(machine)}")
     if "time" not in ds.variables:
         raise InputError(src, "time", "missing: a measurement has a time coordinate [s]")
+    if ds["time"].values.dtype.kind not in "fiu":
+        raise InputError(src, "time", f"expected times in seconds (numbers), got values of type "
+                                      f"{ds['time'].values.dtype}")
     check_times(np.asarray(ds["time"].values, dtype=float), src, "time")
-    _check_netcdf_values(ds, machine, src)
+    _check_netcdf_values(ds, machine, src)      # each channel by name first
+    check_finite(ds, src)        # then the rest, as a NetCDF file is read (read_result): NaN would score as NaN
     return _with_channels(ds, src)
 
 

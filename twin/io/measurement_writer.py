@@ -37,12 +37,19 @@ def write_measurement(ds, folder, stem: str, machine: str) -> tuple[Path, Path]:
     """Write ``ds`` as ``stem.csv`` + ``stem.toml`` in ``folder`` (created if missing, its parent
     must exist) for ``machine`` (a registered name, the Dataset's own when it names one); returns
     (csv path, toml path). Times are written to 1e-6 s, temperatures to 1e-4 K, probes to 0.01 um."""
-    if not isinstance(machine, str) or machine not in MACHINES:
+    if not isinstance(machine, str):
+        raise InputError(SOURCE, "machine", f"expected a machine's name ({', '.join(sorted(MACHINES))}), got "
+                                            + (f"the built machine {machine.name!r}: pass its name"
+                                               if isinstance(getattr(machine, "name", None), str) else describe(machine)))
+    if machine not in MACHINES:
         raise InputError(SOURCE, "machine", f"unknown machine {machine!r}; known: {', '.join(sorted(MACHINES))}")
     mach = build_machine(machine)
     check_named_machine(ds, mach.name, SOURCE)
     if not isinstance(stem, str) or not stem.strip() or stem != Path(stem).name or stem.startswith("."):
         raise InputError(SOURCE, "stem", f"expected a file name without folders or a leading dot, got {describe(stem)}")
+    if Path(stem).suffix.lower() in (".csv", ".toml"):       # m2.csv wrote m2.csv.csv and m2.csv.toml
+        raise InputError(SOURCE, "stem", f"{stem!r} ends in {Path(stem).suffix}: give the name without it "
+                                         f"({Path(stem).stem!r} writes {Path(stem).stem}.csv and {Path(stem).stem}.toml)")
     check_measurement(ds, mach, SOURCE)
     missing = [v for v in REQUIRED if v not in ds]
     if missing:

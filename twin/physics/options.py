@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.limits import is_finite_number, is_number, is_whole
 from twin.units import UnitError, parse_quantity
 
@@ -146,4 +146,7 @@ def as_options(solver) -> SolverOptions:
     """A :class:`SolverOptions` from itself, a solver name or None (``DEFAULT``: auto)."""
     if isinstance(solver, SolverOptions):
         return solver
-    return SolverOptions(solver or DEFAULT["solver"])
+    if solver is not None and not isinstance(solver, str):    # 0, False, [] read as "auto" before
+        raise InputError("command line", "--solver", f"expected a solver name ({', '.join(SOLVERS)}) or "
+                                                     f"twin.physics.options.SolverOptions, got {describe(solver)}")
+    return SolverOptions(DEFAULT["solver"] if solver is None else solver)

@@ -319,6 +319,10 @@ class PreparedTwin:
         nothing, instead of being refused (a diagnosis fits one model to several records, an effect
         acting in one of them; a dataset's calibration times a few steps of a whole case).
         """
+        plausible, idle_effects = (limits.check_flag(plausible, "command line", "plausible"),
+                                   limits.check_flag(idle_effects, "command line", "idle_effects"))
+        limits.check_progress(on_step, "command line", "on_step")
+        limits.check_progress(progress, "command line", "progress")
         self.check_run(scenario, theta)
         self.check_spec(spec, scenario, plausible, idle_effects)
         check_observers(observers, [scenario], self.machine)
@@ -383,6 +387,9 @@ class PreparedTwin:
         {key: (n_t, k, cases)}, info), in the observers' raw SI units. Observers must be linear
         (rows only); every case's scenario is checked as :meth:`run` checks one."""
         from twin.physics.batch import run_batch
+        plausible, bound = (limits.check_flag(plausible, "command line", "plausible"),
+                            limits.check_flag(bound, "command line", "bound"))
+        limits.check_progress(progress, "command line", "progress")
         if isinstance(cases, (str, bytes)) or not isinstance(cases, (list, tuple)) or not cases:
             raise InputError("command line", "cases", f"expected a list of one or more (scenario, spec), got {cases!r}")
         for i, case in enumerate(cases):
