@@ -403,7 +403,7 @@ def is_finite_number(value) -> bool:
 def finite_number(value, source: str, field: str) -> float:
     """``value`` as a float when it is a finite number (not a bool, a text or None)."""
     if not is_finite_number(value):
-        raise InputError(source, field, f"expected a finite number, got {value!r}")
+        raise InputError(source, field, f"expected a finite number, got {describe(value)}")
     return float(value)
 
 
@@ -415,13 +415,13 @@ def finite_numbers(values, source: str, field: str) -> np.ndarray:
     elif isinstance(values, (tuple, list)):
         for i, v in enumerate(values):
             if not is_number(v):
-                raise InputError(source, f"{field}[{i}]", f"expected a finite number, got {v!r}")
+                raise InputError(source, f"{field}[{i}]", f"expected a finite number, got {describe(v)}")
     else:
-        raise InputError(source, field, f"expected a list of numbers, got {values!r}")
+        raise InputError(source, field, f"expected a list of numbers, got {describe(values)}")
     out = np.asarray(values, dtype=float)
     bad = np.flatnonzero(~np.isfinite(out))
     if bad.size:
-        raise InputError(source, f"{field}[{bad[0]}]", f"expected a finite number, got {out[bad[0]]!r}")
+        raise InputError(source, f"{field}[{bad[0]}]", f"expected a finite number, got {describe(out[bad[0]])}")
     return out
 
 
