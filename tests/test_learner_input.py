@@ -218,9 +218,11 @@ def test_a_netcdf_table_naming_a_sensor_twice_is_refused(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("value, words", [(np.int64(7), "7"), (np.float32(0.5), "0.5"), (np.bool_(True), "the boolean true"),
-                                          (np.zeros(3), "an array of 3 values")])
+                                          (np.zeros(3), "an array of 3 values"), (2.0, "2.0"), (np.float64(3.0), "3.0"),
+                                          (1e300, "1e+300")])
 def test_numpy_values_are_described_in_the_users_terms(value, words):
     """A NetCDF attribute comes back as a numpy scalar: described as the number, not its type
-    ('expected a machine name, got int64')."""
+    ('expected a machine name, got int64'); a whole float keeps its point ('expected an integer,
+    got 2' read as a contradiction)."""
     from twin.errors import describe
     assert describe(value) == words

@@ -44,6 +44,8 @@ def describe(value) -> str:
     if isinstance(value, str):
         return repr(value)
     if isinstance(value, (int, float)):
+        if isinstance(value, float) and value.is_integer() and abs(value) < 1e15:
+            return repr(float(value))       # 2.0, not 2: "expected an integer, got 2" reads as a contradiction
         return f"{value:g}" if isinstance(value, float) else str(value)
     import numpy as np
 
