@@ -123,3 +123,12 @@ def test_a_diagnosis_refuses_repeats_and_inapplicable_effects_before_the_mesh(mo
     _refused(lambda: D.diagnose_many([("a", ds, sc), ("b", ds, sc)], machine), "measurements[1]")
     _refused(lambda: D.diagnose(ds, machine, sc, candidates=["belt_drive"]), "candidates[0]")
     _refused(lambda: D.diagnose(ds, machine, sc, spec=model_spec(build_machine("belt-vmc"))), "--effects belt_drive")
+
+
+def test_a_diagnosis_refuses_a_scenario_shorter_than_its_measurement_before_the_mesh(monkeypatch):
+    from geometries import build_machine
+    import validate.diagnose as D
+    monkeypatch.setattr(D, "PreparedTwin", lambda *a, **k: (_ for _ in ()).throw(AssertionError("meshed first")))
+    short = Scenario("s", ((600.0, 6000.0),), Ambient("constant", mean=20.0), 60.0)
+    err = _refused(lambda: D.diagnose(result_dataset(), build_machine("cframe-vmc"), short), "time")
+    assert "spans 29 min, beyond its scenario's 10 min" in err.message

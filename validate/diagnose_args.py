@@ -65,6 +65,10 @@ def check_arguments(measurements, machine, spec, candidates, custom, shares: dic
             raise InputError(label, "scenario", f"expected a twin.scenario.Scenario (the measured inputs: "
                                                 f"twin.io.measured_inputs.scenario_from_measurement), got {describe(scenario)}")
         scenario.check()
+        t = np.asarray(ds["time"].values, dtype=float)
+        if t[-1] - t[0] > scenario.duration + 1e-9:     # found by the records after the mesh, before
+            raise InputError(label, "time", f"the measurement spans {(t[-1] - t[0]) / 60:g} min, beyond its scenario's "
+                                            f"{scenario.duration / 60:g} min: give the scenario that drove the run")
     if spec is not None:
         if not isinstance(spec, ModelSpec):
             raise InputError(SOURCE, "spec", f"expected a twin.model.ModelSpec (twin.model.model_spec), got {describe(spec)}")
