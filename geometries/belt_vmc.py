@@ -88,6 +88,8 @@ NAME = "belt-vmc"
 # ETVE test on Machine B: the C-frame's workshop effects are there by --effects, not by default).
 DEFAULT_EFFECTS = SPINDLE_EFFECTS + ("belt_drive",)
 
+MIN_SPEED = 60.0   # [rpm] the spindle's slowest steady speed (seed 000 L4052: "60 rpm to 8000 rpm")
+
 # Every temperature point of the seed's Machine B in its own order (Table 4-4): structural sites
 # and air points together, so a study can ask for all 77 by this list.
 TEMPERATURE_POINTS: tuple[str, ...] = tuple(f"T{i}" for i in range(1, 78))
@@ -226,10 +228,10 @@ def build(bar_length: float = 0.27, bar_width: float = 0.04, throat: float = 0.4
         roles=roles(col_top, col_y0),
         default_effects=DEFAULT_EFFECTS,
         max_speed=8000.0,
-        min_speed=60.0,           # seed 000 L4052: "60 rpm to 8000 rpm"
+        min_speed=MIN_SPEED,
         axes=axes(bed_top),
         parameters={"bar_length": bar_length, "bar_width": bar_width, "throat": throat, "column_depth": column_depth,
-                    "motor_offset": motor_offset, "probe_spacing": PROBE_HEIGHTS[1] - PROBE_HEIGHTS[0], "min_speed": 60.0,
+                    "motor_offset": motor_offset, "probe_spacing": PROBE_HEIGHTS[1] - PROBE_HEIGHTS[0], "min_speed": MIN_SPEED,
                     "travel_x": 0.40, "travel_y": 0.30, "travel_z": 0.30, "linear_scales": 1.0},
     )
 

@@ -21,7 +21,7 @@ def check_fit_data(estimator, X, y, *, min_samples: int = 2):
     shapes, fewer than ``min_samples`` rows or a constant target.
     """
     X = _checked(check_array, estimator, "X", X, dtype=float, ensure_min_samples=min_samples)
-    _checked(np.asarray, estimator, "y", y)      # text refused as in X
+    _refuse_text(estimator, "y", y)
     try:
         X, y = check_X_y(X, y, dtype=float, y_numeric=True, ensure_min_samples=min_samples)
         y = np.asarray(y, dtype=float).ravel()
@@ -76,12 +76,16 @@ def holds_text(values) -> bool:
     return a.dtype.kind in "US" or (a.dtype.kind == "O" and any(isinstance(v, (str, bytes)) for v in a.ravel()))
 
 
-def _checked(check, estimator, name: str, values, **kw):
-    """``check(values, **kw)`` (a scikit-learn validation), its ``ValueError`` raised again as an
-    :class:`InputError` naming the learner and the argument ``name``."""
+def _refuse_text(estimator, name: str, values) -> None:
     if holds_text(values):
         raise InputError(model_name(estimator), name, "holds text; give numbers (numbers written as text are not "
                                                       "read)")
+
+
+def _checked(check, estimator, name: str, values, **kw):
+    """``check(values, **kw)`` (a scikit-learn validation), its ``ValueError`` raised again as an
+    :class:`InputError` naming the learner and the argument ``name``."""
+    _refuse_text(estimator, name, values)
     try:
         return check(values, **kw)
     except (ValueError, TypeError) as err:

@@ -501,14 +501,3 @@ def test_an_empty_effect_between_commas_is_refused(effects, tmp_path, capsys):
                           "--mesh", "coarse", "--effects", effects])
     assert err == f"error: command line: --effects: an empty effect in {effects!r}: write the effects " \
                   "comma-separated, each once"
-
-
-def test_an_error_found_after_reading_names_the_result_as_typed(tmp_path, monkeypatch, capsys):
-    """A message raised from the loaded Dataset (its scenario rebuilt from the logged inputs)
-    names the file as the user typed it, not the absolute path xarray records."""
-    from tests.fuzz_files import result_dataset
-
-    monkeypatch.chdir(tmp_path)
-    result_dataset().assign_attrs(moved_axes="Y").to_netcdf("r.nc", engine="h5netcdf")
-    err = _error(capsys, ["compare", "r.nc", "--mesh", "coarse"])
-    assert err.startswith("error: r.nc: axis_position: the run moved axis Y"), err

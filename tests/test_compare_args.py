@@ -93,3 +93,15 @@ def test_readings_compare_does_not_hold_are_named_in_the_table():
     assert result.not_compared[1] == ("probing_error (the probing cycles' datum errors): no command holds it against "
                                       "the model yet")
     assert format_compare(result).splitlines()[-1].startswith("not compared here: positioning_error")
+
+
+def test_an_error_found_after_reading_names_the_result_as_typed(tmp_path, monkeypatch, capsys):
+    """``twin compare r.nc``: a message raised from the loaded Dataset (its scenario rebuilt from
+    the logged inputs) names the file as the user typed it, not the absolute path xarray records."""
+    from twin.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    result_dataset().assign_attrs(moved_axes="Y").to_netcdf("r.nc", engine="h5netcdf")
+    assert main(["compare", "r.nc", "--mesh", "coarse"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: r.nc: axis_position: the run moved axis Y") and err.count("\n") == 1, err

@@ -254,9 +254,8 @@ def _motion(name: str, start, moves: list, source: str, prefix: str) -> Motion:
         if not isinstance(kind, str) or kind not in KINDS:
             raise InputError(source, f"{prefix}[{j}].kind", f"unknown kind {describe(kind)}; known: {', '.join(KINDS)}")
         r.expect("kind", *MOVE_KEYS[kind])
-        begin, run, plan = _MOVES[kind](r, source)
-        commanded += [(f"{prefix}[{j}].{key}", float(v)) for key in POSITION_KEYS[kind]
-                      for v in np.atleast_1d(_written(raw, key))]
+        begin, run, plan, written = _MOVES[kind](r, source)
+        commanded += [(f"{prefix}[{j}].{key}", float(v)) for key, v in written]
         r.finish()
         if x is None:
             if begin is None and start is None:
@@ -279,15 +278,6 @@ def _motion(name: str, start, moves: list, source: str, prefix: str) -> Motion:
     return Motion.planned(name, x, t, pieces, build, source, tuple(commanded))
 
 
-POSITION_KEYS = {"hold": ("position",), "move": ("to",), "reciprocate": ("between",), "table": ("positions",)}
-
-
-def _written(raw: dict, key: str):
-    """The position(s) [m] of ``raw[key]`` as written (read and checked already by the move's reader)."""
-    value = raw[key]
-    return [parse_quantity(v, "length") for v in value] if isinstance(value, list) else parse_quantity(value, "length")
-
-
 def _positive(r, key: str, dimension: str) -> float:
     return r.positive(key, dimension, required=True)
 
@@ -303,7 +293,7 @@ def _feed_accel(r) -> tuple[float, float]:
 def _hold(r, source):
     x = r.get("position", "length", required=True)
     dur = _positive(r, "duration", "time")
-    return x, lambda b: b.hold(dur), lambda x0: (dur, x0, 1)
+    return x, lambda b: b.hold(dur), lambda x0: (dur, x0, 1), [("position", x)]
 
 
 def _move(r, source):
@@ -322,7 +312,7 @@ def _move(r, source):
         b.trapezoid(to, feed, accel)
         if dur is not None:
             b.hold(dur - need)
-    return None, run, plan
+    return None, run, plan, [("to", to)]
 
 
 def _reciprocate(r, source):
@@ -360,7 +350,8 @@ def _reciprocate(r, source):
             b.hold(dwell)
         b.hold(rest)
     # closed form: n strokes of one period each, ending at the far end after an odd count
-    return a, run, lambda x0: (n * period + rest, c if n % 2 else a, n * (3 + (dwell > 0)) + 1)
+    return (a, run, lambda x0: (n * period + rest, c if n % 2 else a, n * (3 + (dwell > 0)) + 1),
+            [("between", a), ("between", c)])
 
 
 def _table(r, source):
@@ -376,7 +367,8 @@ def _table(r, source):
         limits.check_feed(speed[k], source, r.prefix + "positions",
                           f"from {xs[k] * 1e3:g} mm at {times[k]:g} s to {xs[k + 1] * 1e3:g} mm at "
                           f"{times[k + 1]:g} s the speed")
-    return xs[0], lambda b: b.polyline(times, xs), lambda x0: (float(times[-1]), float(xs[-1]), len(times) - 1)
+    return (xs[0], lambda b: b.polyline(times, xs), lambda x0: (float(times[-1]), float(xs[-1]), len(times) - 1),
+            [("positions", x) for x in xs])
 
 
 def _quantities(r, key: str, dimension: str, source: str) -> np.ndarray:
@@ -389,6 +381,8 @@ def _quantities(r, key: str, dimension: str, source: str) -> np.ndarray:
         raise InputError(source, r.prefix + key, str(err)) from None
 
 
+# each kind's reader returns (its start or None, run(builder), plan(x0) -> (duration, end, pieces),
+# the positions it was given as [(key, position [m])], checked against a machine's travel by name)
 _MOVES = {"hold": _hold, "move": _move, "reciprocate": _reciprocate, "table": _table}
 MOVE_KEYS = {"hold": ("position", "duration"), "move": ("to", "feed", "acceleration", "duration"),
              "reciprocate": ("between", "feed", "acceleration", "dwell", "duration", "count"),

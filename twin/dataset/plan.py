@@ -205,8 +205,7 @@ def check_effects_act(spec: DatasetSpec, records: list[dict]) -> None:
     any case is built or timed (a dry run's calibration runs a few steps of a case, not all of it)."""
     from geometries import build_machine
     from geometries.axes import with_feed_drives
-    from twin.effects import EFFECTS
-    from twin.model import model_spec
+    from twin.model import check_refusals, model_spec
 
     family_index = {f.name: i for i, f in enumerate(spec.families)}
     machines, seen = {}, set()
@@ -221,11 +220,11 @@ def check_effects_act(spec: DatasetSpec, records: list[dict]) -> None:
             machine = build_machine(r["machine"])
             machines[(r["machine"], axes)] = with_feed_drives(machine, set(axes)) if axes else machine
         model = model_spec(machines[(r["machine"], axes)], r["effects"], r["settings"])
-        for name in model.effects:
-            refused = EFFECTS[name].refusal(sc, model.params[name])
-            if refused:
-                raise InputError(spec.source, "effects", f"{name}.{refused[0]} in scenarios[{family_index[r['family']]}] "
-                                                         f"(family {r['family']}, draw {r['draw']}): {refused[1]}")
+        try:
+            check_refusals(model, sc)
+        except InputError as err:     # the run's rule, named as the spec gives it
+            raise InputError(spec.source, "effects", f"{err.field} in scenarios[{family_index[r['family']]}] "
+                                                     f"(family {r['family']}, draw {r['draw']}): {err.message}") from None
 
 
 def assign_splits(spec: DatasetSpec, infos: list[dict]) -> list[str]:

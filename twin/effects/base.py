@@ -148,8 +148,9 @@ class Effect:
     def refusal(self, scenario, params: dict[str, float]) -> tuple[str, str] | None:
         """(parameter, why) where this effect, switched on at ``params``, cannot run ``scenario``
         (a door draft whose first opening is after the run's end would do nothing: a user who
-        switched it on expects it to act); None where it can. Checked by :meth:`loads` and, for
-        every planned case, by a dataset before it builds any (:mod:`twin.dataset.plan`)."""
+        switched it on expects it to act); None where it can. Checked by a run
+        (:func:`twin.model.check_refusals`, unless it runs idle effects), by a diagnosis against its
+        records, and by a dataset for every planned case before it builds any (:mod:`twin.dataset.plan`)."""
         return None
 
     def acts(self, scenario, params: dict | None = None) -> bool:

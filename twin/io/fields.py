@@ -85,12 +85,12 @@ def _add_vtu_field_data(path: Path, time_s: float, part_names: list[str]) -> Non
     tag = "<UnstructuredGrid>\n"
     arrays = [("Float64", "TimeValue", repr(time_s))] + [("Int32", f"part:{name}", str(i))
                                                           for i, name in enumerate(part_names)]
-    time_data = "<FieldData>\n" + "".join(f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="1" '
+    field_data = "<FieldData>\n" + "".join(f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="1" '
                                           f'format="ascii">\n{value}\n</DataArray>\n'
                                           for kind, name, value in arrays) + "</FieldData>\n"
     if tag not in text:   # pragma: no cover - meshio's layout changed
         raise RuntimeError(f"{path}: no <UnstructuredGrid> tag to put the field's time after")
-    path.write_text(text.replace(tag, tag + time_data, 1), encoding="ascii")
+    path.write_text(text.replace(tag, tag + field_data, 1), encoding="ascii")
 
 
 def save_temperature_field(mm, field: np.ndarray, path, time_s: float, field_name: str = "--field") -> list[Path]:

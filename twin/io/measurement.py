@@ -298,9 +298,8 @@ def check_measurement(ds, machine, src: str = "measurement") -> xr.Dataset:
     least one channel to compare."""
     if not isinstance(ds, xr.Dataset):
         raise InputError(src, "measurement", f"expected an xarray.Dataset (read_measurement), got {describe(ds)}")
-    if machine is not None and not isinstance(getattr(machine, "name", None), str):
-        raise InputError(src, "machine", f"expected a built machine (twin.api.machine_by_name) or None, got "
-                                         f"{describe(machine)}")
+    if machine is not None:
+        limits.check_machine(machine, src)
     if "time" not in ds.variables:
         raise InputError(src, "time", "missing: a measurement has a time coordinate [s]")
     if ds["time"].values.dtype.kind not in "fiu":
