@@ -160,6 +160,7 @@ BAD_ARGUMENTS = [
     ("sensor-name-padded", {"sensors": [Point(" a", MOTOR, "motor")]}, "sensors[0]"),
     ("sensor-name-number", {"sensors": [Point(1, MOTOR, "motor")]}, "sensors[0]"),
     ("sensors-a-text", {"sensors": "motor"}, "sensors"),
+    ("sensors-none-at-all", {"sensors": []}, "sensors"),
     ("cameras-a-text", {"cameras": "carrier-front"}, "cameras"),     # read letter by letter before
     ("theta-0", {"theta": 0.0}, "theta"),
     ("theta-2", {"theta": 2.0}, "theta"),
