@@ -3,7 +3,7 @@
 :func:`twin.physics.solvers.pcg` on CuPy arrays runs each vector update, dot product and
 ``where`` of an iteration as its own kernel: about twenty launches, each with a few tens of
 microseconds of Python and driver work, so that on an H100 an iteration cost 0.8-0.9 ms at 200 k
-and at 890 k unknowns alike while its bytes need about 0.15 ms (README "Scale"). Here the same
+and at 890 k unknowns alike while its bytes need about 0.15 ms (validate/SCALE.md). Here the same
 iteration (the same arithmetic as the CPU's compiled :func:`twin.physics.kernels.cg_kernels`) is
 
 1. ``spmv_dot``: Q = A P (one warp a row of the CSR matrix) with the blocks' partial sums of P . Q;
@@ -14,7 +14,7 @@ iteration (the same arithmetic as the CPU's compiled :func:`twin.physics.kernels
 5. ``cg_direction``: beta = (r.z)_new / (r.z)_old on the device; P = beta P + Z.
 
 Measured on an H200 at 200 k unknowns: 0.081 ms an iteration against 0.601 ms on CuPy's arrays
-(README "Scale"). :class:`DeviceMatrix` makes the step's other products with a heat matrix one
+(validate/SCALE.md). :class:`DeviceMatrix` makes the step's other products with a heat matrix one
 launch of the same warp-a-row product. Every sum is formed in a fixed order (each block's tree,
 then the blocks in order), so a run gives the same numbers every time; they differ from CuPy's
 array path in the order of the sums only (``tests/test_gpu_kernels.py`` holds them to it and to

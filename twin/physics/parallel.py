@@ -4,7 +4,7 @@ as on one.
 Most of a large run is limited by reading memory (sparse products, passes over long vectors),
 and one core does not use all of a machine's memory bandwidth: on the 2-core development machine
 two concurrent products of the 200 k-node heat matrix finish in 1.7-1.96 times the time of one,
-and one product split in two row blocks takes 4.6-5.3 ms instead of 7.7-8.0 (README "Scale").
+and one product split in two row blocks takes 4.6-5.3 ms instead of 7.7-8.0 (validate/SCALE.md).
 Three kinds of work are split here:
 
 * **independent tasks** (:func:`concurrently`): the elastic chain (assembly, multigrid, adjoints,

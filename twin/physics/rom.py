@@ -62,13 +62,13 @@ DROP = 1e-10        # directions new to the basis by less than this share of the
 GRAM_EPS = 1e-13    # Gram eigenvalues below this share of the largest are round-off (:func:`_m_orthonormalise`)
 BASIS_RTOL = 1e-6   # residual reduction of the basis's iterative solves (large layouts), relative to
                     # the Galerkin start's: the span is what the reduced model needs, and its error is
-                    # bounded and estimated from the basis actually built (README "Scale")
+                    # bounded and estimated from the basis actually built (validate/SCALE.md)
 BASIS_STRENGTH = [("symmetric", {"theta": 0.0}), ("symmetric", {"theta": 0.05})]
                     # pyamg's strength of connection for the basis's AMG, per level (the last repeated):
                     # every connection on the finest level (pyamg's default, theta 0; at 0.1 there the
                     # 200 k-node C-frame took 80 V-cycles a block instead of 15), |a_ij| >= 0.05
                     # (a_ii a_jj)^(1/2) below it, where the coarse levels' aggregates then stop crossing
-                    # weak couplings: 11-12 V-cycles a block instead of 14-16 (README "Scale")
+                    # weak couplings: 11-12 V-cycles a block instead of 14-16 (validate/SCALE.md)
 START_BASIS_RTOL = 1e-5   # the same for a basis that only starts full-order heat steps
                     # (:class:`twin.physics.steppers.ReducedStart`): CG corrects what its span misses, so
                     # it needs the slow directions, not their last digits. Measured at 200 k nodes, 24 h

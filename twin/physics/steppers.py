@@ -81,7 +81,7 @@ class ReducedStart:
     the rounded basis's, and V^T A V is formed in double on that basis): the two passes read half
     the memory, and the start is the Galerkin point to about 1e-7 of its correction, which changes
     no solution (CG forms its first residual b - A x0 in double from the matrix) and, measured,
-    hardly an iteration (2.15 a step at 200 k nodes, 2.14 in double). Measured (README "Scale"): on
+    hardly an iteration (2.15 a step at 200 k nodes, 2.14 in double). Measured (validate/SCALE.md): on
     24 h of room air at 40 mm cells the CG iterations fall from 21 to 2 a step; after a spindle
     start the extrapolated base matters (from T itself the same run needs twice the iterations)."""
 
