@@ -270,13 +270,12 @@ def test_effects_files_and_model_specs_take_a_built_machine(tmp_path):
 
 def test_temperature_sensors_built_in_python_are_checked_on_their_twins_machine(twin):
     """``TemperatureSensors(["T1"])`` failed with an AttributeError, a wrong part, a name given twice
-    and an air sensor 100 m away were accepted; no sensor at all gave a result with an empty sensor
-    axis of floats that no reader takes back."""
+    and an air sensor 100 m away were accepted."""
     from geometries.base import Point
     from twin.observe.temperature import TemperatureSensors
 
     motor = CFRAME.point("motor")
-    for points, field in (("T1", "points"), ([], "points"), (["T1"], "points[0]"), ([Point("a", (0.0, 1.0), "motor")], "points[0] a"),
+    for points, field in (("T1", "points"), (["T1"], "points[0]"), ([Point("a", (0.0, 1.0), "motor")], "points[0] a"),
                           ([Point("a", motor.xyz, "nosuch")], "points[0] a"),
                           ([Point("a", motor.xyz, motor.part), Point("a", motor.xyz, motor.part)], "points[1] a"),
                           ([Point("a", (0.0, 0.0, 100.0), "air")], "points[0] a")):

@@ -37,7 +37,7 @@ def air_temperature(points, ctx: RunContext) -> np.ndarray:
 
 
 def check_points(points, machine, source: str, field: str = "sensors") -> list:
-    """``points``: a non-empty list of :class:`geometries.base.Point` s with distinct names a measurement
+    """``points``: a list of :class:`geometries.base.Point` s with distinct names a measurement
     file can hold (printable, without '@' or ','), each three finite coordinates [m] on its part of
     ``machine`` (anywhere on it when the part is empty) or in the air near it
     (:func:`twin.limits.check_position`; not checked without a machine, None); an
@@ -47,9 +47,6 @@ def check_points(points, machine, source: str, field: str = "sensors") -> list:
 
     if isinstance(points, (str, bytes)) or not isinstance(points, (list, tuple)):
         raise InputError(source, field, f"expected a list of geometries.base.Point, got {points!r}")
-    if not points:      # a result without a sensor axis no reader takes back
-        raise InputError(source, field, "an empty list: give at least one point, or leave the argument out (None) "
-                                        "for the machine's sensor sites")
     seen = set()
     for i, p in enumerate(points):
         if not isinstance(p, Point):
