@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from twin.cli import main
-from twin.effects.custom import (MAX_AIR_OFFSET, MAX_FACTOR, MAX_FLUX, MAX_H, MAX_POWER, effects_from_dict,
-                                 unregister_custom)
+from twin.effects.custom import MAX_AIR_OFFSET, MAX_FLUX, MAX_H, MAX_POWER, effects_from_dict, unregister_custom
+from twin.effects.custom_schedule import MAX_FACTOR
 from twin.errors import InputError
 from twin.scenario import Ambient, Scenario
 
