@@ -29,7 +29,7 @@ def test_point_lands_on_its_pinhole_pixel_and_depth_is_the_ray_length():
     u_closed = SMALL.width / 2 + (c @ r) / ((c @ f) * su)
     v_closed = SMALL.height / 2 + (c @ d) / ((c @ f) * sv)
     u, v = project(POSE, SMALL, centre[None, :])
-    assert u[0] == pytest.approx(u_closed) and v[0] == pytest.approx(v_closed)
+    assert u[0] == pytest.approx(u_closed, rel=1e-12) and v[0] == pytest.approx(v_closed, rel=1e-12)
     view = view_machine(build_mesh(m, 0.25), m, POSE, SMALL, edge_rays=1)
     iu, iv = int(math.floor(u[0])), int(math.floor(v[0]))
     assert view.part[iv, iu] == 1

@@ -42,7 +42,7 @@ def test_heat_source_power_is_strength_times_schedule(machine, mm, schedule, ext
     (load,) = e.loads(mm, SC, e.defaults())
     t = np.arange(0, 9000, 150.0)
     np.testing.assert_allclose(load.power(t), 80.0 * expected(t), atol=1e-12)
-    assert set(mm.cells_of("saddle")) == set(load.cells) and source_pattern(mm, load).sum() == pytest.approx(1.0)
+    assert set(mm.cells_of("saddle")) == set(load.cells) and source_pattern(mm, load).sum() == pytest.approx(1.0, rel=1e-12)
     assert e.linear and e.uncertain[0].lower == 0 and e.uncertain[0].upper == 800
 
 

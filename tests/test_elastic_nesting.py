@@ -124,7 +124,8 @@ def test_adjoint_rows_on_the_coarse_mesh_equal_the_forward_solve(machine):
 def test_a_run_with_a_coarser_elastic_mesh_reports_it_and_stays_close(machine):
     """The drift of the coarse C-frame's spindle test with the elasticity on every second line
     differs from the one-mesh drift by a discretisation error (measured 0.4-0.5 % of the peak on the
-    default mesh; here within 3 %), and the result says which elastic mesh solved it."""
+    default mesh, 0.44 % on this coarse one; held to 1 %, about twice that), and the result says
+    which elastic mesh solved it."""
     from twin.scenario import load_scenario
     from twin.simulate import run
 
@@ -132,7 +133,7 @@ def test_a_run_with_a_coarser_elastic_mesh_reports_it_and_stays_close(machine):
     one = run(machine, sc, resolution="coarse", solver=SolverOptions("direct"))
     two = run(machine, sc, resolution="coarse", solver=SolverOptions("direct", elastic_coarsening=2))
     d1, d2 = one.drift - one.drift[0], two.drift - two.drift[0]
-    assert np.max(np.abs(d2 - d1)) <= 0.03 * np.max(np.abs(d1))
+    assert np.max(np.abs(d2 - d1)) <= 0.01 * np.max(np.abs(d1))
     assert np.max(np.abs(d2 - d1)) > 0.0                       # a different mesh, not the same numbers
     # the C-frame is symmetric about x = 0 and so is the coarse grid: X stays at round-off
     assert np.max(np.abs(d2[:, 0])) <= 1e-9 * np.max(np.abs(d1)) + np.max(np.abs(d1[:, 0]))
