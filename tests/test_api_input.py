@@ -17,6 +17,7 @@ from geometries.materials import MATERIALS
 from twin import api, limits
 from twin.errors import InputError
 from twin.fem.mesh import build_mesh, check_spacing, estimated_nodes
+from twin.observe.camera import CameraConfig
 from twin.physics.prepared import PreparedTwin
 from twin.physics.options import MAX_ROM_ORDER, SolverOptions
 from twin.scenario import Ambient, Scenario, available, load_scenario
@@ -175,6 +176,8 @@ BAD_ARGUMENTS = [
     ("sensor-name-number", {"sensors": [Point(1, MOTOR, "motor")]}, "sensors[0]"),
     ("sensors-a-text", {"sensors": "motor"}, "sensors"),
     ("cameras-a-text", {"cameras": "carrier-front"}, "cameras"),     # read letter by letter before
+    ("camera-unknown-pose", {"cameras": ["nosuch"]}, "camera.pose"),   # found after the mesh before
+    ("camera-inside-a-part", {"cameras": [CameraConfig(position=MOTOR, target=(0.0, -2.0, 1.0))]}, "camera.position"),
     ("theta-0", {"theta": 0.0}, "theta"),
     ("theta-2", {"theta": 2.0}, "theta"),
     ("theta-nan", {"theta": float("nan")}, "theta"),

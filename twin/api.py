@@ -111,13 +111,14 @@ def simulate(machine: str, scenario: str | Scenario, effects: str | None = None,
         check_interferometer(sc.interferometer, sc, m)
     if sc.probing is not None:
         check_probing(sc.probing, sc, m)
-    mm = prepared.mm if prepared is not None else mesh_machine(m, resolution)
-    limits.check_run_size(sc, mm.nheat)
+    # the observers (a camera's pose in the air, the instruments' places) before the mesh is built
     observers = standard_observers(m, sensors) + camera_observers(m, configs) if configs else None
     if sc.interferometer is not None:
         observers = (observers or standard_observers(m, sensors)) + [LaserInterferometer(sc.interferometer, m)]
     if sc.probing is not None:
         observers = (observers or standard_observers(m, sensors)) + [DatumProbing(sc.probing, m)]
+    mm = prepared.mm if prepared is not None else mesh_machine(m, resolution)
+    limits.check_run_size(sc, mm.nheat)
     beside = {"prepared": prepared} if prepared is not None else {"mm": mm, "materials": materials, "solver": options}
     result: RunResult = run(m, sc, spec, theta=theta, progress=progress, sensors=sensors, observers=observers,
                             **beside)
