@@ -347,6 +347,59 @@ def test_the_skins_film_is_free_convection_plus_linearised_radiation():
     band = EFFECTS["ambient_convection"].uncertainty("h")
     assert band.lower < H_AIR < band.upper
 
+AIR_20C = {"nu": 1.51e-5, "k": 0.0257, "prandtl": 0.71}   # air at 20 degC: m2/s, W/(m K), -
+
+
+def plate_film(speed, length, turbulent):
+    """Flat-plate forced convection [W/(m2 K)], Re = v L / nu: laminar Nu = 0.664 Re^0.5 Pr^(1/3),
+    turbulent (tripped) Nu = 0.037 Re^0.8 Pr^(1/3)."""
+    re = speed * length / AIR_20C["nu"]
+    nusselt = (0.037 * re ** 0.8 if turbulent else 0.664 * re ** 0.5) * AIR_20C["prandtl"] ** (1 / 3)
+    return nusselt * AIR_20C["k"] / length
+
+
+def test_the_door_drafts_film_is_flat_plate_forced_convection():
+    """door_draft's h_d (twin.effects.room.DoorDraft): the default 15 W/(m2 K) lies between the
+    turbulent plate's film at 2 and 3 m/s on a 0.4 m face (12.8-17.6), above the laminar plate's
+    at 3 m/s (10.7: a laminar draft would need 6 m/s); its plausible range spans 0.5 m/s laminar
+    on a 1 m face (2.8) to 4 m/s turbulent on a 0.2 m face (25.5), each within 10 %. The stated
+    spans, 1-3 m/s on 0.2-1 m: laminar 3.9-15.2, turbulent 6.1-20.3 W/(m2 K)."""
+    effect = EFFECTS["door_draft"]
+    h, band = effect.defaults()["h"], effect.uncertainty("h")
+    assert plate_film(2.0, 0.4, True) < h < plate_film(3.0, 0.4, True)
+    assert plate_film(3.0, 0.4, False) < h
+    assert band.lower == pytest.approx(plate_film(0.5, 1.0, False), rel=0.10)
+    assert band.upper == pytest.approx(plate_film(4.0, 0.2, True), rel=0.10)
+    spans = [[plate_film(v, length, turbulent) for v in (1.0, 3.0) for length in (0.2, 1.0)] for turbulent in (False, True)]
+    assert [round(min(x), 1) for x in spans] == [3.9, 6.1] and [round(max(x), 1) for x in spans] == [15.2, 20.3]
+
+
+def test_the_screw_gaps_conductance_is_gas_conduction_radiation_and_the_turning_screw():
+    """feed_screw_gap's h_gap (twin.effects.feed.FeedScrewGap): in still air k_air / delta +
+    4 sigma eps_eff T^3, eps_eff = 1 / (1/eps_1 + 1/eps_2 - 1), T = 293.15 K: 3.9-8.3 W/(m2 K) at
+    10 mm (eps 0.24 with 0.9, to black), 2.6-10.9 over 5-20 mm; the turning 40 mm screw as
+    Becker's rotating cylinder, Nu = 0.133 (omega D^2 / nu)^(2/3) Pr^(1/3): 9.2 at 120 rpm, 29.9
+    at 700 rpm. The default 10 lies between the stirred gap at 120 rpm and the still gap's top;
+    the range's lower end 3 within the still gaps of 10-20 mm, its upper end 30 the screw at
+    about 700 rpm."""
+    sigma, temperature = 5.670374419e-8, 293.15
+
+    def still(gap, e1, e2):
+        return AIR_20C["k"] / gap + 4 * sigma / (1 / e1 + 1 / e2 - 1) * temperature ** 3
+
+    def turning(rpm, diameter=0.04):
+        re = rpm * 2 * np.pi / 60 * diameter ** 2 / AIR_20C["nu"]
+        return 0.133 * re ** (2 / 3) * AIR_20C["prandtl"] ** (1 / 3) * AIR_20C["k"] / diameter
+
+    effect = EFFECTS["feed_screw_gap_y"]
+    h, band = effect.defaults()["conductance"], effect.uncertainty("conductance")
+    assert [round(still(0.010, 0.24, 0.9), 1), round(still(0.010, 1.0, 1.0), 1)] == [3.9, 8.3]
+    assert [round(still(0.020, 0.24, 0.9), 1), round(still(0.005, 1.0, 1.0), 1)] == [2.6, 10.9]
+    assert [round(turning(120.0), 1), round(turning(700.0), 1)] == [9.2, 29.9]
+    assert turning(120.0) < h < still(0.005, 1.0, 1.0)
+    assert still(0.020, 0.24, 0.9) < band.lower < still(0.010, 0.24, 0.9)
+    assert band.upper == pytest.approx(turning(700.0), rel=0.01)
+
 def test_offsets_and_speed_laws_reach_the_loads(mm, heat):
     """What an energy balance cannot see (it closes on the loads' own signals): the air each
     convection sees and each power away from its reference, read from the loads, exactly.

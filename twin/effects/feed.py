@@ -136,8 +136,8 @@ class FeedMotor(_FeedEffect):
                                     "axis without counterbalance)"),
                   Parameter("inertia_power", "power", 12.0, 0.0, 2000.0,
                             "copper losses of the inertia torque at 1 m/s2 (the registry default 12 W: the C-frame's 0.6 t "
-                            "saddle and table on a 10 mm lead, rotor and screw 0.0044 kg m2, k_t 1.2 N m/A, "
-                            "R 1.2 ohm)"))
+                            "saddle and table on a 10 mm lead, eta 0.9, rotor and screw 0.0044 kg m2, "
+                            "k_t 1.2 N m/A, R 1.2 ohm)"))
     uncertain = (_range,)
 
     def loads(self, mm, scenario, p):
@@ -182,10 +182,18 @@ class FeedScrewGap(_AxisEffect):
 
         q = h_gap (T_screw - T_structure)   on the screw's faces towards the bed and the moving body,
 
-    h_gap the conductance of the air gap per unit area (conduction k_air / gap plus linearised
-    radiation, about 5-15 W/(m2 K) for a 10 mm gap). Without it the screw would be bonded to the
-    bed along its whole length; with it the screw touches the structure only at its bearings.
-    The joint stays bonded mechanically (:class:`twin.effects.base.ContactConductance`).
+    h_gap the conductance of the air gap per unit area. In still air it is conduction across the
+    gap plus linearised radiation between the two faces, k_air / delta + 4 sigma eps_eff T^3 with
+    eps_eff = 1 / (1/eps_1 + 1/eps_2 - 1): 3.9-8.3 W/(m2 K) for a 10 mm gap (a ground screw,
+    eps 0.24, in a painted trough, 0.9, to black faces), 2.6-10.9 over 5-20 mm. A turning screw
+    stirs the gap's air; as a rotating cylinder (Becker, Nu = 0.133 Re^(2/3) Pr^(1/3),
+    Re = omega D^2 / nu) the 40 mm screw gives about 9 W/(m2 K) at 120 rpm (20 mm/s on a 10 mm
+    lead) and 38 at 1000 rpm. The constant h_gap does not follow the speed: the default 10 is the
+    still gap's top and the stirred one at the seed's 20 mm/s (plausible, and held by the seed 003
+    and duty-cycle bands, not measured); the range 3-30 spans a wide, bare gap in still air to a
+    screw turning at about 700 rpm. Without the gap the screw would be bonded to the bed along
+    its whole length; with it the screw touches the structure only at its bearings. The joint
+    stays bonded mechanically (:class:`twin.effects.base.ContactConductance`).
     """
 
     family = "feed_screw_gap"
@@ -195,8 +203,9 @@ class FeedScrewGap(_AxisEffect):
     reference = "VDI Heat Atlas (2010) E2/K1 (gas gap conduction, radiation between surfaces)"
     role_keys = ("screw_gap", "structure_side")
     parameters = (Parameter("conductance", "heat_transfer_coefficient", 10.0, 0.1, 1000.0, "gap conductance per area"),)
-    uncertain = (Uncertain("conductance", 3.0, 30.0, "the gap's width (5-20 mm of air) and the surfaces' "
-                                                     "emissivity: conduction k_air / gap plus radiation"),)
+    uncertain = (Uncertain("conductance", 3.0, 30.0, "the gap's width (5-20 mm of air), the surfaces' "
+                                                     "emissivity (conduction k_air / gap plus radiation) and the "
+                                                     "screw's speed (its rotation stirs the gap)"),)
 
     def loads(self, mm, scenario, p):
         h = p["conductance"]

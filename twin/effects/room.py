@@ -188,8 +188,13 @@ class DoorDraft(Effect):
         -k dT/dn = h_d w(t) (T - T_air(t) - dT),  w(t) = 1 during events, else 0,
 
     added to the natural convection; events start at ``start`` and repeat every ``period``
-    (0: one event). h_d of a draft of 1-3 m/s on a plate is 10-25 W/(m2 K) (flat-plate forced
-    convection, Nu = 0.664 Re^0.5 Pr^(1/3)).
+    (0: one event). h_d is flat-plate forced convection, Re = v L / nu: laminar,
+    Nu = 0.664 Re^0.5 Pr^(1/3), on a smooth face in a calm stream; turbulent,
+    Nu = 0.037 Re^0.8 Pr^(1/3), where the door's gusts and the front's edges and covers trip the
+    boundary layer. A draft of 1-3 m/s on faces of 0.2-1 m gives 3.9-15 W/(m2 K) laminar and
+    6.1-20 W/(m2 K) turbulent (air at 20 degC); the default 15 W/(m2 K) is a tripped layer at
+    about 2.5 m/s on a 0.4 m face, and the plausible range 3-25 W/(m2 K) spans 0.5 m/s laminar on
+    1 m to 4 m/s turbulent on 0.2 m. Plausible, not measured.
     """
 
     name = "door_draft"
@@ -206,7 +211,8 @@ class DoorDraft(Effect):
         Parameter("period", "time", 0.0, 0.0, 7 * 86400.0, "repeat interval (0: a single event)"),
     )
     uncertain = (
-        Uncertain("h", 5.0, 40.0, "draft speed 0.5-4 m/s on a plate (flat-plate forced convection)"),
+        Uncertain("h", 3.0, 25.0, "draft speed 0.5-4 m/s on faces of 0.2-1 m, laminar to tripped turbulent "
+                  "(flat-plate forced convection)"),
     )
 
     def check_params(self, params: dict[str, float], source: str) -> None:
