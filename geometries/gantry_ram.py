@@ -201,7 +201,7 @@ def roles(ram_top: float) -> dict:
 # 70 m/min (x 58.3) they are about nut 367 W, bearings 198 W, motor 198 W, guideways 35 W while
 # the ram moves (README "The linear axes"). The motor's inertia losses at 1 m/s2: the 1.19 t
 # that moves with the ram on a 20 mm lead (eta 0.9) and rotor + screw 0.013 kg m2 need
-# 8.4 N m, (8.4 / 2 N m/A)^2 x 1.05 ohm = 18 W. Plausible, not measured.
+# 8.3 N m, (8.3 / 2 N m/A)^2 x 1.05 ohm = 18 W (tests/test_axis_drives.py). Plausible, not measured.
 Z_DRIVE_DEFAULTS = {
     "feed_nut_z": {"power": 6.3, "screw_share": 0.6},
     "feed_bearings_z": {"power": 3.4, "front_share": 0.75},

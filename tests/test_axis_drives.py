@@ -378,3 +378,86 @@ def test_cframe_axes_have_the_seeds_travels_and_the_readmes_nut_positions():
         screw = next(p for p in ax.drive.parts if p.name.endswith("_screw")).boxes[0]
         for p in ax.travel:
             assert screw.lo[k] <= ax.nut_coordinate(p) <= screw.hi[k], (ax.name, p)
+
+
+def test_the_pose_rotation_is_the_least_squares_fit_of_any_support_displacement():
+    """The body's small rotation theta = M^-1 sum_i r_i x D_i (twin.observe.pose, r_i about the
+    centroid, M = sum |r|^2 I - r r^T) minimises sum_i |D_i - c - theta x r_i|^2: against numpy's
+    least squares on random, non-rigid displacements to round-off (the earlier tests moved the
+    supports rigidly, which any consistent fit recovers); points on a line give no rotation
+    about that line (the pseudo-inverse)."""
+    from twin.observe.pose import rotation_weights
+
+    rng = np.random.default_rng(0)
+    points, moved = rng.normal(size=(6, 3)), rng.normal(size=(6, 3)) * 1e-6
+    centre, weights = rotation_weights(points)
+    theta = np.einsum("abi,ib->a", weights, moved)
+    skew = [np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]]) for v in points - centre]
+    design = np.vstack([-s for s in skew])               # theta x r = -[r]x theta
+    fit = np.linalg.lstsq(design, (moved - moved.mean(axis=0)).ravel(), rcond=None)[0]
+    assert np.max(np.abs(theta - fit)) <= 1e-10 * np.max(np.abs(fit))
+    direction = np.array([1.0, 2.0, 0.5])
+    _, on_line = rotation_weights(np.outer(np.arange(4.0), direction))
+    assert abs(np.einsum("abi,ib->a", on_line, rng.normal(size=(4, 3))) @ direction) < 1e-12
+
+
+def test_guideway_heat_sits_at_the_carriages_ahead_of_and_behind_the_nut():
+    """The rails' share of the guideway friction enters where the two carriages are, at the nut's
+    coordinate +- carriage_offset (250 mm on Y), half each, and none under the nut: over a
+    reciprocation of n strokes of d, each carriage's band receives P_ref (n d / v_ref) / 2 [J]
+    exactly (the path basis's step averages of |v|); the offsets (0, 0) passed every test before."""
+    sc = scenario_from_dict({"sample_interval": "10 s", "ambient": {"temperature": "20 degC"},
+                             "spindle": [{"speed": "0 rpm", "duration": "10 min"}],
+                             "axis": [{"name": "Y", "move": [{"kind": "reciprocate", "between": ["190 mm", "210 mm"],
+                                                              "feed": "20 mm/s", "acceleration": "10 mm/s2",
+                                                              "count": 10}]}]}, "t.toml")
+    from twin.fem.regions import cell_centres
+
+    machine = machine_for(build_machine("cframe-vmc"), sc)
+    mm = mesh_machine(machine, "coarse")
+    effect = EFFECTS["feed_guideways_y"]
+    p = {**effect.defaults(), "rail_share": 1.0}
+    nut = float(machine.axis("Y").nut_coordinate(np.array([0.2]))[0])
+    t, dt = sc.times(), sc.sample_interval
+    energy = {"ahead": 0.0, "behind": 0.0, "under the nut": 0.0}
+    for source in effect.loads(mm, sc, p):
+        y = cell_centres(mm, source.cells)[:, 1].mean()
+        joules = float(np.sum(source.power(t[:-1] + 0.5 * dt)) * dt)
+        for where, at in (("ahead", nut + p["carriage_offset"]), ("behind", nut - p["carriage_offset"]),
+                          ("under the nut", nut)):
+            if abs(y - at) < 0.1:
+                energy[where] += joules
+    assert p["carriage_offset"] == 0.25
+    total = p["power"] * 10 * 0.02 / REFERENCE_FEED
+    assert energy["ahead"] == pytest.approx(total / 2, rel=1e-12)
+    assert energy["behind"] == pytest.approx(total / 2, rel=1e-12)
+    assert energy["under the nut"] == 0.0
+
+
+@pytest.mark.parametrize("machine, axis, mass, lead, inertia, torque_constant, resistance", [
+    ("cframe-vmc", "Y", 600.0, 0.010, 0.0044, 1.2, 1.2),       # the registry's default (every axis)
+    ("gantry-ram", "Z", 1190.0, 0.020, 0.013, 2.0, 1.05),      # geometries.gantry_ram.Z_DRIVE_DEFAULTS
+])
+def test_the_motors_inertia_losses_are_the_copper_losses_of_the_inertia_torque(machine, axis, mass, lead, inertia,
+                                                                                torque_constant, resistance):
+    """feed_motor's inertia_power at a_ref = 1 m/s2: R (M / k_t)^2 with the torque that accelerates
+    the moving mass and the rotor and screw, M = (m l / (2 pi eta) + J 2 pi / l) a, eta 0.9, from
+    the inputs its text states (C-frame 12.2 W, 3.83 N m; gantry Z 18.1 W, 8.30 N m); the defaults
+    are rounded to whole watts. The Z ram's moving mass is what the machine's parts that move with
+    Z weigh (rho V of their cells), 1.19 t."""
+    from geometries.axes import with_feed_drives
+
+    torque = mass * lead / (2 * np.pi * 0.9) + inertia * 2 * np.pi / lead
+    expect = resistance * (torque / torque_constant) ** 2
+    built = with_feed_drives(build_machine(machine))
+    effect = EFFECTS[f"feed_motor_{axis.lower()}"]
+    default = {**effect.defaults(), **built.effect_defaults.get(effect.name, {})}["inertia_power"]
+    assert default == pytest.approx(expect, abs=0.5)
+    if machine == "gantry-ram":
+        mm = mesh_machine(built, "coarse")                 # each cell of one part: no box counted twice
+        corners = mm.mesh.p[:, mm.mesh.t]
+        volume = np.prod(corners.max(axis=1) - corners.min(axis=1), axis=0)
+        weight = sum(p.material.density * volume[mm.cells_of(p.name)].sum()
+                     for p in built.parts if p.name in built.axis(axis).moving)
+        assert weight == pytest.approx(mass, rel=0.01)
+

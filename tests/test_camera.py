@@ -452,3 +452,20 @@ def test_cframe_surfaces_are_the_readmes_paint_bare_steel_and_tape_band():
     parts += ["spindle"]
     eps = surface_emissivity(m, names, np.array([names.index(p) for p in parts]), np.array(points))
     assert eps.tolist() == [0.24, 0.95, 0.95, 0.24, 0.95, 0.90, 0.24]
+
+
+def test_a_hit_reads_a_linear_field_at_its_hit_point():
+    """A hit reads the field of its cell at the hit point (trilinear shape functions): a linear
+    field T = a + g . x lies in the trilinear space, so each hitting ray's row gives a + g . x_hit
+    to round-off wherever in its cell the ray lands (the cell's mean, 0.125 at each corner, passed
+    every camera test before this one)."""
+    from twin.observe.camera_geometry import temperature_rows, view_machine
+
+    m = _plate()
+    mm = build_mesh(m, 0.25)
+    view = view_machine(mm, m, POSE, SMALL, edge_rays=3)
+    a, g = 20.0, np.array([3.0, -2.0, 5.0])
+    expect = a + view.ray_point[view.hit] @ g
+    assert len(expect) > 100
+    got = temperature_rows(view, mm) @ (a + g @ mm.mesh.p)
+    assert np.max(np.abs(got - expect)) <= 1e-12 * np.max(np.abs(expect))

@@ -174,3 +174,22 @@ def test_path_basis_converges_as_its_spacing_shrinks():
             assert errors[-1] < 1e-12
         else:
             assert max(errors) < 1e-10   # round-off of (Phi(x_b) - Phi(x_a)) / v
+
+
+def test_seed003_at_60_s_steps_reads_the_slope_of_10_s_steps():
+    """The path basis's step averages lose nothing of a stroke shorter than the step: the seed 003
+    Y axis (16 s strokes) run at 60 s steps gives the interferometer's slope change k - k0 of the
+    same run at 10 s steps within 0.1 % at every run (measured 0.03 % on the coarse mesh), and
+    the same drift at the shared instants within 0.1 % of its peak (measured 0.02 %)."""
+    from dataclasses import replace
+
+    from twin.api import simulate
+    from twin.scenario import load_scenario
+
+    sc = load_scenario("seed003-exp1")
+    runs = {dt: simulate("cframe-vmc", replace(sc, sample_interval=dt), resolution="coarse")[0] for dt in (60.0, 10.0)}
+    k60, k10 = (runs[dt].positioning_slope.values for dt in (60.0, 10.0))
+    np.testing.assert_allclose(k60[1:] - k60[0], k10[1:] - k10[0], rtol=1e-3)
+    drift60, drift10 = runs[60.0].drift.values, runs[10.0].drift.values[::6]
+    assert np.max(np.abs(drift60 - drift10)) <= 1e-3 * np.max(np.abs(drift10))
+
