@@ -57,7 +57,8 @@ HIDDEN = {
                                          "record; 80 W reaching the column is a few % of a 2-3 kW cabinet."),
     "ambient_stratification": (ETVE, None, "the gradient's flux acts all day; 0.5 K/m is a typical hall."),
     "door_draft": (ETVE, "25 W/m2K", "a draft acts during a door opening (one 20 min opening at 1 h); 25 "
-                                     "W/(m2 K) is a 3 m/s draft."),
+                                     "W/(m2 K) is a gusty 4 m/s draft on 0.2 m faces, the top of its plausible "
+                                     "range."),
     "solar_load": (ETVE, None, "the sun acts in day hours only: the day-night record; 40 W/m2 at noon."),
     "floor_lag": (ETVE, "50 W/m2K", "the slow foundation acts through the room's daily swing; 50 W/(m2 K) is a "
                                     "grouted bed."),
