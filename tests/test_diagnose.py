@@ -123,6 +123,10 @@ def test_hidden_library_effect_is_explained(hidden_motor):
     assert set(doc["baseline"]["rmse"]) == set(d.channels) and doc["regions"] == []
     assert set(doc["residual_factor"]) == {"temperature", "probe"} and max(doc["residual_factor"].values()) > 3
     assert all(0 <= v["band"] <= 0.1 and abs(v["change"]) <= v["band"] + 1e-12 for v in doc["nuisance"].values())
+    # the expansion reported is the one fitted beside the named cause, not the baseline's (which
+    # the missing motor pushed towards its band's end)
+    assert {m: v["change"] for m, v in d.nuisance.items()} == d.expansion_fit(d.fits[0].response)
+    assert any(abs(d.nuisance[m]["change"] - d.expansion[m]) > 1e-3 for m in d.nuisance)
 
 
 def _heat_solver_cap(twin) -> float:

@@ -49,13 +49,20 @@ def test_gauss_newton_finds_a_bounded_nonlinear_parameter():
     turned backwards there, dy/dp = (y(p - dp) - y(p)) / (-dp)), and with the upper bound at 1.2
     stops at the bound."""
     t = np.linspace(0, 1, 200)
-    ev = lambda p: np.exp(-p[0] * t) - 1
+    seen = []
+
+    def ev(p):
+        seen.append(float(p[0]))
+        return np.exp(-p[0] * t) - 1
+
     r = ev([1.7])
     f = BoundedFitter(r, np.ones_like(r))
     for start in (0.5, 5.0):
+        seen.clear()
         p, g, sse, _ = gauss_newton(f, ev, np.array([start]), np.array([0.0]), np.array([5.0]), np.array([False]),
                                     {}, 8)
         assert p[0] == pytest.approx(1.7, rel=1e-4) and sse < 1e-10, start
+        assert 0.0 <= min(seen) and max(seen) <= 5.0, start    # never evaluated outside its bounds
     p, *_ = gauss_newton(f, ev, np.array([0.5]), np.array([0.0]), np.array([1.2]), np.array([False]), {}, 8)
     assert p[0] == pytest.approx(1.2)
 
@@ -489,3 +496,105 @@ def test_the_diagnosis_names_the_channels_furthest_above_their_groups_noise_wors
     top = worst_channels(ev, np.zeros(4), {"temperature": (0.03, 0.04), "probe": (0.5, None)}, top=2)
     assert [n for n, _ in top] == ["probe:Z", "temperature:a"]
     assert [f for _, f in top] == pytest.approx([8.0, 6.0], rel=1e-12)
+
+
+class _Record:
+    """A record stand-in for validate.verdict.worst_time: times, phases, its clock's start t0."""
+
+    def __init__(self, times, phases, t0, label="m"):
+        self.times, self.phases, self.t0, self.label = times, phases, t0, label
+
+
+class _OneRecord:
+    """Evidence stand-in: one record whose flat vector is (time, channel) row by row."""
+
+    multiple = False
+
+    def __init__(self, rec, channels):
+        self.records, self.channels = [rec], channels
+
+    def split(self, flat):
+        return [np.asarray(flat).reshape(-1, self.channels)]
+
+
+def test_the_worst_time_is_the_phase_with_most_weighted_residual_on_the_logs_clock():
+    """worst_time (the 'mostly during' of an unexplained verdict): sum over a phase's samples of
+    (w r)^2, the weights making kelvin and micrometres comparable. 0.5 K on a temperature (w 10)
+    over the six samples of the first hour: 6 x 5^2 = 150; 2 um on a probe (w 1) over the seven of
+    the second: 7 x 2^2 = 28; so the first hour, printed on the log's clock (t0 = 2 h): 2.0-3.0 h
+    (unweighted, the second hour would hold 28 against 1.5)."""
+    from validate.channels import Phase
+    from validate.verdict import worst_time
+
+    t = np.arange(0.0, 7201.0, 600.0)
+    phases = [Phase("spindle", "spindle on 9000 rpm", 0.0, 3600.0),
+              Phase("spindle", "spindle off", 3600.0, 7200.0, closed=True)]
+    residual = np.column_stack([np.where(t < 3600, 0.5, 0.0), np.where(t >= 3600, 2.0, 0.0)])
+    weights = np.broadcast_to([10.0, 1.0], residual.shape)
+    ev = _OneRecord(_Record(t, phases, 7200.0), 2)
+    assert worst_time(ev, residual.ravel(), weights.ravel()) == "spindle on 9000 rpm (2.0-3.0 h)"
+
+
+def test_a_parameter_at_or_beyond_its_plausible_range_is_fitted_from_its_own_value():
+    """A wrong-parameter candidate moves from the model's value p0 within the plausible range
+    widened to hold p0, [min(lo, p0), max(hi, p0)], starting halfway towards the far end: the
+    front bearing's range 50-450 W (validate.candidates.wrong_parameters); at p0 = 450 W,
+    (lower, upper, zero, reference) = (50, 450, 450, 250), and at 600 W, (50, 600, 600, 325).
+    A start equal to p0 would make the unit response zero (the search divides by it)."""
+    from geometries import build_machine
+    from validate.candidates import wrong_parameters
+
+    machine = build_machine("cframe-vmc")
+    assert EFFECTS["spindle_bearings"].uncertainty("front_power").lower == 50.0
+    for p0, expect in ((450.0, (50.0, 450.0, 450.0, 250.0)), (600.0, (50.0, 600.0, 600.0, 325.0))):
+        spec = model_spec(machine, None, [f"spindle_bearings.front_power={p0} W"])
+        c = next(c for c in wrong_parameters(spec, machine) if c.name == "spindle_bearings.front_power")
+        assert (c.lower, c.upper, c.zero, c.reference) == expect
+
+
+def test_pairs_are_tried_when_the_best_single_leaves_a_residual_above_noise(monkeypatch):
+    """The pair search runs when the best single explains less than the pair threshold, and also
+    when it explains more but leaves some group above WITHIN (3) times its noise and model error:
+    a second cause. Best single at 90 % of the share: a probe factor of 4 after it -> pairs; every
+    factor <= 3 -> none; at 50 % -> pairs whatever it leaves."""
+    import validate.diagnose as D
+    from validate import verdict as V
+
+    class Share:
+        def __init__(self, explained):
+            self.value = explained
+
+        def explained(self, response):
+            return self.value
+
+    class Fitter:
+        def residual_after(self, response):
+            return response
+
+    class Diag:
+        evidence, fitter, levels = None, Fitter(), {}
+
+    best = Fit([], [], np.zeros(3), 0.0)
+    for explained, after, expect in ((0.9, 4.0, True), (0.9, 3.0, False), (0.5, 1.0, True)):
+        monkeypatch.setattr(V, "residual_factors", lambda ev, r, levels, f=after: {"temperature": 1.0, "probe": f})
+        d = Diag()
+        d.share = Share(explained)
+        assert D._wants_pairs(d, best, 0.8) is expect, (explained, after)
+
+
+def test_the_region_map_keeps_each_regions_best_schedule(monkeypatch):
+    """validate.localise.localise fits a generic heat input per region and schedule and keeps, per
+    region, the schedule that explains most: with r = 2 u_spindle_on exactly, the saddle's
+    'spindle_on' column explains all of it at 2 W (least squares, exact), whatever schedule was
+    tried first ('constant', independent noise, explains nearly nothing)."""
+    import validate.localise as L
+
+    rng = np.random.default_rng(0)
+    constant, spindle_on = rng.standard_normal(50), rng.standard_normal(50)
+    labels = [("saddle", "volume", "constant"), ("saddle", "volume", "spindle_on")]
+    monkeypatch.setattr(L, "region_columns", lambda evidence, spec, twin, steps: ([constant, spindle_on], labels))
+    r = 2.0 * spindle_on
+    (entry,) = L.localise(None, BoundedFitter(r, np.ones_like(r)), None, None, twin=object())
+    assert (entry["region"], entry["schedule"]) == ("saddle", "spindle_on")
+    assert entry["power_W"] == pytest.approx(2.0, rel=1e-12) and entry["explained"] == pytest.approx(1.0, abs=1e-12)
+

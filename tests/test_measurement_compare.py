@@ -98,6 +98,57 @@ def test_speed_steps_and_phase_detection_on_synthetic_trace():
     assert abs(turn - 4 * 3600) <= 1800
 
 
+def test_ambient_phases_survive_sensor_noise():
+    """The room's rate is taken from a moving average (validate.channels.detect_phases): the trace
+    above with 0.05 K of Gaussian sensor noise still splits into rising then falling, turning
+    within 30 min of 4 h (the raw difference quotient of noisy samples flips sign every few
+    samples and gave one phase for the whole record)."""
+    t = np.arange(0, 8 * 3600 + 1, 60.0)
+    amb = 20 + np.where(t < 4 * 3600, t / 3600 * 0.5, 2.0 - (t - 4 * 3600) / 3600 * 0.5)
+    amb = amb + np.random.default_rng(0).normal(0.0, 0.05, t.size)
+    ambient = [p for p in detect_phases(t, np.zeros_like(t), amb) if p.kind == "ambient"]
+    assert [p.label for p in ambient] == ["ambient rising", "ambient falling"]
+    assert abs(ambient[1].start - 4 * 3600) <= 1800
+
+
+def test_a_constant_channel_off_by_a_constant_is_not_a_perfect_fit():
+    """NSE = 1 - sum r^2 / sum (m - mean m)^2 is undefined for a constant measured channel: 1 only
+    when nothing is missed (r = 0), NaN when it is off (a flat sensor 0.3 K off has RMSE and
+    max |r| 0.3 K, and no NSE to show)."""
+    off = stats(np.full(3, 20.0), np.full(3, 0.3))
+    assert off.rmse == pytest.approx(0.3, rel=1e-15) and off.max_abs == pytest.approx(0.3, rel=1e-15)
+    assert np.isnan(off.nse)
+    assert stats(np.full(3, 20.0), np.zeros(3)).nse == 1.0
+
+
+def test_phase_cells_rank_worst_first_by_rmse_over_the_channels_spread():
+    """compare's worst phases: each (channel, phase) cell scored RMSE / std(measured channel), so
+    kelvin and micrometres compare; the largest first. temperature a (spread 2 K): 1.0 K in
+    'spindle on' scores 0.5; probe X1 (spread 10 um): 3.0 um scores 0.3, then both 'off' cells
+    0.05 (by raw RMSE the probe's 3.0 um would lead)."""
+    from validate.channels import Phase
+    from validate.compare import ChannelResult, CompareResult, Stats
+
+    def channel(name, unit, spread, on, off):
+        return ChannelResult(name, unit, Stats(on, on, 0.0, 2), spread, [Stats(on, on, 0.0, 1), Stats(off, off, 0.0, 1)])
+
+    phases = [Phase("spindle", "spindle on", 0.0, 60.0), Phase("spindle", "spindle off", 60.0, 120.0, closed=True)]
+    result = CompareResult([channel("temperature:a", "K", 2.0, 1.0, 0.1), channel("probe:X1", "um", 10.0, 3.0, 0.5)],
+                           phases, None)
+    cells = [(c.name, p.label, score) for c, p, _, score in result.phase_ranking()]
+    assert cells[:2] == [("temperature:a", "spindle on", 0.5), ("probe:X1", "spindle on", 0.3)]
+    assert [score for *_, score in cells[2:]] == pytest.approx([0.05, 0.05], rel=1e-15)
+
+
+def test_a_repeated_time_is_refused_with_its_row():
+    """Times must increase strictly: a log line written twice (0, 60, 60, 120 s) would give the
+    phase detection's rates a zero step; refused naming the data row and both times."""
+    from twin.io.measurement import check_times
+
+    with pytest.raises(InputError) as err:
+        check_times(np.array([0.0, 60.0, 60.0, 120.0]), "m.csv", "t")
+    assert err.value.field == "t" and "time is not increasing at data row 3 (60 -> 60 s)" in str(err.value)
+
 def test_compare_with_itself_is_perfect(sim):
     r = compare(sim, sim, model_true=False)
     assert float(np.abs(r.residuals.residual).max()) == 0.0

@@ -321,7 +321,7 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     plain = fitter.residual_after(zero)
     d.residual_factor = V.residual_factors(evidence, plain, d.levels)
     d.share = Share(evidence, fitter, d.residual_factor, plain)
-    if fits and (d.share.explained(fits[0].response) < pair_threshold or _leaves_a_residual(d, fits[0])):
+    if fits and _wants_pairs(d, fits[0], pair_threshold):
         fits += _pairs(search, fits[:pair_pool], d, min_explained, bic_margin, stage)
         fits.sort(key=lambda f: f.sse)
     d.fits = fits
@@ -329,6 +329,13 @@ def diagnose_many(measurements, machine, spec: ModelSpec | None = None, resoluti
     _judge(d, machine, localise_regions, localise_steps, stage)
     d.runs = evidence.runs
     return d
+
+
+def _wants_pairs(d: Diagnosis, best: Fit, pair_threshold: float) -> bool:
+    """Pairs are tried when the best single explains less than ``pair_threshold`` of the
+    significance share, or explains more but leaves a residual above noise and model error
+    (a second cause the first does not cover)."""
+    return d.share.explained(best.response) < pair_threshold or _leaves_a_residual(d, best)
 
 
 def _leaves_a_residual(d: Diagnosis, best: Fit) -> bool:
