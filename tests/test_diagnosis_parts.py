@@ -598,3 +598,47 @@ def test_the_region_map_keeps_each_regions_best_schedule(monkeypatch):
     assert (entry["region"], entry["schedule"]) == ("saddle", "spindle_on")
     assert entry["power_W"] == pytest.approx(2.0, rel=1e-12) and entry["explained"] == pytest.approx(1.0, abs=1e-12)
 
+
+def _closed_form_search(columns, r):
+    """A validate.search.Search whose 'twin' is closed-form: each candidate's response is
+    columns[name](value) (flat), summed over the candidates of a run."""
+    from validate.search import Search
+
+    class ClosedForm(Search):
+        def response(self, cands, values):
+            return sum(columns[c.name](v) for c, v in zip(cands, values))
+
+    return ClosedForm(None, None, None, BoundedFitter(r, np.ones_like(r)))
+
+
+def test_a_nonlinear_single_keeps_the_better_of_its_start_and_its_secant():
+    """Search.single for a nonlinear candidate evaluates the linearised start and the secant
+    through p_0 and that start, and keeps the one with the smaller SSE. With g(p) = sin(p - 1) v,
+    p_0 = 1, truth 2, reference run at 3: the start 2.85 leaves SSE 1.04, the secant 2.62 would
+    leave 1.81 (the sine turns over), so the start is kept."""
+    v = np.random.default_rng(1).standard_normal(100)
+    search = _closed_form_search({"b.h": lambda p: np.sin(p - 1.0) * v}, np.sin(1.0) * v)
+    c = Candidate("b.h", "parameter", "b", "h", 0.0, 5.0, 1.0, 3.0, False, True)
+    start, _ = search.linearised(c)
+    secant, _ = search.along(c, search.response([c], [start]), start)
+    sse_start, sse_secant = (search.fitter.sse(search.response([c], [p])) for p in (start, secant))
+    assert sse_secant > sse_start                      # the case this test is about
+    fit = search.single(c)
+    assert fit.values[0] == start and fit.sse == sse_start
+
+
+def test_a_pair_with_a_refined_nonlinear_member_linearises_it_about_p0():
+    """A pair linearises each member about its own fit with the secant slope from the model's
+    value, s = g(p) / (p - p_0) (validate.search.Search._slope). For r = 3 u + (12 - 10) v with a
+    member whose response is (p - 10) v (flagged nonlinear, p_0 = 10) and a linear source u, the
+    pair after the member's Gauss-Newton single recovers (3, 12) exactly and leaves no residual."""
+    rng = np.random.default_rng(2)
+    u, v = rng.standard_normal(200), rng.standard_normal(200)
+    search = _closed_form_search({"a": lambda p: p * u, "b.h": lambda p: (p - 10.0) * v}, 3.0 * u + 2.0 * v)
+    a = Candidate("a", "effect", "a", "power", 0.0, 10.0, 0.0, 1.0, True, False)
+    b = Candidate("b.h", "parameter", "b", "h", 5.0, 20.0, 10.0, 15.0, False, True)
+    single_b = search.joint((b,), [15.0])
+    assert single_b.values[0] != pytest.approx(12.0, abs=1e-3)    # alone, b also takes part of u
+    pair = search.pair(search.single(a), single_b)
+    assert pair.values == pytest.approx((3.0, 12.0), rel=1e-10) and pair.sse < 1e-20
+
