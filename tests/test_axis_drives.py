@@ -4,6 +4,8 @@ error, each against its closed form."""
 
 from __future__ import annotations
 
+import types
+
 import numpy as np
 import pytest
 
@@ -461,3 +463,73 @@ def test_the_motors_inertia_losses_are_the_copper_losses_of_the_inertia_torque(m
                      for p in built.parts if p.name in built.axis(axis).moving)
         assert weight == pytest.approx(mass, rel=0.01)
 
+
+def test_probe_readings_gain_the_pose_carry_of_a_free_expansion():
+    """u = g (x - x0) (free uniform expansion, g = alpha dT): each probe (target on the test bar,
+    riding Z; fixture the workpiece on the table, riding X and Y) reads
+    g (x_target - x_fixture) . d + g sum_axes (m_target - m_fixture) (p_a - p_ref,a) e_a . d, exactly."""
+    from tests.test_axis_drives import axis_scenario
+    from twin.effects.moving import motion_of
+    from twin.fem.mesh import mesh_machine
+    from twin.motion import machine_for
+    from twin.observe import FiveProbeTestBar
+    from twin.observe.pose import carried_axes
+    sc = axis_scenario()
+    machine = machine_for(build_machine("cframe-vmc"), sc)
+    mm = mesh_machine(machine, "coarse")
+    g, x0 = 24e-6, np.array([0.1, -0.2, 0.3])
+    u = (g * (mm.mesh.p.T - x0)).ravel()
+    obs = FiveProbeTestBar()
+    t = sc.times()
+    f = np.linspace(0.0, 1.0, len(t))
+    q = obs.readings(f[:, None] * (obs.all_functionals(mm) @ u)[None, :],
+                     types.SimpleNamespace(machine=machine, times=t, scenario=sc))
+    parts = {p.name: p.part for p in machine.points}
+    expect = np.zeros_like(q)
+    for i, p in enumerate(machine.probes):
+        d = np.asarray(p.direction, float)
+        expect[:, i] = f * g * float(np.subtract(machine.point(p.target).xyz, machine.point(p.fixture).xyz) @ d)
+        for a in carried_axes(machine):
+            m = float(parts[p.target] in a.moving) - float(parts[p.fixture] in a.moving)
+            e = np.eye(3)["xyz".index(a.direction)]
+            expect[:, i] += f * g * m * (motion_of(sc, a).position(t) - a.p_ref) * float(e @ d)
+    assert np.abs(expect - f[:, None] * (obs.functionals(mm) @ u)).max() > 1e-6     # the carry is microns here
+    np.testing.assert_allclose(q, expect, rtol=0, atol=1e-15)
+
+
+def test_a_standing_axis_puts_no_feed_heat_and_its_motor_holds():
+    """A [[axis]] that only holds (kind = "hold"): mean |v| = 0 on every step, so every
+    feed-proportional load is exactly 0 (not NaN) and feed_motor_x delivers its holding 5 W."""
+    from twin.fem.mesh import mesh_machine
+    from twin.motion import machine_for
+    sc = scenario_from_dict({"sample_interval": "60 s", "ambient": {"temperature": "20 degC"},
+                             "spindle": [{"speed": "0 rpm", "duration": "5 min"}],
+                             "axis": [{"name": "X", "move": [{"kind": "hold", "position": "100 mm",
+                                                              "duration": "5 min"}]}]}, "hold.toml")
+    machine = machine_for(build_machine("cframe-vmc"), sc)
+    mm = mesh_machine(machine, "coarse")
+    t = sc.times()[:-1] + 30.0
+    for name in ("feed_nut_x", "feed_bearings_x", "feed_motor_x", "feed_guideways_x"):
+        for load in EFFECTS[name].loads(mm, sc, EFFECTS[name].defaults()):
+            expect = 5.0 if load.label == "feed_motor_x.hold" else 0.0
+            assert load.power(t).tolist() == [expect] * len(t), load.label
+
+
+def test_support_points_sit_at_a_quarter_and_three_quarters_of_each_carriage():
+    """cframe-vmc's Y carriages span y -0.35..0.25 m on rails whose top is z 0.35 m, at x -0.25 and 0.25:
+    supports at y -0.2 and 0.1 (1/4, 3/4), x the carriage's centre, 1 mm below the common face."""
+    from tests.test_axis_drives import axis_scenario
+    from twin.motion import machine_for
+    from twin.observe.pose import support_points
+    m = machine_for(build_machine("cframe-vmc"), axis_scenario())
+    np.testing.assert_allclose(support_points(m, m.axis("Y")),
+                               [[-0.25, -0.2, 0.349], [-0.25, 0.1, 0.349], [0.25, -0.2, 0.349], [0.25, 0.1, 0.349]],
+                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(support_points(m, m.axis("Z"))[:, 2], [1.2125, 1.4375, 1.2125, 1.4375], atol=1e-12)
+
+
+def test_guideway_carriage_offsets_are_the_readmes():
+    """The carriages sit ahead of and behind the nut by 50 mm on X, 250 mm on Y and 120 mm on Z (README
+    feed-drive table; twin.effects.feed.AXIS_DEFAULTS)."""
+    offs = [EFFECTS[f"feed_guideways_{a}"].defaults()["carriage_offset"] for a in "xyz"]
+    assert offs == [0.05, 0.25, 0.12]

@@ -263,3 +263,40 @@ def test_cli_refuses_a_table_header_it_cannot_trust(tmp_path, capsys, header, fi
     err = capsys.readouterr().err
     assert field.format(csv=tmp_path / "f.csv") in err and "Traceback" not in err, err
     assert not out.exists()
+
+
+def test_a_window_inside_a_later_reaching_one_is_refused(machine):
+    """Windows must not share a time, also where a window lies inside an earlier-starting one that
+    reaches past a later one: [0-1 h], [2-5 h], [3-4 h] is refused naming windows[2] and windows[1]."""
+    from twin.effects.custom import effects_from_dict
+    spec = {"kind": "heat_source", "region": "saddle", "power": "80 W", "schedule": "windows",
+            "windows": [["0 h", "1 h"], ["2 h", "5 h"], ["3 h", "4 h"]]}
+    with pytest.raises(InputError) as err:
+        effects_from_dict({"effects": {"pump": spec}}, "fx.toml", machine)
+    assert err.value.field == "effects.pump.windows[2]"
+    assert '["3 h", "4 h"] overlaps windows[1] ["2 h", "5 h"]' in err.value.message
+
+
+def test_a_tables_largest_factor_bounds_the_strength_wherever_it_lies(machine, tmp_path):
+    """The strength times the schedule's largest factor stays within the plausible limit: 5 kW x 50
+    (the table's peak in its middle row) exceeds 100 kW, refused on the power naming the factor."""
+    from twin.effects.custom import effects_from_dict
+    (tmp_path / "f.csv").write_text("t,factor\n0,0\n5,50\n10,1\n")
+    spec = {"kind": "heat_source", "region": "saddle", "power": "5 kW", "schedule": "table",
+            "table": {"file": "f.csv", "time_unit": "min"}}
+    with pytest.raises(InputError) as err:
+        effects_from_dict({"effects": {"pump": spec}}, "fx.toml", machine, tmp_path)
+    assert err.value.field == "effects.pump.power" and "the table's largest factor 50" in err.value.message
+
+
+def test_a_window_opening_at_the_runs_end_is_refused(machine, mm):
+    """A window that opens at the end of a 10 min run would do nothing: refused naming it."""
+    from twin.effects.custom import effects_from_dict, unregister_custom
+    spec = {"kind": "heat_source", "region": "saddle", "power": "80 W", "schedule": "windows",
+            "windows": [["2 min", "4 min"], ["10 min", "11 min"]]}
+    (e,) = effects_from_dict({"effects": {"pump": spec}}, "fx.toml", machine)
+    sc = Scenario("c", ((600.0, 6000.0),), Ambient("constant", mean=20.0), 60.0)
+    with pytest.raises(InputError) as err:
+        e.loads(mm, sc, e.defaults())
+    assert err.value.field == "effects.pump.windows[1]" and "at or after the end" in err.value.message
+    unregister_custom()

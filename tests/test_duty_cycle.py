@@ -91,3 +91,14 @@ def test_duty_cycle_peaks_lie_within_30_percent_of_the_thesis(duty):
     for site in ("X_nut", "Y_nut", "Z_nut", "X_motor", "Y_motor", "Z_motor"):
         rise = float(t.sel(sensor=site).max() - t.sel(sensor=site)[0])
         assert 1.0 < rise < 10.0, (site, rise)
+
+
+def test_instruments_read_at_the_nearest_output_step_of_their_instant():
+    """4.1 h is 14759.999999999998 s in floating point: at 10 s steps the probing (and an
+    interferometer run) reads step 1476, not 1475."""
+    from twin.observe.probing import DatumProbing, ProbingConfig
+    from twin.observe.instants import baseline_instants
+    times = baseline_instants(["0 h", "4.1 h"], "s.toml", "probing.times", "the datum baseline")
+    assert times[1] < 14760.0
+    obs = DatumProbing(ProbingConfig(times, ((0.1, 0.1, 0.1),)), build_machine("cframe-vmc"))
+    assert obs.sample_steps(np.arange(0.0, 15000.0, 10.0)).tolist() == [0, 1476]

@@ -492,3 +492,18 @@ def test_cframe_rear_is_its_plus_y_skin_and_the_cabinet_face_the_columns_left_si
     assert np.array_equal(np.sort(cabinet), facing(mm, column, "-x"))
     assert np.allclose(facet_centres(mm, cabinet)[:, 0], -0.25)
     assert mm.facet_area(cabinet) == pytest.approx(0.45 * (1.90 - 0.35), rel=1e-12)
+
+
+def test_a_door_draft_does_not_open_before_its_first_opening(mm, heat):
+    """event_window is 0 before the first opening even where start > period: first opening at
+    2 h, every 1 h, for 20 min: h(t) = 15 W/m2K at 2 h, 2 h 10 min, 3 h; 0 at 0, 10 min, 1 h,
+    1 h 10 min and 2 h 20 min (an opening 'at' start - period would be at 1 h and 0 h)."""
+    from twin.effects.room import event_window
+    from twin.model import ModelSpec
+    from twin.physics.loads import build_loads
+    t = np.array([0.0, 600.0, 3600.0, 4200.0, 7200.0, 7800.0, 8400.0, 10800.0])
+    assert event_window(t, 7200.0, 1200.0, 3600.0).tolist() == [0, 0, 0, 0, 1, 1, 0, 1]
+    sc = Scenario("t", ((4 * 3600.0, 0.0),), Ambient("constant", mean=20.0), 600.0)
+    params = {"door_draft": {"start": 7200.0, "duration": 1200.0, "period": 3600.0}}
+    ls = build_loads(mm, sc, ModelSpec(("door_draft",), params), heat)
+    assert ls.signals(t)[0][:, 0].tolist() == [0.0, 0.0, 0.0, 0.0, 15.0, 15.0, 0.0, 15.0]

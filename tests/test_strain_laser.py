@@ -163,3 +163,15 @@ def test_laser_tilt_pair_reads_a_small_rotation_about_x(gantry):
     data, _ = LaserTriangulation().data(raw, ctx)
     assert data["laser_tilt"][1][1] == pytest.approx(theta * 1e6, rel=1e-10)
     assert data["laser_tilt_true"][1][1] == pytest.approx(theta * 1e6, rel=1e-10)
+
+
+def test_each_gauge_is_compensated_by_its_nearest_glued_sensor():
+    """gantry-ram: FBG-1, -2 on the ram by T1, FBG-3 by T3 (its own site), FBG-4..7 on the beam by
+    T2, T4, T5, T6; no sensor site lies closer to a gauge than the one chosen."""
+    from twin.observe.strain import nearest_sensor
+    m = build_machine("gantry-ram")
+    chosen = [nearest_sensor(m, g.xyz) for g in m.strain_gauges]
+    assert chosen == ["T1", "T1", "T3", "T2", "T4", "T5", "T6"]
+    for g, n in zip(m.strain_gauges, chosen):
+        d = {s: np.linalg.norm(np.subtract(m.point(s).xyz, g.xyz)) for s in m.sensor_sites}
+        assert d[n] == min(d.values())

@@ -9,6 +9,7 @@ import pytest
 
 from geometries.materials import MATERIALS
 from twin.api import simulate
+from twin.effects import EFFECTS
 from twin.errors import InputError
 from twin.fem.regions import facet_centres, role_facets
 from twin.model import ModelSpec
@@ -284,3 +285,16 @@ def test_etve_protocol_transfers_an_exactly_linear_drift():
         assert s["max_abs_residual"] < 1e-9 and s["r"] == pytest.approx(1.0)
     text = table({("B", "Z"): scores})
     assert "needed re-optimisation" in text and text.count("\n") == 3
+
+
+def test_stratified_swing_acts_on_a_constant_room_only_with_an_air_event_that_is_no_door():
+    """acts: a constant room with a holiday (door = false) swings, so the swing acts; with only a
+    door event (left out of the layered swing) it does not."""
+    from twin.ambient import AirEvent
+    swing = EFFECTS["stratified_swing"]
+    holiday = AirEvent(start=600.0, change=-2.0, fall=600.0, hold=600.0, recovery=600.0)
+    door = AirEvent(start=600.0, change=-4.0, fall=60.0, hold=300.0, recovery=600.0, door=True)
+    def sc(*events):
+        return Scenario("t", ((3600.0, 0.0),), Ambient("constant", mean=20.0, events=events), 60.0)
+    assert swing.acts(sc(holiday)) and not swing.acts(sc(door)) and swing.acts(sc(door, holiday))
+    assert not swing.acts(sc())
