@@ -199,3 +199,43 @@ def test_a_cached_factorisation_serves_only_its_own_step_and_theta():
     for dt, theta in ((20.0, 0.5), (20.0, 1.0), (10.0, 1.0)):
         np.testing.assert_allclose(run(dt, theta, cache), run(dt, theta, {}), rtol=1e-12, atol=0)
     assert len(cache) == 3
+
+
+@pytest.mark.parametrize("theta", [0.5, 1.0])
+def test_a_spindle_step_delivers_its_power_times_its_duration_at_any_theta(theta):
+    """A spindle step holds its speed on [start, end); the theta scheme reads a step's loads at
+    t_n + theta dt (twin.signals.load_instants, at theta = 1 just inside the step), so the sources
+    deliver sum P_step x duration exactly: the C-frame's bearings and motor, 150 + 130 + 60 = 340 W at
+    9000 rpm for 600 s, then nothing, 204 000 J (1e-12). At theta = 1, t_(n+1) itself read the next
+    step's 0 rpm: one 10 s step of 340 W went missing (200 600 J)."""
+    from twin.api import simulate
+    from twin.scenario import Ambient, Scenario
+
+    sc = Scenario("step", ((600.0, 9000.0), (600.0, 0.0)), Ambient("constant", mean=20.0), 10.0)
+    _, run = simulate("cframe-vmc", sc, resolution="coarse", theta=theta)
+    source, convection, stored = run.step_energy()
+    assert source == pytest.approx(340.0 * 600.0, rel=1e-12)
+    assert source + convection == pytest.approx(stored, rel=1e-9)
+
+
+def test_the_load_instants_lie_inside_each_step():
+    """load_instants: t_n + theta dt, at theta = 1 the left limit t_(n+1) - 1e-9 dt: a spindle step
+    on [0, 600) read at those instants gives its own speed in each of its steps, the next step's
+    in the next; the feed drives' step_signal (value n on (n dt, (n+1) dt]) gives value n."""
+    from twin.motion import step_signal
+    from twin.scenario import Ambient, Scenario
+    from twin.signals import load_instants
+
+    times = np.arange(0.0, 1201.0, 60.0)
+    sc = Scenario("step", ((600.0, 9000.0), (600.0, 0.0)), Ambient("constant", mean=20.0), 60.0)
+    for theta in (0.5, 0.75, 1.0):
+        t = load_instants(times, theta)
+        assert np.all((t > times[:-1]) & (t < times[1:]))
+        np.testing.assert_array_equal(sc.spindle_speed(t), [9000.0] * 10 + [0.0] * 10)
+        np.testing.assert_array_equal(step_signal(np.arange(20.0), 60.0)(t), np.arange(20.0))
+    # the schedule itself: a step's speed from its start, the next one's from its end
+    np.testing.assert_array_equal(sc.spindle_speed(np.array([0.0, 595.0, 600.0, 605.0, 1200.0])),
+                                  [9000.0, 9000.0, 0.0, 0.0, 0.0])
+    np.testing.assert_array_equal(step_signal([1.0, 2.0, 3.0], 10.0)(np.array([5.0, 10.0, 15.0, 20.0, 25.0, 30.0])),
+                                  [1.0, 1.0, 2.0, 2.0, 3.0, 3.0])
+

@@ -21,3 +21,19 @@ def lag_series(x: np.ndarray, step: float, tau: float) -> np.ndarray:
     for i in range(1, len(x)):
         y[i] = a * y[i - 1] + (1.0 - a) * x[i - 1] + b * (x[i] - x[i - 1])
     return y
+
+
+INSIDE = 1e-9   # [-] of a step: the left limit at its end (a step's inputs hold on [t_n, t_(n+1)))
+
+
+def load_instants(times: np.ndarray, theta: float) -> np.ndarray:
+    """The instants [s] at which step n -> n+1 of the uniform grid ``times`` reads its loads,
+    t_n + theta dt, no later than t_(n+1) - INSIDE dt: the theta-scheme's f(t_n + theta dt) for a
+    piecewise-constant input (a spindle step on [start, end), a feed drive's step average) is then
+    the value the input holds during the step, also at theta = 1, where t_(n+1) itself is the next
+    step's start. The moved instant changes a smooth input by its slope times 1e-9 dt."""
+    times = np.asarray(times, float)
+    if len(times) < 2:
+        return times[:0]
+    dt = times[1] - times[0]
+    return times[:-1] + min(theta, 1.0 - INSIDE) * dt

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from twin.observe.base import Observer, variable
+from twin.signals import load_instants
 
 
 class HeatBalance(Observer):
@@ -46,7 +47,7 @@ class HeatBalance(Observer):
         if len(t) < 2:
             return 0.0, 0.0, 0.0
         dt = t[1] - t[0]
-        h, air, s = ctx.loads.signals(t[:-1] + theta * dt)
+        h, air, s = ctx.loads.signals(load_instants(t, theta))
         integral = raw[:, 1:]
         mid = theta * integral[1:] + (1 - theta) * integral[:-1]
         return (float(dt * s.sum()), float(dt * np.sum(h * (air * ctx.loads.areas - mid))),

@@ -24,6 +24,7 @@ from twin import limits
 from twin.errors import InputError
 from twin.observe.base import error_units
 from twin.physics.heat import integrate
+from twin.signals import load_instants
 from twin.physics.loads import LoadSet, collect_loads, pattern_key
 from twin.physics.solvers import mass_weights, output_bounds
 
@@ -57,7 +58,7 @@ def run_batch(twin, cases, observers, theta: float = 0.5, progress=None, bound: 
     loads = twin.loads(sc0, spec0)
     dt = sc0.sample_interval
     nsteps = len(times) - 1
-    tm = times[:-1] + theta * dt
+    tm = load_instants(times, theta)
     sig = [case_signals(twin, loads, sc, spec, tm) for sc, spec in cases]
     h = np.stack([g[0] for g in sig], axis=2)
     air = np.stack([g[1] for g in sig], axis=2)

@@ -36,6 +36,7 @@ from twin.fem.nesting import coarsen
 from twin.observe.base import Observer, error_units
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
+from twin.signals import load_instants
 from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
 from twin.physics.options import as_options
 from twin.physics.part_materials import part_materials
@@ -191,7 +192,7 @@ class PreparedTwin:
         check_observers(observers, [scenario], self.machine)
         loads = self.loads(scenario, spec)
         times = scenario.times()
-        h, _, _ = loads.signals(times[:-1] + theta * scenario.sample_interval)
+        h, _, _ = loads.signals(load_instants(times, theta))
         self._prepare(loads, observers, {o.key: o.sample_steps(times) for o in observers}, h, len(times) - 1)
         return dict(self.prepare_s)
 
@@ -289,7 +290,7 @@ class PreparedTwin:
         outputs, bounds = self.output_rows(observers, loads)
         times = scenario.times() if times is None else np.asarray(times, float)
         dt = float(times[1] - times[0])
-        mid = times[:-1] + theta * dt
+        mid = load_instants(times, theta)
         h, _, _ = loads.signals(mid)
         patterns = np.column_stack([source_pattern(loads.mm, s) for s in sources])
         signals = np.column_stack([s.power(mid) for s in sources])
@@ -332,7 +333,7 @@ class PreparedTwin:
         steps = {o.key: o.sample_steps(times) for o in observers}
         dense = [o for o in observers if steps[o.key] is None]
         dt = scenario.sample_interval
-        h, air, s = loads.signals(times[:-1] + theta * dt)
+        h, air, s = loads.signals(load_instants(times, theta))
         (outputs, bounds), sampled_rows = self._prepare(loads, observers, steps, h, nsteps)
         sampled = [_Sampled(o, rows, steps[o.key]) for o, rows in sampled_rows]
         T0 = np.full(loads.mm.nheat, scenario.start_temperature)

@@ -42,6 +42,7 @@ from twin.cli.options import positive_quantity
 from twin.physics.lu import SymmetricLU
 from twin.physics.parallel import RowBlocks
 from twin.physics.steppers import IterativeStepper
+from twin.signals import load_instants
 from validate.studies.common import (check_output_folder, cli_parser, markdown_table, run_cli,
                                      whole_numbers, write_csv)
 
@@ -138,7 +139,7 @@ def rows_for(spacing: float | None, steps: int, heat_tol: float, coarsenings: li
     sensors = TemperatureSensors(sensor_points(machine))
     outputs, _ = twin.output_rows([sensors], loads)
     dt, theta, total = scenario.sample_interval, 0.5, len(scenario.times()) - 1
-    h, air, s = loads.signals(scenario.times()[:-1] + theta * dt)
+    h, air, s = loads.signals(load_instants(scenario.times(), theta))
     weights = mass_weights(loads.system.M)
     rows, first = [], None
     # the steppers spread their tolerance over the steps they run: scaled so that each step gets
