@@ -175,10 +175,13 @@ BAD_ARGUMENTS = [
     ("sensor-name-padded", {"sensors": [Point(" a", MOTOR, "motor")]}, "sensors[0]"),
     ("sensor-name-number", {"sensors": [Point(1, MOTOR, "motor")]}, "sensors[0]"),
     ("sensors-a-text", {"sensors": "motor"}, "sensors"),
+    ("sensor-air-far-above", {"sensors": [Point("s1", (0.0, 0.0, 12.5), "air")]}, "sensors[0] s1"),   # 10 m above the top
     ("cameras-a-text", {"cameras": "carrier-front"}, "cameras"),     # read letter by letter before
     ("camera-unknown-pose", {"cameras": ["nosuch"]}, "camera.pose"),   # found after the mesh before
     ("camera-inside-a-part", {"cameras": [CameraConfig(position=MOTOR, target=(0.0, -2.0, 1.0))]}, "camera.position"),
     ("theta-0", {"theta": 0.0}, "theta"),
+    ("theta-0.25", {"theta": 0.25}, "theta"),     # below 1/2 the scheme is not stable (the ROM gave 1e19 um)
+    ("theta-0.49", {"theta": 0.49}, "theta"),
     ("theta-2", {"theta": 2.0}, "theta"),
     ("theta-nan", {"theta": float("nan")}, "theta"),
     ("theta-text", {"theta": "0.5"}, "theta"),

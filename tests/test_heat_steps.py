@@ -192,3 +192,12 @@ def test_each_step_stops_within_its_share_of_the_run_tolerance(heat_tol):
               on_step=lambda k, T: rho.append(float(stepper.rho_sum) - sum(rho)))
     assert len(rho) == 2 and max(rho) > 0.3 * share
     assert all(r <= share * (1 + 1e-12) for r in rho), np.array(rho) / share
+
+
+def test_an_outputs_bound_is_its_rows_weighted_norm_times_the_residual_sum():
+    """output_bounds: (w^T W w)^(1/2) sum_n rho_n per output row w, W the diagonal weights: rows
+    (1, 1, 0) and (0.5, 0, 0) with W = (9, 16, 1) and sum rho = 2 give sqrt(9 + 16) x 2 = 10 and
+    sqrt(0.25 x 9) x 2 = 3 (a sum of |w| sqrt(W) would give 14 for the first)."""
+    bound = output_bounds(np.array([[1.0, 1.0, 0.0], [0.5, 0.0, 0.0]]), np.array([9.0, 16.0, 1.0]), 2.0)
+    np.testing.assert_allclose(bound, [10.0, 3.0], rtol=1e-15)
+

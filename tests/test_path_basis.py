@@ -193,3 +193,11 @@ def test_seed003_at_60_s_steps_reads_the_slope_of_10_s_steps():
     drift60, drift10 = runs[60.0].drift.values, runs[10.0].drift.values[::6]
     assert np.max(np.abs(drift60 - drift10)) <= 1e-3 * np.max(np.abs(drift10))
 
+
+def test_path_nodes_are_no_further_apart_than_the_spacing():
+    """path_nodes(lo, hi, h): n = ceil((hi - lo) / h) equal intervals: 0.25 m at 0.1 m is 3
+    intervals of 0.0833 m (4 nodes), never 2 of 0.125 m; an exact multiple keeps its count."""
+    nodes = path_nodes(0.0, 0.25, 0.1)
+    assert len(nodes) == 4 and np.max(np.diff(nodes)) == pytest.approx(0.25 / 3, rel=1e-12)
+    assert len(path_nodes(0.0, 0.3, 0.1)) == 4
+
