@@ -167,3 +167,21 @@ def test_amg_solves_each_column_of_a_block_to_its_own_relative_residual():
         assert np.linalg.norm(amg.matrices.K @ u[:, j] - f) <= 1e-8 * np.linalg.norm(f) * (1 + 1e-9), j
         ref = direct.solve(direct.matrices.C @ ([np.full(mm.nnodes, 10.0), 1e-6 * x / 0.25][j]))
         assert np.abs(u[:, j] - ref).max() <= 1e-5 * np.abs(ref).max(), j
+
+
+def test_each_materials_expansion_and_band_are_the_span_its_source_states():
+    """Every material's alpha lies in the span of alpha its band's source states ("span about
+    a-b e-6 /K"), and its band (the diagnosis's plausible relative spread) is that span's half width
+    over alpha, rounded to within 0.02: grey iron 9.5-11.5 on 10.5 (0.095 -> 0.10), steel
+    10.6-12.4 on 11.5 (0.078 -> 0.08), granite 5.5-8.5 on 7.0 (0.214 -> 0.20), polymer concrete
+    12-16 on 14 (0.143 -> 0.15), aluminium 22-24 on 23 (0.043 -> 0.05);
+    including the materials no bundled machine uses, which nothing else pins."""
+    import re
+
+    from geometries.materials import MATERIALS
+
+    for m in MATERIALS.values():
+        lo, hi = (float(v) * 1e-6 for v in re.search(r"span about ([\d.]+)-([\d.]+)e-6", m.expansion_band_source).groups())
+        assert lo < m.expansion < hi, m.name
+        assert m.expansion_band == pytest.approx(0.5 * (hi - lo) / m.expansion, abs=0.02), m.name
+

@@ -99,6 +99,9 @@ def test_a_motion_built_in_python_moves_as_a_planned_one():
                 Motion("Y", [0.0, 1.0], [100.0], [0.1], [0.0], [0.0], 0.1),   # ragged pieces
                 Motion("Y", [0.0], [100.0], [np.nan], [0.0], [0.0], 0.1)):
         refused("axis[0]", check_pieces, bad, "s", "axis[0]")
+    # a half-millimetre jump between pieces (0.1 -> 0.2 m, then on from 0.2005 m) is a jump too
+    step = Motion("Y", [0.0, 100.0], [50.0, 50.0], [0.1, 0.2005], [0.002, -0.002], [0.0, 0.0], 0.1005)
+    assert "jumps by 0.5 mm after piece 0" in str(refused("axis[0]", check_pieces, step, "s", "axis[0]"))
 
 
 def test_a_c_axis_schedule_built_in_python_has_a_duty_from_0_to_1():
