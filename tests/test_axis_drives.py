@@ -457,9 +457,7 @@ def test_the_motors_inertia_losses_are_the_copper_losses_of_the_inertia_torque(m
     assert default == pytest.approx(expect, abs=0.5)
     if machine == "gantry-ram":
         mm = mesh_machine(built, "coarse")                 # each cell of one part: no box counted twice
-        corners = mm.mesh.p[:, mm.mesh.t]
-        volume = np.prod(corners.max(axis=1) - corners.min(axis=1), axis=0)
-        weight = sum(p.material.density * volume[mm.cells_of(p.name)].sum()
+        weight = sum(p.material.density * mm.volume_of(mm.cells_of(p.name))
                      for p in built.parts if p.name in built.axis(axis).moving)
         assert weight == pytest.approx(mass, rel=0.01)
 

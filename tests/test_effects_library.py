@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from geometries import build_machine
+from tests.films import AIR_20C, ROOM_K, SIGMA, becker_film, plate_film
 from twin.api import simulate
 from twin.effects import EFFECTS
 from twin.fem.regions import facet_centres, facing
@@ -311,6 +312,7 @@ def test_a_films_heat_power_is_newtons_law_on_the_uniform_start(h, dT):
     q0 = float(ds.heat_power.sel(effect="door_draft").values[0])
     assert q0 == pytest.approx(h * front * dT, rel=1e-12)
 
+
 def test_forced_convection_is_beckers_law_for_the_rotating_bar():
     """Becker's rotating cylinder in still air, Nu = 0.133 Re^(2/3) Pr^(1/3) with Re = omega D^2 / nu:
     h = h_ref (n/n_ref)^(2/3) exactly at half the reference speed (0.5^(2/3) h_ref), 0 at rest, and
@@ -321,9 +323,7 @@ def test_forced_convection_is_beckers_law_for_the_rotating_bar():
     sc = Scenario("half", ((600.0, 4500.0), (600.0, 0.0)), Ambient("constant", mean=20.0), 60.0)
     h = speed_power_law(sc, p["reference_speed"], p["exponent"], p["h_reference"])(np.array([300.0, 900.0]))
     assert h[0] == pytest.approx(p["h_reference"] * 0.5 ** (2.0 / 3.0), rel=1e-14) and h[1] == 0.0
-    omega, diameter, nu, k, prandtl = p["reference_speed"] * 2 * np.pi / 60, 0.04, 1.51e-5, 0.0257, 0.71
-    becker = 0.133 * (omega * diameter ** 2 / nu) ** (2 / 3) * prandtl ** (1 / 3) * k / diameter
-    assert p["reference_speed"] == 9000.0 and p["h_reference"] == pytest.approx(becker, rel=0.10)
+    assert p["reference_speed"] == 9000.0 and p["h_reference"] == pytest.approx(becker_film(9000.0, 0.04), rel=0.10)
 
 
 def test_the_skins_film_is_free_convection_plus_linearised_radiation():
@@ -333,29 +333,19 @@ def test_the_skins_film_is_free_convection_plus_linearised_radiation():
     (Ra < 1e7) or 0.15 Ra^(1/3), with Ra = g beta dT L^3 / (nu a), for faces of 0.5-2 m and 1-5 K
     above the air (1.5-3.1 W/(m2 K)); radiation linearised to the room, h_rad = 4 eps sigma T^3 =
     5.14 W/(m2 K) at eps 0.9 (paint) and 293.15 K. Its declared plausible range holds the default."""
-    g, temperature, nu, k, prandtl, sigma = 9.81, 293.15, 1.51e-5, 0.0257, 0.71, 5.670374419e-8
+    g, nu, k, prandtl = 9.81, AIR_20C["nu"], AIR_20C["k"], AIR_20C["prandtl"]
     free = []
     for length in (0.5, 1.0, 2.0):
         for excess in (1.0, 2.0, 5.0):
-            rayleigh = g * excess / temperature * length ** 3 / (nu * nu / prandtl)
+            rayleigh = g * excess / ROOM_K * length ** 3 / (nu * nu / prandtl)
             vertical = (0.825 + 0.387 * rayleigh ** (1 / 6) / (1 + (0.492 / prandtl) ** (9 / 16)) ** (8 / 27)) ** 2
             upward = 0.54 * rayleigh ** 0.25 if rayleigh < 1e7 else 0.15 * rayleigh ** (1 / 3)
             free += [vertical * k / length, upward * k / length]
-    radiation = 4 * 0.9 * sigma * temperature ** 3
+    radiation = 4 * 0.9 * SIGMA * ROOM_K ** 3
     assert radiation == pytest.approx(5.14, abs=0.005)
     assert min(free) + radiation <= H_AIR <= max(free) + radiation
     band = EFFECTS["ambient_convection"].uncertainty("h")
     assert band.lower < H_AIR < band.upper
-
-AIR_20C = {"nu": 1.51e-5, "k": 0.0257, "prandtl": 0.71}   # air at 20 degC: m2/s, W/(m K), -
-
-
-def plate_film(speed, length, turbulent):
-    """Flat-plate forced convection [W/(m2 K)], Re = v L / nu: laminar Nu = 0.664 Re^0.5 Pr^(1/3),
-    turbulent (tripped) Nu = 0.037 Re^0.8 Pr^(1/3)."""
-    re = speed * length / AIR_20C["nu"]
-    nusselt = (0.037 * re ** 0.8 if turbulent else 0.664 * re ** 0.5) * AIR_20C["prandtl"] ** (1 / 3)
-    return nusselt * AIR_20C["k"] / length
 
 
 def test_the_door_drafts_film_is_flat_plate_forced_convection():
@@ -382,14 +372,11 @@ def test_the_screw_gaps_conductance_is_gas_conduction_radiation_and_the_turning_
     at 700 rpm. The default 10 lies between the stirred gap at 120 rpm and the still gap's top;
     the range's lower end 3 within the still gaps of 10-20 mm, its upper end 30 the screw at
     about 700 rpm."""
-    sigma, temperature = 5.670374419e-8, 293.15
-
     def still(gap, e1, e2):
-        return AIR_20C["k"] / gap + 4 * sigma / (1 / e1 + 1 / e2 - 1) * temperature ** 3
+        return AIR_20C["k"] / gap + 4 * SIGMA / (1 / e1 + 1 / e2 - 1) * ROOM_K ** 3
 
-    def turning(rpm, diameter=0.04):
-        re = rpm * 2 * np.pi / 60 * diameter ** 2 / AIR_20C["nu"]
-        return 0.133 * re ** (2 / 3) * AIR_20C["prandtl"] ** (1 / 3) * AIR_20C["k"] / diameter
+    def turning(rpm):
+        return becker_film(rpm, 0.04)
 
     effect = EFFECTS["feed_screw_gap_y"]
     h, band = effect.defaults()["conductance"], effect.uncertainty("conductance")
@@ -399,6 +386,7 @@ def test_the_screw_gaps_conductance_is_gas_conduction_radiation_and_the_turning_
     assert turning(120.0) < h < still(0.005, 1.0, 1.0)
     assert still(0.020, 0.24, 0.9) < band.lower < still(0.010, 0.24, 0.9)
     assert band.upper == pytest.approx(turning(700.0), rel=0.01)
+
 
 def test_offsets_and_speed_laws_reach_the_loads(mm, heat):
     """What an energy balance cannot see (it closes on the loads' own signals): the air each

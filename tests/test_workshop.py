@@ -200,7 +200,8 @@ def test_door_stream_coefficient_and_bar_time_constant_from_their_closed_forms()
     over area d/4), is about 20 min."""
     from geometries import build_machine
     from twin.effects.base import EFFECTS
-    k, nu, pr = 0.0257, 1.51e-5, 0.71
+    from tests.films import AIR_20C, plate_film
+    k, nu, pr = AIR_20C["k"], AIR_20C["nu"], AIR_20C["prandtl"]
     bar = next(p for p in build_machine("cframe-vmc").parts if p.name == "test_bar")
     d = bar.boxes[0].hi[0] - bar.boxes[0].lo[0]
 
@@ -213,7 +214,7 @@ def test_door_stream_coefficient_and_bar_time_constant_from_their_closed_forms()
     h_d = next(p.default for p in EFFECTS["door_stream"].parameters if p.name == "h")
     assert d == pytest.approx(0.04) and hilpert(2.0) == pytest.approx(h_d, rel=0.05)
     assert 15 < hilpert(1.0) < hilpert(3.0) < 30
-    plate = [0.664 * (v * 0.4 / nu) ** 0.5 * pr ** (1 / 3) * k / 0.4 for v in (1.0, 3.0)]
+    plate = [plate_film(v, 0.4, turbulent=False) for v in (1.0, 3.0)]
     assert 5.5 < plate[0] < plate[1] < 11
     tau = bar.material.density * bar.material.specific_heat * d / (4 * (h_d + 8.0))
     assert 15 * 60 < tau < 25 * 60
