@@ -24,9 +24,9 @@ from twin import limits
 from twin.errors import InputError
 from twin.observe.base import error_units
 from twin.physics.heat import integrate
-from twin.signals import load_instants
 from twin.physics.loads import LoadSet, collect_loads, pattern_key
 from twin.physics.solvers import mass_weights, output_bounds
+from twin.signals import load_instants
 
 
 def case_signals(twin, base: LoadSet, scenario, spec, t: np.ndarray):

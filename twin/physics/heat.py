@@ -7,9 +7,10 @@ Step n -> n+1 (length dt), with A_n = K + sum_k h_k(t_n+theta) H_k and f_n = f(t
     (M + theta dt A_n) T^(n+1) = (M - (1 - theta) dt A_n) T^n + dt f_n
 
 theta = 1/2 is Crank-Nicolson (second order), theta = 1 implicit Euler (first order). Loads are
-evaluated at t_n + theta dt (:func:`twin.signals.load_instants`; at theta = 1 just inside the step, since an
-input step holds its value on [start, end) and t_(n+1) would read the next one), which is exact for
-piecewise-constant inputs whose changes fall on the grid. Because 1^T K = 0 and 1^T H_k T = int T dA, the scheme conserves energy exactly:
+evaluated at t_n + theta dt (:func:`twin.signals.load_instants`; at theta = 1 just inside the
+step, since an input step holds its value on [start, end) and t_(n+1) would read the next one),
+which is exact for piecewise-constant inputs whose changes fall on the grid. Because 1^T K = 0
+and 1^T H_k T = int T dA, the scheme conserves energy exactly:
 1^T M (T^(n+1) - T^n) = dt (sum_j s_j 1^T b_j + sum_k h_k (T_air,k A_k - r_k^T T^(n+theta))).
 
 Piecewise-constant spindle schedules give few distinct h vectors, so few factorisations; each

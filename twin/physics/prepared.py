@@ -36,7 +36,6 @@ from twin.fem.nesting import coarsen
 from twin.observe.base import Observer, error_units
 from twin.physics.elastic import ElasticSolver
 from twin.physics.heat import integrate, integrate_responses
-from twin.signals import load_instants
 from twin.physics.loads import LoadSet, build_loads, layout_key, source_pattern
 from twin.physics.options import as_options
 from twin.physics.part_materials import part_materials
@@ -44,6 +43,7 @@ from twin.physics.solvers import mass_weights, output_bounds
 
 from twin.physics.prepared_args import SOURCE, check_resolution, mesh_label
 from twin.physics.steppers import DirectStepper, IterativeStepper, ReducedStart
+from twin.signals import load_instants
 
 
 def check_prepared(prepared, machine, source: str, field: str = "prepared") -> None:
