@@ -30,9 +30,11 @@ dE/db_l = sum delta_l. phi' = 1 - h^2 (tanh) or h (1 - h) (sigmoid).
 Optional structure search (seed 002 abstract, L19/L63, says PSO also picks the hidden sizes; its
 method section fixes h = 8 from the range [3, 13]): ``hidden_search=(lo, hi)`` appends one
 continuous coordinate per hidden layer to each particle, decoded as ``floor`` into ``lo..hi``, with
-the weights held at the largest size and cropped; the fitness is then the MSE on the last
-``validation_fraction`` of the training rows (chronological hold-out), since the training MSE
-always favours the largest network.
+the weights held at the largest size and cropped. The training MSE always favours the largest
+network, so the rows are split in time: the swarm fits the weights on the first rows (its fitness
+the MSE there), every size the swarm visits keeps its best particle, and the size whose best
+particle has the least MSE on the last ``validation_fraction`` of the rows (chronological hold-out,
+never seen by the swarm) is chosen; back-propagation then trains that network on all rows.
 """
 
 from __future__ import annotations
@@ -240,7 +242,11 @@ class PSOBPNN(RegressorMixin, BaseEstimator):
     random_state : int or None
 
     Attributes: ``hidden_layer_sizes_``, ``coefs_``/``intercepts_`` (trained weights per layer),
-    ``pso_fun_`` (swarm's best fitness), ``loss_curve_`` (BP training MSE per epoch, scaled units).
+    ``pso_fun_`` (the swarm's fitness of the particle back-propagation starts from: the scaled
+    training MSE; with ``hidden_search``, on the rows before the hold-out), ``loss_curve_`` (BP
+    training MSE per epoch, scaled units); with ``hidden_search`` also ``hidden_scores_`` (each
+    visited size's best particle's scaled MSE on the hold-out tail) and ``validation_mse_`` (the
+    chosen size's).
     """
 
     def __init__(self, hidden_layer_sizes=(8, 8), activation="tanh", learning_rate=0.1, epochs=300,
@@ -315,24 +321,40 @@ class PSOBPNN(RegressorMixin, BaseEstimator):
             max_hidden = (hi,) * n_layers
             lower_h, upper_h = np.full(n_layers, float(lo)), np.full(n_layers, hi + 1.0 - 1e-9)
             n_val = max(1, int(round(self.validation_fraction * len(y))))
-            X_fit, t_fit = Xs[-n_val:], ts[-n_val:]
+            if n_val >= len(y):
+                raise InputError(model_name(self), "validation_fraction",
+                                 f"leaves no rows before the hold-out of {n_val} of {len(y)} rows")
+            X_fit, t_fit = Xs[:-n_val], ts[:-n_val]
         n_w = _n_weights(_layer_shapes(n_in, max_hidden))
         lower = np.concatenate([lower_h, np.full(n_w, -float(self.weight_bound))])
         upper = np.concatenate([upper_h, np.full(n_w, float(self.weight_bound))])
+        best_of_size: dict[tuple, tuple[float, np.ndarray]] = {}
 
         def fitness(vec):
-            return _mse(self._decode(vec, n_in, max_hidden)[1], X_fit, t_fit, self.activation)
+            hidden, params = self._decode(vec, n_in, max_hidden)
+            value = _mse(params, X_fit, t_fit, self.activation)
+            if np.isfinite(value) and (hidden not in best_of_size or value < best_of_size[hidden][0]):
+                best_of_size[hidden] = (value, vec.copy())
+            return value
 
         res = pso_minimize(fitness, lower, upper, n_particles=self.n_particles,
                            n_iterations=self.n_iterations, variant=self.pso_variant,
                            random_state=self.random_state)
-        hidden, params = self._decode(res.x, n_in, max_hidden)
+        start, start_fun = res.x, float(res.fun)
+        if self.hidden_search is not None and best_of_size:
+            held = {h: _mse(self._decode(v, n_in, max_hidden)[1], Xs[-n_val:], ts[-n_val:], self.activation)
+                    for h, (_, v) in sorted(best_of_size.items())}
+            chosen = min(held, key=lambda h: (np.nan_to_num(held[h], nan=np.inf), sum(h)))   # ties: the smaller
+            start_fun, start = best_of_size[chosen]
+            self.hidden_scores_ = {h: float(v) for h, v in held.items()}
+            self.validation_mse_ = float(held[chosen])
+        hidden, params = self._decode(start, n_in, max_hidden)
         params, curve = _backprop(params, Xs, ts, self.activation, self.learning_rate, self.epochs,
                                   self.goal, self.momentum)
         self.hidden_layer_sizes_ = hidden
         self.coefs_ = [W for W, _ in params]
         self.intercepts_ = [b for _, b in params]
-        self.pso_fun_ = float(res.fun)
+        self.pso_fun_ = float(start_fun)
         self.loss_curve_ = curve
         return self
 

@@ -147,3 +147,23 @@ def test_fcm_rule_widths_are_membership_weighted_spreads():
         spread = np.sqrt(((Z[:, j, None] - c) ** 2 * um).sum(axis=0) / um.sum(axis=0))
         np.testing.assert_allclose(m.mf_centers_[j], c, rtol=0, atol=1e-12)
         np.testing.assert_allclose(m.mf_sigmas_[j], np.maximum(spread, 0.05), rtol=1e-12)
+
+
+def test_anfis_trains_on_the_rows_outside_the_checking_blocks():
+    """The checking split: loss_curve_ is the RMSE on the training rows and checking_curve_ on the
+    checking rows (_checking_rows: blocks of 21 rows, 20 %); at best_epoch_, the kept model's, so
+    both equal the returned model's RMSE on those rows (swapping the two sets trains on 20 %)."""
+    from learners.anfis import _checking_rows
+    g = np.linspace(0.0, np.pi, 21)
+    x1, x2 = np.meshgrid(g, g)
+    X = np.column_stack([x1.ravel(), x2.ravel()])
+    y = np.sin(X[:, 0]) * np.cos(X[:, 1]) + 0.05 * np.random.default_rng(0).standard_normal(441)
+    m = ANFISFCM(n_rules=9, epochs=10, validation_fraction=0.2, validation_block=21, random_state=0).fit(X, y)
+    check = _checking_rows(len(y), 0.2, 21)
+    assert 0 < check.sum() < len(y) / 2
+
+    def rmse(rows):
+        return np.sqrt(np.mean((m.predict(X[rows]) - y[rows]) ** 2))
+
+    assert m.loss_curve_[m.best_epoch_] == pytest.approx(rmse(~check), rel=1e-9)
+    assert m.checking_curve_[m.best_epoch_] == pytest.approx(rmse(check), rel=1e-9)

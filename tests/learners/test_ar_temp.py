@@ -91,3 +91,12 @@ def test_rss_bookkeeping():
     X, y = _seed_process(500, seed=2)
     m = ARTemp().fit(X, y)
     assert m.rss_ar_ < m.rss_regression_    # seed: 61.56 < 67.21
+
+
+def test_rss_of_the_hand_series():
+    """On the hand series (r = (1, -1, 0, -1, 1), phi = -0.5): the regression's RSS is sum r^2 = 4,
+    the AR(1)'s is the sum of the innovations a_t = r_t - phi r_(t-1) = (-.5, -.5, -1, .5)
+    squared, 1.75."""
+    m = ARTemp().fit(*_hand_series())
+    assert m.rss_regression_ == pytest.approx(4.0, abs=1e-12)
+    assert m.rss_ar_ == pytest.approx(1.75, abs=1e-12)

@@ -11,6 +11,7 @@ import pytest
 from sklearn.base import clone
 
 import learners
+from learners.runs import is_time_ordered
 
 N_ROWS, N_COLS = 60, 6
 
@@ -82,3 +83,21 @@ def test_sklearn_contract(kind, name):
     out_b = b.predict(X) if kind == "learner" else b.transform(X)
     np.testing.assert_array_equal(out_a, out_b)
     np.testing.assert_array_equal(X, X_before)
+
+
+POOLED = sorted(n for n in learners.LEARNERS if not is_time_ordered(learners.LEARNERS[n]()))
+SMALL = {"anfis-grid": {"n_mfs": 2, "epochs": 3}, "anfis-fcm": {"epochs": 3},
+         "pso-bpnn": {"n_iterations": 3, "epochs": 10}}
+
+
+@pytest.mark.parametrize("name", POOLED)
+def test_a_pooled_learners_prediction_of_a_row_does_not_depend_on_the_other_rows(name):
+    """Every learner that treats rows as independent scales new rows with the statistics of its
+    training rows, never of the rows it predicts: one row predicted alone, and a batch of the last
+    20 rows (whose mean and range differ from the training set's), read what the whole set reads."""
+    X, y = smooth_data()
+    est = seeded(learners.make_learner(name, **SMALL.get(name, {}))).fit(X, y)
+    full = est.predict(X)
+    for i in (0, 17, N_ROWS - 1):
+        np.testing.assert_allclose(est.predict(X[i:i + 1]), full[i:i + 1], rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(est.predict(X[40:]), full[40:], rtol=1e-10, atol=1e-10)

@@ -36,3 +36,16 @@ def test_gmc_retention_is_the_homogeneous_response_ratio(b1, response):
     expected = np.exp(-b1) if response == "convolution" else (1 - 0.5 * b1) / (1 + 0.5 * b1)
     assert gmc_retention(b1, response) == pytest.approx(expected, rel=1e-14)
     np.testing.assert_allclose(x1[1:] / x1[:-1], expected, rtol=1e-12)
+
+
+def test_gm1n_whitened_response_written_out():
+    """GM(1,N)'s whitened response with the drive S(k) = sum_j b_j x_j^(1)(k) taken at each k:
+    x^(1)(k) = (y0 - S(k) / a) e^(-a (k - 1)) + S(k) / a, then the inverse AGO."""
+    from learners.grey import gm1n_simulate
+    rng = np.random.default_rng(3)
+    X = rng.uniform(0.0, 1.0, (12, 2))
+    a, b, y0 = 0.3, np.array([0.8, -0.5]), 0.2
+    drive = np.cumsum(X, axis=0) @ b
+    x1 = (y0 - drive / a) * np.exp(-a * np.arange(12)) + drive / a
+    np.testing.assert_allclose(gm1n_simulate(a, b, np.cumsum(X, axis=0), y0, "whitened"),
+                               np.r_[x1[0], np.diff(x1)], rtol=1e-12, atol=1e-14)

@@ -69,3 +69,17 @@ def test_ridge_one_feature_closed_form():
     m = MLR(alpha=2.0).fit(x[:, None], 2.0 * x + 5.0)
     assert m.coef_[0] == pytest.approx(1.0, abs=1e-12)
     assert m.intercept_ == pytest.approx(5.0, abs=1e-12)
+
+
+def test_pcr_scores_new_rows_with_the_training_mean_and_standard_deviation():
+    """PCR's scores of new rows: t = ((x - mean_train) / sd_train(ddof 1)) V^T, and the prediction
+    mean(y_train) + t beta, on rows shifted 3 units away from the training set (scaling them by
+    their own statistics would give other scores)."""
+    rng = np.random.default_rng(0)
+    X = 20 + rng.normal(size=(40, 3)) * [1.0, 2.0, 0.5]
+    y = X @ [1.0, -0.5, 2.0]
+    pcr = PCR(n_components=2).fit(X, y)
+    new = X[:10] + 3.0
+    expect = ((new - X.mean(axis=0)) / X.std(axis=0, ddof=1)) @ pcr.components_.T
+    np.testing.assert_allclose(pcr.transform_scores(new), expect, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(pcr.predict(new), y.mean() + expect @ pcr.score_coef_, rtol=1e-12)

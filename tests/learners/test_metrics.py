@@ -46,3 +46,18 @@ def test_mre_skips_zero_drift_and_degenerate_cases():
     assert math.isnan(metrics.correlation([1.0, 2.0], [3.0, 3.0]))
     with pytest.raises(ValueError):
         metrics.rmse([1.0, 2.0], [1.0])
+
+
+def test_score_all_maps_each_key_to_its_metric():
+    """score_all on Z = (1, 2, 3, 4), P = (1, 3, 3, 2), each key by hand: residuals (0, 1, 0, -2),
+    RMSE sqrt(5/4); NSE 1 - 5 / 5 = 0; r = cov / (sd sd) = 1.5 / sqrt(5 x 2.75); max |residual| 2;
+    improvement 100 (1 - max|e| / max|Z|) = 50 %; MRE mean of |e| / |Z| = (0 + 1/2 + 0 + 2/4) / 4 =
+    25 % (a perfect prediction, the test above, cannot tell a key given the wrong metric, since
+    NSE = r = 1 there)."""
+    Z, P = np.array([1.0, 2.0, 3.0, 4.0]), np.array([1.0, 3.0, 3.0, 2.0])
+    s = metrics.score_all(Z, P)
+    assert s["nse"] == pytest.approx(0.0, abs=1e-12)
+    assert s["r"] == pytest.approx(1.5 / math.sqrt(5 * 2.75), rel=1e-12)
+    assert s["rmse"] == pytest.approx(math.sqrt(1.25), rel=1e-12) and s["max_abs_residual"] == 2.0
+    assert s["improvement_pct"] == pytest.approx(50.0, rel=1e-12)
+    assert s["mre_pct"] == pytest.approx(25.0, rel=1e-12)

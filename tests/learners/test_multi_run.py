@@ -180,3 +180,14 @@ def test_gnnmci_start_value_of_several_runs_is_the_mean_first_value():
     assert model.y0_ == pytest.approx(2.0, abs=1e-15)
     assert model.w21_ == pytest.approx(-2.0, abs=1e-15)
     assert model.predict(X[1])[0] == pytest.approx(2.0, abs=1e-12)
+
+
+def test_gm11_forecast_after_several_runs_continues_the_last_run():
+    """GM(1,1) fitted on two runs forecasts from the last: x0(k) = (1 - e^a)(x0(1) - b / a) e^(-a (k - 1))
+    for k = n + 1 .. n + s with x0(1) = 5 and n = 20 of the second run, not 3 and 12 of the first."""
+    r = 0.93
+    runs = [(np.zeros((12, 1)), 3.0 * r ** np.arange(12)), (np.zeros((20, 1)), 5.0 * r ** np.arange(20))]
+    m = GM11().fit_runs(runs)
+    k = np.arange(21, 26)
+    exact = (1 - np.exp(m.a_)) * (5.0 - m.b_ / m.a_) * np.exp(-m.a_ * (k - 1))
+    np.testing.assert_allclose(m.forecast(5), exact, rtol=1e-12)

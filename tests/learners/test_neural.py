@@ -71,6 +71,38 @@ def test_pso_bpnn_hidden_search_stays_in_range():
     assert m.coefs_[0].shape == (2, m.hidden_layer_sizes_[0])
 
 
+def test_pso_bpnn_hidden_search_fits_on_the_first_rows_and_chooses_the_size_on_the_held_out_tail():
+    """The structure search's hold-out is held out: the swarm's fitness is the scaled MSE on the rows
+    before the last round(0.25 n) = 20 (pso_fun_ of the particle back-propagation starts from; with
+    epochs = 0 the network is that particle), the chosen size is the one whose best particle has the
+    least scaled MSE on those 20 rows (validation_mse_, the least of hidden_scores_), and the tail's
+    targets never enter the swarm: shuffling the first 60 targets (the scaling unchanged) changes
+    the fit, shuffling the last 20 changes no size's best particle's fit. Scaled residual:
+    2 (prediction - y) / span(y)."""
+    X, y = _law(80)
+    kw = dict(hidden_layer_sizes=(8,), hidden_search=(3, 8), n_iterations=8, epochs=0,
+              validation_fraction=0.25, random_state=1)
+    m = PSOBPNN(**kw).fit(X, y)
+    scaled = 2.0 * (m.predict(X) - y) / np.ptp(y)
+    assert m.pso_fun_ == pytest.approx(np.mean(scaled[:60] ** 2), rel=1e-9)
+    assert m.validation_mse_ == pytest.approx(np.mean(scaled[60:] ** 2), rel=1e-9)
+    assert m.validation_mse_ == min(m.hidden_scores_.values())
+    assert m.hidden_scores_[m.hidden_layer_sizes_] == m.validation_mse_ and len(m.hidden_scores_) > 1
+    rng = np.random.default_rng(5)
+    tail = y.copy()
+    tail[60:] = rng.permutation(y[60:])
+    head = y.copy()
+    head[:60] = rng.permutation(y[:60])
+    assert np.ptp(tail) == np.ptp(head) == np.ptp(y)
+    t = PSOBPNN(**kw).fit(X, tail)
+    assert set(t.hidden_scores_) == set(m.hidden_scores_)
+    # the same swarm: each size's best particle is the same network, so its head MSE is
+    for h in m.hidden_scores_:
+        assert PSOBPNN(**{**kw, "hidden_search": (h[0], h[0])}).fit(X, tail).pso_fun_ == \
+            PSOBPNN(**{**kw, "hidden_search": (h[0], h[0])}).fit(X, y).pso_fun_
+    assert PSOBPNN(**kw).fit(X, head).pso_fun_ != m.pso_fun_
+
+
 def test_backprop_momentum_step_is_m_times_the_last_step_minus_lr_times_the_gradient():
     """Gradient descent with momentum (traingdm): v_k = m v_(k-1) - lr grad E(w_(k-1)), w_k = w_(k-1) + v_k,
     v_0 = 0, so w1 - w0 = -lr grad E(w0) and w_(k+1) - w_k = m (w_k - w_(k-1)) - lr grad E(w_k), with

@@ -39,6 +39,20 @@ def test_inertia_weight_decreases_linearly_from_first_to_last_iteration(w, n_it,
     np.testing.assert_allclose(d[1:] / d[:-1], np.repeat(np.array(expected)[:, None], 3, axis=1), rtol=1e-10)
 
 
+def test_constriction_scales_each_displacement_by_clercs_chi():
+    """Zero pull, variant "constriction": v_t = chi v_(t-1) with Clerc and Kennedy's
+    chi = 2 / |2 - phi - sqrt(phi^2 - 4 phi)|, phi = c1 + c2 = 4.1 (the defaults 2.0 become 2.05),
+    chi = 0.7298437881...; every displacement ratio is chi."""
+    fun, seen = _recording(_always_better())
+    pso_minimize(fun, [-1e3] * 3, [1e3] * 3, n_particles=1, n_iterations=4, variant="constriction",
+                 random_state=5, x0=np.zeros(3))
+    d = np.diff(np.array(seen), axis=0)
+    assert np.all(np.abs(d[0]) > 1.0)
+    chi = 2.0 / abs(2.0 - 4.1 - np.sqrt(4.1 ** 2 - 4 * 4.1))
+    assert chi == pytest.approx(0.7298437881, rel=1e-9)
+    np.testing.assert_allclose(d[1:] / d[:-1], chi, rtol=1e-10)
+
+
 def test_absorbing_walls_stop_the_particle():
     """w = 1 and zero pull: x_t = clip(x_0 + t v_0, lower, upper); a component that reaches a bound stays
     there (its velocity is zeroed), it does not bounce back."""

@@ -88,3 +88,11 @@ def test_similitude_degree_four_samples_by_hand():
     assert s == -0.5
     np.testing.assert_allclose(similitude_degree(ref, sensor[:, None]), [1.0 / (1.0 + abs(s))], rtol=1e-14)
     np.testing.assert_allclose(similitude_degree(ref, sensor[:, None]), [2.0 / 3.0], rtol=1e-14)
+
+
+def test_deng_grade_with_a_nonzero_delta_min():
+    """Deng's grade with Delta_min > 0 (the hand case above has Delta_min = 0, where the term
+    vanishes): ref (0, 1, 2) -> (0, .5, 1), sensor (2, 0, 1) -> (1, 0, .5), Delta = (1, .5, .5),
+    Delta_min .5, Delta_max 1, rho .5: xi = (Delta_min + rho Delta_max) / (Delta + rho Delta_max) =
+    (2/3, 1, 1), grade 8/9."""
+    np.testing.assert_allclose(deng_grade([0.0, 1.0, 2.0], np.array([[2.0], [0.0], [1.0]])), [8 / 9], rtol=1e-14)
