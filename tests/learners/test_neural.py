@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from learners.neural import ANN, PSOBPNN, _backprop, _layer_shapes, _mse, _n_weights, _unpack, parse_shape
+from twin.errors import InputError
 
 
 def _law(n=120, seed=0):
@@ -101,6 +102,8 @@ def test_pso_bpnn_hidden_search_fits_on_the_first_rows_and_chooses_the_size_on_t
         assert PSOBPNN(**{**kw, "hidden_search": (h[0], h[0])}).fit(X, tail).pso_fun_ == \
             PSOBPNN(**{**kw, "hidden_search": (h[0], h[0])}).fit(X, y).pso_fun_
     assert PSOBPNN(**kw).fit(X, head).pso_fun_ != m.pso_fun_
+    with pytest.raises(InputError, match="validation_fraction: leaves no rows before the hold-out of 2 of 2"):
+        PSOBPNN(**{**kw, "validation_fraction": 0.9}).fit(X[:2], y[:2])
 
 
 def test_backprop_momentum_step_is_m_times_the_last_step_minus_lr_times_the_gradient():
