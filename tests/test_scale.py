@@ -268,6 +268,50 @@ def test_cli_writes_the_solver_and_its_errors_into_the_result(tmp_path):
     assert "reduced basis" in ds.attrs["solver_heat"]
 
 
+def test_rom_order_on_the_command_line_and_the_printed_error_estimate(tmp_path, capsys):
+    """--rom-order R sets the reduced model's basis (whole blocks of moments until R is reached),
+    a larger basis leaves a smaller estimated error, and the summary line prints the result's own
+    estimate per axis in um (rom_error_estimate, m); --rom-order beside any solver but rom changes
+    nothing and is refused before anything is written."""
+    from twin.cli import main
+    import xarray as xr
+    toml = tmp_path / "s.toml"
+    toml.write_text('name = "s"\nsample_interval = "60 s"\n[ambient]\ntemperature = "20 degC"\n'
+                    '[[spindle]]\nspeed = "6000 rpm"\nduration = "20 min"\n[[spindle]]\nspeed = "0 rpm"\n'
+                    'duration = "20 min"\n')
+    estimates = {}
+    for order in (24, 72):
+        out = tmp_path / f"r{order}.nc"
+        capsys.readouterr()
+        assert main(["simulate", "cframe-vmc", str(toml), "-o", str(out), "--mesh", "coarse", "--solver", "rom",
+                     "--rom-order", str(order)]) == 0
+        ds = xr.open_dataset(out)
+        assert order <= ds.attrs["rom_order"] < order + 30
+        estimates[order] = 1e6 * np.asarray(json.loads(ds.attrs["rom_error_estimate"])["drift"])
+        line = next(x for x in capsys.readouterr().out.splitlines() if "reduced model" in x)
+        assert f"order {ds.attrs['rom_order']}:" in line
+        assert ", ".join(f"{a} {e:.2f} um" for a, e in zip("XYZ", estimates[order])) in line
+    assert np.all(estimates[72][1:] < estimates[24][1:])
+    assert main(["simulate", "cframe-vmc", str(toml), "-o", str(tmp_path / "x.nc"), "--mesh", "coarse",
+                 "--rom-order", "72"]) == 2
+    assert "--rom-order: sets the reduced model's order; --solver auto runs no reduced model" in capsys.readouterr().err
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_the_printed_error_share_leaves_out_an_axis_that_does_not_drift():
+    """rom_error_line's share: the largest estimate / peak over the axes whose peak is at least a
+    thousandth of the largest; X of the symmetric C-frame peaks at round-off (1e-10 um), where
+    any estimate would read as a huge share."""
+    import xarray as xr
+    from twin.cli.cmd_simulate import rom_error_line
+    ds = xr.Dataset(coords={"axis": ["X", "Y", "Z"]},
+                    attrs={"rom_order": 48, "rom_error_estimate": json.dumps({"drift": [2e-9, 5.5e-7, 8.2e-7]})})
+    peak = xr.DataArray([1e-10, 16.5, 41.0], coords={"axis": ["X", "Y", "Z"]}, dims="axis")
+    line = rom_error_line(ds, peak)
+    assert "X 0.00 um, Y 0.55 um, Z 0.82 um" in line
+    assert f"up to {100 * 0.55 / 16.5:.2g} % of the peak" in line
+
+
 def test_gpu_option_needs_the_iterative_path():
     from twin.errors import InputError
     with pytest.raises(InputError, match="--device"):

@@ -93,6 +93,10 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
                        help="how each iterative heat step starts: from the projection on the last solutions, or "
                             "from the reduced model's basis (built once: pays back on long runs); default auto "
                             "(the reduced basis from 300 steps)")
+        # bounds: twin.physics.options.MIN_ROM_ORDER / MAX_ROM_ORDER, checked by SolverOptions
+        p.add_argument("--rom-order", type=whole_number("basis vectors", lower=1), default=None, metavar="R",
+                       help="with --solver rom: the reduced model's basis size (default 48); the result reports "
+                            "each output's estimated error, raise R where it is too large")
         # upper: twin.physics.options.MAX_ELASTIC_COARSENING (not imported here: the parser stays light)
         p.add_argument("--elastic-coarsening", type=whole_number("grid lines", lower=1, upper=8), default=1, metavar="N",
                        help="solve the elasticity on every N-th grid line of the temperature mesh, the thermal load "
@@ -102,12 +106,19 @@ def add_model_options(p: argparse.ArgumentParser, mesh_default: str = "default",
 
 def solver_options(args):
     """The :class:`twin.physics.options.SolverOptions` of parsed --solver/--device/--heat-start/
-    --elastic-coarsening (auto on the CPU, one mesh, for a command that does not offer them)."""
+    --elastic-coarsening/--rom-order (auto on the CPU, one mesh, for a command that does not offer
+    them). --rom-order is refused beside any solver but rom: only the reduced model reports the
+    error its order leaves (an iterative run's start basis changes its iterations, not its result)."""
+    from twin.errors import InputError
     from twin.physics.options import SolverOptions
 
-    return SolverOptions(getattr(args, "solver", "auto"), getattr(args, "device", "cpu"),
-                         elastic_coarsening=getattr(args, "elastic_coarsening", 1),
-                         heat_start=getattr(args, "heat_start", "auto"))
+    solver, order = getattr(args, "solver", "auto"), getattr(args, "rom_order", None)
+    if order is not None and solver != "rom":
+        raise InputError("command line", "--rom-order", f"sets the reduced model's order; --solver {solver} runs no "
+                                                        "reduced model: add --solver rom, or leave --rom-order out")
+    extra = {"rom_order": order} if order is not None else {}
+    return SolverOptions(solver, getattr(args, "device", "cpu"), elastic_coarsening=getattr(args, "elastic_coarsening", 1),
+                         heat_start=getattr(args, "heat_start", "auto"), **extra)
 
 
 def add_measurement_options(p: argparse.ArgumentParser) -> None:
