@@ -278,6 +278,22 @@ def test_nothing_hidden_is_nothing_missing(nothing):
     assert d.not_used == [] and "Not used" not in format_diagnosis(d)
 
 
+def test_the_printed_ranking_shows_the_top_and_every_candidate_the_user_brought(nothing):
+    """format_diagnosis prints the top candidates, then any --effects-file candidate ranked below
+    them (a user's own effect fitted at 0 W must not vanish from the screen), then how many more
+    the JSON lists."""
+    import copy
+    d = copy.copy(nothing)
+    d.candidates = [dict(c) for c in nothing.candidates]
+    assert len(d.candidates) >= 5
+    d.candidates[-1]["kind"] = "custom"
+    text = format_diagnosis(d, top=2)
+    ranks = [int(line[:4]) for line in text.splitlines() if line[:4].strip().isdigit()]
+    assert ranks == [1, 2, len(d.candidates)]
+    assert f"  ({len(d.candidates) - 3} more candidates ranked lower; --json lists them all)" in text
+    assert "more candidates ranked lower" not in format_diagnosis(d, top=len(d.candidates))
+
+
 def test_probes_only_and_what_the_missing_sensors_cost(machine, mm, truth):
     """A measurement with the five probes and no temperature sensor (a public dataset's layout)
     is diagnosed from the probes alone, and the diagnosis states what the missing sensors cost."""

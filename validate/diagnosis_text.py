@@ -68,8 +68,9 @@ def _unit(group: str) -> str:
 
 
 def format_diagnosis(d, top: int = 8) -> str:
-    """A readable summary: the residual against noise and model error, the nuisance, the ranking,
-    the regions and the verdict."""
+    """A readable summary: the residual against noise and model error, the nuisance, the ranking
+    (the ``top`` candidates, every candidate of the user's ``--effects-file`` wherever it ranks,
+    and how many more the JSON lists), the regions and the verdict."""
     names, groups = d.channels, d.groups
     base, err = d.baseline_rmse, d.model_error_rms
     lines = [f"Measurements: {', '.join(d.evidence.labels)}; {len(names)} channels, "
@@ -110,7 +111,8 @@ def format_diagnosis(d, top: int = 8) -> str:
     if d.not_used:
         lines.append("Not used (no diagnosis holds them against the model yet): " + "; ".join(d.not_used))
     lines.append("")
-    w = max([44] + [len(c["effect"]) for c in d.candidates[:top]])   # long names keep the columns aligned
+    w = max([44] + [len(c["effect"]) for i, c in enumerate(d.candidates) if i < top or c["kind"] == "custom"])
+    # long names keep the columns aligned
     margin, share = getattr(d, "test", (10.0, 0.5))
     lines += [f"explained: share of the weighted residual {share_text(d.residual_factor)} the candidate removes "
               f"(negative: it makes those groups worse, its fit paid for by the others); "
@@ -122,12 +124,16 @@ def format_diagnosis(d, top: int = 8) -> str:
     head = (f"{'rank':>4}  {'candidate':<{w}} {'kind':<9} {'explained':>9} {'dBIC':>8} {'BIC wt':>6} {'sig':>3}  "
             f"parameters")
     lines += [head, "-" * len(head)]
-    for i, c in enumerate(d.candidates[:top], 1):
+    # the top ones, and every candidate the user brought (--effects-file) wherever it ranks
+    shown = [(i, c) for i, c in enumerate(d.candidates, 1) if i <= top or c["kind"] == "custom"]
+    for i, c in shown:
         sig = "yes" if c.get("significant") else "no"
         lines.append(f"{i:>4}  {c['effect']:<{w}} {c['kind']:<9} {c['explained']:>8.1%} {c['delta_bic']:>8.1f} "
                      f"{c['confidence']:>6.2f} {sig:>3}  {_params_text(c)}")
         if i <= 3:
             lines += _reasoning_lines(c)
+    if len(d.candidates) > len(shown):
+        lines.append(f"  ({len(d.candidates) - len(shown)} more candidates ranked lower; --json lists them all)")
     if d.regions:
         lines += ["", "Where on the machine a generic heat input explains the residual best (share of the weighted "
                       "residual, all groups):"]
