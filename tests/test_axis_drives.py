@@ -238,6 +238,9 @@ def test_dataset_generator_draws_axis_duty_cycles(tmp_path):
     ('feed = ["5 mm/s", "30 mm/s"]', 'feed = ["0 mm/s", "30 mm/s"]', "scenarios[0].axis[0].feed"),
     ('acceleration = "50 mm/s2"', 'acceleration = "0 mm/s2"', "scenarios[0].axis[1].acceleration"),
     ('acceleration = "50 mm/s2"', 'acceleration = "50 mm/s2"\nstroke = "1 mm"', "scenarios[0].axis[1].stroke"),
+    # beyond twin.limits.MAX_ACCELERATION: refused in the spec, not later in the plan's drawn moves
+    ('acceleration = "50 mm/s2"', 'acceleration = "100 m/s2"', "scenarios[0].axis[1].acceleration"),
+    ('range = ["0 mm", "280 mm"]', 'range = { normal = ["100 mm", "10 mm"] }', "scenarios[0].axis[0].range"),
 ])
 def test_a_bad_axis_duty_cycle_names_its_field(tmp_path, old, new, field):
     """Bad axis generator values are InputErrors naming the spec file and the field."""
@@ -247,7 +250,9 @@ def test_a_bad_axis_duty_cycle_names_its_field(tmp_path, old, new, field):
     (tmp_path / "s.toml").write_text(AXIS_SPEC.replace(old, new, 1))
     with pytest.raises(InputError) as err:
         load_spec(tmp_path / "s.toml")
-    assert err.value.field == field
+    assert err.value.source == str(tmp_path / "s.toml") and err.value.field == field
+    if "normal" in new:
+        assert "not a distribution" in str(err.value)
 
 
 def test_cframe_axes_have_the_seeds_travels_and_the_readmes_nut_positions():

@@ -75,6 +75,11 @@ BAD = [
     ('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W", "-1 W"] }', "parameters.spindle_motor.power.normal",
      "standard deviation"),
     ('{ uniform = ["40 W", "80 W"] }', '{ gauss = ["60 W", "1 W"] }', "parameters.spindle_motor.power", "expected one of"),
+    # each kind's own form in the message (it said "([lo, hi] or [mean, sd])" for a fixed too)
+    ('{ uniform = ["40 W", "80 W"] }', '{ fixed = ["40 W", "80 W"] }', "parameters.spindle_motor.power.fixed",
+     'a fixed takes one value, e.g. { fixed = "40 W" }, got 2 values'),
+    ('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W"] }', "parameters.spindle_motor.power.normal",
+     "a normal takes [mean, sd], got 1 value"),
     # a normal with (almost) none of its probability within the parameter's bounds [0 .. 5000 W]
     ('{ uniform = ["40 W", "80 W"] }', '{ normal = ["60 W", "1e300 W"] }', "parameters.spindle_motor.power.normal",
      "only 2e-297 of the normal's probability lies within the bounds"),

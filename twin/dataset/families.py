@@ -257,6 +257,9 @@ def _axis_duties(items: list, source: str, prefix: str, machines: dict) -> tuple
         name = t.get("name", required=True, kind=str)
         if name in (a.name for a in out):
             raise InputError(source, t.field("name"), f"axis {name!r} is given twice")
+        if isinstance(raw.get("range"), dict):
+            raise InputError(source, t.field("range"), 'expected [lo, hi] with units, e.g. ["0 mm", "280 mm"], not a '
+                             'distribution: each stroke\'s ends are drawn uniformly within the range')
         ends = t.get("range", required=True, kind=list)
         if len(ends) != 2:
             raise InputError(source, t.field("range"), 'expected [lo, hi], e.g. ["0 mm", "280 mm"]')
@@ -276,6 +279,7 @@ def _axis_duties(items: list, source: str, prefix: str, machines: dict) -> tuple
         accel = quantity(t.get("acceleration", default="100 mm/s2"), "acceleration", source, t.field("acceleration"))
         if accel <= 0:
             raise InputError(source, t.field("acceleration"), "must be positive")
+        limits.check_acceleration(accel, source, t.field("acceleration"))
         t.finish()
         out.append(AxisDuty(name, (lo, hi), feed, accel))
     return tuple(out)

@@ -124,7 +124,9 @@ def distribution(value, dimension: str, source: str, field: str, lower: float = 
         raise InputError(source, field, f"expected a list of quantities, got {describe(raw)}")
     need = {"fixed": 1, "uniform": 2, "log_uniform": 2, "normal": 2}.get(kind)
     if need is not None and len(raw) != need:
-        raise InputError(source, field, f"a {kind} takes {need} value(s) ([lo, hi] or [mean, sd]), got {len(raw)}")
+        form = {"fixed": 'one value, e.g. { fixed = "40 W" }', "uniform": "[lo, hi]", "log_uniform": "[lo, hi]",
+                "normal": "[mean, sd]"}[kind]
+        raise InputError(source, field, f"a {kind} takes {form}, got {len(raw)} value{'s' * (len(raw) != 1)}")
     if kind == "grid" and not raw:
         raise InputError(source, field, "a grid needs at least one value")
     dims = [dimension] * len(raw)
