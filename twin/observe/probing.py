@@ -97,6 +97,10 @@ def check_probing(config: ProbingConfig, scenario, machine) -> None:
             if v < a.travel[0] - 1e-9 or v > a.travel[1] + 1e-9:
                 raise InputError(src, f"probing.datums[{i}]", f"{a.name} {v * 1e3:g} mm is outside the travel "
                                                              f"{a.travel[0] * 1e3:g} .. {a.travel[1] * 1e3:g} mm")
+        same = next((j for j in range(i) if np.allclose(np.asarray(datums[j], float), xyz, rtol=0, atol=1e-9)), None)
+        if same is not None:
+            raise InputError(src, f"probing.datums[{i}]", f"repeats datums[{same}] "
+                                                         f"({', '.join(f'{v * 1e3:g} mm' for v in xyz)}): give each once")
     check_on_grid(config.times, scenario, src, "probing.times", "the datum baseline")
 
 
