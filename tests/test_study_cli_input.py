@@ -288,6 +288,10 @@ def csv_dataset(tmp_path):
     (["--learners", "mlr,,ann"], "command line: --learners: an empty name in 'mlr,,ann'"),
     (["--seed", "1", "--seed", "2"], "command line: --seed: given more than once"),
     (["--n-random", "0"], "--n-random"),      # it failed after the leaderboard was written
+    # the placement's own options beside --no-placement would do nothing
+    (["--no-placement", "--no-exhaustive"], "command line: --no-exhaustive: sets the placement benchmark, which "
+                                            "--no-placement leaves out"),
+    (["--no-placement", "--n-random", "20"], "command line: --n-random: sets the placement benchmark"),
     (["--interval", "0 s"], "command line: --interval: must be positive"),
     (["--interval", "-60 s"], "command line: --interval: must be positive"),
     (["--split", "bogus"], "no split 'bogus'"),

@@ -169,6 +169,7 @@ def run_placement(train, tests, names, sets, learner_names, seed: int):
 
 DEFAULT_OUTPUT = f"validate-out/{NAME}"
 OUTPUTS = ("leaderboard.csv", "leaderboard.md", "placement.csv", "placement.md")
+N_RANDOM = 20      # random sensor sets of the placement benchmark (--n-random)
 
 
 def _parser():
@@ -185,7 +186,8 @@ def _parser():
     p.add_argument("--interval", type=positive_quantity("time"), default="60 s",
                    help="thin every run to this sample interval, with its unit (default '60 s')")
     p.add_argument("--segments", type=whole_number("segments", 1), default=4, help="time segments per run in the leaderboard (default 4)")
-    p.add_argument("--n-random", type=whole_number("random sets", 1), default=20, help="random sensor sets (default 20)")
+    p.add_argument("--n-random", type=whole_number("random sets", 1), default=None,
+                   help=f"random sensor sets (default {N_RANDOM})")
     p.add_argument("--no-exhaustive", action="store_true", help="skip the exhaustive search of the placement")
     p.add_argument("--no-placement", action="store_true", help="the leaderboard only")
     add_seed_option(p, "random_state of learners, selectors and draws")
@@ -204,6 +206,9 @@ def _check_names(args) -> list[str]:
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise InputError("command line", "--learners", f"{', '.join(twice)} given more than once")
+    if args.no_placement and (args.no_exhaustive or args.n_random is not None):
+        raise InputError("command line", "--no-exhaustive" if args.no_exhaustive else "--n-random",
+                         "sets the placement benchmark, which --no-placement leaves out: give one or the other")
     method, colon, k = args.select.partition(":")
     if method not in SELECTORS:
         raise InputError("command line", "--select", f"unknown selector {method!r}; known: {', '.join(sorted(SELECTORS))}")
@@ -264,7 +269,7 @@ def _run(args) -> int:
     if args.no_placement:
         return 0
     print("placement: selecting, drawing, searching ...", flush=True)
-    sets, notes = placement_sets(train, tests, names, k, args.seed, args.n_random, not args.no_exhaustive,
+    sets, notes = placement_sets(train, tests, names, k, args.seed, args.n_random or N_RANDOM, not args.no_exhaustive,
                                  lambda d, n: print(f"  exhaustive {d}/{n}", flush=True) if d % 5_000_000 < 200_000
                                  else None)
     prow = run_placement(train, tests, names, sets, PLACEMENT_LEARNERS, args.seed)
