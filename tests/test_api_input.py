@@ -276,6 +276,16 @@ def test_a_mesh_spacing_is_positive_finite_and_affordable_checked_before_allocat
         assert "nodes" in err.message
 
 
+def test_a_mesh_spacing_wider_than_the_machine_is_refused(cframe):
+    """A spacing beyond the machine's largest extent (1.9 m for the C-frame) leaves only the parts'
+    boundary lines: refused, as the benchmark's --spacing (8000 m meshed 1432 nodes)."""
+    from validate import benchmark
+    err = refused("spacing", build_mesh, cframe, 8000.0)
+    assert "wider than cframe-vmc (1.9 m at its largest)" in err.message
+    assert check_spacing(cframe, 1.8) == 1.8
+    assert benchmark.main(["--spacing", "8000 m", "--json"]) == 2
+
+
 def test_the_node_estimate_bounds_the_mesh_and_allows_the_million_node_mesh(cframe):
     coarse = build_mesh(cframe, cframe.resolutions["coarse"])
     assert coarse.nnodes <= estimated_nodes(cframe, cframe.resolutions["coarse"]) <= 1.2 * coarse.nnodes

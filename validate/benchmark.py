@@ -113,7 +113,7 @@ def _run(args) -> int:
     from twin import limits
     from twin.api import machine_by_name
     from twin.errors import InputError
-    from twin.fem.mesh import build_mesh, mesh_machine
+    from twin.fem.mesh import build_mesh, check_spacing, mesh_machine
     from twin.model import model_spec
     from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
     from twin.physics import gpu_cg
@@ -126,6 +126,8 @@ def _run(args) -> int:
         raise InputError("command line", "--spacing", "give --spacing or --mesh, not both")
     _check_combination(args)
     machine = machine_by_name(args.machine, "--machine")
+    if args.spacing is not None:
+        check_spacing(machine, args.spacing, "command line", "--spacing")
     scenario = load_scenario(args.scenario)
     limits.check_scenario(scenario, machine)
     limits.check_batch_size(args.cases, len(scenario.times()), "command line", "--cases")   # before the mesh

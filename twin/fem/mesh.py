@@ -187,6 +187,11 @@ def check_spacing(machine, spacing, source: str = "command line", field: str = "
     if not limits.is_finite_number(spacing) or not spacing > 0:
         raise InputError(source, field, f"a mesh spacing is a finite positive length in m, got {spacing!r}")
     spacing = float(spacing)
+    boxes = [b for p in machine.parts for b in p.boxes]
+    extent = max(max(b.hi[k] for b in boxes) - min(b.lo[k] for b in boxes) for k in range(3))
+    if spacing > extent:
+        raise InputError(source, field, f"a spacing of {spacing:g} m is wider than {machine.name} ({extent:.3g} m at "
+                                        f"its largest): the mesh would hold only the parts' boundary lines")
     limits.check_mesh_nodes(estimated_nodes(machine, spacing), spacing, machine.name, source, field)
     return spacing
 
