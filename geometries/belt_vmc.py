@@ -255,7 +255,7 @@ def carrier_boxes(lo, hi, wall: float | None, bore: float | None) -> tuple[Box, 
     full height, and behind it ``wall`` [m] thick top and bottom plates, side walls and the slide
     plate on the column face. ``bore`` [m]: half side of a clearance bore through the housing
     round the spindle cartridge (None: no bore, the cartridge bonded in the housing)."""
-    (x0, y0, z0), (x1, y1, z1), t = lo, hi, wall
+    (x0, _, z0), (x1, y1, z1), t = lo, hi, wall
     if wall is None:
         boxes = [Box(lo, hi)]
     else:
