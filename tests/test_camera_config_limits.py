@@ -310,3 +310,57 @@ def test_a_camera_built_in_python_meets_the_new_limits():
             replace(base, **past).check(sc)
         assert (err.value.source, err.value.field) == ("s.toml", field), (past, str(err.value))
         replace(base, **at).check(sc)
+
+
+@pytest.mark.parametrize("camera,field,message", [
+    # the audit's: 'got True', 'got False' and numpy's reprs, not what the scenario says
+    ('pose = "carrier-front"\nresolution = [true, 240]\n', "camera.resolution",
+     "expected a whole number from 1 to 8192, got the boolean true"),
+    ('pose = "carrier-front"\nedge_rays = true\n', "camera.edge_rays",
+     "expected a whole number from 1 to 8, got the boolean true"),
+    ('pose = "carrier-front"\n[camera.sensor]\nbits = false\n', "camera.sensor.bits",
+     "expected a whole number from 8 to 16, got the boolean false"),
+    ('position = ["0 m", "-2 m", "1.2 m"]\ntarget = ["0 m", "0 m", "1.2 m"]\nup = [0, 0, inf]\n', "camera.up",
+     "[0, 0, inf] is not a finite direction"),
+    ('position = ["0 m", "-2 m", "1.2 m"]\ntarget = ["0 m", "0 m", "1.2 m"]\nup = [0, 2, 0]\n', "camera.up",
+     "[0, 2, 0] is along the line of sight"),
+    ('pose = "carrier-front"\nresolution = [320.5, 240]\n', "camera.resolution",
+     "expected a whole number from 1 to 8192, got 320.5"),
+])
+def test_camera_errors_show_the_value_as_the_scenario_writes_it(tmp_path, capsys, camera, field, message):
+    """A camera setting's error shows the value in the scenario's terms (twin.errors.describe: 'the
+    boolean true'; a direction as [0, 0, inf]), never a Python repr (True, np.float64(0.0))."""
+    (tmp_path / "s.toml").write_text(SCENARIO.replace("resolution = [32, 24]\n", "") + camera)
+    out = tmp_path / "out.nc"
+    assert main(["simulate", "cframe-vmc", str(tmp_path / "s.toml"), "-o", str(out), "--mesh", "coarse"]) == 2
+    err = capsys.readouterr().err
+    assert f"s.toml: {field}: {message}" in err, err
+    assert "True" not in err and "False" not in err and "np." not in err and not out.exists()
+
+
+def test_a_camera_built_in_python_shows_its_values_in_words():
+    """The same checks for a CameraConfig built in Python: numpy numbers and booleans in words."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from twin.observe.camera import CameraConfig
+    from twin.observe.camera_geometry import Intrinsics
+    from twin.observe.microbolometer import Microbolometer
+    from twin.scenario import Ambient, Scenario
+
+    sc = Scenario("short", ((600.0, 8000.0),), Ambient("constant", mean=20.0), 60.0)
+    base = CameraConfig(pose="carrier-front", where="camera.", source="s.toml")
+    cases = [({"position": (0.0, -2.0, 1.0), "target": (0.0, 0.0, 1.0), "up": (np.float64(0), 0.0, np.inf)},
+              "camera.up: [0, 0, inf] is not a finite direction"),
+             ({"edge_rays": True}, "camera.edge_rays: expected a whole number from 1 to 8, got the boolean true"),
+             ({"intrinsics": Intrinsics(width=np.bool_(True))}, "got the boolean true"),
+             ({"sensor": Microbolometer(bits=np.float64(12.5))}, "camera.sensor.bits: expected a whole number from "
+                                                                 "8 to 16, got 12.5"),
+             ({"emissivity": np.float64(np.nan)}, "camera.settings.emissivity: expected a fraction above 0 and at "
+                                                  "most 1, got nan"),
+             ({"store_counts": None}, "camera.store_counts: expected true or false, got nothing")]
+    for change, message in cases:
+        with pytest.raises(InputError) as err:
+            replace(base, **change).check(sc)
+        assert message in str(err.value) and "np." not in str(err.value), (change, str(err.value))

@@ -149,6 +149,79 @@ def test_a_repeated_time_is_refused_with_its_row():
         check_times(np.array([0.0, 60.0, 60.0, 120.0]), "m.csv", "t")
     assert err.value.field == "t" and "time is not increasing at data row 3 (60 -> 60 s)" in str(err.value)
 
+RUN1_CSV = ("minutes,rpm,room,T_motor,X1\n0,9000,20.1,20.06,0.0\n1,9000,20.1,20.13,0.0\n2,9000,20.2,20.25,0.1\n"
+            "3,0,20.2,20.31,0.1\n4,0,20.2,20.31,0.1\n")
+RUN1_COLUMNS = {"minutes": ('role = "time"', "min"), "rpm": ('role = "spindle_speed"', "rpm"),
+                "room": ('role = "ambient_temperature"', "degC"),
+                "T_motor": ('role = "temperature"\nsite = "motor"', "degC"),
+                "X1": ('role = "probe"\nprobe = "X1"', "um")}
+
+
+def _run1(tmp_path, column=None, header=None, unit=None):
+    """README's run1.csv (five of its columns) and run1.toml, the column ``column`` headed
+    ``header`` in the CSV and the mapping, with the mapping's unit ``unit``."""
+    csv = tmp_path / "run1.csv"
+    csv.write_text(RUN1_CSV.replace(column, header, 1) if column else RUN1_CSV)
+    tables = ['machine = "cframe-vmc"']
+    for name, (keys, default) in RUN1_COLUMNS.items():
+        named = f'"{header}"' if name == column else name
+        tables.append(f'[columns.{named}]\n{keys}\nunit = "{unit if name == column else default}"')
+    (tmp_path / "run1.toml").write_text("\n".join(tables) + "\n")
+    return csv, tmp_path / "run1.toml"
+
+
+@pytest.mark.parametrize("column,header,unit,agreeing,message", [
+    # the audit's run1.csv with 'minutes' renamed 't [min]' and a mapping in s: read as a 4 s log, rc 0
+    ("minutes", "t [min]", "s", "min", "'s' contradicts the header of {csv}, 't [min]' (times in min)"),
+    ("minutes", "t [h]", "min", "hr", "'min' contradicts the header of {csv}, 't [h]' (times in h)"),
+    # a kelvin header under a degC mapping (kelvin is no temperature unit of the twin's: it says so)
+    ("room", "room [K]", "degC", None,
+     "'degC' contradicts the header of {csv}, 'room [K]' (temperatures in K; 'K' is not a unit of temperature"),
+    ("X1", "X1 [mm]", "um", "mm", "'um' contradicts the header of {csv}, 'X1 [mm]' (values in mm)"),
+])
+def test_a_header_unit_that_contradicts_the_mapping_is_refused(tmp_path, capsys, column, header, unit, agreeing,
+                                                                message):
+    """A unit in a CSV header cell ('t [min]') and the mapping's unit for that column must agree,
+    as an effect schedule's header and its time_unit must (one check: twin.io.csv_header.
+    unit_contradiction): else one error naming the mapping, the column's unit key, the CSV and
+    the header cell, and twin compare exits 2. The mapping in the header's unit (any spelling of
+    it: 'h' and 'hr') reads."""
+    from twin.cli import main
+
+    csv, mapping = _run1(tmp_path, column, header, unit)
+    with pytest.raises(InputError) as err:
+        read_measurement(csv)
+    key = f"columns.{header}.unit"
+    assert (err.value.source, err.value.field) == (str(mapping), key), str(err.value)
+    assert err.value.message.startswith(message.format(csv=csv)), err.value.message
+    assert main(["compare", str(csv)]) == 2
+    assert f"error: {mapping}: {key}: {message.format(csv=csv)}" in capsys.readouterr().err
+    if agreeing:
+        meas = read_measurement(_run1(tmp_path, column, header, agreeing)[0])
+        np.testing.assert_allclose(meas.time.values, np.arange(5.0) * (3600.0 if header == "t [h]" else 60.0))
+        if column == "X1":
+            np.testing.assert_allclose(meas.probe.sel(probe_id="X1").values, [0, 0, 100, 100, 100], atol=1e-9)
+
+
+def test_csv_time_errors_name_the_line_an_editor_shows(tmp_path):
+    """Every CSV error names the file's line (header line 1, blank lines counted), the time
+    column's too: a blank line after the first data row and a repeated time on line 5 said
+    'data row 3'; a gap names the line it ends on."""
+    lines = RUN1_CSV.splitlines()
+    csv, _ = _run1(tmp_path)
+    csv.write_text("\n".join(lines[:2] + [""] + lines[2:3] + [lines[2]] + lines[4:]) + "\n")
+    assert csv.read_text().splitlines()[4] == lines[2]        # the repeat is line 5
+    with pytest.raises(InputError) as err:
+        read_measurement(csv)
+    assert (err.value.field, err.value.message) == ("minutes", "time is not increasing at line 5 (60 -> 60 s)")
+    csv.write_text("\n".join(lines[:4] + ["", lines[4].replace("3,", "30,", 1), lines[5].replace("4,", "31,", 1)])
+                   + "\n")
+    with pytest.raises(InputError) as err:
+        read_measurement(csv)
+    assert (err.value.field, err.value.message) == (
+        "minutes", "line 6: gap of 1680 s after t = 120 s (more than 3 x the median interval 60 s)")
+
+
 def test_compare_with_itself_is_perfect(sim):
     r = compare(sim, sim, model_true=False)
     assert float(np.abs(r.residuals.residual).max()) == 0.0

@@ -57,7 +57,7 @@ above absolute zero.
 from __future__ import annotations
 
 from twin import limits
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.io.table_reader import TableReader
 from twin.observe.camera import CameraConfig
 from twin.observe.camera_checks import (BITS, EDGE_RAYS, MAX_PIXELS, NOISE_TERMS, RADIANCE_SPAN, check_camera_values,
@@ -194,7 +194,7 @@ def _fraction(r, key: str, positive: bool = False):
     value = r.get(key, "dimensionless")
     if value is not None and not (0 < value <= 1 if positive else 0 <= value <= 1):
         raise InputError(r.source, r.prefix + key, f"must lie in {'(0' if positive else '[0'}, 1] (or 0-100 %), "
-                                                   f"got {r.table[key]!r}")
+                                                   f"got {describe(r.table[key])}")
     return value
 
 
@@ -209,7 +209,7 @@ def _temperature(r, key: str, span: tuple, what: str):
 def _non_negative(r, key: str, dimension: str):
     value = r.get(key, dimension)
     if value is not None and value < 0:
-        raise InputError(r.source, r.prefix + key, f"must not be negative, got {r.table[key]!r}")
+        raise InputError(r.source, r.prefix + key, f"must not be negative, got {describe(r.table[key])}")
     return value
 
 
@@ -240,7 +240,7 @@ def _quantity(value, dimension: str, source: str, field: str) -> float:
 
 def _integer(value, source: str, field: str, lo: int, hi: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
-        raise InputError(source, field, f"expected a whole number from {lo} to {hi}, got {value!r}")
+        raise InputError(source, field, f"expected a whole number from {lo} to {hi}, got {describe(value)}")
     return int(value)
 
 

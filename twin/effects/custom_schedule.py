@@ -17,7 +17,7 @@ import numpy as np
 
 from twin import limits
 from twin.errors import InputError, describe
-from twin.io.csv_header import name_and_unit, unit_factor
+from twin.io.csv_header import name_and_unit, unit_contradiction, unit_factor
 from twin.io.table_reader import TableReader
 from twin.units import UnitError, parse_quantity
 
@@ -256,8 +256,8 @@ def _table_header(header: list[str], unit, scale, src: str, where: str, csv_src:
         t_scale = unit_factor(t_unit, "time")
     except UnitError as err:
         raise InputError(csv_src, "time", f"header unit [{t_unit}]: {err}") from None
-    if scale is not None and scale != t_scale:
-        raise InputError(src, where + ".time_unit", f"{unit!r} contradicts the header of {csv_src}, "
-                                                    f"{header[0].strip()!r} (times in {t_unit}); give the time's "
-                                                    "unit once: leave time_unit out or make the two agree")
+    conflict = None if scale is None else unit_contradiction(header[0], unit, scale, "time", csv_src, "times")
+    if conflict:
+        raise InputError(src, where + ".time_unit", f"{conflict}; give the time's unit once: leave time_unit out "
+                                                    "or make the two agree")
     return t_scale, t_unit

@@ -60,7 +60,10 @@ probes and a machine, ``probe_drift(time, axis)`` [um] and ``tilt(time, rotation
 (a gauge given both ways must be given both ways for every gauge); ``c_axis_speed`` [rpm] and
 ``c_axis_duty`` [1] (the mapping's ``duty`` while turning, 0 at rest). Probe, laser and strain
 readings are zeroed at the first sample (probes are nulled at the start, and the twin's strains
-are changes from a zero-strain start); time is kept as logged. Every problem raises :class:`twin.errors.InputError` naming file and column.
+are changes from a zero-strain start); time is kept as logged. A header cell ending in a unit in
+brackets (``t [min]``, mapped as ``[columns."t [min]"]``) must agree with the mapping's ``unit``
+(:func:`twin.io.csv_header.unit_contradiction`). Every problem raises :class:`twin.errors.InputError`
+naming file and column, and a CSV's the line an editor shows (header line 1, blank lines counted).
 """
 
 from __future__ import annotations
@@ -79,6 +82,7 @@ from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_na
                                      instrument, sensor)
 from twin.io.measured_inputs import sensors_of
 from twin.io.paths import NETCDF_SUFFIXES, as_path, input_file, read_text, read_toml, same_file
+from twin.io.csv_header import unit_contradiction
 from twin.io.csv_rows import cell_number, data_rows
 from twin.io.results import check_finite, check_result_layout, check_result_units, placed_sensors, read_result
 from twin.observe.base import variable
@@ -92,6 +96,7 @@ _ROLE_KEYS = {"time": set(), "spindle_speed": set(), "ambient_temperature": set(
               "temperature": {"site", "x", "y", "z", "part", "name"}, "probe": {"probe"}, "axis_position": {"axis"},
               "laser": {"laser"}, "strain": {"gauge", "reading"}, "c_axis_speed": {"duty"},
               "axis_feed": {"axis", "start"}}
+_VALUES = {"time": "times", "temperature": "temperatures"}   # what a column of a dimension holds, in errors
 SINGLE = ("time", "spindle_speed", "ambient_temperature", "c_axis_speed")   # one column each at most
 READINGS = {"compensated": "strain", "raw": "strain_raw"}   # FBG reading -> variable
 
@@ -319,21 +324,28 @@ def check_named_machine(ds, name: str, src: str, against: str = "not") -> None:
         raise InputError(src, "machine", f"the measurement is of machine {named!r}, {against} {name!r}")
 
 
-def check_times(t: np.ndarray, src: str, col: str) -> None:
-    """Times [s] of a measurement or a model: two or more, finite, increasing, without a gap of more than three median steps."""
+def check_times(t: np.ndarray, src: str, col: str, lines=None) -> None:
+    """Times [s] of a measurement or a model: two or more, finite, increasing, without a gap of more
+    than three median steps. ``lines``: the file's line number of each time (a CSV's, as an editor
+    shows them: header line 1, blank lines counted), which an error names; else the data row."""
+    def at(i: int) -> str:
+        return f"line {lines[i]}" if lines is not None else f"data row {i + 1}"
+
     if t.ndim != 1 or t.size < 2:
         raise InputError(src, col, f"needs two samples or more, got {t.size}")
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
-        raise InputError(src, col, f"data row {bad[0] + 1}: not a finite number")
+        raise InputError(src, col, f"{at(int(bad[0]))}: not a finite number")
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.flatnonzero(dt <= 0)[0])
-        raise InputError(src, col, f"time is not increasing at data row {i + 2} ({t[i]:g} -> {t[i + 1]:g} s)")
+        raise InputError(src, col, f"time is not increasing at {at(i + 1)} ({t[i]:g} -> {t[i + 1]:g} s)")
     med = float(np.median(dt))
     if np.any(dt > 3 * med):
         i = int(np.flatnonzero(dt > 3 * med)[0])
-        raise InputError(src, col, f"gap of {dt[i]:g} s after t = {t[i]:g} s (more than 3 x the median interval {med:g} s)")
+        where = f"{at(i + 1)}: " if lines is not None else ""
+        raise InputError(src, col, f"{where}gap of {dt[i]:g} s after t = {t[i]:g} s (more than 3 x the median "
+                                   f"interval {med:g} s)")
 
 
 def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
@@ -378,6 +390,9 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
         if "unit" not in entry:
             raise InputError(msrc, key + ".unit", "missing")
         factor = _factor(entry["unit"], ROLES[role], msrc, key + ".unit")
+        conflict = unit_contradiction(name, entry["unit"], factor, ROLES[role], src, _VALUES.get(ROLES[role], "values"))
+        if conflict:        # 't [min]' read as seconds: a log 60 times too short, silently
+            raise InputError(msrc, key + ".unit", f"{conflict}; give the column one unit in both files")
         if role == "c_axis_speed" and not (getattr(mach, "parameters", None) or {}).get("c_axis_max_speed"):
             raise InputError(msrc, key, "a C-axis speed needs a machine with a C axis (top-level machine = "
                                         f"\"...\"; {'none named' if mach is None else mach.name + ' has none'})")
@@ -424,7 +439,7 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     if "time" not in single:
         raise InputError(msrc, "columns", "no column has role = \"time\"")
     t = single["time"]
-    check_times(t, src, next(c for c, e in cols.items() if e.get("role") == "time"))
+    check_times(t, src, next(c for c, e in cols.items() if e.get("role") == "time"), lines)
     for axis, x in positions.items():
         check_log(axis, t, x, mach, src, position_columns[axis])
     for axis, (feed, entry, key, column) in feeds.items():

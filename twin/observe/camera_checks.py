@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from twin import limits
-from twin.errors import InputError
+from twin.errors import InputError, describe
 from twin.observe.camera_geometry import Intrinsics
 from twin.observe.microbolometer import Microbolometer
 from twin.observe.radiometry import RadianceTable
@@ -63,12 +63,12 @@ DRIFT_TIME = (1.0, 7 * 86400.0)
 def check_up(up: np.ndarray, sight: np.ndarray, source: str, field: str) -> None:
     """``up`` must be a finite, non-zero direction not along the line of sight ``sight``."""
     if not np.all(np.isfinite(up)):
-        raise InputError(source, field, f"{list(up)} is not a finite direction")
+        raise InputError(source, field, f"{_listed(up)} is not a finite direction")
     norm = float(np.linalg.norm(up))
     if norm == 0:
         raise InputError(source, field, "[0, 0, 0] is no direction; give the image's up, e.g. [0, 0, 1]")
     if np.linalg.norm(np.cross(sight / np.linalg.norm(sight), up / norm)) < 1e-6:
-        raise InputError(source, field, f"{[float(x) for x in up]} is along the line of sight from position to "
+        raise InputError(source, field, f"{_listed(up)} is along the line of sight from position to "
                                         "target, so the image has no up; choose a direction across it")
 
 
@@ -76,7 +76,7 @@ def check_camera_values(c) -> None:
     """Every value of the camera configuration ``c`` within what the scenario reader accepts."""
     src, f = c.source, c.field
     if not isinstance(c.pose, str) or not c.pose.strip():
-        raise InputError(src, f("pose"), f"expected a pose name, got {c.pose!r}")
+        raise InputError(src, f("pose"), f"expected a pose name, got {describe(c.pose)}")
     if c.name and not limits.is_file_name(c.name):
         raise InputError(src, f("name"), f"{c.name!r} cannot name a file: the camera's frames are exported into a "
                                          "folder of its name (no '/', '\\', '.', '..' or control characters)")
@@ -105,10 +105,11 @@ def check_camera_values(c) -> None:
     if c.frame_interval is not None:
         _positive(c.frame_interval, src, f("frame_interval"))
     if not limits.is_finite_number(c.emissivity) or not 0 < c.emissivity <= 1:
-        raise InputError(src, f("settings.emissivity"), f"expected a fraction above 0 and at most 1, got {c.emissivity!r}")
+        raise InputError(src, f("settings.emissivity"), f"expected a fraction above 0 and at most 1, got "
+                                                        f"{describe(c.emissivity)}")
     for key, value in (("settings.relative_humidity", c.relative_humidity), ("scene.relative_humidity", c.room_humidity)):
         if not limits.is_finite_number(value) or not 0 <= value <= 1:
-            raise InputError(src, f(key), f"expected a fraction from 0 to 1, got {value!r}")
+            raise InputError(src, f(key), f"expected a fraction from 0 to 1, got {describe(value)}")
     for key, value, kind in (("settings.reflected_temperature", c.reflected_temperature, "structure"),
                              ("settings.air_temperature", c.air_temperature, "air"),
                              ("scene.room_temperature", c.room_temperature, "structure")):
@@ -117,44 +118,45 @@ def check_camera_values(c) -> None:
             limits.check_temperatures(value, src, f(key), kind)
     for key, value in (("settings.distance", c.distance), ("scene.wall_distance", c.wall_distance)):
         if value is not None and (not limits.is_finite_number(value) or value < 0):
-            raise InputError(src, f(key), f"expected a finite distance >= 0 [m], got {value!r}")
+            raise InputError(src, f(key), f"expected a finite distance >= 0 [m], got {describe(value)}")
         if value is not None:
             _check_distance(value, src, f(key), "{}")
     _whole(c.edge_rays, *EDGE_RAYS, src, f("edge_rays"))
     if c.backend not in BACKENDS:
-        raise InputError(src, f("backend"), f"unknown ray-casting backend {c.backend!r}; known: {', '.join(BACKENDS)}")
+        raise InputError(src, f("backend"), f"unknown ray-casting backend {describe(c.backend)}; known: "
+                                            f"{', '.join(BACKENDS)}")
     for key in ("air_path", "store_counts"):
         if not isinstance(getattr(c, key), bool):
-            raise InputError(src, f(key), f"expected true or false, got {getattr(c, key)!r}")
+            raise InputError(src, f(key), f"expected true or false, got {describe(getattr(c, key))}")
     _check_sensor(c.sensor, src, f)
 
 
 def _check_intrinsics(i, src: str, f) -> None:
     if not isinstance(i, Intrinsics):
-        raise InputError(src, f("resolution"), f"expected a twin.observe.camera_geometry.Intrinsics, got {i!r}")
+        raise InputError(src, f("resolution"), f"expected a twin.observe.camera_geometry.Intrinsics, got {describe(i)}")
     _whole(i.width, 1, MAX_PIXELS, src, f("resolution"))
     _whole(i.height, 1, MAX_PIXELS, src, f("resolution"))
     lo, hi = FIELD_OF_VIEW
     for value in (i.fov_h, i.fov_v):
         if not limits.is_finite_number(value) or not _within(value, lo, hi):
-            shown = f"{math.degrees(value):g} deg" if limits.is_finite_number(value) else repr(value)
+            shown = f"{math.degrees(value):g} deg" if limits.is_finite_number(value) else describe(value)
             raise InputError(src, f("field_of_view"), f"each angle must lie from {math.degrees(lo):g} to "
                                                       f"{math.degrees(hi):g} deg (a thermographic camera's lenses, "
                                                       f"telephoto to wide angle), got {shown}")
     lo, hi = IFOV
     if not limits.is_finite_number(i.ifov) or not _within(i.ifov, lo, hi):
-        shown = f"{i.ifov * 1e3:g} mrad" if limits.is_finite_number(i.ifov) else repr(i.ifov)
+        shown = f"{i.ifov * 1e3:g} mrad" if limits.is_finite_number(i.ifov) else describe(i.ifov)
         raise InputError(src, f("ifov"), f"must lie from {lo * 1e3:g} to {hi * 1e3:g} mrad (a thermal camera "
                                          f"pixel's instantaneous field of view; 1.5 mrad on the S65), got {shown}")
 
 
 def _check_sensor(s, src: str, f) -> None:
     if not isinstance(s, Microbolometer):
-        raise InputError(src, f("sensor"), f"expected a twin.observe.microbolometer.Microbolometer, got {s!r}")
+        raise InputError(src, f("sensor"), f"expected a twin.observe.microbolometer.Microbolometer, got {describe(s)}")
     for key in NOISE_TERMS:
         value = getattr(s, key)
         if not limits.is_finite_number(value) or value < 0:
-            raise InputError(src, f(f"sensor.{key}"), f"expected a finite value >= 0 [K], got {value!r}")
+            raise InputError(src, f(f"sensor.{key}"), f"expected a finite value >= 0 [K], got {describe(value)}")
         if not _within(value, 0.0, NOISE_LIMITS[key]):
             raise InputError(src, f(f"sensor.{key}"), f"{value:g} K is above {NOISE_LIMITS[key]:g} K, the most a "
                                                       f"microbolometer's {_WHAT[key]} plausibly reaches")
@@ -189,12 +191,12 @@ def _within(value: float, lo: float, hi: float) -> bool:
 
 def _positive(value, src: str, field: str) -> None:
     if limits.finite_number(value, src, field) <= 0:
-        raise InputError(src, field, f"must be positive, got {value!r}")
+        raise InputError(src, field, f"must be positive, got {describe(value)}")
 
 
 def _whole(value, low: int, high: int, src: str, field: str) -> None:
     if not limits.is_whole(value) or not low <= value <= high:
-        raise InputError(src, field, f"expected a whole number from {low} to {high}, got {value!r}")
+        raise InputError(src, field, f"expected a whole number from {low} to {high}, got {describe(value)}")
 
 
 def check_temperature(value, span: tuple, what: str, src: str, field: str) -> float:
@@ -219,8 +221,17 @@ def _numbers(values, n: int, src: str, field: str, finite: bool = True) -> np.nd
     except (TypeError, ValueError):
         v = None
     if v is None or v.shape != (n,) or (finite and not np.all(np.isfinite(v))):
-        raise InputError(src, field, f"expected {n} {'finite ' if finite else ''}numbers, got {values!r}")
+        raise InputError(src, field, f"expected {n} {'finite ' if finite else ''}numbers, got {_listed(values)}")
     return v
+
+
+def _listed(values) -> str:
+    """A few numbers as a scenario writes them, ``[0, 0, inf]`` (not numpy's reprs); anything else
+    as :func:`twin.errors.describe` words it."""
+    if isinstance(values, (list, tuple, np.ndarray)) and np.ndim(values) == 1 and 0 < len(values) <= 8 \
+            and all(limits.is_number(x) for x in values):
+        return "[" + ", ".join(f"{float(x):g}" for x in values) + "]"
+    return describe(values)
 
 
 def _vector(values, src: str, field: str) -> np.ndarray:
