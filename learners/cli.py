@@ -19,7 +19,9 @@ of all its runs together. ``--segments N`` adds a row per time segment (each run
 parts; segment k pooled over the runs). ``--interval 60s`` thins every run to that sample interval
 (:func:`learners.runs.resample`): time-ordered learners count in samples, so runs sampled at 10 s
 and 60 s would otherwise mean different things to them (runs of different intervals are refused
-for them without it). The scoring is
+for them without it, and so is a run that is not equally spaced in time,
+:func:`learners.runs.check_equal_steps`: split it at its gaps into files; pooled learners take
+both). The scoring is
 :func:`learners.leaderboard.leaderboard`.
 
 One row per learner and test set (and segment) is printed as an aligned text table; ``-o x.csv``
@@ -43,8 +45,8 @@ import numpy as np
 
 from learners.leaderboard import COLUMNS, as_input_error, check_segments, leaderboard, notes, write_csv, write_markdown
 from learners.registry import LEARNERS, SELECTORS, make_learner, make_selector
-from learners.runs import (check_one_interval, dataset_runs, is_time_ordered, refuse_training_on_test, resample,
-                           select_runs)
+from learners.runs import (check_equal_steps, check_one_interval, dataset_runs, is_time_ordered,
+                           refuse_training_on_test, resample, select_runs)
 from learners.table import Table, check_problem, load_table, target_unit
 from twin.cli.options import add_seed_option, positive_quantity_value, whole_number
 from twin.limits import plain_int
@@ -225,8 +227,10 @@ def run_learn(args) -> int:
         for path, tab in zip(paths, tabs):
             check_problem(tab, path, args.target, training=False)
         tests.append((label, tabs))
-    check_one_interval(runs + [tab for _, tabs in tests for tab in tabs],
-                       [name for name, est in learners.items() if is_time_ordered(est)])
+    ordered = [name for name, est in learners.items() if is_time_ordered(est)]
+    check_equal_steps(runs + [tab for _, tabs in tests for tab in tabs],
+                      train_paths + [path for _, paths in test_sets for path in paths], ordered, args.time_column)
+    check_one_interval(runs + [tab for _, tabs in tests for tab in tabs], ordered)
     check_segments([(label, [(tab.X, tab.y) for tab in tabs]) for label, tabs in tests], args.segments, "command line")
     with as_input_error(train_label, args.select):
         select_runs(selector, [(r.X, r.y) for r in runs])

@@ -14,8 +14,12 @@ not a step in time. So:
   time-ordered learner without it (someone else's) accepts one run only
   (:class:`twin.errors.InputError` otherwise);
 * predictions are always made run by run, each from its own start;
-* a time-ordered learner's coefficients are per sample, so its runs must share one sample
-  interval: :func:`resample` thins a run to a coarser one (``twin learn --interval``);
+* a time-ordered learner's coefficients are per sample, so each of its runs must be equally
+  spaced in time (:func:`check_equal_steps`: a run with a gap is two runs, to be given as two
+  files) and its runs must share one sample interval: :func:`resample` thins a run to a coarser
+  one (``twin learn --interval``). A pooled learner reads each row on its own: a run with a gap,
+  or runs of different intervals, are rows all the same (a NetCDF table is refused with a gap of
+  more than 3 median steps whatever the learner, as every command reads a twin result);
 * a selector with ``fit_runs`` (the grey ones, ``gm0n-fcm`` and ``gra-fcm``, which read rows as
   time) picks its sensors on the runs as sequences, any other on all rows (:func:`select_runs`).
 
@@ -25,15 +29,20 @@ not a step in time. So:
 from __future__ import annotations
 
 import csv
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 import numpy as np
 
 from learners.table import MIN_ROWS, Table
 from twin.errors import InputError
+from twin.io.csv_rows import data_rows
 from twin.io.paths import read_text, same_file
 
-__all__ = ["is_time_ordered", "fit_runs", "select_runs", "resample", "check_one_interval", "dataset_runs"]
+__all__ = ["is_time_ordered", "fit_runs", "select_runs", "resample", "check_equal_steps", "check_one_interval",
+           "dataset_runs"]
+
+# a run is equally spaced in time when every step is within this fraction of its median step
+STEP_TOLERANCE = 1e-6
 
 
 def is_time_ordered(estimator) -> bool:
@@ -85,9 +94,8 @@ def resample(table: Table, interval: float | None, source: str, field: str = "--
     does not divide ``interval``, is an :class:`InputError` on ``source``."""
     if interval is None or len(table.time) < 2:
         return table
-    dt = np.diff(table.time)
-    step = float(np.median(dt))
-    if np.max(np.abs(dt - step)) > 1e-6 * step:
+    step = float(np.median(np.diff(table.time)))
+    if _uneven_step(table.time) is not None:
         raise InputError(source, field, "the run is not equally spaced in time; it cannot be thinned")
     k = interval / step
     if round(k) < 1 or abs(k - round(k)) > 1e-6 * k:
@@ -101,6 +109,36 @@ def resample(table: Table, interval: float | None, source: str, field: str = "--
     return table._replace(time=table.time[::k], X=table.X[::k], y=table.y[::k])
 
 
+def _uneven_step(time) -> int | None:
+    """The index of the first step of ``time`` [s] that differs from the median step by more than
+    :data:`STEP_TOLERANCE` of it (None: equally spaced)."""
+    if len(time) < 2:
+        return None
+    dt = np.diff(time)
+    step = float(np.median(dt))
+    bad = np.flatnonzero(np.abs(dt - step) > STEP_TOLERANCE * step)
+    return int(bad[0]) if bad.size else None
+
+
+def check_equal_steps(tables: list, sources: list, names: list[str], field: str = "time") -> None:
+    """Refuse (:class:`InputError` naming the run's file and its time column ``field``) a run of
+    ``tables`` that is not equally spaced in time, within :data:`STEP_TOLERANCE` of its median step
+    as :func:`resample` asks, when a time-ordered learner (``names``) is to see it: it counts in
+    samples, and would read a gap as one step. Pooled learners (``names`` empty) take such runs."""
+    if not names:
+        return
+    for table, source in zip(tables, sources):
+        i = _uneven_step(table.time)
+        if i is not None:
+            t = table.time
+            step = float(np.median(np.diff(t)))
+            raise InputError(str(source), field, f"the run is not equally spaced in time ({t[i]:g} s then {t[i + 1]:g} s, "
+                                                 f"its median step is {step:g} s) and {', '.join(names)} count(s) in "
+                                                 "samples: split the run at its gaps into files, one equally spaced run "
+                                                 "each (--train/--test repeated; --interval thins only an equally "
+                                                 "spaced run), or leave the time-ordered learners out")
+
+
 def check_one_interval(tables: list, names: list[str]) -> None:
     """Refuse (:class:`InputError` on ``--interval``) runs sampled at different intervals when a
     time-ordered learner (``names``) is to see them: its coefficients are per sample."""
@@ -111,25 +149,49 @@ def check_one_interval(tables: list, names: list[str]) -> None:
                          f"count(s) in samples; thin them to one interval, e.g. --interval '{steps[-1]:g} s'")
 
 
+# how twin dataset writes a case's ``built`` flag in index.csv (pandas' spelling of a bool)
+BUILT = {"True": True, "False": False}
+
+
 def dataset_runs(folder: str | Path, split: str, field: str = "--dataset") -> list[Path]:
     """The built case files of ``split`` in the dataset ``folder`` (its ``index.csv``), in index
-    order; an unknown split or a split without built cases is an :class:`InputError`."""
+    order; an unknown split or a split without built cases is an :class:`InputError`, and so is
+    an index row that twin dataset would not write (naming index.csv, the column and the line): a
+    ``built`` other than ``True`` or ``False`` (which would drop the case without a word), a
+    ``file`` outside the folder (absolute, or climbing out with ``..``), a row of another width."""
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
         raise InputError(str(folder), field, "is a file, not a dataset folder (the folder twin dataset -o writes, "
                                              "with its index.csv and cases/)")
     index = folder / "index.csv"
-    reader = csv.DictReader(read_text(index, field, "dataset index (index.csv)").splitlines())
-    rows = list(reader)
+    try:
+        lines, table = data_rows(read_text(index, field, "dataset index (index.csv)"))
+    except csv.Error as exc:
+        raise InputError(str(index), "file", f"cannot read CSV: {exc}") from None
+    header = [h.strip() for h in table[0]] if table else []
     for key in ("file", "split", "built"):
-        if key not in (reader.fieldnames or ()):
+        if key not in header:
             raise InputError(str(index), key, "missing column: not the index.csv of a twin dataset")
+    rows = []
+    for line, row in zip(lines[1:], table[1:]):
+        if len(row) != len(header):
+            raise InputError(str(index), f"line {line}", f"{len(row)} fields, header has {len(header)}")
+        r = dict(zip(header, row))
+        if r["built"] not in BUILT:
+            raise InputError(str(index), "built", f"line {line}: {r['built']!r} is neither True nor False (as twin "
+                                                  "dataset writes it)")
+        entry = PurePosixPath(r["file"])
+        if not r["file"].strip() or entry.is_absolute() or ".." in entry.parts:
+            raise InputError(str(index), "file", f"line {line}: {r['file']!r} is not a file inside the dataset folder "
+                                                 "(a path relative to it, such as cases/<hash>.nc, as twin dataset "
+                                                 "writes it)")
+        rows.append(r)
     if not rows:
         raise InputError(str(index), "file", "lists no case: not the index.csv of a built twin dataset")
     splits = sorted({r["split"] for r in rows})
     if split not in splits:
         raise InputError(str(index), "split", f"no split {split!r}; the dataset has {', '.join(splits) or 'none'}")
-    files = [folder / r["file"] for r in rows if r["split"] == split and r["built"] == "True"]
+    files = [folder / r["file"] for r in rows if r["split"] == split and BUILT[r["built"]]]
     if not files:
         raise InputError(str(index), "split", f"split {split!r} has no built case yet; build the dataset first "
                                               "(twin dataset SPEC -o DIR)")

@@ -1,16 +1,21 @@
 """Load a measurement table (CSV or twin result NetCDF) into ``(time, X, y, input_names)``.
 
 CSV: a header row, a time column in seconds (``time_column``, default "time"), one column per
-signal; every column that is used must be numeric and finite. Inputs default to every column but
-time and the target. Columns that are not used are not checked (they may hold labels).
+signal; every column must be numeric and finite, used or not (a column of labels, or one of NaN,
+is refused naming it and the line: drop it from the file). Inputs default to every column but
+time and the target.
 
-NetCDF (a twin result, :mod:`xarray` Dataset): inputs are ``temperature(time, sensor)`` [degC],
-one column per ``sensor`` coordinate value, named by it. Targets (and extra inputs) are addressed as
+NetCDF (a twin result, :mod:`xarray` Dataset): the file is read and checked as ``twin plot``,
+``twin report`` and ``twin compare`` read a result (:func:`twin.io.measurement.read_checked_result`:
+the twin's units, time in s without gaps of more than 3 median steps, no NaN or inf in any variable
+or coordinate, a known machine, spindle speeds within its maximum, sensors on it, ...), whichever
+of its variables are used. Inputs are ``temperature(time, sensor)`` [degC], one column per
+``sensor`` coordinate value, named by it. Targets (and extra inputs) are addressed as
 ``"<variable>:<label>"``, selecting ``label`` along the variable's one non-time dimension, whatever
 its name, e.g. ``drift:Z`` -> ``drift.sel(axis="Z")`` [um], ``probe:Y1`` -> the probe reading
 ``Y1`` [um], ``tilt:A`` -> ``tilt.sel(rotation="A")`` [urad], or as a bare variable name for a
-variable that depends on time only. Time is returned in seconds (datetime/timedelta coordinates are converted,
-numeric ones taken as seconds unless their ``units`` attribute says min or h).
+variable that depends on time only. Time is returned in seconds (a twin result's ``time`` is in
+``s``; ``time_column`` may name another variable, read in the time unit it states).
 
 Every problem raises :class:`twin.errors.InputError` ``(path, column, message)``: missing file,
 missing column/variable/label, non-numeric value, NaN or infinite value, time not strictly
@@ -75,7 +80,7 @@ def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_RO
         inputs = None if inputs.strip() in ("", "all") else [s.strip() for s in inputs.split(",") if s.strip()]
     unit = ""
     if _is_netcdf(path):
-        time, X, y, names, unit = _load_netcdf(path, target, inputs, time_column)
+        time, X, y, names, unit = _load_netcdf(path, target, inputs, time_column, field)
     else:
         time, X, y, names = _load_csv(path, target, inputs, time_column, field)
     if len(time) < min_rows:
@@ -83,7 +88,7 @@ def load_table(path, target, *, inputs=None, time_column="time", min_rows=MIN_RO
     bad = np.flatnonzero(np.diff(time) <= 0)
     if bad.size:
         i = int(bad[0]) + 1
-        raise InputError(path, time_column, f"time is not strictly increasing at row {i + 1} "
+        raise InputError(path, time_column, f"time is not strictly increasing at sample {i + 1} "
                                             f"({time[i - 1]:g} s then {time[i]:g} s)")
     if not names:
         raise InputError(path, "inputs", "no input columns")
@@ -126,13 +131,17 @@ def _is_netcdf(path):
 # ----------------------------------------------------------------------------------------------- CSV
 
 
-def _parse(path, column, line, text):
+# said of a bad value in a column the command does not read: it is checked all the same
+_UNUSED = "; every column of a table must be numeric, even one the command does not use: remove the column"
+
+
+def _parse(path, column, line, text, note=""):
     try:
         value = cell_number(text)   # plain ASCII numbers: float() also reads 6_0 and Unicode digits
     except ValueError:
-        raise InputError(path, column, f"line {line}: non-numeric value {text.strip()!r}") from None
+        raise InputError(path, column, f"line {line}: non-numeric value {text.strip()!r}{note}") from None
     if math.isnan(value) or math.isinf(value):
-        raise InputError(path, column, f"line {line}: {'NaN' if math.isnan(value) else 'infinite'} value")
+        raise InputError(path, column, f"line {line}: {'NaN' if math.isnan(value) else 'infinite'} value{note}")
     if abs(value) > VALUE_LIMIT:
         raise InputError(path, column, f"line {line}: {text.strip()} is beyond +-{VALUE_LIMIT:g}: not a measured time, "
                                        "temperature or error in any unit")
@@ -161,29 +170,34 @@ def _load_csv(path, target, inputs, time_column, field="file"):
         if name not in header:
             raise InputError(path, name, f"missing input column; columns: {', '.join(header)}")
     used = [time_column, target, *inputs]
-    index = [header.index(c) for c in used]
-    data = np.empty((len(rows) - 1, len(used)))
+    notes = ["" if name in used else _UNUSED for name in header]
+    data = np.empty((len(rows) - 1, len(header)))
     for i, (line, row) in enumerate(zip(lines[1:], rows[1:])):
         if len(row) != len(header):
             raise InputError(path, f"line {line}", f"{len(row)} fields, header has {len(header)}")
-        for k, (name, j) in enumerate(zip(used, index)):
-            cell = row[j]
+        for j, (name, cell) in enumerate(zip(header, row)):     # every column, used or not
             if not cell.strip():
-                raise InputError(path, name, f"line {line}: missing value (NaN)")
-            data[i, k] = _parse(path, name, line, cell)
+                raise InputError(path, name, f"line {line}: missing value (NaN){notes[j]}")
+            data[i, j] = _parse(path, name, line, cell, notes[j])
+    data = data[:, [header.index(c) for c in used]]
+    back = np.flatnonzero(np.diff(data[:, 0]) <= 0)
+    if back.size:          # named by the line an editor shows (load_table checks a NetCDF's samples)
+        i = int(back[0]) + 1
+        raise InputError(path, time_column, f"time is not strictly increasing at line {lines[1:][i]} "
+                                            f"({data[i - 1, 0]:g} s then {data[i, 0]:g} s)")
     return data[:, 0], data[:, 2:], data[:, 1], list(inputs)
 
 
 # ------------------------------------------------------------------------------------------- NetCDF
 
 
-def _open_dataset(path):
-    import xarray as xr
+def _open_dataset(path, field="file"):
+    """The result file at ``path`` read and checked as ``twin plot``, ``report`` and ``compare``
+    read one (:func:`twin.io.measurement.read_checked_result`): every variable and coordinate, used
+    by the learners or not."""
+    from twin.io.measurement import read_checked_result
 
-    try:
-        return xr.load_dataset(path)
-    except Exception as exc:  # noqa: BLE001 - any reader failure is a bad input file
-        raise InputError(path, "file", f"cannot read NetCDF: {exc}") from None
+    return read_checked_result(path, field)
 
 
 def _time_seconds(path, ds, time_column):
@@ -279,8 +293,8 @@ def _values(path, ds, address, tname):
     return _finite(path, address, da.isel({dim: labels.index(label)}).transpose(tname).values)
 
 
-def _load_netcdf(path, target, inputs, time_column):
-    ds = _open_dataset(path)
+def _load_netcdf(path, target, inputs, time_column, field="file"):
+    ds = _open_dataset(path, field)
     time, tname = _time_seconds(path, ds, time_column)
     sensors = []
     if "temperature" in ds.data_vars and "sensor" in ds["temperature"].dims:

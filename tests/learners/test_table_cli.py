@@ -178,11 +178,14 @@ def test_learn_writes_the_targets_unit_and_refuses_files_in_different_units(tmp_
     ds["tilt"].attrs["units"] = "mrad"
     ds["load"].attrs["units"] = "kN"
     ds.to_netcdf(tmp_path / "mrad.nc")
-    with pytest.raises(InputError, match="'tilt' is in 'mrad'; a twin result holds it in 'urad'"):
+    with pytest.raises(InputError, match="in 'mrad'; a NetCDF file is read as a twin result, which holds tilt in "
+                                         "'urad'"):
         run_learn(_args("--train", train, "--test", str(tmp_path / "mrad.nc"), "--target", "tilt:A",
                         "--learner", "mlr", "--select", "hier-corr:2"))
+    ds["tilt"].attrs["units"] = "urad"          # the file is refused whatever the target: only load in kN now
+    ds.to_netcdf(tmp_path / "kN.nc")
     with pytest.raises(InputError, match="different units"):      # a variable no twin result holds
-        run_learn(_args("--train", train, "--test", str(tmp_path / "mrad.nc"), "--target", "load",
+        run_learn(_args("--train", train, "--test", str(tmp_path / "kN.nc"), "--target", "load",
                         "--learner", "mlr", "--select", "hier-corr:2"))
 
 
@@ -202,21 +205,24 @@ def test_time_ordered_learners_need_one_sample_interval(tmp_path, capsys):
 
 
 def test_netcdf_units_are_stated_and_values_plausible(tmp_path):
-    """A NetCDF table is read as a twin result: every variable it uses states its unit (a twin
-    result's own, where it holds that variable), a numeric time states a time unit (converted:
-    min to s), and temperatures, errors and strains are a machine's (twin.limits): a drift in
-    metres written as um, or 293 'degC' that were kelvin, are refused naming file and variable."""
+    """A NetCDF table is read as a twin result (twin.io.measurement.read_checked_result, as plot,
+    report and compare read it): every variable a twin result holds states the result's unit, time
+    in s (a time in min, once converted here, is refused as plot refuses it), a variable only
+    learn reads (load) states one, and temperatures, errors and strains are a machine's
+    (twin.limits): a drift in metres written as um, or 293 'degC' that were kelvin, are refused
+    naming file and variable."""
     import xarray as xr
 
     path = _write_netcdf(tmp_path / "t.nc")
     base = xr.load_dataset(path)
-    cases = [("temperature", lambda d: d["temperature"].attrs.pop("units"), "drift:Z", "temperature:S1",
-              "states no units"),
-             ("temperature", lambda d: d["temperature"].attrs.update(units="K"), "drift:Z", "temperature:S1",
-              "a twin result holds it in 'degC'"),
-             ("drift", lambda d: d["drift"].attrs.update(units="furlong"), "drift:Z", "drift:Z", "'drift' is in"),
+    cases = [("temperature", lambda d: d["temperature"].attrs.pop("units"), "drift:Z", "temperature",
+              "states no unit"),
+             ("temperature", lambda d: d["temperature"].attrs.update(units="K"), "drift:Z", "temperature",
+              "holds temperature in 'degC'"),
+             ("drift", lambda d: d["drift"].attrs.update(units="furlong"), "drift:Z", "drift", "in 'furlong'"),
              ("time", lambda d: d["time"].attrs.update(units="fortnights"), "drift:Z", "time", "in 'fortnights'"),
-             ("time", lambda d: d["time"].attrs.pop("units"), "drift:Z", "time", "states no units"),
+             ("time", lambda d: d["time"].attrs.pop("units"), "drift:Z", "time", "states no unit"),
+             ("load", lambda d: d["load"].attrs.pop("units"), "load", "load", "'load' states no units"),
              ("temperature", lambda d: d["temperature"].__setitem__(slice(None), d["temperature"].values + 400.0),
               "drift:Z", "temperature:S1", "structure"),
              ("drift", lambda d: d["drift"].__setitem__(slice(None), d["drift"].values * 1e6), "drift:Z", "drift:Z",
@@ -233,7 +239,10 @@ def test_netcdf_units_are_stated_and_values_plausible(tmp_path):
     ds["time"] = ds["time"] / 60.0
     ds["time"].attrs["units"] = "min"
     ds.to_netcdf(tmp_path / "min.nc")
-    assert np.allclose(load_table(str(tmp_path / "min.nc"), "drift:Z").time, load_table(path, "drift:Z").time)
+    with pytest.raises(InputError, match="in 'min'; a NetCDF file is read as a twin result, which holds time in "
+                                         "'s'") as err:
+        load_table(str(tmp_path / "min.nc"), "drift:Z")
+    assert err.value.field == "time"
 
 
 def test_a_grid_sensor_the_test_file_lacks_is_named_as_a_missing_sensor(tmp_path):
@@ -311,11 +320,159 @@ def test_a_temperature_target_is_left_out_of_the_default_inputs(tmp_path):
 
 def test_a_repeated_time_is_not_strictly_increasing(tmp_path):
     """Times 0, 60, 60, 120: diff = [60, 0, 60], the first diff <= 0 is between data rows 2 and 3,
-    so load_table refuses on the time column 'not strictly increasing at row 3' (a repeat, diff = 0,
-    is refused as well as a step back)."""
+    so load_table refuses on the time column at the line an editor shows, line 4 (the header is
+    line 1), line 5 with a blank line before it (a repeat, diff = 0, is refused as well as a step
+    back)."""
     path = tmp_path / "repeat.csv"
-    path.write_text("time,T1,drift\n0,20.0,0.0\n60,20.5,1.0\n60,21.0,2.5\n120,21.4,3.1\n")
-    with pytest.raises(InputError) as err:
-        load_table(str(path), "drift")
-    assert err.value.field == "time"
-    assert "not strictly increasing at row 3" in err.value.message
+    for text, line in (("time,T1,drift\n0,20.0,0.0\n60,20.5,1.0\n60,21.0,2.5\n120,21.4,3.1\n", 4),
+                       ("time,T1,drift\n0,20.0,0.0\n\n60,20.5,1.0\n60,21.0,2.5\n120,21.4,3.1\n", 5)):
+        path.write_text(text)
+        with pytest.raises(InputError) as err:
+            load_table(str(path), "drift")
+        assert err.value.field == "time"
+        assert f"not strictly increasing at line {line} (60 s then 60 s)" in err.value.message
+
+
+# --- audit: every column, evenly spaced runs, result files as plot reads them, the dataset index ------------------
+
+def _with_column(path, name, value, blank_at=None):
+    """A copy of a table with one more column ``name`` holding ``value`` on every row (a blank line
+    inserted before data row ``blank_at``, as an editor shows it)."""
+    lines = open(path).read().splitlines()
+    lines = [lines[0] + f",{name}"] + [line + f",{value}" for line in lines[1:]]
+    if blank_at is not None:
+        lines.insert(blank_at, "")
+    return lines
+
+
+@pytest.mark.parametrize("value, words", [("abc", "non-numeric value 'abc'"), ("nan", "NaN value"),
+                                          ("", "missing value")])
+def test_every_csv_column_is_checked_used_or_not(tmp_path, value, words):
+    """`time,T1,...,drift_z,note` with note = abc or nan on every row passed, as a test file and
+    as a training file whose --inputs leave note out: every column of every table is numeric and
+    finite, named with the file, the column and the line an editor shows (blank lines counted)."""
+    train, test = _write_csv(tmp_path / "train.csv"), _write_csv(tmp_path / "test.csv", seed=1)
+    bad = tmp_path / "note.csv"
+    bad.write_text("\n".join(_with_column(test, "note", value, blank_at=1)) + "\n")   # data from line 3
+    for argv in (["--train", train, "--test", str(bad)],
+                 ["--train", str(bad), "--test", train, "--inputs", "T1,T2"]):
+        with pytest.raises(InputError, match=f"line 3: {words}") as err:
+            run_learn(_args(*argv, "--target", "drift_z", "--learner", "mlr"))
+        assert (err.value.source, err.value.field) == (str(bad), "note")
+        assert "even one the command does not use" in err.value.message
+    good = tmp_path / "more.csv"                    # a numeric column not used is read and left out
+    good.write_text("\n".join(_with_column(test, "spare", "1.5")) + "\n")
+    assert run_learn(_args("--train", train, "--test", str(good), "--target", "drift_z", "--learner", "mlr",
+                           "--inputs", "T1,T2")) == 0
+
+
+def test_time_ordered_learners_refuse_a_run_with_a_gap(tmp_path, capsys):
+    """A run at 10 s steps with a jump from 290 s to 86700 s passed ar-temp and gm1n (they count
+    in samples: the gap read as one step) though --interval called it not equally spaced: refused
+    for them on either side, naming the file and its time column; pooled learners take it."""
+    train = _write_csv(tmp_path / "train.csv")
+
+    def jump(rows):
+        for r in rows[31:]:
+            r[0] = f"{float(r[0]) + 86400:g}"
+
+    gap = _write_csv(tmp_path / "gap.csv", seed=1, edit=jump)
+    for name in ("ar-temp", "gm1n", "mlr,gnnmci"):
+        for argv in (["--train", gap, "--test", train], ["--train", train, "--test", gap]):
+            with pytest.raises(InputError, match="290 s then 86700 s.*split the run") as err:
+                run_learn(_args(*argv, "--target", "drift_z", "--learner", name))
+            assert (err.value.source, err.value.field) == (gap, "time"), str(err.value)
+    assert run_learn(_args("--train", gap, "--test", train, "--target", "drift_z", "--learner", "mlr,pcr")) == 0
+    wobble = _write_csv(tmp_path / "wobble.csv", seed=2,       # within 1e-6 of the step, as --interval allows
+                        edit=lambda rows: rows[5].__setitem__(0, f"{float(rows[5][0]) + 1e-7:.7f}"))
+    assert run_learn(_args("--train", train, "--test", wobble, "--target", "drift_z", "--learner", "ar-temp")) == 0
+
+
+def _result_edits():
+    def coord(name, index, value):
+        def edit(ds):
+            values = ds[name].values.copy()
+            values[index] = value
+            ds.coords[name] = ("sensor", values)
+        return edit
+
+    return [("nan-in-drift-X", lambda ds: ds["drift"].values.__setitem__((3, 0), np.nan), "drift", "from t = 180 s"),
+            ("extra-all-nan", lambda ds: ds.__setitem__("junk", ("time", np.full(ds.sizes["time"], np.nan),
+                                                                   {"units": "1"})), "junk", "NaN or infinite"),
+            ("unknown-machine", lambda ds: ds.attrs.__setitem__("machine", "nosuch"), "machine", "unknown machine"),
+            ("speed-beyond", lambda ds: ds["spindle_speed"].values.__setitem__(0, 12000.0), "spindle_speed",
+             "12000 rpm is beyond"),
+            ("sensor-x-nan", coord("x", 0, np.nan), "x", "NaN or infinite"),
+            ("sensor-x-50-m", coord("x", 0, 50.0), "sensor motor", "is not on part motor")]
+
+
+@pytest.mark.parametrize("case, edit, field, words", _result_edits(), ids=[c[0] for c in _result_edits()])
+def test_a_result_file_is_read_as_plot_report_and_compare_read_it(tmp_path, capsys, case, edit, field, words):
+    """A NaN in a variable learn does not read (drift:X beside the target drift:Z), an all-NaN
+    extra variable, an unknown machine, 12000 rpm on a 9000 rpm machine, a sensor at x NaN or
+    50 m: twin plot refused these files and twin learn read them. Both read a result with
+    twin.io.measurement.read_checked_result now: the same error, exit status 2."""
+    from tests.fuzz_files import result_dataset
+    from twin.cli import main
+
+    good, other = tmp_path / "good.nc", tmp_path / "other.nc"
+    ds = result_dataset(40)
+    ds.to_netcdf(good, engine="h5netcdf")
+    ds["drift"].values[:, 2] += 0.01 * np.arange(40)
+    ds.to_netcdf(other, engine="h5netcdf")
+    bad = result_dataset(40)
+    edit(bad)
+    bad.to_netcdf(tmp_path / "bad.nc", engine="h5netcdf")
+    common = ["--target", "drift:Z", "--learner", "mlr"]
+    assert main(["learn", "--train", str(good), "--test", str(other), *common]) == 0
+    capsys.readouterr()
+    for argv in (["--train", str(good), "--test", str(tmp_path / "bad.nc")],
+                 ["--train", str(tmp_path / "bad.nc"), "--test", str(other)]):
+        assert main(["learn", *argv, *common]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"error: {tmp_path / 'bad.nc'}: {field}: ") and words in err, err
+    assert main(["plot", str(tmp_path / "bad.nc"), "-o", str(tmp_path / "p.png")]) == 2
+    assert capsys.readouterr().err == err              # word for word what plot says
+    assert not (tmp_path / "p.png").exists()
+
+
+def _dataset(folder, index_text):
+    folder.mkdir()
+    for name, seed in (("a", 0), ("b", 1), ("c", 2)):
+        _write_csv(folder / f"{name}.csv", seed=seed)
+    (folder / "index.csv").write_text(index_text)
+    return folder
+
+
+def test_a_dataset_index_is_read_as_twin_dataset_writes_it(tmp_path, capsys):
+    """index.csv: a built other than True/False (true, maybe) dropped its case without a word, and
+    a file outside the folder (../x.csv, an absolute path) was read: refused naming index.csv, the
+    column and the line. What twin dataset writes (pandas' True/False, cases/<hash>.nc) is read."""
+    import pandas as pd
+    from twin.cli import main
+
+    (tmp_path / "outside.csv").write_text(open(_write_csv(tmp_path / "o.csv", seed=3)).read())
+    head = "file,split,built,family\na.csv,train,True,f\nb.csv,test,True,f\n\n"     # line 4 blank
+    cases = [("c.csv,test,true,f\n", "built", "line 5: 'true' is neither True nor False"),
+             ("c.csv,test,maybe,f\n", "built", "line 5: 'maybe' is neither True nor False"),
+             ("c.csv,test,,f\n", "built", "line 5: '' is neither"),
+             ("../outside.csv,test,True,f\n", "file", "line 5: '../outside.csv' is not a file inside the dataset"),
+             (f"{tmp_path / 'outside.csv'},test,True,f\n", "file", "line 5: "),
+             ("cases/../../outside.csv,test,True,f\n", "file", "line 5: 'cases/../../outside.csv' is not"),
+             ("c.csv,test,True\n", "line 5", "3 fields, header has 4")]
+    for k, (row, field, words) in enumerate(cases):
+        folder = _dataset(tmp_path / f"ds{k}", head + row)
+        assert main(["learn", "--dataset", str(folder), "--target", "drift_z", "--learner", "mlr"]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"error: {folder / 'index.csv'}: {field}: {words}"), err
+    # the writer's own index (twin.dataset.card.write_index: pandas.DataFrame.to_csv of bool built)
+    folder = tmp_path / "written"
+    (folder / "cases").mkdir(parents=True)
+    rows = []
+    for name, split, built, seed in (("a", "train", True, 0), ("b", "test", True, 1), ("c", "test", False, 2)):
+        if built:
+            _write_csv(folder / "cases" / f"{name}.csv", seed=seed)
+        rows.append({"hash": name, "file": f"cases/{name}.csv", "split": split, "built": built, "bytes": 1})
+    pd.DataFrame(rows).to_csv(folder / "index.csv", index=False)
+    assert main(["learn", "--dataset", str(folder), "--target", "drift_z", "--learner", "mlr"]) == 0
+    assert "[test: 1 runs]" in capsys.readouterr().out
