@@ -17,7 +17,7 @@ from geometries.cframe_vmc import SPINDLE_EFFECTS
 from twin.model import model_spec
 from twin.observe import FiveProbeTestBar, HeatBalance, TemperatureSensors, ToolDrift, sensor_points
 from twin.physics.prepared import PreparedTwin
-from twin.physics.options import SolverOptions
+from twin.physics.options import ROM_ORDER, SolverOptions
 from twin.scenario import Ambient, Scenario
 
 SHORT = Scenario("short", ((1200.0, 9000.0), (900.0, 0.0)), Ambient("daily", 20.0, 2.0), 30.0)
@@ -81,7 +81,8 @@ def test_amg_adjoints_equal_direct_ones(twins, machine):
 @pytest.fixture(scope="module")
 def runs(twins, machine):
     # the spindle tests' five effects: on this daily room the C-frame's default stratified_swing
-    # needs a larger basis (order 48: Y off by up to 28 % of its peak, 64: 2.4 %; README "Scale")
+    # needs the default basis of two operators (order 48 in all: Y off by up to 28 % of its peak,
+    # 96, the default: 0.35 %; README "Scale")
     spec = model_spec(machine, ",".join(SPINDLE_EFFECTS))
     out = {}
     for k, twin in twins.items():
@@ -271,8 +272,9 @@ def test_cli_writes_the_solver_and_its_errors_into_the_result(tmp_path):
 def test_rom_order_on_the_command_line_and_the_printed_error_estimate(tmp_path, capsys):
     """--rom-order R sets the reduced model's basis (whole blocks of moments until R is reached),
     a larger basis leaves a smaller estimated error, and the summary line prints the result's own
-    estimate per axis in um (rom_error_estimate, m); --rom-order beside any solver but rom changes
-    nothing and is refused before anything is written."""
+    estimate per axis in um (rom_error_estimate, m); without it the basis is 48 per reference
+    operator; --rom-order beside any solver but rom changes nothing and is refused before anything
+    is written."""
     from twin.cli import main
     import xarray as xr
     toml = tmp_path / "s.toml"
@@ -292,6 +294,15 @@ def test_rom_order_on_the_command_line_and_the_printed_error_estimate(tmp_path, 
         assert f"order {ds.attrs['rom_order']}:" in line
         assert ", ".join(f"{a} {e:.2f} um" for a, e in zip("XYZ", estimates[order])) in line
     assert np.all(estimates[72][1:] < estimates[24][1:])
+    # the default: ROM_ORDER (48) per reference operator; the films switch here, so two operators
+    # (the spindle turning and standing), twice the basis of a run whose films hold
+    out = tmp_path / "default.nc"
+    assert main(["simulate", "cframe-vmc", str(toml), "-o", str(out), "--mesh", "coarse", "--solver", "rom"]) == 0
+    assert 2 * ROM_ORDER <= xr.open_dataset(out).attrs["rom_order"] < 2 * ROM_ORDER + 30
+    still = tmp_path / "still.toml"
+    still.write_text(toml.read_text().replace('"0 rpm"', '"6000 rpm"'))
+    assert main(["simulate", "cframe-vmc", str(still), "-o", str(out), "--mesh", "coarse", "--solver", "rom"]) == 0
+    assert ROM_ORDER <= xr.open_dataset(out).attrs["rom_order"] < ROM_ORDER + 30
     assert main(["simulate", "cframe-vmc", str(toml), "-o", str(tmp_path / "x.nc"), "--mesh", "coarse",
                  "--rom-order", "72"]) == 2
     assert "--rom-order: sets the reduced model's order; --solver auto runs no reduced model" in capsys.readouterr().err

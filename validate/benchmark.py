@@ -132,7 +132,7 @@ def _run(args) -> int:
     limits.check_scenario(scenario, machine)
     limits.check_batch_size(args.cases, len(scenario.times()), "command line", "--cases")   # before the mesh
     tol = {"heat_tol": args.heat_tol} if args.heat_tol is not None else {}
-    options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order or 48,
+    options = SolverOptions(SOLVER_NAMES[args.solver], args.device, rom_order=args.rom_order,
                             elastic_coarsening=args.elastic_coarsening, heat_start=args.heat_start, **tol)
     gpu_cg.FUSED = args.gpu_kernels != "arrays"
     if args.device == "gpu":         # refused before the mesh, --prepare-only too (its preparation is the CPU's)

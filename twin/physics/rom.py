@@ -54,7 +54,7 @@ import scipy.sparse as sp
 from twin.errors import InputError
 from twin.physics import kernels
 from twin.physics.lu import SymmetricLU
-from twin.physics.options import DIRECT_LIMIT
+from twin.physics.options import DIRECT_LIMIT, ROM_ORDER
 from twin.physics.solvers import amg_cycle, mass_weights, output_bounds, pcg, smoothed_aggregation
 
 SIGMA0 = 1.0 / (10 * 86400.0)    # [1/s]: keeps the reference operator definite without any film
@@ -342,7 +342,9 @@ def residual_gram(system, V: np.ndarray) -> np.ndarray:
 def reduced_basis(twin, loads, h: np.ndarray, rtol: float = BASIS_RTOL, blocks: int = 3) -> ReducedModel:
     """The reduction of ``loads`` on ``twin``, observing nothing yet: built on first use from the
     extremes of the film coefficients ``h`` (nsteps, ncv[, m]), or their value when constant,
-    and cached per operator, source patterns and solve tolerance ``rtol`` (:func:`build_reduced`),
+    and cached per operator, source patterns and solve tolerance ``rtol`` (:func:`build_reduced`;
+    its order the options' ``rom_order``, by default :data:`twin.physics.options.ROM_ORDER` per
+    reference operator),
     so later runs with other films reuse it (their error reported). Any layout works, contact
     splits included: the contact matrices are H_k like the films (with r_k = 0). The full-order
     iterative heat steps start from such a basis built to :data:`START_BASIS_RTOL`
@@ -352,8 +354,8 @@ def reduced_basis(twin, loads, h: np.ndarray, rtol: float = BASIS_RTOL, blocks: 
         hh = np.moveaxis(np.asarray(h, float).reshape(len(h), len(loads.convections), -1), 1, 2).reshape(-1, len(loads.convections))
         lo, hi = (hh.min(axis=0), hh.max(axis=0)) if len(hh) else (np.zeros(0), np.zeros(0))
         refs = [lo, hi] if np.any(hi > lo * (1 + 1e-9)) else [hh.mean(axis=0) if len(hh) else lo]
-        twin.reduced[key] = build_reduced(loads.system, refs, twin.options.rom_order, gram=False, rtol=rtol,
-                                          blocks=blocks)
+        order = twin.options.rom_order or ROM_ORDER * len(refs)     # the default: 48 per reference operator
+        twin.reduced[key] = build_reduced(loads.system, refs, order, gram=False, rtol=rtol, blocks=blocks)
     return twin.reduced[key]
 
 
