@@ -276,6 +276,10 @@ def test_the_estimate_spreads_a_cases_own_set_up_over_a_cases_length(monkeypatch
     assert e["prepare_s"] == pytest.approx(prepare, rel=1e-12)
     assert e["steps"] == sum(steps)
     assert e["seconds"] == pytest.approx(prepare + rate * sum(steps) / 2, rel=1e-12)
+    # two workers on one core take as long as one: the steps share min(jobs, cores) lanes
+    one_core = E.estimate(cases, jobs=2, cores=1)
+    assert one_core["seconds"] == pytest.approx(one_core["prepare_s"] + rate * sum(steps), rel=1e-12)
+    assert E.estimate(cases, jobs=2, cores=8)["seconds"] == pytest.approx(e["seconds"], rel=1e-12)
 
 
 # --- learners on many runs -----------------------------------------------------------------------

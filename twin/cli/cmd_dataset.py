@@ -10,6 +10,8 @@ Files of cases no longer in the plan (an edited spec) are kept and reported, or 
 
 from __future__ import annotations
 
+import os
+
 import sys
 import time
 from pathlib import Path
@@ -113,10 +115,13 @@ def _dry_run(spec, cases, chosen, todo, args) -> int:
     for k, d in spec.parameters.items():
         print(f"  parameter {k}: {d.kind.replace('_', '-')} {', '.join(format_quantity(v, d.dimension) for v in d.values)}")
     if todo:
-        e = estimate(todo, 1 if args.scheduler is None and args.jobs == 1 else args.jobs)
+        here = args.scheduler in (None, "local")       # the workers share this machine's processors
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+        e = estimate(todo, 1 if args.scheduler is None and args.jobs == 1 else args.jobs, cores=cores if here else None)
         rates = ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in e["per_step_s"].items())
         print(f"estimated time: {_duration(e['seconds'])} for {e['cases']} case(s), {e['steps']} time steps on "
-              f"{args.jobs} worker(s) (calibrated here: per step {rates}; preparing {e['prepare_s']:.1f} s per worker)")
+              f"{args.jobs} worker(s)" + (f", {cores} core(s) here, taken as free" if here else "")
+              + f" (calibrated here: per step {rates}; preparing {e['prepare_s']:.1f} s per worker)")
     else:
         print("nothing to build")
     return 0

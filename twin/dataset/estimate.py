@@ -28,11 +28,14 @@ def _steps(case: Case) -> int:
     return int(round(case.info["duration [s]"] / case.info["sample_interval [s]"]))
 
 
-def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, length_steps: int | None = None) -> dict:
+def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, length_steps: int | None = None,
+             cores: int | None = None) -> dict:
     """{"cases", "steps", "prepare_s" (per worker), "per_step_s" (by group), "seconds"} for
     building ``cases`` on ``jobs`` workers: each worker prepares every group it meets once,
     the steps share the workers evenly (module docstring; ``length_steps`` defaults to 20
-    ``calibration_steps``). ``jobs`` is a whole number from 1 to
+    ``calibration_steps``), and no more of them run at once than ``cores`` (the processors the
+    workers share: two workers on one core take as long as one; None: as many as ``jobs``). The
+    cores are taken as free: other work beside the build slows it. ``jobs`` is a whole number from 1 to
     :data:`twin.dataset.runner.MAX_JOBS`, ``calibration_steps`` one >= 1 (an
     :class:`InputError` otherwise, before anything runs)."""
     cases = check_cases(cases, "estimate")
@@ -62,6 +65,6 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, leng
         per_step[name] = (t2 - t1) / n
         prepare += t1 - t0 - min(calibration_steps, n) * per_step[name]     # less the warm-up's steps
         seconds += sum(_steps(c) for c in members) * per_step[name]
-    workers = max(1, min(jobs, len(cases)))
+    workers = max(1, min(jobs, len(cases), jobs if cores is None else check_jobs(cores, "estimate")))
     return {"cases": len(cases), "steps": sum(_steps(c) for c in cases), "prepare_s": prepare,
             "per_step_s": per_step, "seconds": (prepare if cases else 0.0) + seconds / workers}
