@@ -11,7 +11,7 @@ from geometries.axes import LinearAxis
 from tests.fuzz_files import result_dataset
 from twin.errors import InputError
 from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
-from validate.iso230 import default_test, evaluate, segments_of
+from validate.iso230 import STILL_AIR_K, default_test, evaluate, segments_of
 
 
 def synthetic(n: int = 241, speed: bool = True) -> xr.Dataset:
@@ -144,6 +144,10 @@ def test_axis_needs_positioning_errors():
     assert table[2:5] == [f"| {t:.3f} h | {a:.3f} | {b:.3f} | {air:.2f} |" for t, a, b, air in
                           zip(runs / 3600, [0.0, 2.0, 3.0], [0.0, -1.0, -2.0], ev.air)]
     assert "Positioning-error change at the targets, run by run" not in dict(sections(evaluate(synthetic(), "etve")))
+    # the air read at the runs is said to be that, not the whole record's range (which the
+    # conditions table gives)
+    assert dict(sections(ev))["Maximum range over the test"][-1] == (
+        f"Room air range at the interferometer's runs: {ev.air_range:.3f} K ({ev.air.min():.2f} to {ev.air.max():.2f} degC).")
 
 
 def test_conditions_say_when_the_file_has_no_temperature_sensor():
@@ -332,3 +336,75 @@ def test_a_record_that_departs_from_the_tests_conditions_is_evaluated_and_says_s
     assert f"  not as the test asks: {turning[0]}" in capsys.readouterr().out.splitlines()
     html = (tmp_path / "rep" / "index.html").read_text()
     assert "<h2>Departures from the test&#x27;s conditions</h2><p>&bull; The spindle turned" in html
+
+
+def _piecewise_air(ds):
+    """The room through 20, 22.5, 20, 19, 20.5 degC at 0..4 h (knots on the 1-min samples): min 19,
+    max 22.5, range 3.5 K; max - first would read 2.5 K, last - first 0.5 K."""
+    t = ds.time.values
+    air = np.interp(t, [0.0, 3600.0, 7200.0, 10800.0, 14400.0], [20.0, 22.5, 20.0, 19.0, 20.5])
+    return ds.assign(ambient_temperature=("time", air, {"units": "degC"}))
+
+
+def test_speed_step_table_rows_read_each_steps_own_ranges():
+    """synthetic(): steps [0, 2 h) at 6000 rpm and [2 h, 4 h] stopped. First step, samples 0..119
+    min: X 0 -> 1 (1.000), Y 0 -> 6 sin^2(pi 119/240) = 6 cos^2(pi/240) = 5.99897, Z 12 * 119/120 = 11.900,
+    A 3 * 119/120 = 2.975, B 5 * 119/120 = 4.958; second: X 0, Y 6 -> 0, Z -12 -> -8 (4.000), A, B
+    held (0.000)."""
+    from validate.iso230_report import sections
+
+    lines = dict(sections(evaluate(synthetic(), "spindle")))["Range within each speed step"]
+    assert lines[2:] == ["| 0-2 h | 6000 rpm | 1.000 | 5.999 | 11.900 | 2.975 | 4.958 |",
+                         "| 2-4 h | 0 rpm | 0.000 | 6.000 | 4.000 | 0.000 | 0.000 |"]
+
+
+def test_an_etve_record_whose_axes_moved_says_so():
+    """An ETVE record whose axes moved is named as departing from the test (only the spindle
+    test's note was tested)."""
+    ev = evaluate(synthetic(speed=False).assign_attrs(moved_axes="X"), "etve")
+    assert ev.departures == ["Axes moved (X): the ranges hold the feed drives' heat as well as the room's."]
+
+
+def test_departure_names_the_top_speed_not_the_first_sample():
+    """The spindle stands at first, runs 3000 rpm, then 9000 rpm, then stops: "up to 9000 rpm" for
+    the ETVE note and the axis-test note alike."""
+    ds = synthetic(speed=False)
+    n = ds.sizes["time"]
+    speed = np.zeros(n)
+    speed[10:60], speed[60:120] = 3000.0, 9000.0
+    ds = ds.assign(spindle_speed=("time", speed, {"units": "rpm"}))
+    assert evaluate(ds, "etve").departures[0].startswith("The spindle turned (up to 9000 rpm): ")
+    assert evaluate(ds.assign_attrs(moved_axes="Z"), "axis").departures[0].startswith(
+        "The spindle turned (up to 9000 rpm) during the axis test")
+
+
+def test_a_room_that_varied_by_exactly_the_still_air_limit_is_not_still():
+    """A room still to less than STILL_AIR_K (0.1 K) departs; a range of exactly 0.1 K does not
+    (air 0.0 / 0.1 degC: exactly 0.1 in binary, which a difference near 20 degC is not)."""
+    ds = synthetic(speed=False)
+    air = np.zeros(ds.sizes["time"])
+    air[-1] = 0.1
+    ev = evaluate(ds.assign(ambient_temperature=("time", air, {"units": "degC"})), "etve")
+    assert ev.air_range == STILL_AIR_K
+    assert ev.departures == []
+    air[-1] = np.nextafter(0.1, 0.0)
+    ev = evaluate(ds.assign(ambient_temperature=("time", air, {"units": "degC"})), "etve")
+    assert [d.split(":")[0] for d in ev.departures] == ["The room air varied by 0.100 K only (less than 0.1 K)"]
+
+
+def test_cli_summary_prints_ranges_air_range_and_every_departure(tmp_path, capsys):
+    """X offset by +2 um: range 1.0, max |X| 3.0; the piecewise room: range 3.5 K (max - first 2.5);
+    the spindle turning and axes moved in an ETVE: two departures, both printed."""
+    from twin.cli import main
+
+    ds = _piecewise_air(synthetic()).assign_attrs(moved_axes="X,Z")
+    drift = ds.probe_drift.values.copy()
+    drift[:, 0] += 2.0
+    ds["probe_drift"] = (("time", "axis"), drift, {"units": "um"})
+    path = tmp_path / "r.nc"
+    ds.to_netcdf(path, engine="h5netcdf")
+    assert main(["report", "iso230-3", str(path), "--test", "etve", "-o", str(tmp_path / "rep")]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "ISO 230-3 etve: X 1.0 um, Y 6.0 um, Z 12.0 um, A 3.0 urad, B 5.0 urad; room air range 3.5 K"
+    notes = [ln for ln in out if ln.startswith("  not as the test asks: ")]
+    assert [n.split(": ")[1].split(" (")[0] for n in notes] == ["The spindle turned", "Axes moved"]

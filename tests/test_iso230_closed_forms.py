@@ -86,3 +86,16 @@ def test_a_segment_of_two_sampling_intervals_is_accepted():
     with pytest.raises(InputError) as err:
         evaluate(ds, "etve", segment=60.0)
     assert err.value.field == "--segment"
+
+
+def test_a_record_one_segment_long_has_one_segment_whatever_its_start_time():
+    """A 30 min record in 30 min segments is one segment, whatever its clock: from 31304.8 s the
+    quotient (t1 - t0) / length rounds a hair above 1, and np.arange's edges gave a second, empty
+    segment (t1, t1) holding the last sample alone (its max left out of the first)."""
+    ds = result_dataset(31)                       # 30 min at 1 min
+    ds = ds.assign_coords(time=("time", 31304.8 + 60.0 * np.arange(31), {"units": "s"}))
+    ds["spindle_speed"] = ("time", np.full(31, 3000.0), {"units": "rpm"})
+    ev = evaluate(ds, "spindle", segment=1800.0)
+    assert ev.segments == [(31304.8, 33104.8)]
+    (s,) = ev.segment_stats()["X"]
+    assert s["max"] == ds.probe_drift.sel(axis="X").values.max()

@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from tests.test_iso230 import synthetic
+from tests.test_iso230 import _piecewise_air, synthetic
 from validate.iso230 import evaluate
 
 
@@ -87,3 +87,12 @@ def test_apply_change_column_is_after_over_before_minus_one():
     rows = [ln.split() for ln in format_before_after(d, after, calibrated).splitlines()[1:4]]
     assert [r[4:] for r in rows] == [["-75%", "2", "1", "-50%"], ["+200%", "1", "0.5", "-50%"],
                                      ["+0%", "0", "0", "+0%"]]
+
+
+def test_report_room_air_range_line_is_max_minus_min():
+    """The report's "Room air range over the test" line is max - min of the room (20, 22.5, 20, 19,
+    20.5 degC: 3.5 K), not max - first (2.5 K)."""
+    from validate.iso230_report import sections
+
+    lines = dict(sections(evaluate(_piecewise_air(synthetic(speed=False)), "etve")))["Maximum range over the test"]
+    assert lines[-1] == "Room air range over the test: 3.500 K (19.00 to 22.50 degC)."

@@ -166,10 +166,13 @@ def default_test(ds: xr.Dataset) -> str:
 
 def segments_of(t: np.ndarray, length: float) -> list[tuple[float, float]]:
     """Consecutive windows [t0 + k length, t0 + (k + 1) length) covering t (the last one ends at
-    the last sample)."""
+    the last sample). The count is ceil((t1 - t0) / length) less a relative 1e-9: a record a whole
+    number of segments long whose quotient rounds a hair above it (a clock starting at 31304.8 s)
+    got an extra, empty last window (t1, t1) holding its last sample alone."""
     t0, t1 = float(t[0]), float(t[-1])
-    edges = list(np.arange(t0, t1, length)) + [t1]
-    return [(float(a), float(b)) for a, b in zip(edges[:-1], edges[1:])] or [(t0, t1)]
+    count = max(1, int(np.ceil((t1 - t0) / length - 1e-9)))
+    edges = [t0 + k * length for k in range(count)] + [t1]
+    return [(float(a), float(b)) for a, b in zip(edges[:-1], edges[1:])]
 
 
 def evaluate(ds: xr.Dataset, test: str, segment: float | None = None, source: str = "") -> Evaluation:

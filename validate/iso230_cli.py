@@ -44,7 +44,8 @@ def run_report(args) -> int:
     with output_folder(out):
         md, index = write_iso230_report(ev, out)
     print(f"ISO 230-3 {test}: " + ", ".join(f"{c.name} {c.range:.1f} {c.unit}" for c in ev.channels)
-          + (f"; room air range {ev.air_range:.1f} K" if ev.air is not None else ""))
+          + (f"; room air range{' at the runs' if test == 'axis' else ''} {ev.air_range:.1f} K"
+             if ev.air is not None else ""))
     for d in ev.departures:
         print(f"  not as the test asks: {d}")
     print(f"wrote {index} and {md}")

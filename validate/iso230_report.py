@@ -24,7 +24,8 @@ def sections(ev: Evaluation) -> list[tuple[str, list[str]]]:
     rows = [[c.name, fixed(c.range), fixed(c.values.min()), fixed(c.values.max()), c.unit] for c in ev.channels]
     lines = table(["channel", "maximum range", "min", "max", "unit"], rows)
     if ev.air is not None:
-        lines += ["", f"Room air range over the test: {ev.air_range:.3f} K "
+        where = "at the interferometer's runs" if ev.test == "axis" else "over the test"   # the axis test reads runs
+        lines += ["", f"Room air range {where}: {ev.air_range:.3f} K "
                       f"({ev.air.min():.2f} to {ev.air.max():.2f} degC)."]
     out.append(("Maximum range over the test", lines))
     if ev.test == "etve":
