@@ -94,8 +94,8 @@ def resample(table: Table, interval: float | None, source: str, field: str = "--
     does not divide ``interval``, is an :class:`InputError` on ``source``."""
     if interval is None or len(table.time) < 2:
         return table
-    step = float(np.median(np.diff(table.time)))
-    if _uneven_step(table.time) is not None:
+    step = _median_step(table.time)
+    if _uneven_step(table.time, step) is not None:
         raise InputError(source, field, "the run is not equally spaced in time; it cannot be thinned")
     k = interval / step
     if round(k) < 1 or abs(k - round(k)) > 1e-6 * k:
@@ -109,14 +109,15 @@ def resample(table: Table, interval: float | None, source: str, field: str = "--
     return table._replace(time=table.time[::k], X=table.X[::k], y=table.y[::k])
 
 
-def _uneven_step(time) -> int | None:
-    """The index of the first step of ``time`` [s] that differs from the median step by more than
-    :data:`STEP_TOLERANCE` of it (None: equally spaced)."""
-    if len(time) < 2:
-        return None
-    dt = np.diff(time)
-    step = float(np.median(dt))
-    bad = np.flatnonzero(np.abs(dt - step) > STEP_TOLERANCE * step)
+def _median_step(time) -> float:
+    """The median step [s] of ``time`` [s] (two or more instants)."""
+    return float(np.median(np.diff(time)))
+
+
+def _uneven_step(time, step: float) -> int | None:
+    """The index of the first step of ``time`` [s] that differs from its median ``step`` [s] by
+    more than :data:`STEP_TOLERANCE` of it (None: equally spaced)."""
+    bad = np.flatnonzero(np.abs(np.diff(time) - step) > STEP_TOLERANCE * step)
     return int(bad[0]) if bad.size else None
 
 
@@ -128,10 +129,12 @@ def check_equal_steps(tables: list, sources: list, names: list[str], field: str 
     if not names:
         return
     for table, source in zip(tables, sources):
-        i = _uneven_step(table.time)
+        t = table.time
+        if len(t) < 2:
+            continue
+        step = _median_step(t)
+        i = _uneven_step(t, step)
         if i is not None:
-            t = table.time
-            step = float(np.median(np.diff(t)))
             raise InputError(str(source), field, f"the run is not equally spaced in time ({t[i]:g} s then {t[i + 1]:g} s, "
                                                  f"its median step is {step:g} s) and {', '.join(names)} count(s) in "
                                                  "samples: split the run at its gaps into files, one equally spaced run "

@@ -10,8 +10,6 @@ Files of cases no longer in the plan (an edited spec) are kept and reported, or 
 
 from __future__ import annotations
 
-import os
-
 import sys
 import time
 from pathlib import Path
@@ -115,8 +113,10 @@ def _dry_run(spec, cases, chosen, todo, args) -> int:
     for k, d in spec.parameters.items():
         print(f"  parameter {k}: {d.kind.replace('_', '-')} {', '.join(format_quantity(v, d.dimension) for v in d.values)}")
     if todo:
+        from twin.physics.parallel import processors
+
         here = args.scheduler in (None, "local")       # the workers share this machine's processors
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+        cores = processors()
         e = estimate(todo, 1 if args.scheduler is None and args.jobs == 1 else args.jobs, cores=cores if here else None)
         rates = ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in e["per_step_s"].items())
         print(f"estimated time: {_duration(e['seconds'])} for {e['cases']} case(s), {e['steps']} time steps on "

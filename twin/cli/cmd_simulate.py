@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from twin.cli.options import add_model_options, declare_effects_file, declare_scenario, solver_options
 from twin.cli.progress import progress_bar
 from twin.io.fields import declare_field
@@ -44,6 +42,8 @@ def rom_error_line(ds, peak) -> str:
     The share is taken over the axes whose peak is at least a thousandth of the largest (an axis
     that does not drift, X of a symmetric machine, has a round-off peak)."""
     import json
+
+    import numpy as np
 
     estimate = 1e6 * np.asarray(json.loads(ds.attrs["rom_error_estimate"])["drift"])     # m -> um
     peaks = np.array([float(peak.sel(axis=a)) for a in ds.axis.values])

@@ -116,9 +116,8 @@ def solver_options(args):
     if order is not None and solver != "rom":
         raise InputError("command line", "--rom-order", f"sets the reduced model's order; --solver {solver} runs no "
                                                         "reduced model: add --solver rom, or leave --rom-order out")
-    extra = {"rom_order": order} if order is not None else {}
     return SolverOptions(solver, getattr(args, "device", "cpu"), elastic_coarsening=getattr(args, "elastic_coarsening", 1),
-                         heat_start=getattr(args, "heat_start", "auto"), **extra)
+                         heat_start=getattr(args, "heat_start", "auto"), rom_order=order)
 
 
 def add_measurement_options(p: argparse.ArgumentParser) -> None:

@@ -65,6 +65,7 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, leng
         per_step[name] = (t2 - t1) / n
         prepare += t1 - t0 - min(calibration_steps, n) * per_step[name]     # less the warm-up's steps
         seconds += sum(_steps(c) for c in members) * per_step[name]
-    workers = max(1, min(jobs, len(cases), jobs if cores is None else check_jobs(cores, "estimate")))
+    lanes = jobs if cores is None else min(jobs, check_jobs(cores, "estimate"))   # workers running at once
+    workers = max(1, min(lanes, len(cases)))
     return {"cases": len(cases), "steps": sum(_steps(c) for c in cases), "prepare_s": prepare,
             "per_step_s": per_step, "seconds": (prepare if cases else 0.0) + seconds / workers}

@@ -187,8 +187,7 @@ def check_spacing(machine, spacing, source: str = "command line", field: str = "
     if not limits.is_finite_number(spacing) or not spacing > 0:
         raise InputError(source, field, f"a mesh spacing is a finite positive length in m, got {spacing!r}")
     spacing = float(spacing)
-    boxes = [b for p in machine.parts for b in p.boxes]
-    extent = max(max(b.hi[k] for b in boxes) - min(b.lo[k] for b in boxes) for k in range(3))
+    extent = max(float(np.ptp(part_planes(machine, d))) for d in range(3))
     if spacing > extent:
         raise InputError(source, field, f"a spacing of {spacing:g} m is wider than {machine.name} ({extent:.3g} m at "
                                         f"its largest): the mesh would hold only the parts' boundary lines")

@@ -57,10 +57,16 @@ _pool: ThreadPoolExecutor | None = None
 _idle: threading.BoundedSemaphore | None = None
 
 
+def processors() -> int:
+    """The processors this process may run on: its CPU affinity (the CPU count where the platform
+    has none)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
 def cores() -> int:
-    """The threads this process may use: its CPU affinity, capped by ``OMP_NUM_THREADS`` when set
-    to a whole number >= 1."""
-    n = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    """The threads this process may use: its CPU affinity (:func:`processors`), capped by
+    ``OMP_NUM_THREADS`` when set to a whole number >= 1."""
+    n = processors()
     text = os.environ.get("OMP_NUM_THREADS", "").strip()
     if text.isdigit() and int(text) >= 1:
         n = min(n, int(text))
