@@ -143,7 +143,7 @@ def test_phase_cells_rank_worst_first_by_rmse_over_the_channels_spread():
 def test_a_repeated_time_is_refused_with_its_row():
     """Times must increase strictly: a log line written twice (0, 60, 60, 120 s) would give the
     phase detection's rates a zero step; refused naming the data row and both times."""
-    from twin.io.measurement import check_times
+    from twin.io.times import check_times
 
     with pytest.raises(InputError) as err:
         check_times(np.array([0.0, 60.0, 60.0, 120.0]), "m.csv", "t")
@@ -469,7 +469,7 @@ def test_a_time_gap_of_three_median_steps_is_kept_and_a_longer_one_refused():
     """check_times (twin/io/measurement.py): a record may pause for up to three median sampling
     intervals; a gap of more is refused (a logger that stopped). The boundary is inclusive: 1 s
     sampling with a 3 s gap passes, a 3.01 s gap is refused, naming where and the median."""
-    from twin.io.measurement import check_times
+    from twin.io.times import check_times
 
     check_times(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 7.0]), "m.csv", "t")          # exactly 3 x the median
     check_times(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 6.99]), "m.csv", "t")

@@ -26,7 +26,8 @@ import xarray as xr
 
 from learners.metrics import max_abs_residual, nse, rmse
 from twin.errors import InputError, describe
-from twin.io.measurement import check_measurement, check_named_machine, check_times
+from twin.io.measurement import check_measurement, check_named_machine
+from twin.io.times import check_times
 from twin.io.results import dataset_source
 from twin.limits import is_whole
 from validate.channels import Phase, input_phases, not_held, stack

@@ -25,7 +25,7 @@ import numpy as np
 import xarray as xr
 
 from twin.errors import InputError, describe
-from twin.io.measurement import check_times
+from twin.io.times import check_times
 from twin.limits import check_temperatures, is_finite_number
 
 TESTS = ("etve", "spindle", "axis")

@@ -78,13 +78,14 @@ import xarray as xr
 from twin import limits
 from twin.errors import InputError, describe, refuse_unknown_keys
 from twin.io.axis_logs import axis_name, check_log, integrated_feed, known_axis
+from twin.io.csv_header import unit_contradiction
+from twin.io.csv_rows import cell_number, data_rows
 from twin.io.mapping_columns import (NETCDF_BAD_NAME_CHARACTERS, check_sensor_name, check_values, duty_fraction,
                                      instrument, sensor)
 from twin.io.measured_inputs import sensors_of
 from twin.io.paths import NETCDF_SUFFIXES, as_path, input_file, read_text, read_toml, same_file
-from twin.io.csv_header import unit_contradiction
-from twin.io.csv_rows import cell_number, data_rows
 from twin.io.results import check_finite, check_result_layout, check_result_units, placed_sensors, read_result
+from twin.io.times import check_times
 from twin.observe.base import variable
 from twin.observe.displacement import AXES, FIVE_PROBES, derived_from_probes
 from twin.units import CANONICAL, UnitError, parse_quantity
@@ -322,30 +323,6 @@ def check_named_machine(ds, name: str, src: str, against: str = "not") -> None:
     named = getattr(ds, "attrs", {}).get("machine") if isinstance(ds, xr.Dataset) else None
     if named is not None and str(named) != name:
         raise InputError(src, "machine", f"the measurement is of machine {named!r}, {against} {name!r}")
-
-
-def check_times(t: np.ndarray, src: str, col: str, lines=None) -> None:
-    """Times [s] of a measurement or a model: two or more, finite, increasing, without a gap of more
-    than three median steps. ``lines``: the file's line number of each time (a CSV's, as an editor
-    shows them: header line 1, blank lines counted), which an error names; else the data row."""
-    def at(i: int) -> str:
-        return f"line {lines[i]}" if lines is not None else f"data row {i + 1}"
-
-    if t.ndim != 1 or t.size < 2:
-        raise InputError(src, col, f"needs two samples or more, got {t.size}")
-    bad = np.flatnonzero(~np.isfinite(t))
-    if bad.size:
-        raise InputError(src, col, f"{at(int(bad[0]))}: not a finite number")
-    dt = np.diff(t)
-    if np.any(dt <= 0):
-        i = int(np.flatnonzero(dt <= 0)[0])
-        raise InputError(src, col, f"time is not increasing at {at(i + 1)} ({t[i]:g} -> {t[i + 1]:g} s)")
-    med = float(np.median(dt))
-    if np.any(dt > 3 * med):
-        i = int(np.flatnonzero(dt > 3 * med)[0])
-        where = f"{at(i + 1)}: " if lines is not None else ""
-        raise InputError(src, col, f"{where}gap of {dt[i]:g} s after t = {t[i]:g} s (more than 3 x the median "
-                                   f"interval {med:g} s)")
 
 
 def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
