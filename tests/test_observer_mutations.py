@@ -221,6 +221,10 @@ def test_interferometer_targets_run_every_spacing_and_end_on_the_last_target():
     np.testing.assert_allclose(t, np.r_[np.arange(29) * 0.010, 0.285], rtol=0, atol=1e-15)
     t = InterferometerConfig("Y", (0.0,)).targets(axis)                   # the travel, every 10 mm
     np.testing.assert_allclose(t, np.arange(41) * 0.010, rtol=0, atol=1e-15)
+    # far from the origin (a gantry's X at 2.5 m) a last target 20 um past a multiple is kept
+    far = LinearAxis("X", "x", (0.0, 2.6), "closed")
+    t = InterferometerConfig("X", (0.0,), 2.4, 2.50002, 0.010).targets(far)
+    assert len(t) == 12 and t[-1] == 2.50002 and abs(t[-2] - 2.5) < 1e-12
 
 
 def test_probing_screw_rows_reach_each_axis_nut_and_read_in_micrometres():

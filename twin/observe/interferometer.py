@@ -76,12 +76,14 @@ class InterferometerConfig:
     source: str = ""
 
     def targets(self, axis) -> np.ndarray:
-        """Commanded target positions [m] from first to last every ``spacing`` (last included)."""
+        """Commanded target positions [m] from first to last every ``spacing``, the last target
+        itself included unless it lies within 1 nm of a multiple of the spacing (an absolute
+        tolerance: a relative one would grow with the distance from the machine's origin)."""
         lo = axis.travel[0] if self.first is None else self.first
         hi = axis.travel[1] if self.last is None else self.last
         n = int(np.floor((hi - lo) / self.spacing + 1e-9))
         t = lo + self.spacing * np.arange(n + 1)
-        return t if np.isclose(t[-1], hi) else np.append(t, hi)
+        return t if abs(t[-1] - hi) <= 1e-9 else np.append(t, hi)
 
 
 MIN_SPACING = 1e-3      # [m] the closest targets a run may have
