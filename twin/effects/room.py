@@ -163,12 +163,14 @@ def linear_in_height(mm, label: str, scale: float, z_ref: float, shape) -> list:
 
 
 def layered_swing(scenario, t: np.ndarray) -> np.ndarray:
-    """T_air(t) - T_air(0) [K] without the scenario's door events: the outside air through a door
-    is cold and dense and spreads along the floor, not under the roof (``door_stream`` carries it)."""
-    t = np.asarray(t, dtype=float)
+    """T_air(t) - T_air(0) [K], both without the scenario's door events (a door open from t = 0
+    moves neither): the outside air through a door is cold and dense and spreads along the floor, not under the roof (``door_stream`` carries it)."""
     doors = [e for e in getattr(scenario.ambient, "events", ()) if e.door]
-    air = scenario.ambient_temperature(t) - sum((e(t) for e in doors), np.zeros(t.shape))
-    return air - float(scenario.ambient_temperature(np.array([0.0]))[0])
+
+    def air(times: np.ndarray) -> np.ndarray:
+        return scenario.ambient_temperature(times) - sum((e(times) for e in doors), np.zeros(times.shape))
+
+    return air(np.asarray(t, dtype=float)) - float(air(np.zeros(1))[0])
 
 
 def event_window(t: np.ndarray, start: float, duration: float, period: float) -> np.ndarray:
