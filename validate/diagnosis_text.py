@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from validate.channels import GROUPS as CHANNEL_GROUPS, RUN_GROUPS, residual_unit
-from validate.verdict import share_text
+from validate.verdict import BEYOND, ratio_text, share_text
 
 
 def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
@@ -97,10 +97,10 @@ def format_diagnosis(d, top: int = 8) -> str:
         if after is not None and d.levels_after:
             again = (f" (against the model error of the model with it, {d.levels_after[g][1]:.2g} {_unit(g)}, "
                      "estimated again)")
-        lines.append(f"  {g}: residual {f:.1f}x {envelope}"
-                     + (f"; {after:.1f}x after the top candidate{again}" if after is not None else ""))
+        lines.append(f"  {g}: residual {ratio_text(f)} {envelope}"
+                     + (f"; {ratio_text(after)} after the top candidate{again}" if after is not None else ""))
     if d.beyond_model_error is not None:
-        lines.append(f"  top candidate's fitted change: {d.beyond_model_error:.1f}x what the model error alone "
+        lines.append(f"  top candidate's fitted change: {ratio_text(d.beyond_model_error, BEYOND, False)} what the model error alone "
                      f"produces along its signature")
     if d.nuisance_baseline:
         lines.append("Nuisance (thermal expansion within each material's band), baseline: " + nuisance_text(d.nuisance_baseline))

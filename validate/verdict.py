@@ -40,8 +40,10 @@ candidate's local columns S (one per member, dg/dp) and the signed model-error e
 
 (the nuisance N c fitted jointly, the same weights), ``beyond = min_i |x_r,i| / |x_m,i|``: how many
 times larger the fitted change is than the change the model error alone would produce. A
-significant candidate with ``beyond >= BEYOND`` (10) is ``explained`` even when every factor is
-<= ``WITHIN``; the message states both numbers. The estimate's shape is not the true error's
+significant candidate with ``beyond >= BEYOND`` (10) is named even when every factor is
+<= ``WITHIN``: ``explained`` when it leaves every factor <= ``WITHIN``, ``partly_explained`` when
+fitting it lifts some group above (it explains most of the weighted residual but not that group's);
+the message states both numbers. The estimate's shape is not the true error's
 shape (the truth differs from the model in more than its mesh: materials within their bands, the
 time step), so ``beyond`` alone does not separate: in the hidden-effect study's nothing-hidden
 cases the best candidate reached 2.4, 3.0 and 74 (a missing solar load on the day-night test,
@@ -136,10 +138,13 @@ def decide(factors: dict[str, float], significant: bool, after: dict[str, float]
     """The verdict word (module docstring). A residual within noise and model error is
     ``nothing_missing`` even when a candidate would fit some of it, unless that candidate's fitted
     change is ``BEYOND`` times what the model error alone produces along its signature."""
+    leaves_all_within = after is not None and all(f <= WITHIN for f in after.values())
     if not any(f > WITHIN for f in factors.values()):
-        return "explained" if significant and beyond is not None and beyond >= BEYOND else "nothing_missing"
+        if significant and beyond is not None and beyond >= BEYOND:
+            return "explained" if after is None or leaves_all_within else "partly_explained"
+        return "nothing_missing"
     if significant:
-        return "explained" if after is not None and all(f <= WITHIN for f in after.values()) else "partly_explained"
+        return "explained" if leaves_all_within else "partly_explained"
     return "unexplained"
 
 
@@ -202,13 +207,25 @@ def share_text(factors: dict[str, float]) -> str:
     return f"(of the groups above noise: {', '.join(above)})"
 
 
+def ratio_text(f: float, limit: float = WITHIN, strict: bool = True) -> str:
+    """``f`` as '4.9x': two decimals within 0.05 of ``limit`` (3.04x is not printed as the limit's
+    3.0x), and more (up to four) where needed to keep the printed number on the side of ``limit``
+    that ``f`` is on under the verdict's rule (``f > limit`` when ``strict``, else ``f >= limit``):
+    3.004 is '3.004x', 9.996 (below ``BEYOND``) '9.996x', not '10.00x'."""
+    above = (lambda v: v > limit) if strict else (lambda v: v >= limit)
+    for digits in range(2 if abs(f - limit) < 0.05 else 1, 5):
+        text = f"{f:.{digits}f}"
+        if above(float(text)) == above(f):
+            break
+    return text + "x"
+
+
 def _factor_text(g: str, f: float, level: tuple) -> str:
     """'probe 4.9x (noise 0.098 um, model error 0.12 um)', or '..., model error not estimated)'."""
     unit = residual_unit(g)
     noise, err = level
     e = f"model error {err:.2g} {unit}" if err is not None else "model error not estimated"
-    digits = 2 if abs(f - WITHIN) < 0.05 else 1      # 3.04x is not printed as the limit's 3.0x
-    return f"{g} {f:.{digits}f}x (noise {noise:.2g} {unit}, {e})"
+    return f"{g} {ratio_text(f)} (noise {noise:.2g} {unit}, {e})"
 
 
 def _factors_text(factors: dict[str, float], levels: dict) -> str:
@@ -269,7 +286,7 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
     after_levels = levels_after or levels
     again = "the model error estimated again with the candidate in the model" if levels_after else ""
     env = against(levels)
-    along = (f"; along its signature the fitted change is {beyond:.1f}x what the model error alone produces"
+    along = (f"; along its signature the fitted change is {ratio_text(beyond, BEYOND, False)} what the model error alone produces"
              if beyond is not None else "")
     share = share_text(factors)
     if verdict == "nothing_missing":
@@ -277,7 +294,7 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
         if not top:
             return head
         if top.get("significant"):
-            why = (f"along its signature its fitted change is only {beyond:.1f}x what the model error alone "
+            why = (f"along its signature its fitted change is only {ratio_text(beyond, BEYOND, False)} what the model error alone "
                    f"produces (the verdict names a candidate within the envelope from {BEYOND:g}x)"
                    if beyond is not None else
                    "no model error was estimated, so whether it stands beyond the model's own discretisation "
@@ -297,12 +314,12 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
         if verdict == "explained":
             return (head + f"; residual after it within {against(after_levels)}{', ' + again if again else ''} "
                     f"({_factors_text(after, after_levels)}){along}")
-        left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
+        left = ", ".join(f"{c} {ratio_text(f)}" for c, f in where)
         return (head + f"; what remains{', against ' + again + ',' if again else ''} is "
                 f"{_above_text(after, after_levels, 'still above')}; worst at {left}"
                 + (f"; a heat input on {regions[0]['region']} would explain {regions[0]['explained']:.0%} of "
                    f"what remains (weighted, all groups)" if regions else ""))
-    left = ", ".join(f"{c} {f:.1f}x" for c, f in where)
+    left = ", ".join(f"{c} {ratio_text(f)}" for c, f in where)
     best = ("there are no library candidates" if not top else
             f"the best library candidate {top['effect']} explains {'only ' * (top['explained'] < test[1])}"
             f"{top['explained']:.0%} of the weighted "
