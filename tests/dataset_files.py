@@ -92,3 +92,29 @@ def assert_same_cases(folder: Path, reference: Path, label: str = "") -> None:
                 scale = float(np.nanmax(np.abs(y))) if np.isfinite(y).any() else 0.0
                 assert np.allclose(x, y, rtol=0.0, atol=1e-12 * scale, equal_nan=True), \
                     f"{label} {name}: {v} differs by {float(np.nanmax(np.abs(x - y)))} (largest {scale})"
+
+
+def fake_estimate_clock(monkeypatch, prepare_s: float = 2.0, start_s: float = 0.3, step_s: float = 0.002):
+    """:mod:`twin.dataset.estimate` on a fake clock: preparing a twin takes ``prepare_s`` and a run
+    of n steps ``start_s + step_s n``. Returns (the module, the list of the keys it prepared)."""
+    import importlib
+
+    module = importlib.import_module("twin.dataset.estimate")   # the package re-exports the function by this name
+    clock, keys = [0.0], []
+
+    class Clock:
+        @staticmethod
+        def perf_counter():
+            return clock[0]
+
+    def prepared(*key):
+        keys.append(key)
+        clock[0] += prepare_s
+
+    def simulate_case(record, name, steps):
+        clock[0] += start_s + step_s * steps
+
+    monkeypatch.setattr(module, "time", Clock)
+    monkeypatch.setattr(module, "_prepared", prepared)
+    monkeypatch.setattr(module, "simulate_case", simulate_case)
+    return module, keys

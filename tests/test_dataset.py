@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from tests.dataset_files import REF, SPEC, assert_same_cases, write_spec
+from tests.dataset_files import REF, SPEC, assert_same_cases, fake_estimate_clock, write_spec
 from twin.cli import main
 from twin.dataset import build, executor, is_whole, load_spec, plan, write_index
 
@@ -244,27 +244,9 @@ def test_the_estimate_spreads_a_cases_own_set_up_over_a_cases_length(monkeypatch
     preparation is the time before the timed run less the warm-up's 30 steps at that rate. (Timed
     over 30 steps alone, the rate was 12 ms here: the 100-case example was estimated 3-5 times
     too slow.)"""
-    import importlib
-
     from twin.scenario import SCENARIO_DIR
-    E = importlib.import_module("twin.dataset.estimate")    # the package re-exports the function by this name
 
-    clock = [0.0]
-
-    class Clock:
-        @staticmethod
-        def perf_counter():
-            return clock[0]
-
-    def prepared(*key):
-        clock[0] += 2.0
-
-    def simulate_case(record, name, steps):
-        clock[0] += 0.3 + 0.002 * steps
-
-    monkeypatch.setattr(E, "time", Clock)
-    monkeypatch.setattr(E, "_prepared", prepared)
-    monkeypatch.setattr(E, "simulate_case", simulate_case)
+    E, _ = fake_estimate_clock(monkeypatch)
     cases = plan(load_spec(SCENARIO_DIR / "datasets" / "spindle-ambient-100.toml"))[:7]
     steps = [E._steps(c) for c in cases]
     n = min(600, steps[0])

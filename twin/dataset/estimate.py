@@ -1,7 +1,8 @@
 """How long a plan will take, from a calibration run on this machine.
 
-Per (machine, mesh, solver) of the plan: prepare the twin (timed: the mesh, the matrices, the
-elastic factorisation and adjoints), then run the group's first case cut to ``calibration_steps``
+Per (machine, mesh, solver, axes moved) of the plan (a case that moves axes runs on a twin with
+their feed drives, :func:`twin.dataset.runner._prepared`): prepare that twin (timed: the mesh,
+the matrices, the elastic factorisation and adjoints), then run the group's first case cut to ``calibration_steps``
 time steps (a warm-up, so the factorisations of its operators are done once) and again cut to
 ``length_steps`` (20 times as many by default, or the whole case when shorter), timed: the cost of
 one step [s], which includes the observers, the packaging of the result and the case's own
@@ -18,7 +19,7 @@ import time
 
 from threadpoolctl import threadpool_limits
 
-from twin.dataset.plan import Case, check_cases
+from twin.dataset.plan import Case, check_cases, moved_axes, record_scenario
 from twin.dataset.runner import _prepared, check_jobs, simulate_case
 from twin.errors import InputError
 from twin.limits import is_whole
@@ -50,10 +51,11 @@ def estimate(cases: list[Case], jobs: int = 1, calibration_steps: int = 30, leng
                                                      f"({calibration_steps}), got {length_steps!r}")
     groups: dict[tuple, list[Case]] = {}
     for c in cases:
-        groups.setdefault((c.record["machine"], c.record["mesh"], c.record["solver"]), []).append(c)
+        key = (c.record["machine"], c.record["mesh"], c.record["solver"], moved_axes(record_scenario(c.record)))
+        groups.setdefault(key, []).append(c)
     prepare, per_step, seconds = 0.0, {}, 0.0
     for key, members in groups.items():
-        name = "/".join(key)
+        name = "/".join(key[:3]) + (f" (axes {', '.join(key[3])})" if key[3] else "")
         t0 = time.perf_counter()
         with threadpool_limits(limits=1):
             _prepared(*key)

@@ -133,17 +133,41 @@ def axis_duty(a: AxisDuty, steps: list[dict], r: np.random.Generator) -> dict:
     return {"name": a.name, "start": _q(round(0.5 * (lo + hi), 6), "length"), "move": moves}
 
 
+def record_scenario(record: dict):
+    """The :class:`twin.scenario.Scenario` of a case record (its ``scenario`` table, named by its family)."""
+    return scenario_from_dict(json.loads(json.dumps(record["scenario"])), f"dataset:{record['family']}",
+                              default_name=record["family"])
+
+
+def moved_axes(scenario) -> tuple[str, ...]:
+    """The axes a scenario moves, sorted: the feed drives its prepared twin carries."""
+    return tuple(sorted({m.axis for m in scenario.axes}))
+
+
+def _room_descriptors(a, duration: float) -> tuple[float, float]:
+    """(mean [degC], amplitude [K]) of the room's base air (events left out, as the nominal mean and
+    amplitude of a constant or daily room leave them out); a table or measured room: the time
+    average over the run [0, duration] of the piecewise-linear record and half its range there."""
+    if a.kind != "table":
+        return a.mean, a.amplitude
+    t = np.union1d([0.0, duration], [x for x in a.times if 0.0 < x < duration])
+    air = a.base(t)
+    mean = float(np.sum(0.5 * (air[1:] + air[:-1]) * np.diff(t)) / duration) if duration > 0 else float(air[0])
+    return mean, 0.5 * float(air.max() - air.min())
+
+
 def _scenario_info(data: dict) -> dict:
     """Index columns that describe a scenario (SI, from its TOML data)."""
     sc = scenario_from_dict(json.loads(json.dumps(data)), "plan")
     d = np.array([s[0] for s in sc.steps])
     v = np.array([s[1] for s in sc.steps])
     a = sc.ambient
+    mean, amplitude = _room_descriptors(a, sc.duration)
     return {"duration [s]": sc.duration, "sample_interval [s]": sc.sample_interval, "steps": len(sc.steps),
             "mean_speed [rpm]": float(np.sum(d * v) / np.sum(d)), "max_speed [rpm]": float(v.max()),
             "running_fraction": float(np.sum(d[v > 0]) / np.sum(d)), "ambient": a.kind,
-            "ambient_mean [degC]": a.mean if a.kind != "table" else float(np.mean(a.temperatures)),
-            "ambient_amplitude [K]": a.amplitude, "ambient_coldest_at [s]": a.coldest_at if a.kind == "daily" else 0.0}
+            "ambient_mean [degC]": mean, "ambient_amplitude [K]": amplitude,
+            "ambient_coldest_at [s]": a.coldest_at if a.kind == "daily" else 0.0}
 
 
 def check_cases(cases, source: str) -> list[Case]:
@@ -214,8 +238,8 @@ def check_effects_act(spec: DatasetSpec, records: list[dict]) -> None:
         if key in seen:
             continue
         seen.add(key)
-        sc = scenario_from_dict(json.loads(json.dumps(r["scenario"])), f"dataset:{r['family']}", default_name=r["family"])
-        axes = frozenset(m.axis for m in sc.axes)
+        sc = record_scenario(r)
+        axes = moved_axes(sc)
         if (r["machine"], axes) not in machines:
             machine = build_machine(r["machine"])
             machines[(r["machine"], axes)] = with_feed_drives(machine, set(axes)) if axes else machine
@@ -229,8 +253,9 @@ def check_effects_act(spec: DatasetSpec, records: list[dict]) -> None:
 
 def assign_splits(spec: DatasetSpec, infos: list[dict]) -> list[str]:
     """The split of every case: by family (the spec's lists), or by case: within each family the
-    cases ranked by a seeded uniform key, the first ``round(fraction n)`` to the first split and
-    so on (exact counts per family; a split is metadata, never part of a case's hash)."""
+    cases ranked by a seeded uniform key, the first ``round(fraction n)`` (halves to even, as
+    ``numpy.round``) to the first split and so on (exact counts per family; a split is metadata,
+    never part of a case's hash)."""
     if spec.split_by == "family":
         where = {f: name for name, fams in spec.splits.items() for f in fams}
         return [where[i["family"]] for i in infos]

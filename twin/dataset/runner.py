@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 from twin import limits
-from twin.dataset.plan import Case, check_cases
+from twin.dataset.plan import Case, check_cases, moved_axes
 from twin.dataset.plan import case_hash as hash_of
 from twin.errors import InputError, describe
 from twin.io.paths import as_path, output_folder
@@ -92,7 +92,7 @@ def _simulate_case(record: dict, case_hash: str = "", max_steps: int | None = No
         own = data.get("camera", [])
         data["camera"] = (own if isinstance(own, list) else [own]) + cams
     sc = scenario_from_dict(data, f"dataset:{family}", default_name=family)
-    twin = _prepared(record["machine"], record["mesh"], record["solver"], tuple(sorted({m.axis for m in sc.axes})))
+    twin = _prepared(record["machine"], record["mesh"], record["solver"], moved_axes(sc))
     # the reduced basis is built from the film coefficients of the run that first needs it and then
     # cached (twin.physics.rom.reduced_basis): a case must not reuse another's, or its numbers would
     # depend on which case its worker ran before (--jobs 1 and --jobs 2 gave different files)
