@@ -46,6 +46,13 @@ class Stats:
     n: int
 
 
+def normalised(rmse: float, spread: float) -> float:
+    """rmse / spread; a flat measured channel (spread 0) scores 0 when matched and inf when off
+    (worst of all: no scale makes its residual small), in the channel ranking and the phase cells
+    alike, never a raw RMSE in K or um beside the others' ratios."""
+    return rmse / spread if spread > 0 else (0.0 if rmse == 0 else np.inf)
+
+
 @dataclass
 class ChannelResult:
     name: str
@@ -56,7 +63,8 @@ class ChannelResult:
 
     @property
     def normalised_rmse(self) -> float:
-        return self.stats.rmse / self.spread if self.spread > 0 else (0.0 if self.stats.rmse == 0 else np.inf)
+        """RMSE / std of the measured channel over the run (:func:`normalised`)."""
+        return normalised(self.stats.rmse, self.spread)
 
 
 @dataclass
@@ -80,7 +88,7 @@ class CompareResult:
 
     def phase_ranking(self) -> list[tuple[ChannelResult, Phase, Stats, float]]:
         """(channel, phase, stats, RMSE / std(m)) for every phase cell, worst first."""
-        cells = [(c, p, s, s.rmse / c.spread if c.spread > 0 else s.rmse)
+        cells = [(c, p, s, normalised(s.rmse, c.spread))
                  for c in self.channels for p, s in zip(self.phases, c.phases) if s.n]
         return sorted(cells, key=lambda x: -x[3])
 
