@@ -148,6 +148,42 @@ def test_a_logged_axis_position_half_a_millimetre_past_the_travel_is_refused(tmp
     assert "400.5 mm is outside the Y travel 0 .. 400 mm" in err.message
 
 
+def test_an_axis_logs_errors_name_the_line_an_editor_shows(tmp_path):
+    """A logged axis position outside the travel, or a jump faster than MAX_FEED between two
+    samples, names the CSV line (header line 1, blank lines counted), as every other CSV error
+    does: with a blank line after the header the third data row is line 5 (it said 'row 3')."""
+    from twin.io.measurement import read_measurement
+
+    lines = measurement_csv().splitlines()
+    mapping = MAPPING + '[columns.y_mm]\nrole = "axis_position"\naxis = "Y"\nunit = "mm"\n'
+    rows = [line + (",900" if i == 2 else ",140") for i, line in enumerate(lines[1:])]
+    csv = _measurement(tmp_path, "\n".join([lines[0] + ",y_mm", ""] + rows) + "\n", mapping)
+    err = _error(lambda: read_measurement(csv))
+    assert (err.source, err.field) == (str(csv), "y_mm")
+    assert err.message.startswith("line 5: 900 mm is outside the Y travel"), err.message
+    # a 200 mm jump in 10 ms arrives at the second sample: its line, or its data row without lines
+    from geometries import build_machine
+    from twin.io.axis_logs import check_log
+
+    t, x = np.array([0.0, 0.01, 0.02]), np.array([0.0, 0.2, 0.2])
+    for lines_, place in (([3, 5, 6], "line 5"), (None, "data row 2")):
+        err = _error(lambda: check_log("Y", t, x, build_machine("cframe-vmc"), "m.csv", "y_mm", lines_))
+        assert err.message.startswith(f"{place}: a feed between samples of 20 m/s"), err.message
+
+
+def test_a_measurement_column_without_a_name_is_refused_naming_the_header(tmp_path):
+    """A comma at the end of every line (a spreadsheet's export) makes an empty last column: refused
+    on the CSV's ``header`` with the column's number, not as an unmapped column with an empty
+    name and a [columns.] table to add."""
+    from twin.io.measurement import read_measurement
+
+    lines = measurement_csv().splitlines()
+    csv = _measurement(tmp_path, "\n".join(line + "," for line in lines) + "\n", MAPPING)
+    err = _error(lambda: read_measurement(csv))
+    assert (err.source, err.field) == (str(csv), "header")
+    assert err.message.startswith(f"column {len(lines[0].split(',')) + 1} has no name"), err.message
+
+
 # ------------------------------------------------------------------------------ measurement writer
 def test_the_room_air_is_written_to_a_tenth_of_a_millikelvin(tmp_path):
     """write_measurement writes temperatures to 1e-4 K, the room air too (its docstring): a room

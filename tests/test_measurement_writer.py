@@ -26,6 +26,43 @@ def test_a_result_reads_back_as_the_same_measurement(tmp_path):
     assert 'site = "' in toml_path.read_text()
 
 
+def test_every_csv_reading_of_a_gantry_and_an_axis_log_reads_back(tmp_path):
+    """Lasers, FBG strains (compensated and raw), the C axis's speed with its duty and a logged axis
+    position are written with the temperatures and read back as they were (each to its written
+    precision); a reading only a NetCDF measurement holds, or a C-axis duty that changes while
+    turning, is refused naming the variable and nothing is written (the writer dropped them all,
+    silently)."""
+    from tests.fuzz_files import GANTRY_MAPPING, gantry_csv
+
+    (tmp_path / "g.csv").write_text(gantry_csv(), encoding="utf-8")
+    (tmp_path / "g.toml").write_text(GANTRY_MAPPING, encoding="utf-8")
+    ds = read_measurement(tmp_path / "g.csv")
+    ds["spindle_speed"] = ("time", np.zeros(ds.sizes["time"]), {"units": "rpm"})
+    csv_path, _ = write_measurement(ds, tmp_path / "out", "gantry", "gantry-ram")
+    back = read_measurement(csv_path)
+    for var, tol in (("laser", 5.1e-3), ("strain", 5.1e-4), ("strain_raw", 5.1e-4), ("c_axis_speed", 5.1e-4),
+                     ("c_axis_duty", 0.0), ("temperature", 5.1e-5)):
+        assert back[var].dims == ds[var].dims, var
+        np.testing.assert_allclose(back[var].values, ds[var].values, rtol=0, atol=tol, err_msg=var)
+    assert list(back.laser_id.values) == list(ds.laser_id.values) and list(back.gauge.values) == list(ds.gauge.values)
+    assert float(ds.c_axis_duty.max()) == 0.5
+    ds["c_axis_duty"] = ("time", np.where(ds.time.values < 300, 0.5, 0.7) * (ds.c_axis_speed.values > 0))
+    with pytest.raises(InputError) as err:
+        write_measurement(ds, tmp_path / "bad", "gantry", "gantry-ram")
+    assert err.value.field == "c_axis_duty" and not (tmp_path / "bad").exists()
+
+    cf = result_dataset()
+    y = 100.0 + 0.5 * np.arange(cf.sizes["time"])
+    cf["axis_position"] = (("time", "axis_name"), y[:, None], {"units": "mm"})
+    cf = cf.assign_coords(axis_name=("axis_name", ["Y"]))
+    np.testing.assert_allclose(read_measurement(write_measurement(cf, tmp_path / "ax", "run", "cframe-vmc")[0])
+                               .axis_position.values, y[:, None], rtol=0, atol=5.1e-7)
+    cf["positioning_error"] = (("time",), np.zeros(cf.sizes["time"]), {"units": "um"})
+    with pytest.raises(InputError) as err:
+        write_measurement(cf, tmp_path / "pe", "run", "cframe-vmc")
+    assert err.value.field == "positioning_error" and not (tmp_path / "pe").exists()
+
+
 def test_a_sensor_off_the_sites_keeps_its_name_and_position_and_half_seconds_stay(tmp_path):
     ds = result_dataset()
     names = list(ds.sensor.values)

@@ -257,6 +257,9 @@ def _read_csv(path: Path) -> tuple[list[str], list[int], list[list[str]]]:
     if len(rows) < 3:
         raise InputError(str(path), "file", "needs a header row and at least two data rows")
     header = [h.strip() for h in rows[0]]
+    if "" in header:
+        raise InputError(str(path), "header", f"column {header.index('') + 1} has no name (a comma at the end of "
+                                              "each line makes an empty last column); name every column")
     twice = [h for h in header if header.count(h) > 1]
     if twice:
         raise InputError(str(path), twice[0], "two columns have this name")
@@ -418,9 +421,9 @@ def _from_csv(path: Path, mapping: Path, spec: dict, machine) -> xr.Dataset:
     t = single["time"]
     check_times(t, src, next(c for c, e in cols.items() if e.get("role") == "time"), lines)
     for axis, x in positions.items():
-        check_log(axis, t, x, mach, src, position_columns[axis])
+        check_log(axis, t, x, mach, src, position_columns[axis], lines)
     for axis, (feed, entry, key, column) in feeds.items():
-        positions[axis] = integrated_feed(t, feed, entry, mach, msrc, src, key, column)
+        positions[axis] = integrated_feed(t, feed, entry, mach, msrc, src, key, column, lines)
     names = [s[0] for s in sensors]
     twice = next((n for n in names if names.count(n) > 1), None)
     if twice is not None:

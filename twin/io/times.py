@@ -8,12 +8,19 @@ import numpy as np
 from twin.errors import InputError
 
 
+def sample_place(i: int, lines=None) -> str:
+    """Where sample ``i`` (from 0) stands, for an error: 'line N' with ``lines`` (a CSV's line
+    number of each sample, as an editor shows them: header line 1, blank lines counted), else
+    'data row N' (from 1)."""
+    return f"line {lines[i]}" if lines is not None else f"data row {i + 1}"
+
+
 def check_times(t: np.ndarray, src: str, col: str, lines=None) -> None:
     """Times [s] of a measurement or a model: two or more, finite, increasing, without a gap of more
     than three median steps. ``lines``: the file's line number of each time (a CSV's, as an editor
     shows them: header line 1, blank lines counted), which an error names; else the data row."""
     def at(i: int) -> str:
-        return f"line {lines[i]}" if lines is not None else f"data row {i + 1}"
+        return sample_place(i, lines)
 
     if t.ndim != 1 or t.size < 2:
         raise InputError(src, col, f"needs two samples or more, got {t.size}")
