@@ -227,6 +227,43 @@ def test_ctrl_c_in_the_first_second_is_one_line(processes):
 
 
 # ------------------------------------------------------------------------- interrupts in-process
+def test_an_interrupt_swallowed_by_a_finaliser_still_stops_the_command(monkeypatch, capsys):
+    """Ctrl-C (or SIGTERM) that lands inside a finaliser or a weakref callback (the import system's
+    module locks have one) is an "unraisable" exception: Python printed "Exception ignored in ..."
+    with a traceback, swallowed it, and the command ran on. main() hands it back to the main thread:
+    one line, exit code 130 (143 for SIGTERM), nothing after it runs."""
+    import signal
+
+    import twin.cli as cli
+
+    class Dying:
+        def __init__(self, exc):
+            self.exc = exc
+
+        def __del__(self):
+            raise self.exc
+
+    ran_on = []
+
+    def command(exc):
+        def run(argv):
+            Dying(exc)                  # dropped at once: __del__ raises into the unraisable hook
+            time.sleep(0.3)             # the interrupt is tripped 10 ms later, raised when the sleep returns
+            ran_on.append(exc)
+            return 0
+        return run
+
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        for exc, code in ((KeyboardInterrupt(), 130), (cli.Terminated(), 143)):
+            monkeypatch.setattr(cli, "_main", command(exc))
+            assert cli.main([]) == code
+            assert capsys.readouterr().err.strip() == "interrupted: no output written"
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert ran_on == []
+
+
 def test_interrupt_names_the_outputs_that_are_complete(tmp_path, capsys, monkeypatch):
     """The result is written, then Ctrl-C during the second output: the first is whole and said
     so, the second leaves neither its name nor a temporary file."""

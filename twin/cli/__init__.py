@@ -8,7 +8,7 @@ no partial output file is left behind (results are written to a temporary file, 
 An option that takes one value refuses a second one (argparse would silently keep the last) and an
 empty one (it read as "not given").
 Ctrl-C and SIGTERM stop the command, remove its temporary file and say in one line which outputs
-are complete (exit code 130 and 143).
+are complete (exit code 130 and 143), also when they land inside a finaliser (:func:`_redeliver`).
 """
 
 from __future__ import annotations
@@ -105,6 +105,27 @@ def _interrupted(err: KeyboardInterrupt) -> int:
     return 143 if isinstance(err, Terminated) else 130
 
 
+def _redeliver(previous_hook):
+    """A :data:`sys.unraisablehook` that hands an interrupt back to the main thread: Ctrl-C or
+    SIGTERM landing inside a finaliser or a weakref callback (the import system's module locks
+    have one) is reported as "Exception ignored in ..." with a traceback and swallowed, and the
+    command ran on to the end; it is raised again where the program is, through the signal's own
+    handler (``_thread.interrupt_main``). A helper thread trips it 10 ms later: tripped from the
+    hook itself, the handler would run inside the hook and be swallowed again."""
+    import _thread
+    import threading
+
+    def hook(unraisable):
+        exc = unraisable.exc_value
+        if isinstance(exc, KeyboardInterrupt):
+            sig = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
+            threading.Timer(0.01, _thread.interrupt_main, (sig,)).start()
+            return
+        previous_hook(unraisable)
+
+    return hook
+
+
 def main(argv: list[str] | None = None) -> int:
     atomic.forget_completed()
     previous = None
@@ -113,11 +134,14 @@ def main(argv: list[str] | None = None) -> int:
             previous = signal.signal(signal.SIGTERM, _terminate)
         except ValueError:  # not the main thread: leave signals alone
             pass
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = _redeliver(previous_hook)
     try:
         return _main(argv)
     except KeyboardInterrupt as err:
         return _interrupted(err)
     finally:
+        sys.unraisablehook = previous_hook
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
 
