@@ -43,6 +43,18 @@ def face(axis: int, value: float) -> Box:
     return Box(tuple(lo), tuple(hi))
 
 
+@pytest.fixture(autouse=True)
+def _custom_effects_stay_in_their_test():
+    """A custom effect a test registers (an effects file read in-process) is removed after that
+    test: the registry (twin.effects.EFFECTS) is global, and a later test looping over every effect
+    met it (test_effect_registry failed on 'pump' when it ran after test_prepared_run_args)."""
+    from twin.effects.custom import CUSTOM, unregister_custom
+
+    before = set(CUSTOM)
+    yield
+    unregister_custom([name for name in list(CUSTOM) if name not in before])
+
+
 @pytest.fixture
 def make_box():
     return box_body
