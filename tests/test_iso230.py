@@ -9,6 +9,7 @@ import xarray as xr
 
 from geometries.axes import LinearAxis
 from tests.fuzz_files import result_dataset
+from tests.stubs import OneAxisMachine
 from twin.errors import InputError
 from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
 from validate.iso230 import STILL_AIR_K, default_test, evaluate, segments_of
@@ -201,25 +202,13 @@ def test_evaluate_from_python_names_a_bad_record_or_segment():
     assert evaluate(ds, "spindle").channels
 
 
-class _OneAxis:
-    """The least a laser interferometer reads of a machine: its axis by name."""
-
-    name = "bench"
-
-    def __init__(self, axis):
-        self._axis = axis
-
-    def axis(self, name):
-        return self._axis
-
-
 def test_positioning_slope_is_the_least_squares_slope():
     """positioning_slope of each run is the least-squares slope of its error against the targets,
     sum (x - xbar)(e - ebar) / sum (x - xbar)^2 [um/mm], written out here, to round-off. The curves
     are not symmetric about mid-travel (a cubic; a line with one interior point bumped), so the
     end-point secant (e[-1] - e[0]) / (x[-1] - x[0]) gives other slopes."""
     obs = LaserInterferometer(InterferometerConfig("Y", (0.0, 600.0, 1200.0)),
-                              _OneAxis(LinearAxis("Y", "y", (0.0, 0.4), "closed")))
+                              OneAxisMachine(LinearAxis("Y", "y", (0.0, 0.4), "closed")))
     x = obs.targets * 1e3                                   # [mm], 0 .. 400 every 10
     cold = 3e-6 * np.sin(x / 70.0)                          # [m] the reference run's reading, subtracted
     bumped = 0.02 * x

@@ -14,6 +14,7 @@ import pytest
 from geometries import build_machine
 from geometries.axes import LinearAxis
 from geometries.base import Box, Machine, Part, Point, StrainGauge, Surface, material
+from tests.stubs import OneAxisMachine
 from twin.model import ModelSpec
 from twin.observe import FiveProbeTestBar, HeatBalance, LaserTriangulation, RunContext, StrainGauges, ToolDrift
 from twin.observe.temperature import TemperatureSensors
@@ -188,18 +189,6 @@ def test_probe_and_temperature_noise_come_from_the_seeded_generator():
 # ---------------------------------------------------------------- interferometer and probing
 
 
-class _OneAxis:
-    """The least a laser interferometer reads of a machine: its axis by name."""
-
-    name = "bench"
-
-    def __init__(self, axis):
-        self._axis = axis
-
-    def axis(self, name):
-        return self._axis
-
-
 def test_interferometer_runs_read_at_the_nearest_output_step():
     """A run at t reads output step round(t / dt): at 0.1 s samples, 0.3 s / 0.1 s is
     2.9999999999999996 and 0.7 s / 0.1 s 6.999999999999999 in floating point; truncating would
@@ -207,7 +196,7 @@ def test_interferometer_runs_read_at_the_nearest_output_step():
     from twin.observe.interferometer import InterferometerConfig, LaserInterferometer
 
     obs = LaserInterferometer(InterferometerConfig("Y", (0.0, 0.3, 0.7)),
-                              _OneAxis(LinearAxis("Y", "y", (0.0, 0.4), "closed")))
+                              OneAxisMachine(LinearAxis("Y", "y", (0.0, 0.4), "closed")))
     assert list(obs.sample_steps(np.arange(10) * 0.1)) == [0, 3, 7]
 
 

@@ -14,18 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import TwoSlopeNorm  # noqa: E402
 
+from tests.stubs import TwoPartMachine  # noqa: E402
 from validate.report_map import region_map  # noqa: E402
-
-
-class _Machine:
-    """Parts 'bed' (0..2 x 0..1 x 0..0.5 m) and 'column' (0..0.5 x 0..1 x 0.5..2 m), one box each."""
-
-    def __init__(self):
-        self.parts = [NS(name="bed", boxes=[NS(lo=(0.0, 0.0, 0.0), hi=(2.0, 1.0, 0.5))]),
-                      NS(name="column", boxes=[NS(lo=(0.0, 0.0, 0.5), hi=(0.5, 1.0, 2.0))])]
-
-    def part(self, name):
-        return next(p for p in self.parts if p.name == name)
 
 
 # channels: temperature, temperature, probe; residual r before the fit, the top fit's response
@@ -50,7 +40,7 @@ def test_region_map_power_scale_is_symmetric_and_sensors_show_the_residual_after
     (not +-80 from max P); the bed (80 W) is filled with RdBu_r(0.5 + 0.5 * 80/120 = 0.8333).
     Sensors: residual after the top fit r - response = [1, 3] K on every row, so their colours are the
     RMS per sensor [1, 3] (not the pre-fit [3, 4]) on a 0..3 K scale."""
-    fig = region_map(_diagnosis(), _Machine())
+    fig = region_map(_diagnosis(), TwoPartMachine())
     try:
         norms = [a._colorbar.norm for a in fig.axes if getattr(a, "_colorbar", None) is not None]
         power = [n for n in norms if isinstance(n, TwoSlopeNorm)]
