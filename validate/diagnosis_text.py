@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from validate.channels import GROUPS as CHANNEL_GROUPS, RUN_GROUPS, residual_unit
-from validate.verdict import BEYOND, ratio_text, share_text
+from validate.verdict import beyond_text, ratio_text, share_text
 
 
 def reasoning(d, response: np.ndarray, top_channels: int = 4) -> dict:
@@ -100,7 +100,7 @@ def format_diagnosis(d, top: int = 8) -> str:
         lines.append(f"  {g}: residual {ratio_text(f)} {envelope}"
                      + (f"; {ratio_text(after)} after the top candidate{again}" if after is not None else ""))
     if d.beyond_model_error is not None:
-        lines.append(f"  top candidate's fitted change: {ratio_text(d.beyond_model_error, BEYOND, False)} what the model error alone "
+        lines.append(f"  top candidate's fitted change: {beyond_text(d.beyond_model_error)} what the model error alone "
                      f"produces along its signature")
     if d.nuisance_baseline:
         lines.append("Nuisance (thermal expansion within each material's band), baseline: " + nuisance_text(d.nuisance_baseline))

@@ -220,6 +220,12 @@ def ratio_text(f: float, limit: float = WITHIN, strict: bool = True) -> str:
     return text + "x"
 
 
+def beyond_text(beyond: float) -> str:
+    """The fitted change over the model error's along the signature, as :func:`ratio_text` prints
+    it on its side of ``BEYOND`` (the rule is ``beyond >= BEYOND``)."""
+    return ratio_text(beyond, BEYOND, strict=False)
+
+
 def _factor_text(g: str, f: float, level: tuple) -> str:
     """'probe 4.9x (noise 0.098 um, model error 0.12 um)', or '..., model error not estimated)'."""
     unit = residual_unit(g)
@@ -286,7 +292,7 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
     after_levels = levels_after or levels
     again = "the model error estimated again with the candidate in the model" if levels_after else ""
     env = against(levels)
-    along = (f"; along its signature the fitted change is {ratio_text(beyond, BEYOND, False)} what the model error alone produces"
+    along = (f"; along its signature the fitted change is {beyond_text(beyond)} what the model error alone produces"
              if beyond is not None else "")
     share = share_text(factors)
     if verdict == "nothing_missing":
@@ -294,7 +300,7 @@ def message(verdict: str, top: dict | None, factors: dict, after: dict | None, l
         if not top:
             return head
         if top.get("significant"):
-            why = (f"along its signature its fitted change is only {ratio_text(beyond, BEYOND, False)} what the model error alone "
+            why = (f"along its signature its fitted change is only {beyond_text(beyond)} what the model error alone "
                    f"produces (the verdict names a candidate within the envelope from {BEYOND:g}x)"
                    if beyond is not None else
                    "no model error was estimated, so whether it stands beyond the model's own discretisation "

@@ -2,7 +2,8 @@
 
 Per (machine, mesh, solver, axes moved) of the plan (a case that moves axes runs on a twin with
 their feed drives, :func:`twin.dataset.runner._prepared`): prepare that twin (timed: the mesh,
-the matrices, the elastic factorisation and adjoints), then run the group's first case cut to ``calibration_steps``
+the matrices, the elastic factorisation and adjoints), then run the group's first case cut to
+``calibration_steps``
 time steps (a warm-up, so the factorisations of its operators are done once) and again cut to
 ``length_steps`` (20 times as many by default, or the whole case when shorter), timed: the cost of
 one step [s], which includes the observers, the packaging of the result and the case's own

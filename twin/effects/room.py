@@ -164,7 +164,8 @@ def linear_in_height(mm, label: str, scale: float, z_ref: float, shape) -> list:
 
 def layered_swing(scenario, t: np.ndarray) -> np.ndarray:
     """T_air(t) - T_air(0) [K], both without the scenario's door events (a door open from t = 0
-    moves neither): the outside air through a door is cold and dense and spreads along the floor, not under the roof (``door_stream`` carries it)."""
+    moves neither): the outside air through a door is cold and dense and spreads along the floor,
+    not under the roof (``door_stream`` carries it)."""
     doors = [e for e in getattr(scenario.ambient, "events", ()) if e.door]
 
     def air(times: np.ndarray) -> np.ndarray:

@@ -69,7 +69,8 @@ def check_feeds(v: np.ndarray, src: str, column: str, what: str, offset: int = 0
     bad = np.flatnonzero(~(np.abs(v) <= MAX_FEED))
     if len(bad):
         i = int(bad[0])
-        raise InputError(src, column, f"{sample_place(i + offset, lines)}: a {what} of {v[i]:g} m/s ({v[i] * 60:g} m/min) is "
+        raise InputError(src, column, f"{sample_place(i + offset, lines)}: a {what} of {v[i]:g} m/s "
+                                      f"({v[i] * 60:g} m/min) is "
                                       f"beyond {MAX_FEED:g} m/s ({MAX_FEED * 60:g} m/min), the fastest machine "
                                       "tools' (check the unit)")
 
@@ -81,5 +82,6 @@ def check_travel(axis: str, values: np.ndarray, mach, src: str, column: str, how
     lo, hi = mach.axis(axis).travel
     bad = np.flatnonzero((values < lo - 1e-9) | (values > hi + 1e-9))
     if len(bad):
-        raise InputError(src, column, f"{sample_place(int(bad[0]), lines)}: {values[bad[0]] * 1e3:g} mm{how} is outside the {axis} "
+        raise InputError(src, column, f"{sample_place(int(bad[0]), lines)}: {values[bad[0]] * 1e3:g} mm{how} "
+                                      f"is outside the {axis} "
                                       f"travel {lo * 1e3:g} .. {hi * 1e3:g} mm")

@@ -9,7 +9,8 @@ probe, one ``laser_<id>_um`` [um] per laser triangulation sensor, one ``strain_<
 mapping's ``duty`` (one value while turning, as a mapping holds it) and one ``<axis>_mm`` [mm]
 per logged axis position: every reading the measurement reader takes from a CSV. Readings a CSV
 measurement cannot hold (the interferometer's runs, the probing cycles: a NetCDF measurement's)
-are refused, never dropped. The Dataset is checked first as a measurement (:func:`twin.io.measurement.check_measurement`:
+are refused, never dropped. The Dataset is checked first as a measurement
+(:func:`twin.io.measurement.check_measurement`:
 finite, plausible values at two or more increasing times) and every sensor name must be one a
 mapping can hold; nothing is written when a check fails, and each file appears whole
 (:mod:`twin.io.atomic`).

@@ -19,21 +19,19 @@ def check_times(t: np.ndarray, src: str, col: str, lines=None) -> None:
     """Times [s] of a measurement or a model: two or more, finite, increasing, without a gap of more
     than three median steps. ``lines``: the file's line number of each time (a CSV's, as an editor
     shows them: header line 1, blank lines counted), which an error names; else the data row."""
-    def at(i: int) -> str:
-        return sample_place(i, lines)
-
     if t.ndim != 1 or t.size < 2:
         raise InputError(src, col, f"needs two samples or more, got {t.size}")
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
-        raise InputError(src, col, f"{at(int(bad[0]))}: not a finite number")
+        raise InputError(src, col, f"{sample_place(int(bad[0]), lines)}: not a finite number")
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.flatnonzero(dt <= 0)[0])
-        raise InputError(src, col, f"time is not increasing at {at(i + 1)} ({t[i]:g} -> {t[i + 1]:g} s)")
+        raise InputError(src, col, f"time is not increasing at {sample_place(i + 1, lines)} "
+                                   f"({t[i]:g} -> {t[i + 1]:g} s)")
     med = float(np.median(dt))
     if np.any(dt > 3 * med):
         i = int(np.flatnonzero(dt > 3 * med)[0])
-        where = f"{at(i + 1)}: " if lines is not None else ""
+        where = f"{sample_place(i + 1, lines)}: " if lines is not None else ""
         raise InputError(src, col, f"{where}gap of {dt[i]:g} s after t = {t[i]:g} s (more than 3 x the median "
                                    f"interval {med:g} s)")
