@@ -11,13 +11,19 @@ def add_parser(sub) -> None:
     p.set_defaults(func=run)
 
 
+def _one_line(text: str) -> str:
+    """A description written over several lines of its TOML or docstring as one line, so that every
+    line of the listing that is not indented starts a new entry."""
+    return " ".join(text.split())
+
+
 def _machines() -> None:
     from geometries import MACHINES, build_machine
     from twin import limits
 
     for name in sorted(MACHINES):
         m = build_machine(name)
-        print(f"{name}: {m.description}\n  parts: {', '.join(p.name for p in m.parts)}\n"
+        print(f"{name}: {_one_line(m.description)}\n  parts: {', '.join(p.name for p in m.parts)}\n"
               f"  maximum spindle speed: {limits.max_speed(m):g} rpm\n"
               f"  mesh resolutions: {', '.join(f'{k} ({v * 1e3:g} mm)' for k, v in m.resolutions.items())}\n"
               f"  default effects: {', '.join(m.default_effects)}\n  roles: {', '.join(m.roles)}\n"
@@ -36,7 +42,7 @@ def _effects(machine_name: str | None) -> None:
         """One effect; with ``machine``, at that machine's own defaults and uncertain ranges."""
         e = EFFECTS[name]
         own = machine.effect_defaults.get(name) if machine is not None else None
-        print(f"{name}{tag}: {e.summary}\n  reference: {e.reference}{where}")
+        print(f"{name}{tag}: {_one_line(e.summary)}\n  reference: {e.reference}{where}")
         for p in e.parameters:
             print(f"    {p.describe((own or {}).get(p.name))}")
         for u in e.uncertain:
@@ -92,11 +98,11 @@ def run(args) -> int:
     elif args.what == "scenarios":
         for name in available():
             sc = load_scenario(name)
-            print(f"{name}: {sc.duration / 60:g} min, sample interval {sc.sample_interval:g} s\n  {sc.description}")
+            print(f"{name}: {sc.duration / 60:g} min, sample interval {sc.sample_interval:g} s\n  {_one_line(sc.description)}")
         from twin.dataset.spec import bundled_specs, load_spec, spec_path
         for name in bundled_specs():
             spec = load_spec(spec_path(name))
-            print(f"{name} (dataset spec, twin dataset {name} -o DIR): {spec.description.strip()}")
+            print(f"{name} (dataset spec, twin dataset {name} -o DIR): {_one_line(spec.description)}")
     elif args.what == "effects":
         _effects(args.machine)
     else:
