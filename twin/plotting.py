@@ -141,7 +141,8 @@ def plot_result(ds, path) -> None:
         ax.legend(fontsize=7, ncol=2, loc="best")
         if on.any():
             ax.fill_between(t, 0, 1, where=on, color="orange", alpha=0.08, transform=ax.get_xaxis_transform(), step="post")
-    axes[0].set_title(f"{ds.attrs.get('machine', '')} / {ds.attrs.get('scenario', '')} (shaded: {running} running)")
+    shading = f" (shaded: {running} running)" if on.any() else ""
+    axes[0].set_title(f"{ds.attrs.get('machine', '')} / {ds.attrs.get('scenario', '')}{shading}")
     fig.tight_layout()
     save_figure(fig, path, dpi=110)
     plt.close(fig)
