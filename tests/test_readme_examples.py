@@ -1,4 +1,4 @@
-"""Every TOML example of the README loads with the reader a user would give it to: the scenario
+"""The README's Python example runs and says what the README says it prints; every TOML example of the README loads with the reader a user would give it to: the scenario
 sections (camera, axis motion and interferometer, probing, ambient events) inside a minimal
 scenario on the C-frame, the measurement mappings beside a three-row CSV of their columns, the
 effects files on the C-frame, and the dataset spec. A renamed key or unit fails here, not for a
@@ -25,12 +25,13 @@ duration = "{duration}"
 """
 
 
-def _toml_blocks() -> list[str]:
+def _blocks(language: str) -> list[str]:
+    """The README's fenced blocks of ``language``."""
     blocks, block = [], None
     for line in README.read_text(encoding="utf-8").splitlines():
         if line.startswith("```"):
             if block is None:
-                block = [] if line.strip() == "```toml" else False
+                block = [] if line.strip() == "```" + language else False
             else:
                 if block is not False:
                     blocks.append("\n".join(block))
@@ -40,7 +41,7 @@ def _toml_blocks() -> list[str]:
     return blocks
 
 
-BLOCKS = _toml_blocks()
+BLOCKS = _blocks("toml")
 
 
 def _kind(data: dict) -> str:
@@ -90,3 +91,31 @@ def test_a_readme_toml_example_loads(index, tmp_path):
         assert [e.name for e in effects_from_dict(data, "README", machine)] == list(data["effects"])
     else:
         assert spec_from_dict(data, "README", text=text).name == data["name"]
+
+
+def test_the_readme_python_example_runs_and_its_drift_is_linear_in_the_power(capsys):
+    """"From Python": the block runs as written (coarse mesh) and prints the peak Z of the default
+    model and of three front-bearing powers; the drift is linear in a source's power (heat
+    equation and thermoelasticity are linear, the loads proportional to P), so 100, 150, 200 W give
+    equally spaced peaks (the peak's time does not move: it is the end of the heating hour), and
+    150 W, the default, gives the first run's peak."""
+    import re
+
+    import numpy as np
+
+    from twin.api import simulate
+
+    (block,) = _blocks("python")
+    names = {}
+    exec(compile(block, "README.md", "exec"), names)
+    out = capsys.readouterr().out
+    first = float(re.search(r"peak Z (\S+) um", out).group(1))
+    z = [float(v) for v in re.findall(r"^\d+ W (\S+) um$", out, re.M)]
+    assert len(z) == 3 and z[1] == first
+    assert "peak Z 29.0 um" in out and "200 W 36.8 um" in out        # the numbers the README quotes
+    # the whole drift, not its printed peak: Z(200 W) - Z(150 W) = Z(150 W) - Z(100 W) to round-off
+    series = [simulate("cframe-vmc", names["test"], settings=[f"spindle_bearings.front_power={p} W"],
+                       prepared=names["prepared"])[0].drift.values for p in (100, 150, 200)]
+    step = series[1] - series[0]
+    np.testing.assert_allclose(series[2] - series[1], step, rtol=0, atol=1e-9 * np.abs(step).max())
+    assert np.abs(step).max() > 1.0                                  # um: the power moves the drift
